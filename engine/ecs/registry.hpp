@@ -1,0 +1,245 @@
+#pragma once
+// The registry owns entities and their components. Structural changes (create, destroy, emplace,
+// remove) are refused while a view is being iterated: systems queue them in the registry's command
+// buffer, and the scheduler applies that buffer after each system, at a defined point.
+#include <algorithm>
+#include <any>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <typeindex>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "engine/core/hash.hpp"
+#include "engine/core/type_name.hpp"
+#include "engine/ecs/command_buffer.hpp"
+#include "engine/ecs/entity.hpp"
+#include "engine/ecs/hierarchy.hpp"
+#include "engine/ecs/sparse_set.hpp"
+
+namespace ikebana::ecs {
+
+namespace detail {
+inline std::atomic<std::uint32_t> next_component_id{0};
+template <typename T>
+std::uint32_t component_id() {
+    static const std::uint32_t id = next_component_id.fetch_add(1);
+    return id;
+}
+} // namespace detail
+
+template <typename... T>
+struct Exclude {};
+template <typename... T>
+inline constexpr Exclude<T...> exclude{};
+
+template <typename Get, typename Excluded>
+class View;
+
+class Registry {
+public:
+    Registry() : commands_(*this) {}
+    Registry(const Registry&) = delete;
+    Registry& operator=(const Registry&) = delete;
+
+    // --- entities -----------------------------------------------------------------------------------
+    // Creating an entity touches no component storage, so it is allowed during iteration.
+    Entity create() {
+        if (!free_.empty()) {
+            const std::uint32_t index = free_.back();
+            free_.pop_back();
+            slots_[index].alive = true;
+            return Entity{index, slots_[index].generation};
+        }
+        slots_.push_back(Slot{0, true});
+        return Entity{static_cast<std::uint32_t>(slots_.size() - 1), 0};
+    }
+
+    [[nodiscard]] bool valid(Entity e) const noexcept {
+        return e.index < slots_.size() && slots_[e.index].alive && slots_[e.index].generation == e.generation;
+    }
+
+    // Destroys e, every component it has and, through the hierarchy, every entity it owns.
+    void destroy(Entity e) {
+        guard_structural("destroy");
+        if (!valid(e)) return;
+        if (auto* children = try_get<Children>(e)) {
+            const auto owned = children->entities; // copy: destroying a child edits the list
+            for (const Entity child : owned) destroy(child);
+        }
+        if (auto* link = try_get<ChildOf>(e); link && valid(link->parent)) {
+            if (auto* siblings = try_get<Children>(link->parent)) {
+                std::erase(siblings->entities, e);
+            }
+        }
+        for (auto& pool : pools_) {
+            if (pool) pool->erase(e);
+        }
+        Slot& slot = slots_[e.index];
+        slot.alive = false;
+        ++slot.generation; // every outstanding handle to e is now invalid
+        free_.push_back(e.index);
+    }
+
+    [[nodiscard]] std::size_t alive() const noexcept { return slots_.size() - free_.size(); }
+
+    // --- components ---------------------------------------------------------------------------------
+    template <typename T, typename... Args>
+    T& emplace(Entity e, Args&&... args) {
+        guard_structural("emplace");
+        require_valid(e, "emplace");
+        auto& pool = storage<T>();
+        if (pool.contains(e)) throw std::logic_error("emplace: entity already has " + std::string(type_name<T>()));
+        return pool.emplace(e, std::forward<Args>(args)...);
+    }
+
+    template <typename T, typename... Args>
+    T& emplace_or_replace(Entity e, Args&&... args) {
+        if (auto* existing = try_get<T>(e)) {
+            if constexpr (std::is_aggregate_v<T>) *existing = T{std::forward<Args>(args)...};
+            else *existing = T(std::forward<Args>(args)...);
+            return *existing;
+        }
+        return emplace<T>(e, std::forward<Args>(args)...);
+    }
+
+    template <typename T>
+    bool remove(Entity e) {
+        guard_structural("remove");
+        if (!valid(e)) return false;
+        return storage<T>().erase(e);
+    }
+
+    template <typename T>
+    [[nodiscard]] T& get(Entity e) {
+        require_valid(e, "get");
+        auto* component = storage<T>().try_get(e);
+        if (!component) throw std::logic_error("get: entity has no " + std::string(type_name<T>()));
+        return *component;
+    }
+
+    template <typename T>
+    [[nodiscard]] T* try_get(Entity e) {
+        if (!valid(e)) return nullptr;
+        auto* pool = find_storage<T>();
+        return pool ? pool->try_get(e) : nullptr;
+    }
+
+    template <typename... T>
+    [[nodiscard]] bool all_of(Entity e) const {
+        return valid(e) && (has_one<T>(e) && ...);
+    }
+
+    template <typename... T>
+    [[nodiscard]] bool any_of(Entity e) const {
+        return valid(e) && (has_one<T>(e) || ...);
+    }
+
+    template <typename T>
+    [[nodiscard]] std::size_t count() const {
+        const auto* pool = find_storage<T>();
+        return pool ? pool->size() : 0;
+    }
+
+    // --- iteration ----------------------------------------------------------------------------------
+    template <typename... Get, typename... Excluded>
+    [[nodiscard]] View<std::tuple<Get...>, std::tuple<Excluded...>> view(Exclude<Excluded...> = {});
+
+    // The deferred structural changes of the system that is running now.
+    [[nodiscard]] CommandBuffer& commands() noexcept { return commands_; }
+    [[nodiscard]] bool iterating() const noexcept { return iteration_depth_ > 0; }
+
+    // --- singletons (EnTT's context): per-world resources such as configuration and RNG state ------
+    template <typename T, typename... Args>
+    T& set_resource(Args&&... args) {
+        auto& slot = resources_[std::type_index(typeid(T))];
+        if constexpr (std::is_aggregate_v<T>) slot = std::make_shared<T>(T{std::forward<Args>(args)...});
+        else slot = std::make_shared<T>(std::forward<Args>(args)...);
+        return *std::static_pointer_cast<T>(slot);
+    }
+    template <typename T>
+    [[nodiscard]] T* resource() noexcept {
+        auto it = resources_.find(std::type_index(typeid(T)));
+        return it == resources_.end() ? nullptr : std::static_pointer_cast<T>(it->second).get();
+    }
+
+    // --- state hash ---------------------------------------------------------------------------------
+    // Independent of the order in which types were first used and of the order of the dense arrays:
+    // storages are visited by component name and entities by handle.
+    [[nodiscard]] std::uint64_t state_hash() const {
+        std::vector<const SparseSet*> pools;
+        for (const auto& pool : pools_) {
+            if (pool && pool->size() > 0) pools.push_back(pool.get());
+        }
+        std::sort(pools.begin(), pools.end(), [](const SparseSet* a, const SparseSet* b) {
+            return a->component_name() < b->component_name();
+        });
+        StateHasher hasher;
+        hasher.scalar(static_cast<std::uint64_t>(alive()));
+        std::vector<Entity> entities;
+        for (const SparseSet* pool : pools) {
+            hash_value(hasher, pool->component_name());
+            entities = pool->entities();
+            std::sort(entities.begin(), entities.end());
+            for (const Entity e : entities) {
+                hasher.scalar(e.bits());
+                pool->hash_component(hasher, e);
+            }
+        }
+        return hasher.digest();
+    }
+
+    template <typename T>
+    [[nodiscard]] Storage<T>& storage() {
+        const auto id = detail::component_id<T>();
+        if (id >= pools_.size()) pools_.resize(std::size_t{id} + 1);
+        if (!pools_[id]) pools_[id] = std::make_unique<Storage<T>>();
+        return static_cast<Storage<T>&>(*pools_[id]);
+    }
+
+private:
+    template <typename, typename>
+    friend class View;
+
+    struct Slot {
+        std::uint32_t generation;
+        bool alive;
+    };
+
+    template <typename T>
+    [[nodiscard]] Storage<T>* find_storage() const noexcept {
+        const auto id = detail::component_id<T>();
+        return id < pools_.size() ? static_cast<Storage<T>*>(pools_[id].get()) : nullptr;
+    }
+    template <typename T>
+    [[nodiscard]] bool has_one(Entity e) const {
+        const auto* pool = find_storage<T>();
+        return pool && pool->contains(e);
+    }
+    void guard_structural(const char* what) const {
+        if (iteration_depth_ > 0) {
+            throw std::logic_error(std::string(what) +
+                                   " during view iteration: queue it with registry.commands() instead");
+        }
+    }
+    void require_valid(Entity e, const char* what) const {
+        if (!valid(e)) throw std::logic_error(std::string(what) + ": invalid (destroyed or null) entity handle");
+    }
+
+    std::vector<Slot> slots_;
+    std::vector<std::uint32_t> free_;
+    std::vector<std::unique_ptr<SparseSet>> pools_;
+    std::unordered_map<std::type_index, std::shared_ptr<void>> resources_;
+    CommandBuffer commands_;
+    int iteration_depth_ = 0;
+};
+
+} // namespace ikebana::ecs
+
+#include "engine/ecs/view.hpp"

@@ -1,0 +1,122 @@
+#pragma once
+// Component storage: one sparse set per component type. The dense arrays are packed, so iterating one
+// component type walks contiguous memory; membership tests are one indexed load into the sparse array.
+// docs/ecs.md gives the benchmark that chose this over archetypes for our workload.
+#include <cassert>
+#include <cstdint>
+#include <string_view>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "engine/core/hash.hpp"
+#include "engine/core/type_name.hpp"
+#include "engine/ecs/entity.hpp"
+
+namespace ikebana::ecs {
+
+class SparseSet {
+public:
+    static constexpr std::uint32_t absent = ~0u;
+
+    virtual ~SparseSet() = default;
+
+    [[nodiscard]] bool contains(Entity e) const noexcept {
+        return e.index < sparse_.size() && sparse_[e.index] != absent && dense_[sparse_[e.index]] == e;
+    }
+    [[nodiscard]] std::size_t size() const noexcept { return dense_.size(); }
+    [[nodiscard]] const std::vector<Entity>& entities() const noexcept { return dense_; }
+    [[nodiscard]] std::uint32_t position(Entity e) const noexcept { return sparse_[e.index]; }
+
+    // Removes e if present; the type-erased path the registry uses when an entity is destroyed.
+    bool erase(Entity e) {
+        if (!contains(e)) return false;
+        const std::uint32_t pos = sparse_[e.index];
+        const Entity last = dense_.back();
+        dense_[pos] = last;
+        sparse_[last.index] = pos;
+        dense_.pop_back();
+        sparse_[e.index] = absent;
+        swap_and_pop_payload(pos);
+        return true;
+    }
+
+    virtual void hash_component(StateHasher& hasher, Entity e) const = 0;
+    [[nodiscard]] virtual std::string_view component_name() const noexcept = 0;
+
+protected:
+    std::uint32_t insert_index(Entity e) {
+        if (e.index >= sparse_.size()) sparse_.resize(std::size_t{e.index} + 1, absent);
+        assert(sparse_[e.index] == absent);
+        sparse_[e.index] = static_cast<std::uint32_t>(dense_.size());
+        dense_.push_back(e);
+        return sparse_[e.index];
+    }
+    virtual void swap_and_pop_payload(std::uint32_t pos) = 0;
+
+private:
+    std::vector<std::uint32_t> sparse_;
+    std::vector<Entity> dense_;
+};
+
+// Storage of T beside the dense entity array, in the same order.
+template <typename T>
+class Storage final : public SparseSet {
+public:
+    template <typename... Args>
+    T& emplace(Entity e, Args&&... args) {
+        insert_index(e);
+        if constexpr (std::is_aggregate_v<T>) {
+            return payload_.push_back(T{std::forward<Args>(args)...}), payload_.back();
+        } else {
+            return payload_.emplace_back(std::forward<Args>(args)...);
+        }
+    }
+    [[nodiscard]] T& get(Entity e) noexcept {
+        assert(contains(e));
+        return payload_[position(e)];
+    }
+    [[nodiscard]] const T& get(Entity e) const noexcept {
+        assert(contains(e));
+        return payload_[position(e)];
+    }
+    [[nodiscard]] T* try_get(Entity e) noexcept { return contains(e) ? &payload_[position(e)] : nullptr; }
+    [[nodiscard]] T* data() noexcept { return payload_.data(); }
+
+    void hash_component(StateHasher& hasher, Entity e) const override { hash_value(hasher, get(e)); }
+    [[nodiscard]] std::string_view component_name() const noexcept override { return type_name<T>(); }
+
+private:
+    void swap_and_pop_payload(std::uint32_t pos) override {
+        if (pos + 1 != payload_.size()) payload_[pos] = std::move(payload_.back());
+        payload_.pop_back();
+    }
+
+    std::vector<T> payload_;
+};
+
+// Tags (empty types) store only membership: every entity shares one instance.
+template <typename T>
+    requires std::is_empty_v<T>
+class Storage<T> final : public SparseSet {
+public:
+    template <typename... Args>
+    T& emplace(Entity e, Args&&...) {
+        insert_index(e);
+        return instance_;
+    }
+    [[nodiscard]] T& get([[maybe_unused]] Entity e) noexcept {
+        assert(contains(e));
+        return instance_;
+    }
+    [[nodiscard]] T* try_get(Entity e) noexcept { return contains(e) ? &instance_ : nullptr; }
+
+    void hash_component(StateHasher& hasher, Entity) const override { hasher.scalar(std::uint8_t{1}); }
+    [[nodiscard]] std::string_view component_name() const noexcept override { return type_name<T>(); }
+
+private:
+    void swap_and_pop_payload(std::uint32_t) override {}
+    static inline T instance_{};
+};
+
+} // namespace ikebana::ecs

@@ -1,0 +1,96 @@
+#pragma once
+// Views over entities that have every Get component and none of the Excluded ones. Iteration walks the
+// smallest of the Get storages and tests membership in the others. Tags (empty types) filter but are
+// not passed to the callback.
+#include <algorithm>
+#include <tuple>
+#include <type_traits>
+
+#include "engine/ecs/registry.hpp"
+
+namespace ikebana::ecs {
+
+template <typename... Get, typename... Excluded>
+class View<std::tuple<Get...>, std::tuple<Excluded...>> {
+    static_assert(sizeof...(Get) > 0, "a view needs at least one component");
+
+public:
+    explicit View(Registry& registry) : registry_(registry) {}
+
+    // f(entity, components...) with the non-empty Get components by reference.
+    template <typename F>
+    void each(F&& f) {
+        const SparseSet* lead = smallest();
+        if (!lead) return;
+        IterationScope scope(registry_);
+        const auto& entities = lead->entities();
+        // Structural changes are refused during iteration, so the dense array cannot move under us.
+        for (std::size_t i = 0; i < entities.size(); ++i) {
+            const Entity e = entities[i];
+            if (!(registry_.template has_one<Get>(e) && ...)) continue;
+            if ((registry_.template has_one<Excluded>(e) || ...)) continue;
+            std::apply([&](auto&... components) { f(e, components...); },
+                       std::tuple_cat(fetch<Get>(e)...));
+        }
+    }
+
+    // Number of entities that match (walks the smallest storage).
+    [[nodiscard]] std::size_t size() {
+        std::size_t n = 0;
+        each_entity([&n](Entity) { ++n; });
+        return n;
+    }
+
+    template <typename F>
+    void each_entity(F&& f) {
+        const SparseSet* lead = smallest();
+        if (!lead) return;
+        IterationScope scope(registry_);
+        for (const Entity e : lead->entities()) {
+            if ((registry_.template has_one<Get>(e) && ...) && !(registry_.template has_one<Excluded>(e) || ...)) f(e);
+        }
+    }
+
+private:
+    struct IterationScope {
+        explicit IterationScope(Registry& r) : r_(r) { ++r_.iteration_depth_; }
+        ~IterationScope() { --r_.iteration_depth_; }
+        Registry& r_;
+    };
+
+    template <typename T>
+    auto fetch(Entity e) {
+        if constexpr (std::is_empty_v<T>) return std::tuple<>{};
+        else return std::tuple<T&>{registry_.template find_storage<T>()->get(e)};
+    }
+
+    const SparseSet* smallest() const {
+        const SparseSet* pools[] = {registry_.template find_storage<Get>()...};
+        const SparseSet* best = nullptr;
+        for (const SparseSet* p : pools) {
+            if (!p) return nullptr; // a component nobody has: the view is empty
+            if (!best || p->size() < best->size()) best = p;
+        }
+        return best;
+    }
+
+    Registry& registry_;
+};
+
+template <typename... Get, typename... Excluded>
+View<std::tuple<Get...>, std::tuple<Excluded...>> Registry::view(Exclude<Excluded...>) {
+    return View<std::tuple<Get...>, std::tuple<Excluded...>>(*this);
+}
+
+inline Entity CommandBuffer::create() { return registry_.create(); }
+
+inline void CommandBuffer::apply() {
+    // Index loop: an applied operation may queue more.
+    for (std::size_t i = 0; i < ops_.size(); ++i) {
+        auto op = std::move(ops_[i]);
+        op(registry_);
+    }
+    ops_.clear();
+}
+
+} // namespace ikebana::ecs

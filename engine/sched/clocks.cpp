@@ -1,0 +1,147 @@
+#include "engine/sched/clocks.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+
+#include <sys/prctl.h>
+
+#include "engine/ecs/registry.hpp"
+
+namespace ikebana::sched {
+
+namespace {
+
+std::int64_t monotonic_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+// Sleeps until an absolute point of CLOCK_MONOTONIC, so that lateness in one tick never shifts the
+// deadlines after it.
+void sleep_until_ns(std::int64_t deadline_ns) {
+    timespec ts{};
+    ts.tv_sec = static_cast<time_t>(deadline_ns / 1'000'000'000);
+    ts.tv_nsec = static_cast<long>(deadline_ns % 1'000'000'000);
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    }
+}
+
+std::int64_t next_due(const std::vector<ScheduledSystem*>& systems) {
+    std::int64_t t = std::numeric_limits<std::int64_t>::max();
+    for (const auto* s : systems) t = std::min(t, s->next_due_us);
+    return t;
+}
+
+} // namespace
+
+DeterministicClock::DeterministicClock(Schedule& schedule) : schedule_(schedule) {
+    if (!schedule_.finalized()) throw std::logic_error("DeterministicClock needs a finalized schedule");
+}
+
+void DeterministicClock::run_until(std::int64_t t_us) {
+    auto& systems = schedule_.systems();
+    const auto& lanes = schedule_.lanes();
+    if (systems.empty()) {
+        now_us_ = std::max(now_us_, t_us);
+        return;
+    }
+    for (;;) {
+        std::int64_t t = std::numeric_limits<std::int64_t>::max();
+        for (const auto& s : systems) t = std::min(t, s.next_due_us);
+        if (t >= t_us) break;
+        now_us_ = t;
+        // `systems` is already in tie-break order (lane, phase, after, registration).
+        for (auto& s : systems) {
+            if (s.next_due_us != t) continue;
+            if (measure_) {
+                const auto begin = monotonic_ns();
+                s.fire(*lanes[s.lane].registry);
+                s.stats.duration_ns.record(monotonic_ns() - begin);
+            } else {
+                s.fire(*lanes[s.lane].registry);
+            }
+            ++s.stats.calls;
+        }
+    }
+    now_us_ = t_us;
+}
+
+RealtimeClock::RealtimeClock(Schedule& schedule, RealtimeConfig config) : schedule_(schedule), config_(config) {
+    if (!schedule_.finalized()) throw std::logic_error("RealtimeClock needs a finalized schedule");
+}
+
+std::vector<LaneReport> RealtimeClock::run_for(double seconds, const std::atomic<bool>* external_stop) {
+    const auto& lanes = schedule_.lanes();
+    std::vector<std::vector<ScheduledSystem*>> by_lane(lanes.size());
+    for (auto& s : schedule_.systems()) by_lane[s.lane].push_back(&s);
+    std::vector<LaneReport> reports(lanes.size());
+
+    // Each lane continues its own timeline from where it stands; t0 maps the earliest due time to now.
+    std::int64_t earliest = std::numeric_limits<std::int64_t>::max();
+    for (const auto& lane : by_lane) earliest = std::min(earliest, next_due(lane));
+    if (earliest == std::numeric_limits<std::int64_t>::max()) earliest = 0;
+    const std::int64_t start_ns = monotonic_ns() - earliest * 1000;
+    const std::int64_t end_us = earliest + static_cast<std::int64_t>(seconds * 1e6);
+    std::atomic<bool> lanes_stop{false};
+
+    auto run_lane = [&](std::size_t li) {
+        auto& systems = by_lane[li];
+        auto& report = reports[li];
+        ecs::Registry& registry = *lanes[li].registry;
+        for (;;) {
+            if (lanes_stop.load(std::memory_order_relaxed)) break;
+            if (external_stop && external_stop->load(std::memory_order_relaxed)) break;
+            const std::int64_t t = next_due(systems);
+            if (t >= end_us) break;
+            const std::int64_t deadline_ns = start_ns + t * 1000;
+            sleep_until_ns(deadline_ns);
+            const std::int64_t woke_ns = monotonic_ns();
+            report.wake_lateness_ns.record(woke_ns - deadline_ns);
+            const std::int64_t now_us = (woke_ns - start_ns) / 1000;
+            if (now_us - t > config_.max_catchup_us) {
+                // Far behind (a stall, a debugger, a swapped-out process): drop what is too old.
+                ++report.clamp_events;
+                for (auto* s : systems) report.skipped_firings += s->skip_until(now_us - config_.max_catchup_us);
+                continue;
+            }
+            for (auto* s : systems) {
+                if (s->next_due_us != t) continue;
+                const std::int64_t begin = monotonic_ns();
+                const std::int64_t lateness = begin - deadline_ns;
+                s->stats.lateness_ns.record(lateness);
+                const std::int64_t period_ns = (s->due_us(s->firing + 1) - s->next_due_us) * 1000;
+                if (lateness > period_ns) ++s->stats.missed_deadlines;
+                s->fire(registry);
+                s->stats.duration_ns.record(monotonic_ns() - begin);
+                ++s->stats.calls;
+                ++report.firings;
+            }
+        }
+    };
+
+    std::vector<std::thread> threads;
+    for (std::size_t li = 0; li < lanes.size(); ++li) {
+        if (lanes[li].thread != LaneThread::own) continue;
+        threads.emplace_back([&, li] {
+            if (config_.own_thread_timer_slack_ns > 0) prctl(PR_SET_TIMERSLACK, config_.own_thread_timer_slack_ns);
+            run_lane(li);
+        });
+    }
+    for (std::size_t li = 0; li < lanes.size(); ++li) {
+        if (lanes[li].thread == LaneThread::caller) run_lane(li);
+    }
+    // The caller's lanes are done (time is up or the window closed): stop the others.
+    if (!threads.empty()) {
+        bool any_caller = std::any_of(lanes.begin(), lanes.end(), [](const LaneDesc& l) { return l.thread == LaneThread::caller; });
+        if (any_caller) lanes_stop.store(true);
+    }
+    for (auto& t : threads) t.join();
+    return reports;
+}
+
+} // namespace ikebana::sched

@@ -1,0 +1,64 @@
+#pragma once
+// Two ways to drive one schedule.
+//
+// DeterministicClock: one thread, every lane, one integer-microsecond timeline, as fast as the CPU
+// allows. Same schedule, same inputs: bit-identical world. Used by `sim`, `experiment`, tests.
+//
+// RealtimeClock: the same timeline paced by the monotonic clock. Lanes marked LaneThread::own (the
+// 1 kHz haptic loop) run on their own thread with absolute deadlines, the others on the caller's
+// thread. Lanes share no registry; data crosses threads only through TripleBuffer snapshots
+// (engine/sched/triple_buffer.hpp). When a lane falls behind by more than its catch-up window, the
+// firings it missed are dropped and counted instead of run back to back (no spiral of death).
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "engine/sched/schedule.hpp"
+
+namespace ikebana::sched {
+
+class DeterministicClock {
+public:
+    explicit DeterministicClock(Schedule& schedule);
+
+    // Runs every firing due before t_us (half-open: one second at 1000 Hz is 1000 firings).
+    void run_until(std::int64_t t_us);
+    void run_for_us(std::int64_t duration_us) { run_until(now_us_ + duration_us); }
+    [[nodiscard]] std::int64_t now_us() const noexcept { return now_us_; }
+    // Turns the per-firing duration measurement off, for benchmarks of the scheduler itself.
+    void measure_durations(bool on) noexcept { measure_ = on; }
+
+private:
+    Schedule& schedule_;
+    std::int64_t now_us_ = 0;
+    bool measure_ = true;
+};
+
+struct LaneReport {
+    std::uint64_t firings = 0;
+    std::uint64_t clamp_events = 0;   // times the catch-up clamp dropped firings
+    std::uint64_t skipped_firings = 0;
+    DurationHistogram wake_lateness_ns; // how late the lane woke for each due time
+};
+
+struct RealtimeConfig {
+    // How far a lane may fall behind before the firings it missed are dropped.
+    std::int64_t max_catchup_us = 50'000;
+    // Requested timer slack for lanes with their own thread (Linux; 0 leaves the default).
+    std::int64_t own_thread_timer_slack_ns = 1'000;
+};
+
+class RealtimeClock {
+public:
+    RealtimeClock(Schedule& schedule, RealtimeConfig config = {});
+
+    // Runs for `seconds` of wall time, or until *stop becomes true (set by a window close, say).
+    // Returns one report per lane, in lane order.
+    std::vector<LaneReport> run_for(double seconds, const std::atomic<bool>* stop = nullptr);
+
+private:
+    Schedule& schedule_;
+    RealtimeConfig config_;
+};
+
+} // namespace ikebana::sched

@@ -1,0 +1,15 @@
+#pragma once
+
+namespace ikebana::sched {
+
+struct SystemDesc;
+struct SystemContext;
+class Schedule;
+class DeterministicClock;
+class RealtimeClock;
+class DurationHistogram;
+struct SystemStats;
+template <typename T>
+class TripleBuffer;
+
+} // namespace ikebana::sched

@@ -1,0 +1,201 @@
+#include "engine/sched/schedule.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "engine/ecs/registry.hpp"
+
+namespace ikebana::sched {
+
+void ScheduledSystem::fire(ecs::Registry& registry) {
+    SystemContext ctx{registry, next_due_us, dt_s(), firing};
+    desc.run(ctx);
+    registry.commands().apply();
+    ++firing;
+    next_due_us = due_us(firing);
+}
+
+std::uint64_t ScheduledSystem::skip_until(std::int64_t t_us) {
+    std::uint64_t skipped = 0;
+    while (next_due_us < t_us) {
+        ++firing;
+        ++skipped;
+        next_due_us = due_us(firing);
+    }
+    stats.skipped_firings += skipped;
+    return skipped;
+}
+
+Schedule::Schedule(RateTable rates) : rates_(std::move(rates)) {}
+Schedule::~Schedule() = default;
+
+Result<void> Schedule::add_lane(LaneDesc lane) {
+    if (finalized_) return make_error(ErrorCode::invalid_argument, "add_lane after finalize()");
+    if (!lane.registry) return make_error(ErrorCode::invalid_argument, "lane '" + lane.name + "' has no registry");
+    for (const auto& existing : lanes_) {
+        if (existing.name == lane.name) return make_error(ErrorCode::invalid_argument, "lane '" + lane.name + "' added twice");
+    }
+    if (lane.phases.empty()) return make_error(ErrorCode::invalid_argument, "lane '" + lane.name + "' has no phases");
+    lanes_.push_back(std::move(lane));
+    return {};
+}
+
+Result<void> Schedule::add(SystemDesc system) {
+    if (finalized_) return make_error(ErrorCode::invalid_argument, "system '" + system.name + "' added after finalize()");
+    if (system.name.empty()) return make_error(ErrorCode::invalid_argument, "a system needs a name");
+    if (!system.run) return make_error(ErrorCode::invalid_argument, "system '" + system.name + "' has no function");
+    for (const auto& s : pending_) {
+        if (s.name == system.name) return make_error(ErrorCode::invalid_argument, "system '" + system.name + "' registered twice");
+    }
+    const auto lane = std::find_if(lanes_.begin(), lanes_.end(), [&](const LaneDesc& l) { return l.name == system.lane; });
+    if (lane == lanes_.end()) {
+        return make_error(ErrorCode::not_found, "system '" + system.name + "': unknown lane '" + system.lane + "'");
+    }
+    if (std::find(lane->phases.begin(), lane->phases.end(), system.phase) == lane->phases.end()) {
+        return make_error(ErrorCode::not_found, "system '" + system.name + "': lane '" + system.lane +
+                                                    "' has no phase '" + system.phase + "'");
+    }
+    if (!rates_.contains(system.rate)) {
+        return make_error(ErrorCode::not_found, "system '" + system.name + "': unknown rate '" + system.rate +
+                                                    "' (known: " + rates_.names() + ")");
+    }
+    pending_.push_back(std::move(system));
+    return {};
+}
+
+Result<void> Schedule::finalize() {
+    if (finalized_) return {};
+    // Group by (lane, phase) in declared order, keeping registration order inside a group.
+    std::vector<ScheduledSystem> ordered;
+    std::vector<std::string> problems;
+    for (std::size_t li = 0; li < lanes_.size(); ++li) {
+        for (const auto& phase : lanes_[li].phases) {
+            std::vector<const SystemDesc*> group;
+            for (const auto& s : pending_) {
+                if (s.lane == lanes_[li].name && s.phase == phase) group.push_back(&s);
+            }
+            // `after` edges: every name must be a system of the same phase (an edge across phases or
+            // lanes is meaningless: phases are already ordered, lanes are separate worlds).
+            std::map<std::string, std::size_t> index;
+            for (std::size_t i = 0; i < group.size(); ++i) index[group[i]->name] = i;
+            std::vector<std::vector<std::size_t>> preds(group.size());
+            for (std::size_t i = 0; i < group.size(); ++i) {
+                for (const auto& a : group[i]->after) {
+                    auto it = index.find(a);
+                    if (it == index.end()) {
+                        problems.push_back("system '" + group[i]->name + "' is ordered after '" + a +
+                                           "', which is not a system of phase '" + phase + "'");
+                    } else {
+                        preds[i].push_back(it->second);
+                    }
+                }
+            }
+            // Reachability, for "is there an order between these two?" (groups are small).
+            const std::size_t n = group.size();
+            std::vector<std::vector<bool>> before(n, std::vector<bool>(n, false)); // before[i][j]: j runs before i
+            for (std::size_t i = 0; i < n; ++i) {
+                std::vector<std::size_t> stack(preds[i].begin(), preds[i].end());
+                while (!stack.empty()) {
+                    const auto j = stack.back();
+                    stack.pop_back();
+                    if (before[i][j]) continue;
+                    before[i][j] = true;
+                    for (const auto k : preds[j]) stack.push_back(k);
+                }
+            }
+            for (std::size_t i = 0; i < n; ++i) {
+                if (before[i][i]) problems.push_back("systems of phase '" + phase + "' are ordered in a cycle through '" + group[i]->name + "'");
+            }
+            // Conflicts: a write meeting a read or a write of the same component, with no order.
+            for (std::size_t i = 0; i < n; ++i) {
+                for (std::size_t j = i + 1; j < n; ++j) {
+                    if (before[i][j] || before[j][i]) continue;
+                    const auto& a = *group[i];
+                    const auto& b = *group[j];
+                    auto clash = [&](const std::vector<std::string>& w, const std::vector<std::string>& other, const char* kind) {
+                        for (const auto& c : w) {
+                            if (std::find(other.begin(), other.end(), c) != other.end()) {
+                                problems.push_back("systems '" + a.name + "' and '" + b.name + "' in phase '" + phase + "' " +
+                                                   kind + " '" + c + "' with no order between them (add `after`)");
+                            }
+                        }
+                    };
+                    clash(a.writes, b.writes, "both write");
+                    clash(a.writes, b.reads, "write/read");
+                    clash(b.writes, a.reads, "write/read");
+                }
+            }
+            // Kahn's algorithm, smallest registration index first, so the order is stable.
+            std::vector<std::size_t> indegree(n, 0);
+            for (std::size_t i = 0; i < n; ++i) indegree[i] = preds[i].size();
+            std::set<std::size_t> ready;
+            for (std::size_t i = 0; i < n; ++i) {
+                if (indegree[i] == 0) ready.insert(i);
+            }
+            std::vector<bool> placed(n, false);
+            while (!ready.empty()) {
+                const auto i = *ready.begin();
+                ready.erase(ready.begin());
+                placed[i] = true;
+                ScheduledSystem s;
+                s.desc = *group[i];
+                s.lane = li;
+                ordered.push_back(std::move(s));
+                for (std::size_t k = 0; k < n; ++k) {
+                    if (!placed[k] && std::count(preds[k].begin(), preds[k].end(), i) > 0) {
+                        indegree[k] -= static_cast<std::size_t>(std::count(preds[k].begin(), preds[k].end(), i));
+                        if (indegree[k] == 0) ready.insert(k);
+                    }
+                }
+            }
+        }
+    }
+    if (!problems.empty()) {
+        std::string message = "the schedule is inconsistent:";
+        for (const auto& p : problems) message += "\n  - " + p;
+        return make_error(ErrorCode::schedule_conflict, message);
+    }
+    for (auto& s : ordered) {
+        s.rate_mhz = std::llround(rates_.hz(s.desc.rate) * 1000.0);
+        s.firing = 0;
+        s.next_due_us = 0;
+    }
+    systems_ = std::move(ordered);
+    pending_.clear();
+    finalized_ = true;
+    return {};
+}
+
+const ScheduledSystem* Schedule::find(std::string_view name) const {
+    for (const auto& s : systems_) {
+        if (s.desc.name == name) return &s;
+    }
+    return nullptr;
+}
+
+std::string Schedule::stats_table() const {
+    std::ostringstream out;
+    char line[256];
+    std::snprintf(line, sizeof line, "%-28s %-7s %9s %10s %10s %10s %10s %10s %8s %8s\n", "system", "lane", "rate_hz",
+                  "calls", "mean_us", "p99_us", "max_us", "late_p99", "missed", "skipped");
+    out << line;
+    for (const auto& s : systems_) {
+        const auto& st = s.stats;
+        std::snprintf(line, sizeof line, "%-28s %-7s %9.2f %10llu %10.2f %10.2f %10.2f %10.2f %8llu %8llu\n",
+                      s.desc.name.c_str(), lanes_[s.lane].name.c_str(), static_cast<double>(s.rate_mhz) / 1000.0,
+                      static_cast<unsigned long long>(st.calls), st.duration_ns.mean() / 1e3,
+                      static_cast<double>(st.duration_ns.percentile(0.99)) / 1e3,
+                      static_cast<double>(st.duration_ns.max()) / 1e3,
+                      static_cast<double>(st.lateness_ns.percentile(0.99)) / 1e3,
+                      static_cast<unsigned long long>(st.missed_deadlines),
+                      static_cast<unsigned long long>(st.skipped_firings));
+        out << line;
+    }
+    return out.str();
+}
+
+} // namespace ikebana::sched

@@ -1,0 +1,125 @@
+#include <gtest/gtest.h>
+
+#include <glm/glm.hpp>
+
+#include "engine/ecs/registry.hpp"
+
+using namespace ikebana::ecs;
+
+namespace {
+struct Position {
+    glm::dvec3 value{};
+};
+struct Velocity {
+    glm::dvec3 value{};
+};
+struct Frozen {}; // a tag
+} // namespace
+
+TEST(Registry, CreatedEntityIsValid) {
+    Registry r;
+    const Entity e = r.create();
+    EXPECT_TRUE(r.valid(e));
+    EXPECT_EQ(r.alive(), 1u);
+}
+
+TEST(Registry, DestroyedHandleIsNotValid) {
+    Registry r;
+    const Entity e = r.create();
+    r.destroy(e);
+    EXPECT_FALSE(r.valid(e));
+    EXPECT_EQ(r.alive(), 0u);
+}
+
+TEST(Registry, RecycledSlotDoesNotAliasOldHandle) {
+    Registry r;
+    const Entity old = r.create();
+    r.emplace<Position>(old, glm::dvec3{1, 2, 3});
+    r.destroy(old);
+    const Entity recycled = r.create();
+    ASSERT_EQ(recycled.index, old.index) << "the slot is reused";
+    EXPECT_NE(recycled.generation, old.generation);
+    EXPECT_FALSE(r.valid(old));
+    EXPECT_TRUE(r.valid(recycled));
+    EXPECT_EQ(r.try_get<Position>(old), nullptr) << "a stale handle must not reach the new entity's data";
+    EXPECT_FALSE(r.all_of<Position>(recycled)) << "components of the destroyed entity are gone";
+}
+
+TEST(Registry, NullHandleIsNotValid) {
+    Registry r;
+    EXPECT_FALSE(r.valid(null_entity));
+    EXPECT_THROW((void)r.get<Position>(null_entity), std::logic_error);
+}
+
+TEST(Registry, EmplaceGetRemove) {
+    Registry r;
+    const Entity e = r.create();
+    r.emplace<Position>(e, glm::dvec3{1, 2, 3});
+    EXPECT_TRUE(r.all_of<Position>(e));
+    EXPECT_EQ(r.get<Position>(e).value.y, 2.0);
+    EXPECT_TRUE(r.remove<Position>(e));
+    EXPECT_FALSE(r.all_of<Position>(e));
+    EXPECT_FALSE(r.remove<Position>(e));
+}
+
+TEST(Registry, EmplaceTwiceIsRefused) {
+    Registry r;
+    const Entity e = r.create();
+    r.emplace<Position>(e);
+    EXPECT_THROW(r.emplace<Position>(e), std::logic_error);
+}
+
+TEST(Registry, RemovingFromMiddleKeepsOthersIntact) {
+    Registry r;
+    std::vector<Entity> es;
+    for (int i = 0; i < 10; ++i) {
+        es.push_back(r.create());
+        r.emplace<Position>(es.back(), glm::dvec3{i, 0, 0});
+    }
+    r.destroy(es[3]);
+    r.remove<Position>(es[7]);
+    for (int i = 0; i < 10; ++i) {
+        if (i == 3 || i == 7) continue;
+        EXPECT_EQ(r.get<Position>(es[i]).value.x, i);
+    }
+    EXPECT_EQ(r.count<Position>(), 8u);
+}
+
+TEST(Registry, TagsTakeNoPayloadButFilter) {
+    Registry r;
+    const Entity a = r.create();
+    const Entity b = r.create();
+    r.emplace<Frozen>(a);
+    EXPECT_TRUE(r.all_of<Frozen>(a));
+    EXPECT_FALSE(r.all_of<Frozen>(b));
+    EXPECT_TRUE((r.any_of<Position, Frozen>(a)));
+}
+
+TEST(Registry, ResourcesAreSingletons) {
+    Registry r;
+    EXPECT_EQ(r.resource<int>(), nullptr);
+    r.set_resource<int>(7);
+    ASSERT_NE(r.resource<int>(), nullptr);
+    EXPECT_EQ(*r.resource<int>(), 7);
+}
+
+TEST(Registry, StateHashIgnoresInsertionOrderOfTypes) {
+    Registry a;
+    Registry b;
+    const Entity ea = a.create();
+    const Entity eb = b.create();
+    a.emplace<Position>(ea, glm::dvec3{1, 0, 0});
+    a.emplace<Velocity>(ea, glm::dvec3{0, 1, 0});
+    b.emplace<Velocity>(eb, glm::dvec3{0, 1, 0});
+    b.emplace<Position>(eb, glm::dvec3{1, 0, 0});
+    EXPECT_EQ(a.state_hash(), b.state_hash());
+}
+
+TEST(Registry, StateHashSeesTheSmallestChange) {
+    Registry r;
+    const Entity e = r.create();
+    r.emplace<Position>(e, glm::dvec3{1, 0, 0});
+    const auto before = r.state_hash();
+    r.get<Position>(e).value.x = std::nextafter(1.0, 2.0);
+    EXPECT_NE(before, r.state_hash());
+}

@@ -1,0 +1,164 @@
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "engine/ecs/registry.hpp"
+#include "engine/sched/clocks.hpp"
+#include "engine/sched/triple_buffer.hpp"
+
+using namespace ikebana;
+using namespace ikebana::sched;
+
+namespace {
+struct Sample {
+    std::uint64_t tick = 0;
+    double force = 0.0;
+};
+
+// Two worlds, one channel: the haptic lane publishes, the main lane reads, as the app does.
+struct TwoLanes {
+    ecs::Registry haptic_world;
+    ecs::Registry main_world;
+    TripleBuffer<Sample> channel;
+    std::uint64_t haptic_ticks = 0; // touched by the haptic thread only
+    std::uint64_t newest_seen = 0;  // touched by the main thread only
+    std::uint64_t out_of_order = 0;
+    Schedule schedule;
+
+    explicit TwoLanes(std::chrono::milliseconds main_stall) {
+        EXPECT_TRUE(schedule.add_lane({"haptic", &haptic_world, LaneThread::own, {"loop"}}));
+        EXPECT_TRUE(schedule.add_lane({"main", &main_world, LaneThread::caller, {"frame"}}));
+        SystemDesc force;
+        force.name = "force_output";
+        force.lane = "haptic";
+        force.phase = "loop";
+        force.rate = "haptic";
+        force.run = [this](SystemContext& ctx) {
+            ++haptic_ticks;
+            channel.write_buffer() = Sample{ctx.firing + 1, static_cast<double>(ctx.firing)};
+            channel.publish();
+        };
+        SystemDesc frame;
+        frame.name = "frame";
+        frame.lane = "main";
+        frame.phase = "frame";
+        frame.rate = "render";
+        frame.run = [this, main_stall](SystemContext&) {
+            channel.update();
+            const auto tick = channel.read_buffer().tick;
+            if (tick < newest_seen) ++out_of_order;
+            newest_seen = tick;
+            if (main_stall.count() > 0) std::this_thread::sleep_for(main_stall);
+        };
+        EXPECT_TRUE(schedule.add(force));
+        EXPECT_TRUE(schedule.add(frame));
+        EXPECT_TRUE(schedule.finalize());
+    }
+};
+} // namespace
+
+TEST(RealtimeClock, HapticLaneRunsAtItsRateOnItsOwnThread) {
+    TwoLanes world(std::chrono::milliseconds(0));
+    RealtimeClock clock(world.schedule);
+    const auto start = std::chrono::steady_clock::now();
+    const auto reports = clock.run_for(0.5);
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_GE(elapsed, 0.45);
+    // Generous bounds: sanitizers and a loaded CI machine slow things down, and skipped firings count.
+    const auto* h = world.schedule.find("force_output");
+    EXPECT_GE(h->stats.calls + h->stats.skipped_firings, 450u);
+    EXPECT_LE(h->stats.calls, 501u);
+    EXPECT_EQ(world.out_of_order, 0u) << "snapshots never go back in time";
+    EXPECT_GT(world.newest_seen, 0u) << "the main lane saw the haptic lane's snapshots";
+    EXPECT_EQ(reports.size(), 2u);
+}
+
+TEST(RealtimeClock, StalledFrameDoesNotStallHapticLoop) {
+    // Every frame stalls for 80 ms, so the main lane falls far behind its 30 Hz.
+    TwoLanes world(std::chrono::milliseconds(80));
+    RealtimeClock clock(world.schedule);
+    (void)clock.run_for(0.6);
+    const auto* h = world.schedule.find("force_output");
+    const auto* frame = world.schedule.find("frame");
+    EXPECT_LE(frame->stats.calls, 10u) << "the frames really stalled";
+    EXPECT_GE(h->stats.calls + h->stats.skipped_firings, 500u) << "the haptic loop kept its pace meanwhile";
+    EXPECT_GE(h->stats.calls, 300u);
+}
+
+TEST(RealtimeClock, CatchUpIsClampedAndCounted) {
+    ecs::Registry reg;
+    Schedule s;
+    ASSERT_TRUE(s.add_lane({"main", &reg, LaneThread::caller, {"p"}}));
+    int calls = 0;
+    SystemDesc slow;
+    slow.name = "slow";
+    slow.lane = "main";
+    slow.phase = "p";
+    slow.rate = "haptic";
+    slow.run = [&](SystemContext&) {
+        if (++calls == 1) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    };
+    ASSERT_TRUE(s.add(slow));
+    ASSERT_TRUE(s.finalize());
+    RealtimeClock clock(s, RealtimeConfig{.max_catchup_us = 20'000});
+    const auto reports = clock.run_for(0.4);
+    EXPECT_GE(reports[0].clamp_events, 1u);
+    // 200 ms behind with a 20 ms window: at least 150 firings dropped instead of run in a burst.
+    EXPECT_GE(s.find("slow")->stats.skipped_firings, 150u);
+    EXPECT_GE(s.find("slow")->stats.missed_deadlines, 1u);
+}
+
+TEST(RealtimeClock, ExternalStopEndsTheRun) {
+    ecs::Registry reg;
+    Schedule s;
+    ASSERT_TRUE(s.add_lane({"main", &reg, LaneThread::caller, {"p"}}));
+    std::atomic<bool> stop{false};
+    SystemDesc closer;
+    closer.name = "window";
+    closer.lane = "main";
+    closer.phase = "p";
+    closer.rate = "render";
+    closer.run = [&](SystemContext& ctx) {
+        if (ctx.firing == 3) stop = true;
+    };
+    ASSERT_TRUE(s.add(closer));
+    ASSERT_TRUE(s.finalize());
+    RealtimeClock clock(s);
+    const auto start = std::chrono::steady_clock::now();
+    (void)clock.run_for(10.0, &stop);
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+    EXPECT_EQ(s.find("window")->stats.calls, 4u);
+}
+
+TEST(TripleBuffer, ReaderGetsNewestCompleteSnapshotAcrossThreads) {
+    struct Big {
+        std::array<std::uint64_t, 64> words{};
+    };
+    TripleBuffer<Big> buffer;
+    std::atomic<bool> done{false};
+    std::thread writer([&] {
+        for (std::uint64_t i = 1; i <= 200'000; ++i) {
+            buffer.write_buffer().words.fill(i);
+            buffer.publish();
+        }
+        done = true;
+    });
+    std::uint64_t last = 0;
+    std::uint64_t torn = 0;
+    std::uint64_t backwards = 0;
+    while (!done.load()) {
+        if (!buffer.update()) continue;
+        const auto& snapshot = buffer.read_buffer();
+        const auto first = snapshot.words[0];
+        for (auto w : snapshot.words) torn += (w != first);
+        backwards += first < last;
+        last = first;
+    }
+    writer.join();
+    buffer.update();
+    EXPECT_EQ(torn, 0u);
+    EXPECT_EQ(backwards, 0u);
+    EXPECT_EQ(buffer.read_buffer().words[0], 200'000u);
+}

@@ -1,0 +1,125 @@
+#include <gtest/gtest.h>
+
+#include "engine/ecs/registry.hpp"
+#include "engine/sched/schedule.hpp"
+
+using namespace ikebana;
+using namespace ikebana::sched;
+
+namespace {
+struct Springs {};
+struct Points {};
+
+SystemDesc make(std::string name, std::string phase, std::vector<std::string> reads, std::vector<std::string> writes,
+                std::vector<std::string> after = {}, std::string rate = "haptic") {
+    SystemDesc d;
+    d.name = std::move(name);
+    d.lane = "sim";
+    d.phase = std::move(phase);
+    d.rate = std::move(rate);
+    d.reads = std::move(reads);
+    d.writes = std::move(writes);
+    d.after = std::move(after);
+    d.run = [](SystemContext&) {};
+    return d;
+}
+
+struct Fixture {
+    ecs::Registry registry;
+    Schedule schedule;
+    Fixture() {
+        EXPECT_TRUE(schedule.add_lane({"sim", &registry, LaneThread::caller, {"input", "physics", "output"}}));
+    }
+};
+} // namespace
+
+TEST(Schedule, WritersWithoutOrderAreReportedAtStartUp) {
+    Fixture f;
+    ASSERT_TRUE(f.schedule.add(make("springs", "physics", {}, components<Points>())));
+    ASSERT_TRUE(f.schedule.add(make("contacts", "physics", {}, components<Points>())));
+    const auto result = f.schedule.finalize();
+    ASSERT_FALSE(result);
+    EXPECT_EQ(result.error().code, ErrorCode::schedule_conflict);
+    EXPECT_NE(result.error().message.find("'springs' and 'contacts'"), std::string::npos) << result.error().message;
+    EXPECT_NE(result.error().message.find("Points"), std::string::npos) << result.error().message;
+}
+
+TEST(Schedule, ReaderAndWriterWithoutOrderAreReported) {
+    Fixture f;
+    ASSERT_TRUE(f.schedule.add(make("springs", "physics", {}, components<Points>())));
+    ASSERT_TRUE(f.schedule.add(make("force_out", "physics", components<Points>(), {})));
+    EXPECT_FALSE(f.schedule.finalize());
+}
+
+TEST(Schedule, AfterResolvesTheConflictAndFixesTheOrder) {
+    Fixture f;
+    ASSERT_TRUE(f.schedule.add(make("b", "physics", {}, components<Points>(), {"a"})));
+    ASSERT_TRUE(f.schedule.add(make("a", "physics", {}, components<Points>())));
+    ASSERT_TRUE(f.schedule.finalize());
+    ASSERT_EQ(f.schedule.systems().size(), 2u);
+    EXPECT_EQ(f.schedule.systems()[0].desc.name, "a");
+    EXPECT_EQ(f.schedule.systems()[1].desc.name, "b");
+}
+
+TEST(Schedule, PhasesOrderSystemsWithoutConflict) {
+    Fixture f;
+    ASSERT_TRUE(f.schedule.add(make("force_out", "output", components<Points>(), {})));
+    ASSERT_TRUE(f.schedule.add(make("springs", "physics", {}, components<Points, Springs>())));
+    ASSERT_TRUE(f.schedule.add(make("read_devices", "input", {}, {})));
+    ASSERT_TRUE(f.schedule.finalize());
+    EXPECT_EQ(f.schedule.systems()[0].desc.name, "read_devices");
+    EXPECT_EQ(f.schedule.systems()[1].desc.name, "springs");
+    EXPECT_EQ(f.schedule.systems()[2].desc.name, "force_out");
+}
+
+TEST(Schedule, CyclesAndUnknownAfterAreReported) {
+    Fixture f;
+    ASSERT_TRUE(f.schedule.add(make("a", "physics", {}, {}, {"b"})));
+    ASSERT_TRUE(f.schedule.add(make("b", "physics", {}, {}, {"a"})));
+    ASSERT_TRUE(f.schedule.add(make("c", "physics", {}, {}, {"nope"})));
+    const auto result = f.schedule.finalize();
+    ASSERT_FALSE(result);
+    EXPECT_NE(result.error().message.find("cycle"), std::string::npos);
+    EXPECT_NE(result.error().message.find("'nope'"), std::string::npos);
+}
+
+TEST(Schedule, UnknownLanePhaseOrRateIsRefused) {
+    Fixture f;
+    auto bad_lane = make("x", "physics", {}, {});
+    bad_lane.lane = "nowhere";
+    EXPECT_FALSE(f.schedule.add(bad_lane));
+    EXPECT_FALSE(f.schedule.add(make("y", "render", {}, {})));
+    const auto r = f.schedule.add(make("z", "physics", {}, {}, {}, "warp"));
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("haptic"), std::string::npos) << "lists the known rates";
+}
+
+TEST(Schedule, DuplicateNamesAreRefused) {
+    Fixture f;
+    ASSERT_TRUE(f.schedule.add(make("a", "physics", {}, {})));
+    EXPECT_FALSE(f.schedule.add(make("a", "input", {}, {})));
+}
+
+TEST(RateTable, PaperDefaults) {
+    const auto t = RateTable::paper_defaults();
+    EXPECT_EQ(t.hz("haptic"), 1000.0);
+    EXPECT_EQ(t.hz("position_estimate"), 100.0);
+    EXPECT_EQ(t.hz("position_check"), 16.0);
+    EXPECT_EQ(t.hz("render"), 30.0);
+}
+
+TEST(RateTable, BadValuesAreRefusedWithAClearMessage) {
+    auto t = RateTable::paper_defaults();
+    for (const char* bad : {"render=0", "render=-30", "render=abc", "render=", "render", "=30", "render=30x",
+                            "render=nan", "render=inf", "render=1e9"}) {
+        const auto r = t.set_from_string(bad);
+        EXPECT_FALSE(r) << bad;
+    }
+    const auto unknown = t.set_from_string("warp=10");
+    ASSERT_FALSE(unknown);
+    EXPECT_EQ(unknown.error().code, ErrorCode::not_found);
+    EXPECT_NE(unknown.error().message.find("warp"), std::string::npos);
+    EXPECT_EQ(t.hz("render"), 30.0) << "a refused change leaves the old value";
+    EXPECT_TRUE(t.set_from_string("render=60"));
+    EXPECT_EQ(t.hz("render"), 60.0);
+}
