@@ -1,0 +1,21 @@
+#pragma once
+
+namespace ikebana::components {
+
+struct Flower;
+struct Part;
+struct ActiveCollider;
+struct PassiveCollider;
+struct InactiveCollider;
+struct StemPoints;
+struct StemRestShape;
+struct StemSprings;
+struct StemClamp;
+struct Kenzan;
+struct HandCube;
+struct Collider;
+struct Contacts;
+struct PhysicsSettings;
+struct WorldEnergy;
+
+} // namespace ikebana::components

@@ -1,0 +1,19 @@
+#pragma once
+// World-wide physics settings and what the physics reports back (registry resources).
+#include <glm/glm.hpp>
+
+namespace ikebana::components {
+
+struct PhysicsSettings {
+    glm::dvec3 gravity_m_s2{0.0, 0.0, -9.80665};
+};
+
+// Energy of everything the spring system integrates, for summaries and the no-explosion checks.
+struct WorldEnergy {
+    double kinetic_j;
+    double elastic_j;
+    double gravitational_j; // relative to z = 0
+    [[nodiscard]] double total() const noexcept { return kinetic_j + elastic_j + gravitational_j; }
+};
+
+} // namespace ikebana::components

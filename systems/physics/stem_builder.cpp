@@ -1,0 +1,68 @@
+#include "systems/physics/stem_builder.hpp"
+
+#include <cmath>
+
+#include <glm/gtc/constants.hpp>
+
+namespace ikebana::systems::physics {
+
+double second_moment_of_area(double diameter_m) {
+    return glm::pi<double>() * std::pow(diameter_m, 4) / 64.0;
+}
+
+BuiltStem build_stem(const StemSpec& spec) {
+    const std::uint32_t n = spec.segments;
+    const double l = spec.length_m / n;
+    const double area = glm::pi<double>() * spec.diameter_m * spec.diameter_m / 4.0;
+    const double inertia = spec.second_moment_m4 > 0.0 ? spec.second_moment_m4 : second_moment_of_area(spec.diameter_m);
+    const double ei = spec.youngs_modulus_pa * inertia;
+
+    BuiltStem stem;
+    stem.bending_stiffness_nm2 = ei;
+    stem.rest.diameter_m = spec.diameter_m;
+    stem.rest.segment_length_m.assign(n, l);
+    const double per_hinge = n > 1 ? spec.rest_bend_rad / (n - 1) : 0.0;
+    stem.rest.hinge_angle_rad.assign(n > 0 ? n - 1 : 0, std::abs(per_hinge));
+    stem.springs.axial_n_per_m.assign(n, spec.youngs_modulus_pa * area / l);
+    stem.springs.hinge_nm_per_rad.assign(n > 0 ? n - 1 : 0, ei / l);
+    stem.springs.stiffness_damping_s = spec.stiffness_damping_s;
+    stem.springs.air_drag_per_s = spec.air_drag_per_s;
+
+    // Lay the points along the rest shape: a circular arc when bent, a line otherwise.
+    const glm::dvec3 dir = glm::normalize(spec.direction);
+    glm::dvec3 side = spec.bend_towards - glm::dot(spec.bend_towards, dir) * dir;
+    side = glm::length(side) > 1e-12 ? glm::normalize(side) : glm::dvec3{0.0};
+    auto& pts = stem.points;
+    pts.position_m.resize(n + 1);
+    pts.position_m[0] = spec.base_m;
+    double heading = 0.0; // angle of the current segment from `dir`, towards `side`
+    for (std::uint32_t i = 1; i <= n; ++i) {
+        if (i > 1) heading += per_hinge;
+        const glm::dvec3 e = std::cos(heading) * dir + std::sin(heading) * side;
+        pts.position_m[i] = pts.position_m[i - 1] + l * e;
+    }
+    pts.velocity_m_s.assign(n + 1, glm::dvec3{0.0});
+    pts.external_force_n.assign(n + 1, glm::dvec3{0.0});
+    pts.pinned.assign(n + 1, 0);
+    // Lumped masses: each point carries half of each segment beside it.
+    pts.mass_kg.assign(n + 1, 0.0);
+    const double segment_mass = spec.stem_mass_kg / n;
+    for (std::uint32_t i = 1; i <= n; ++i) {
+        pts.mass_kg[i - 1] += 0.5 * segment_mass;
+        pts.mass_kg[i] += 0.5 * segment_mass;
+    }
+    pts.mass_kg[n] += spec.head_mass_kg;
+    return stem;
+}
+
+components::StemClamp clamp_bottom(const BuiltStem& stem) {
+    const auto& x = stem.points.position_m;
+    components::StemClamp clamp{};
+    clamp.engaged = true;
+    clamp.anchor_m = x[0];
+    clamp.direction = glm::normalize(x[1] - x[0]);
+    clamp.hinge_nm_per_rad = 2.0 * stem.bending_stiffness_nm2 / stem.rest.segment_length_m[0];
+    return clamp;
+}
+
+} // namespace ikebana::systems::physics
