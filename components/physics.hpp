@@ -17,3 +17,13 @@ struct WorldEnergy {
 };
 
 } // namespace ikebana::components
+
+namespace ikebana::components {
+
+// The table top everything stands on (Passive). Flowers lying on it are held up with friction.
+struct Table {
+    double height_m;
+    double friction; // Coulomb coefficient for points resting on it
+};
+
+} // namespace ikebana::components

@@ -1,1 +1,36 @@
-int main() { return 0; }
+// ikebana: the trainee app (no arguments) and its tools (subcommands).
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "game/asset_paths.hpp"
+#include "game/cli/sim_command.hpp"
+#include "game/cli/species_command.hpp"
+
+int main(int argc, char** argv) {
+    CLI::App app{"Ikebana: a training simulator for Japanese flower arrangement"};
+    app.require_subcommand(0, 1);
+    int exit_code = 0;
+    ikebana::game::add_sim_command(app, exit_code);
+    ikebana::game::add_species_command(app, exit_code);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    if (app.get_subcommands().empty()) {
+        // The trainee app. The renderer is not built yet, so it runs the default scene headless and
+        // says so rather than pretending to open a window.
+        const char* display = std::getenv("DISPLAY");
+        std::printf("ikebana: %s; the window renderer is not part of this build yet, so the default scene runs "
+                    "headless for 10 s on the deterministic clock.\n",
+                    display && *display ? "a display is present" : "no display");
+        ikebana::game::SimOptions options;
+        options.scene = (ikebana::game::asset_dir() / "scenes" / "default.json").string();
+        options.seconds = 10.0;
+        return ikebana::game::run_sim(options);
+    }
+    return exit_code;
+}

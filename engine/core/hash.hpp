@@ -25,12 +25,17 @@ namespace ikebana {
 
 class StateHasher {
 public:
+    // FNV-1a over 8-byte words (then the tail bytes): the same detect-any-change property at an
+    // eighth of the multiplications.
     void bytes(const void* data, std::size_t size) noexcept {
         const auto* p = static_cast<const unsigned char*>(data);
-        for (std::size_t i = 0; i < size; ++i) {
-            state_ ^= p[i];
-            state_ *= 0x100000001b3ull; // FNV-1a prime
+        std::size_t i = 0;
+        for (; i + 8 <= size; i += 8) {
+            std::uint64_t word;
+            std::memcpy(&word, p + i, 8);
+            state_ = (state_ ^ word) * 0x100000001b3ull;
         }
+        for (; i < size; ++i) state_ = (state_ ^ p[i]) * 0x100000001b3ull;
     }
     template <typename T>
         requires std::is_arithmetic_v<T> || std::is_enum_v<T>

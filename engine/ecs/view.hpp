@@ -23,14 +23,15 @@ public:
         const SparseSet* lead = smallest();
         if (!lead) return;
         IterationScope scope(registry_);
-        const auto& entities = lead->entities();
+        // Storages are resolved once per call, not once per entity.
+        const std::tuple<Storage<Get>*...> pools{registry_.template find_storage<Get>()...};
+        const std::tuple<Storage<Excluded>*...> excluded{registry_.template find_storage<Excluded>()...};
         // Structural changes are refused during iteration, so the dense array cannot move under us.
-        for (std::size_t i = 0; i < entities.size(); ++i) {
-            const Entity e = entities[i];
-            if (!(registry_.template has_one<Get>(e) && ...)) continue;
-            if ((registry_.template has_one<Excluded>(e) || ...)) continue;
+        for (const Entity e : lead->entities()) {
+            if (!(std::get<Storage<Get>*>(pools)->contains(e) && ...)) continue;
+            if (((std::get<Storage<Excluded>*>(excluded) && std::get<Storage<Excluded>*>(excluded)->contains(e)) || ...)) continue;
             std::apply([&](auto&... components) { f(e, components...); },
-                       std::tuple_cat(fetch<Get>(e)...));
+                       std::tuple_cat(fetch<Get>(std::get<Storage<Get>*>(pools), e)...));
         }
     }
 
@@ -46,8 +47,12 @@ public:
         const SparseSet* lead = smallest();
         if (!lead) return;
         IterationScope scope(registry_);
+        const std::tuple<Storage<Get>*...> pools{registry_.template find_storage<Get>()...};
+        const std::tuple<Storage<Excluded>*...> excluded{registry_.template find_storage<Excluded>()...};
         for (const Entity e : lead->entities()) {
-            if ((registry_.template has_one<Get>(e) && ...) && !(registry_.template has_one<Excluded>(e) || ...)) f(e);
+            if (!(std::get<Storage<Get>*>(pools)->contains(e) && ...)) continue;
+            if (((std::get<Storage<Excluded>*>(excluded) && std::get<Storage<Excluded>*>(excluded)->contains(e)) || ...)) continue;
+            f(e);
         }
     }
 
@@ -59,9 +64,9 @@ private:
     };
 
     template <typename T>
-    auto fetch(Entity e) {
+    static auto fetch(Storage<T>* pool, Entity e) {
         if constexpr (std::is_empty_v<T>) return std::tuple<>{};
-        else return std::tuple<T&>{registry_.template find_storage<T>()->get(e)};
+        else return std::tuple<T&>{pool->get(e)};
     }
 
     const SparseSet* smallest() const {

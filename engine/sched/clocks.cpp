@@ -135,11 +135,9 @@ std::vector<LaneReport> RealtimeClock::run_for(double seconds, const std::atomic
     for (std::size_t li = 0; li < lanes.size(); ++li) {
         if (lanes[li].thread == LaneThread::caller) run_lane(li);
     }
-    // The caller's lanes are done (time is up or the window closed): stop the others.
-    if (!threads.empty()) {
-        bool any_caller = std::any_of(lanes.begin(), lanes.end(), [](const LaneDesc& l) { return l.thread == LaneThread::caller; });
-        if (any_caller) lanes_stop.store(true);
-    }
+    // The caller's lanes are done. If that was a stop request (a window closed), stop the other lanes
+    // now; if time ran out, they finish their own timeline up to the same end.
+    if (external_stop && external_stop->load()) lanes_stop.store(true);
     for (auto& t : threads) t.join();
     return reports;
 }

@@ -2,18 +2,25 @@
 
 #include <charconv>
 #include <cmath>
+#include <sstream>
 #include <string>
 
 namespace ikebana::sched {
 
 namespace {
+std::string number_text(double v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+}
+
 Result<void> check_hz(std::string_view name, double hz) {
     if (!std::isfinite(hz) || hz <= 0.0) {
         return make_error(ErrorCode::invalid_argument,
-                          "rate '" + std::string(name) + "' must be a positive number of Hz, got " + std::to_string(hz));
+                          "rate '" + std::string(name) + "' must be a positive number of Hz, got " + number_text(hz));
     }
     if (hz > max_rate_hz) {
-        return make_error(ErrorCode::invalid_argument, "rate '" + std::string(name) + "' of " + std::to_string(hz) +
+        return make_error(ErrorCode::invalid_argument, "rate '" + std::string(name) + "' of " + number_text(hz) +
                                                            " Hz is above the supported maximum of 100000 Hz");
     }
     return {};

@@ -1,0 +1,71 @@
+#pragma once
+// Reading designer-written JSON without trusting it. Every accessor records a problem instead of
+// throwing, so one pass reports everything wrong with a file, each as
+//   sunflower.json: /stem/segments: expected an integer >= 2, got "ten"
+// and the caller applies nothing unless the list is empty.
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/core/result.hpp"
+
+namespace ikebana::assets {
+
+using Json = nlohmann::json;
+
+struct NumberRange {
+    double min = -std::numeric_limits<double>::infinity();
+    double max = std::numeric_limits<double>::infinity();
+    bool min_exclusive = false;
+};
+
+class JsonChecker {
+public:
+    explicit JsonChecker(std::string file_label) : file_(std::move(file_label)) {}
+
+    // Parses text; a syntax error is recorded with its line and column.
+    std::optional<Json> parse(std::string_view text);
+
+    // Field accessors. `path` is the JSON pointer of `object`; missing optional fields give nullopt
+    // without a problem, missing required ones record one.
+    std::optional<double> number(const Json& object, const std::string& path, const char* key, NumberRange range,
+                                 bool required = true);
+    std::optional<std::int64_t> integer(const Json& object, const std::string& path, const char* key,
+                                        std::int64_t min, std::int64_t max, bool required = true);
+    std::optional<std::string> string(const Json& object, const std::string& path, const char* key,
+                                      bool required = true);
+    // One of `allowed`; the problem lists them.
+    std::optional<std::string> choice(const Json& object, const std::string& path, const char* key,
+                                      const std::vector<std::string>& allowed, bool required = true);
+    std::optional<bool> boolean(const Json& object, const std::string& path, const char* key, bool required = true);
+    const Json* object(const Json& parent, const std::string& path, const char* key, bool required = true);
+    const Json* array(const Json& parent, const std::string& path, const char* key, bool required = true);
+    std::optional<std::vector<double>> numbers(const Json& parent, const std::string& path, const char* key,
+                                               NumberRange range, std::size_t min_count, bool required = true);
+    // Fields not in `known` are reported: a misspelt key must not silently fall back to a default.
+    void no_unknown_keys(const Json& object, const std::string& path, const std::vector<std::string>& known);
+
+    void problem(const std::string& path, const std::string& what);
+    [[nodiscard]] bool ok() const noexcept { return problems_.empty(); }
+    [[nodiscard]] const std::vector<std::string>& problems() const noexcept { return problems_; }
+    [[nodiscard]] const std::string& file() const noexcept { return file_; }
+    // All problems as one error (code parse_error), one per line.
+    [[nodiscard]] Error error() const;
+
+    static std::string describe(const Json& value); // `"ten"`, `12.5`, `an object`, ...
+
+private:
+    std::string file_;
+    std::vector<std::string> problems_;
+};
+
+// Reads a whole file; not_found or io_error naming the path.
+Result<std::string> read_text_file(const std::filesystem::path& path);
+
+} // namespace ikebana::assets

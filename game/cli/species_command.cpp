@@ -1,0 +1,35 @@
+#include "game/cli/species_command.hpp"
+
+#include <cstdio>
+#include <iostream>
+
+#include "game/species/species.hpp"
+
+namespace ikebana::game {
+
+int check_species_files(const std::vector<std::string>& files) {
+    int bad = 0;
+    for (const auto& file : files) {
+        const auto species = load_species_file(file);
+        if (species) {
+            std::printf("%s: ok (%s, %s branch, %u segments, %.0f mm)\n", file.c_str(), species->id.c_str(),
+                        species->branch == BranchKind::hard ? "hard" : "soft", species->segments, species->length_m * 1e3);
+        } else {
+            ++bad;
+            std::cerr << species.error().message << "\n";
+        }
+    }
+    if (bad > 0) std::cerr << bad << " of " << files.size() << " species file(s) have problems\n";
+    return bad > 0 ? 1 : 0;
+}
+
+void add_species_command(CLI::App& app, int& exit_code) {
+    auto* species = app.add_subcommand("species", "Work with species files (assets/species/*.json)");
+    species->require_subcommand(1);
+    auto files = std::make_shared<std::vector<std::string>>();
+    auto* check = species->add_subcommand("check", "Validate species files; every problem is printed with its JSON path");
+    check->add_option("files", *files, "Species files")->required()->check(CLI::ExistingFile);
+    check->callback([files, &exit_code] { exit_code = check_species_files(*files); });
+}
+
+} // namespace ikebana::game

@@ -1,0 +1,100 @@
+#include "game/scene/scene.hpp"
+
+#include "engine/assets/json_checker.hpp"
+
+namespace ikebana::game {
+
+using assets::Json;
+using assets::JsonChecker;
+
+namespace {
+std::optional<glm::dvec3> vec3(JsonChecker& c, const Json& object, const std::string& path, const char* key,
+                               bool required, double scale) {
+    const auto v = c.numbers(object, path, key, {}, 3, required);
+    if (!v) return std::nullopt;
+    if (v->size() != 3) {
+        c.problem(path + "/" + key, "expected exactly 3 numbers, got " + std::to_string(v->size()));
+        return std::nullopt;
+    }
+    return glm::dvec3{(*v)[0], (*v)[1], (*v)[2]} * scale;
+}
+} // namespace
+
+Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
+    JsonChecker c(label);
+    const auto root = c.parse(text);
+    if (!root) return c.error();
+    if (!root->is_object()) {
+        c.problem("", "expected an object at the top");
+        return c.error();
+    }
+    c.no_unknown_keys(*root, "", {"format", "name", "seed", "rates_hz", "gravity_m_s2", "table_height_mm", "kenzan",
+                                  "flowers", "hands", "notes"});
+    const auto format = c.string(*root, "", "format");
+    if (format && *format != "ikebana-scene/1") c.problem("/format", "expected \"ikebana-scene/1\", got \"" + *format + "\"");
+    SceneDef s{};
+    s.seed = static_cast<std::uint64_t>(c.integer(*root, "", "seed", 0, std::numeric_limits<std::int64_t>::max(), false).value_or(1));
+    s.gravity_m_s2 = vec3(c, *root, "", "gravity_m_s2", false, 1.0).value_or(glm::dvec3{0, 0, -9.80665});
+    s.table_height_m = c.number(*root, "", "table_height_mm", {-1000, 1000}, false).value_or(0) * 1e-3;
+    if (const auto* rates = c.object(*root, "", "rates_hz", false)) {
+        for (const auto& [name, value] : rates->items()) {
+            if (const auto hz = c.number(*rates, "/rates_hz", name.c_str(), {0, 100000, true})) s.rates_hz[name] = *hz;
+        }
+    }
+    if (const auto* k = c.object(*root, "", "kenzan")) {
+        c.no_unknown_keys(*k, "/kenzan", {"layout", "position_mm"});
+        s.kenzan_layout = c.string(*k, "/kenzan", "layout").value_or("");
+        s.kenzan_position_m = vec3(c, *k, "/kenzan", "position_mm", false, 1e-3).value_or(glm::dvec3{0.0});
+    }
+    if (const auto* flowers = c.array(*root, "", "flowers", false)) {
+        for (std::size_t i = 0; i < flowers->size(); ++i) {
+            const std::string p = "/flowers/" + std::to_string(i);
+            const Json& f = (*flowers)[i];
+            if (!f.is_object()) {
+                c.problem(p, "expected an object, got " + JsonChecker::describe(f));
+                continue;
+            }
+            c.no_unknown_keys(f, p, {"species", "placement", "base_mm", "direction", "inserted_depth_mm"});
+            FlowerPlacement fp{};
+            fp.species = c.string(f, p, "species").value_or("");
+            fp.placement = c.choice(f, p, "placement", {"inserted", "lying"}) == "lying" ? Placement::lying : Placement::inserted;
+            fp.base_m = vec3(c, f, p, "base_mm", true, 1e-3).value_or(glm::dvec3{0.0});
+            fp.direction = vec3(c, f, p, "direction", true, 1.0).value_or(glm::dvec3{0, 0, 1});
+            if (glm::length(fp.direction) < 1e-9) {
+                c.problem(p + "/direction", "must not be the zero vector");
+            } else {
+                fp.direction = glm::normalize(fp.direction);
+            }
+            fp.inserted_depth_m = c.number(f, p, "inserted_depth_mm", {0, 100}, false).value_or(10) * 1e-3;
+            s.flowers.push_back(fp);
+        }
+    }
+    if (const auto* hands = c.array(*root, "", "hands", false)) {
+        for (std::size_t i = 0; i < hands->size(); ++i) {
+            const std::string p = "/hands/" + std::to_string(i);
+            const Json& h = (*hands)[i];
+            if (!h.is_object()) {
+                c.problem(p, "expected an object");
+                continue;
+            }
+            c.no_unknown_keys(h, p, {"hand", "position_mm", "edge_mm"});
+            HandPlacement hp{};
+            hp.hand = c.choice(h, p, "hand", {"left", "right"}) == "right" ? 1 : 0;
+            hp.position_m = vec3(c, h, p, "position_mm", true, 1e-3).value_or(glm::dvec3{0.0});
+            hp.edge_m = c.number(h, p, "edge_mm", {1, 200}, false).value_or(20) * 1e-3;
+            s.hands.push_back(hp);
+        }
+    }
+    if (!c.ok()) return c.error();
+    return s;
+}
+
+Result<SceneDef> load_scene(const std::filesystem::path& path) {
+    auto text = assets::read_text_file(path);
+    if (!text) return std::move(text).error();
+    auto scene = parse_scene(*text, path.filename().string());
+    if (scene) scene->file = path;
+    return scene;
+}
+
+} // namespace ikebana::game

@@ -1,0 +1,50 @@
+#pragma once
+// Scenes (assets/scenes/*.json): what is on the table when a session starts, and the rates to run at.
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/core/result.hpp"
+
+namespace ikebana::game {
+
+enum class Placement : std::uint8_t {
+    inserted, // standing in the kenzan, bottom held by the pins
+    lying,    // lying on the table, ready to be picked up
+};
+
+struct FlowerPlacement {
+    std::string species;
+    Placement placement;
+    glm::dvec3 base_m;      // bottom of the stem
+    glm::dvec3 direction;   // unit, bottom to top
+    double inserted_depth_m; // for Placement::inserted
+};
+
+struct HandPlacement {
+    std::uint8_t hand; // 0 left, 1 right
+    glm::dvec3 position_m;
+    double edge_m;
+};
+
+struct SceneDef {
+    std::filesystem::path file;
+    std::uint64_t seed;
+    std::map<std::string, double> rates_hz; // overrides of the rate table
+    glm::dvec3 gravity_m_s2;
+    double table_height_m;
+    std::string kenzan_layout;
+    glm::dvec3 kenzan_position_m;
+    std::vector<FlowerPlacement> flowers;
+    std::vector<HandPlacement> hands;
+};
+
+Result<SceneDef> parse_scene(std::string_view text, const std::string& label);
+Result<SceneDef> load_scene(const std::filesystem::path& path);
+
+} // namespace ikebana::game

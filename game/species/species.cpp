@@ -1,0 +1,193 @@
+#include "game/species/species.hpp"
+
+#include <cmath>
+
+#include <glm/gtc/constants.hpp>
+
+#include "engine/assets/json_checker.hpp"
+#include "game/asset_paths.hpp"
+
+namespace ikebana::game {
+
+using assets::Json;
+using assets::JsonChecker;
+using assets::NumberRange;
+
+namespace {
+
+constexpr double mm = 1e-3;
+constexpr double deg = glm::pi<double>() / 180.0;
+// gf/mm -> N/m
+constexpr double gf_per_mm = gram_force_n / 1e-3;
+
+std::optional<CollisionClass> collision_of(const std::optional<std::string>& s) {
+    if (!s) return std::nullopt;
+    if (*s == "active") return CollisionClass::active;
+    if (*s == "passive") return CollisionClass::passive;
+    return CollisionClass::inactive;
+}
+
+void read_stem(JsonChecker& c, const Json& root, SpeciesDef& out) {
+    const Json* stem = c.object(root, "", "stem");
+    if (!stem) return;
+    const std::string p = "/stem";
+    c.no_unknown_keys(*stem, p, {"length_mm", "diameter_mm", "segments", "mass_g", "youngs_modulus_mpa",
+                                 "second_moment_mm4", "rest_bend_deg", "stiffness_damping_s", "air_drag_per_s",
+                                 "permanent_set_deg"});
+    out.length_m = c.number(*stem, p, "length_mm", {10, 3000}).value_or(0) * mm;
+    out.diameter_m = c.number(*stem, p, "diameter_mm", {0.5, 100}).value_or(0) * mm;
+    out.segments = static_cast<std::uint32_t>(c.integer(*stem, p, "segments", 2, 200).value_or(0));
+    out.stem_mass_kg = c.number(*stem, p, "mass_g", {0.01, 5000, true}).value_or(0) * 1e-3;
+    out.youngs_modulus_pa = c.number(*stem, p, "youngs_modulus_mpa", {0.1, 50000}).value_or(0) * 1e6;
+    out.second_moment_m4 = c.number(*stem, p, "second_moment_mm4", {0, 1e9, true}, false).value_or(0) * 1e-12;
+    out.rest_bend_rad = c.number(*stem, p, "rest_bend_deg", {0, 180}, false).value_or(0) * deg;
+    out.stiffness_damping_s = c.number(*stem, p, "stiffness_damping_s", {0, 1}, false).value_or(0.004);
+    out.air_drag_per_s = c.number(*stem, p, "air_drag_per_s", {0, 100}, false).value_or(1.0);
+    out.permanent_set_rad = c.number(*stem, p, "permanent_set_deg", {1, 180}, false).value_or(45) * deg;
+}
+
+void read_head(JsonChecker& c, const Json& root, SpeciesDef& out) {
+    const Json* head = c.object(root, "", "head", false);
+    if (!head) return;
+    c.no_unknown_keys(*head, "/head", {"mass_g", "mesh"});
+    out.head_mass_kg = c.number(*head, "/head", "mass_g", {0, 5000}).value_or(0) * 1e-3;
+    out.head_mesh = c.string(*head, "/head", "mesh", false).value_or("");
+}
+
+void read_parts(JsonChecker& c, const Json& root, SpeciesDef& out) {
+    const Json* parts = c.array(root, "", "parts", false);
+    if (!parts) return;
+    for (std::size_t i = 0; i < parts->size(); ++i) {
+        const std::string p = "/parts/" + std::to_string(i);
+        const Json& part = (*parts)[i];
+        if (!part.is_object()) {
+            c.problem(p, "expected an object, got " + JsonChecker::describe(part));
+            continue;
+        }
+        c.no_unknown_keys(part, p, {"kind", "mesh", "count", "at", "size_mm", "collision"});
+        const auto kind = c.choice(part, p, "kind", {"petal", "leaf"});
+        PartDef def{};
+        def.kind = kind == "leaf" ? components::PartKind::leaf : components::PartKind::petal;
+        def.mesh = c.string(part, p, "mesh", false).value_or("");
+        def.count = static_cast<std::uint32_t>(c.integer(part, p, "count", 1, 64, false).value_or(1));
+        def.position_along_stem = c.number(part, p, "at", {0, 1}).value_or(0);
+        def.size_m = c.number(part, p, "size_mm", {1, 1000, true}).value_or(0) * mm;
+        def.collision = collision_of(c.choice(part, p, "collision", {"active", "passive", "inactive"}))
+                            .value_or(CollisionClass::inactive);
+        out.parts.push_back(def);
+    }
+}
+
+void read_resistance(JsonChecker& c, const Json& root, SpeciesDef& out) {
+    const Json* r = c.object(root, "", "resistance");
+    if (!r) return;
+    const std::string p = "/resistance";
+    const auto model = c.choice(*r, p, "model", {"hard_eq6", "soft_table"});
+    if (model == "hard_eq6") {
+        c.no_unknown_keys(*r, p, {"model", "cortex_tip_gf_per_mm", "cortex_trunk_gf_per_mm", "pith_tip_gf_per_mm",
+                                  "pith_trunk_gf_per_mm", "pith_diameter_mm"});
+        HardResistance h{};
+        h.cortex_tip_n_per_m = c.number(*r, p, "cortex_tip_gf_per_mm", {0, 1e5}).value_or(0) * gf_per_mm;
+        h.cortex_trunk_n_per_m = c.number(*r, p, "cortex_trunk_gf_per_mm", {0, 1e5}).value_or(0) * gf_per_mm;
+        h.pith_tip_n_per_m = c.number(*r, p, "pith_tip_gf_per_mm", {0, 1e5}).value_or(0) * gf_per_mm;
+        h.pith_trunk_n_per_m = c.number(*r, p, "pith_trunk_gf_per_mm", {0, 1e5}).value_or(0) * gf_per_mm;
+        h.pith_diameter_m = c.number(*r, p, "pith_diameter_mm", {0, 100}).value_or(0) * mm;
+        if (out.diameter_m > 0 && h.pith_diameter_m >= out.diameter_m) {
+            c.problem(p + "/pith_diameter_mm", "must be smaller than /stem/diameter_mm");
+        }
+        out.hard = h;
+        if (out.branch != BranchKind::hard) c.problem(p + "/model", "\"hard_eq6\" needs \"branch\": \"hard\"");
+    } else if (model == "soft_table") {
+        c.no_unknown_keys(*r, p, {"model", "gf_per_mm_by_insertion", "max_per_pin_gf_by_insertion"});
+        SoftResistance s{};
+        const auto per_mm = c.numbers(*r, p, "gf_per_mm_by_insertion", {0, 1e5}, 1);
+        const auto per_pin = c.numbers(*r, p, "max_per_pin_gf_by_insertion", {0, 1e6}, 1, false);
+        if (per_mm) for (double v : *per_mm) s.n_per_m_by_insertion.push_back(v * gf_per_mm);
+        if (per_pin) for (double v : *per_pin) s.max_per_pin_n_by_insertion.push_back(v * gram_force_n);
+        if (per_mm && per_pin && per_pin->size() != per_mm->size()) {
+            c.problem(p + "/max_per_pin_gf_by_insertion", "expected as many values as gf_per_mm_by_insertion (" +
+                                                              std::to_string(per_mm->size()) + ")");
+        }
+        out.soft = s;
+        if (out.branch != BranchKind::soft) c.problem(p + "/model", "\"soft_table\" needs \"branch\": \"soft\"");
+    }
+}
+
+void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
+    const Json* d = c.object(root, "", "deterioration");
+    if (!d) return;
+    const auto model = c.choice(*d, "/deterioration", "model", {"paper_baseline", "table_hold_last", "none", "extended"});
+    out.deterioration.model = model.value_or("");
+    out.deterioration.source_json = d->dump();
+    if ((model == "paper_baseline" || model == "table_hold_last") && !out.soft && out.branch == BranchKind::soft) {
+        c.problem("/deterioration/model", "\"" + *model + "\" needs a \"soft_table\" resistance");
+    }
+    if (model == "paper_baseline" && out.soft && out.soft->n_per_m_by_insertion.size() < 3) {
+        c.problem("/resistance/gf_per_mm_by_insertion",
+                  "\"paper_baseline\" averages insertions 3 onwards: give at least 3 values");
+    }
+    if (model != "extended") c.no_unknown_keys(*d, "/deterioration", {"model"});
+}
+
+void read_breakage(JsonChecker& c, const Json& root, SpeciesDef& out) {
+    const Json* b = c.object(root, "", "breakage");
+    if (!b) return;
+    const std::string p = "/breakage";
+    c.no_unknown_keys(*b, p, {"model", "probability_by_insertion", "broken_holding_factor", "broken_seat_loss_mm"});
+    out.breakage.model = c.choice(*b, p, "model", {"hazard_by_insertion", "none"}).value_or("");
+    if (out.breakage.model == "hazard_by_insertion") {
+        out.breakage.probability_by_insertion = c.numbers(*b, p, "probability_by_insertion", {0, 1}, 1).value_or(std::vector<double>{});
+        out.breakage.broken_holding_factor = c.number(*b, p, "broken_holding_factor", {0, 1}).value_or(1);
+        out.breakage.broken_seat_loss_m = c.number(*b, p, "broken_seat_loss_mm", {0, 100}).value_or(0) * mm;
+    } else {
+        out.breakage.broken_holding_factor = 1.0;
+    }
+}
+
+} // namespace
+
+Result<SpeciesDef> parse_species(std::string_view text, const std::string& label) {
+    JsonChecker c(label);
+    const auto root = c.parse(text);
+    if (!root) return c.error();
+    if (!root->is_object()) {
+        c.problem("", "expected an object at the top, got " + JsonChecker::describe(*root));
+        return c.error();
+    }
+    c.no_unknown_keys(*root, "", {"format", "id", "name", "branch", "stem", "head", "parts", "resistance",
+                                  "deterioration", "breakage", "notes"});
+    SpeciesDef out{};
+    const auto format = c.string(*root, "", "format");
+    if (format && *format != "ikebana-species/1") {
+        c.problem("/format", "expected \"ikebana-species/1\", got \"" + *format + "\"");
+    }
+    out.id = c.string(*root, "", "id").value_or("");
+    if (!out.id.empty() && out.id.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_-") != std::string::npos) {
+        c.problem("/id", "expected lower-case letters, digits, '-' or '_', got \"" + out.id + "\"");
+    }
+    out.name = c.string(*root, "", "name", false).value_or(out.id);
+    out.branch = c.choice(*root, "", "branch", {"soft", "hard"}) == "hard" ? BranchKind::hard : BranchKind::soft;
+    read_stem(c, *root, out);
+    read_head(c, *root, out);
+    read_parts(c, *root, out);
+    read_resistance(c, *root, out);
+    read_deterioration(c, *root, out);
+    read_breakage(c, *root, out);
+    if (!c.ok()) return c.error();
+    return out;
+}
+
+Result<SpeciesDef> load_species_file(const std::filesystem::path& path) {
+    auto text = assets::read_text_file(path);
+    if (!text) return std::move(text).error();
+    auto species = parse_species(*text, path.filename().string());
+    if (species) species->file = path;
+    return species;
+}
+
+Result<SpeciesDef> load_species(const std::string& id_or_path) {
+    if (id_or_path.find('/') != std::string::npos || id_or_path.ends_with(".json")) return load_species_file(id_or_path);
+    return load_species_file(asset_dir() / "species" / (id_or_path + ".json"));
+}
+
+} // namespace ikebana::game

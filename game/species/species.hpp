@@ -1,0 +1,97 @@
+#pragma once
+// A species as designers write it (assets/species/<id>.json, documented in docs/species-format.md).
+// Units are in the field names of the file; here everything is converted to SI once, on load.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "components/flower.hpp"
+#include "engine/core/result.hpp"
+
+namespace ikebana::game {
+
+enum class CollisionClass : std::uint8_t { active, passive, inactive };
+enum class BranchKind : std::uint8_t { soft, hard };
+
+struct PartDef {
+    components::PartKind kind;
+    std::string mesh;           // relative to assets/; empty: procedural
+    std::uint32_t count;        // arranged around the stem
+    double position_along_stem; // 0 bottom .. 1 top
+    double size_m;              // petal length or leaf length
+    CollisionClass collision;
+};
+
+// Section 2.5 and Table 1: resistance per mm of pin in contact with each tissue, tip (cone) and trunk
+// (cylinder), and where the pith is.
+struct HardResistance {
+    double cortex_tip_n_per_m;
+    double cortex_trunk_n_per_m;
+    double pith_tip_n_per_m;
+    double pith_trunk_n_per_m;
+    double pith_diameter_m;
+};
+
+// Section 3.1 and Table 2, as measured: per insertion count, the resistance per mm and the maximum
+// force on one pin. Index 0 is the first insertion.
+struct SoftResistance {
+    std::vector<double> n_per_m_by_insertion;
+    std::vector<double> max_per_pin_n_by_insertion;
+};
+
+// How resistance changes with use. "paper_baseline": the paper's own model, Table 2's values for
+// insertions 1 and 2 and the mean of 3-6 from the third on. "table_hold_last": the table as given,
+// its last value from then on. "none": no change (hard branches in the paper).
+struct DeteriorationDef {
+    std::string model;
+    std::string source_json; // the block as written, so that an extended model can carry its terms
+};
+
+// The stem bottom splitting (section 3.1: on average after 2.6 insertions).
+struct BreakageDef {
+    std::string model;                          // "hazard_by_insertion" or "none"
+    std::vector<double> probability_by_insertion; // chance that insertion k breaks a sound bottom; last repeats
+    double broken_holding_factor;               // a split end holds this fraction of a sound one
+    double broken_seat_loss_m;                  // and seats this much less deep
+};
+
+struct SpeciesDef {
+    std::string id;
+    std::string name;
+    std::filesystem::path file;
+    BranchKind branch;
+    // stem
+    double length_m;
+    double diameter_m;
+    std::uint32_t segments;
+    double stem_mass_kg;
+    double youngs_modulus_pa;
+    double second_moment_m4; // 0: solid circle
+    double rest_bend_rad;
+    double stiffness_damping_s;
+    double air_drag_per_s;
+    double permanent_set_rad; // bending beyond this leaves the stem bent (haptics issue)
+    // head (flower head or none)
+    double head_mass_kg;
+    std::string head_mesh;
+    std::vector<PartDef> parts;
+    std::optional<HardResistance> hard;
+    std::optional<SoftResistance> soft;
+    DeteriorationDef deterioration;
+    BreakageDef breakage;
+
+    [[nodiscard]] double total_mass_kg() const noexcept { return stem_mass_kg + head_mass_kg; }
+};
+
+// Parses and validates; on failure the error lists every problem found (one per line), and nothing
+// of the file is used. `label` names the file in messages.
+Result<SpeciesDef> parse_species(std::string_view text, const std::string& label);
+Result<SpeciesDef> load_species_file(const std::filesystem::path& path);
+// An id ("sunflower") is looked up in <assets>/species/; anything with a slash or .json is a path.
+Result<SpeciesDef> load_species(const std::string& id_or_path);
+
+inline constexpr double gram_force_n = 9.80665e-3; // 1 gf in newtons
+
+} // namespace ikebana::game

@@ -1,0 +1,56 @@
+#include "game/world/summary.hpp"
+
+#include <cstdio>
+
+#include "components/collision.hpp"
+#include "components/flower.hpp"
+#include "components/kenzan.hpp"
+#include "components/physics.hpp"
+#include "systems/physics/stem_dynamics.hpp"
+
+namespace ikebana::game {
+
+using namespace components;
+
+WorldSummary summarize(World& w) {
+    WorldSummary s;
+    auto& r = w.sim;
+    s.flowers = r.count<Flower>();
+    s.active_parts = r.view<Part, ActiveCollider>().size();
+    s.passive_parts = r.view<Part, PassiveCollider>().size();
+    s.inactive_parts = r.view<Part, InactiveCollider>().size();
+    s.hands = r.count<HandCube>();
+    r.view<Kenzan>().each([&](ecs::Entity, Kenzan& k) { s.kenzan_pins += static_cast<std::size_t>(k.rows * k.columns); });
+    if (const auto* contacts = r.resource<Contacts>()) s.contacts = contacts->list.size();
+    const auto* settings = r.resource<PhysicsSettings>();
+    const glm::dvec3 g = settings ? settings->gravity_m_s2 : PhysicsSettings{}.gravity_m_s2;
+    r.view<StemPoints, StemRestShape, StemSprings>().each(
+        [&](ecs::Entity e, StemPoints& p, StemRestShape& rest, StemSprings& springs) {
+            const auto energy = systems::physics::stem_energy(p, rest, springs, r.try_get<StemClamp>(e), g);
+            s.kinetic_j += energy.kinetic_j;
+            s.elastic_j += energy.elastic_j;
+            s.gravitational_j += energy.gravitational_j;
+            for (const auto& x : p.position_m) s.highest_point_m = std::max(s.highest_point_m, x.z);
+        });
+    if (const auto* frames = w.main.resource<systems::ReceivedFrames>()) s.frames_received = frames->fresh;
+    return s;
+}
+
+std::string format_summary(const WorldSummary& s, double seconds) {
+    char buffer[1024];
+    std::snprintf(buffer, sizeof buffer,
+                  "simulated %.3f s\n"
+                  "flowers: %zu\n"
+                  "parts: %zu active, %zu passive, %zu inactive\n"
+                  "kenzan pins: %zu, hands: %zu\n"
+                  "contacts: %zu\n"
+                  "energy: kinetic %.6g J, elastic %.6g J, gravitational %.6g J (total %.6g J)\n"
+                  "highest stem point: %.1f mm\n"
+                  "frames handed to the main lane: %llu\n",
+                  seconds, s.flowers, s.active_parts, s.passive_parts, s.inactive_parts, s.kenzan_pins, s.hands,
+                  s.contacts, s.kinetic_j, s.elastic_j, s.gravitational_j, s.kinetic_j + s.elastic_j + s.gravitational_j,
+                  s.highest_point_m * 1e3, static_cast<unsigned long long>(s.frames_received));
+    return buffer;
+}
+
+} // namespace ikebana::game

@@ -1,0 +1,166 @@
+#include "game/world/world.hpp"
+
+#include <cmath>
+
+#include <glm/gtc/constants.hpp>
+
+#include "components/collision.hpp"
+#include "components/flower.hpp"
+#include "components/kenzan.hpp"
+#include "components/physics.hpp"
+#include "components/stem.hpp"
+#include "engine/core/hash.hpp"
+#include "engine/ecs/hierarchy.hpp"
+#include "game/kenzan/kenzan_layout.hpp"
+#include "systems/physics/spring_physics_system.hpp"
+#include "systems/physics/stem_builder.hpp"
+#include "systems/physics/table_support_system.hpp"
+#include "systems/presentation/publish_frame_system.hpp"
+#include "systems/presentation/receive_frame_system.hpp"
+
+namespace ikebana::game {
+
+using namespace components;
+
+namespace {
+
+void add_collision_tag(ecs::Registry& r, ecs::Entity e, CollisionClass c) {
+    switch (c) {
+    case CollisionClass::active: r.emplace<ActiveCollider>(e); break;
+    case CollisionClass::passive: r.emplace<PassiveCollider>(e); break;
+    case CollisionClass::inactive: r.emplace<InactiveCollider>(e); break;
+    }
+}
+
+Result<void> register_systems(World& w) {
+    using sched::describe;
+    // The lanes' phases, in execution order at equal timestamps.
+    if (auto r = w.schedule.add_lane({"sim", &w.sim, sched::LaneThread::own,
+                                      {"input", "collision", "physics", "constraints", "output"}});
+        !r) {
+        return r;
+    }
+    if (auto r = w.schedule.add_lane({"main", &w.main, sched::LaneThread::caller, {"frame"}}); !r) return r;
+    for (auto desc : {describe(systems::SpringPhysicsSystem{}), describe(systems::TableSupportSystem{}),
+                      describe(systems::PublishFrameSystem{}), describe(systems::ReceiveFrameSystem{})}) {
+        if (auto r = w.schedule.add(std::move(desc)); !r) return r;
+    }
+    return w.schedule.finalize();
+}
+
+} // namespace
+
+ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPlacement& placement, double table_height_m) {
+    systems::physics::StemSpec spec;
+    spec.segments = sp.segments;
+    spec.length_m = sp.length_m;
+    spec.diameter_m = sp.diameter_m;
+    spec.youngs_modulus_pa = sp.youngs_modulus_pa;
+    spec.second_moment_m4 = sp.second_moment_m4;
+    spec.stem_mass_kg = sp.stem_mass_kg;
+    spec.head_mass_kg = sp.head_mass_kg;
+    spec.rest_bend_rad = sp.rest_bend_rad;
+    spec.stiffness_damping_s = sp.stiffness_damping_s;
+    spec.air_drag_per_s = sp.air_drag_per_s;
+    spec.direction = placement.direction;
+    spec.base_m = placement.base_m;
+    if (placement.placement == Placement::lying) {
+        spec.base_m.z = std::max(spec.base_m.z, table_height_m + 0.5 * sp.diameter_m);
+        spec.bend_towards = glm::dvec3{0, 0, 1};
+    } else {
+        // Bend (if any) away from the kenzan's centre line, in a vertical plane.
+        spec.bend_towards = glm::dvec3{1, 0, 0};
+    }
+    auto stem = systems::physics::build_stem(spec);
+
+    const ecs::Entity flower = r.create();
+    r.emplace<Flower>(flower, sp.id, sp.total_mass_kg());
+    if (placement.placement == Placement::inserted) {
+        // Until the insertion system holds the stem by its pins, an inserted stem is built in at its base.
+        r.emplace<StemClamp>(flower, systems::physics::clamp_bottom(stem));
+    }
+    const auto point_count = static_cast<std::uint32_t>(stem.points.position_m.size());
+    r.emplace<StemPoints>(flower, std::move(stem.points));
+    r.emplace<StemRestShape>(flower, std::move(stem.rest));
+    r.emplace<StemSprings>(flower, std::move(stem.springs));
+
+    // Stem segments: the bottom one meets the pins (Active), the rest are touched (Passive).
+    for (std::uint32_t i = 0; i + 1 < point_count; ++i) {
+        const ecs::Entity part = r.create();
+        r.emplace<Part>(part, PartKind::stem, i, glm::dvec3{0.0}, std::string{});
+        r.emplace<Collider>(part, ShapeKind::capsule, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.5 * sp.diameter_m, glm::dvec3{0.0});
+        add_collision_tag(r, part, i == 0 ? CollisionClass::active : CollisionClass::passive);
+        ecs::attach(r, part, flower);
+    }
+    for (const auto& def : sp.parts) {
+        const auto at = static_cast<std::uint32_t>(std::lround(def.position_along_stem * (point_count - 1)));
+        for (std::uint32_t k = 0; k < def.count; ++k) {
+            const double angle = 2.0 * glm::pi<double>() * k / def.count;
+            const glm::dvec3 offset = 0.5 * def.size_m * glm::dvec3{std::cos(angle), std::sin(angle), 0.0};
+            const ecs::Entity part = r.create();
+            r.emplace<Part>(part, def.kind, at, offset, def.mesh);
+            r.emplace<Collider>(part, ShapeKind::sphere, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.3 * def.size_m, glm::dvec3{0.0});
+            add_collision_tag(r, part, def.collision);
+            ecs::attach(r, part, flower);
+        }
+    }
+    return flower;
+}
+
+Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldOptions& options) {
+    std::unique_ptr<World> w(new World());
+    // Rates: the paper's defaults, then the scene's, then the command line's.
+    for (const auto& [name, hz] : scene.rates_hz) {
+        if (auto r = w->schedule.rates().set(name, hz); !r) {
+            return make_error(r.error().code, scene.file.filename().string() + ": /rates_hz/" + name + ": " + r.error().message);
+        }
+    }
+    for (const auto& assignment : options.rate_overrides) {
+        if (auto r = w->schedule.rates().set_from_string(assignment); !r) return std::move(r).error();
+    }
+    // Everything the scene names is loaded before anything is spawned: a broken file leaves no
+    // half-built world behind.
+    auto kenzan = load_kenzan(scene.kenzan_layout);
+    if (!kenzan) return std::move(kenzan).error();
+    for (const auto& f : scene.flowers) {
+        if (w->species.contains(f.species)) continue;
+        auto sp = load_species(f.species);
+        if (!sp) return std::move(sp).error();
+        w->species.emplace(f.species, std::move(sp).value());
+    }
+
+    auto& r = w->sim;
+    r.set_resource<PhysicsSettings>(scene.gravity_m_s2);
+    r.set_resource<Table>(scene.table_height_m, 0.6);
+    r.set_resource<Contacts>();
+    r.set_resource<systems::FrameChannel*>(&w->channel);
+    w->main.set_resource<systems::FrameChannel*>(&w->channel);
+    w->main.set_resource<systems::ReceivedFrames>();
+
+    const ecs::Entity kenzan_entity = r.create();
+    kenzan->origin_m = scene.kenzan_position_m;
+    r.emplace<Kenzan>(kenzan_entity, std::move(kenzan).value());
+    r.emplace<PassiveCollider>(kenzan_entity);
+
+    for (const auto& f : scene.flowers) {
+        const auto& sp = w->species.at(f.species);
+        w->flowers.push_back({spawn_flower(r, sp, f, scene.table_height_m), sp.id});
+    }
+    for (const auto& h : scene.hands) {
+        const ecs::Entity hand = r.create();
+        r.emplace<HandCube>(hand, h.hand, h.edge_m);
+        r.emplace<Collider>(hand, ShapeKind::box, h.position_m, h.position_m, 0.0, glm::dvec3{0.5 * h.edge_m});
+        r.emplace<ActiveCollider>(hand);
+    }
+    if (auto ok = register_systems(*w); !ok) return std::move(ok).error();
+    return w;
+}
+
+std::uint64_t World::state_hash() const {
+    StateHasher h;
+    h.scalar(sim.state_hash());
+    h.scalar(main.state_hash());
+    return h.digest();
+}
+
+} // namespace ikebana::game

@@ -1,0 +1,53 @@
+#pragma once
+// A running world: the simulation lane (physics, contacts, later haptics and insertion; its own thread
+// at 1 kHz in real time), the main lane (presentation), the schedule over both, and the channel
+// between them. `sim`, `experiment`, tests and the app all build their world here, so they run the
+// same systems.
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/core/result.hpp"
+#include "engine/ecs/registry.hpp"
+#include "engine/sched/schedule.hpp"
+#include "game/scene/scene.hpp"
+#include "game/species/species.hpp"
+#include "systems/presentation/frame_channel.hpp"
+
+namespace ikebana::game {
+
+struct WorldOptions {
+    std::vector<std::string> rate_overrides; // "name=hz", applied after the scene's own rates
+};
+
+struct SpawnedFlower {
+    ecs::Entity entity;
+    std::string species;
+};
+
+class World {
+public:
+    static Result<std::unique_ptr<World>> create(const SceneDef& scene, const WorldOptions& options = {});
+
+    ecs::Registry sim;
+    ecs::Registry main;
+    sched::Schedule schedule;
+    systems::FrameChannel channel;
+    std::map<std::string, SpeciesDef> species;
+    std::vector<SpawnedFlower> flowers;
+
+    // Both lanes, in lane order.
+    [[nodiscard]] std::uint64_t state_hash() const;
+
+private:
+    World() = default;
+};
+
+// Adds one flower of `species` to `registry`: the flower entity carries the stem physics, and owns one
+// part entity per stem segment, petal and leaf, each with its collision tag.
+ecs::Entity spawn_flower(ecs::Registry& registry, const SpeciesDef& species, const FlowerPlacement& placement,
+                         double table_height_m);
+
+} // namespace ikebana::game

@@ -1,0 +1,24 @@
+#include "systems/presentation/publish_frame_system.hpp"
+
+#include "engine/ecs/registry.hpp"
+#include "systems/presentation/frame_channel.hpp"
+
+namespace ikebana::systems {
+
+void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
+    auto** channel = ctx.registry.resource<FrameChannel*>();
+    if (!channel || !*channel) return;
+    auto& frame = (*channel)->buffer.write_buffer();
+    frame.sim_time_us = ctx.time_us;
+    frame.stems.clear();
+    std::uint32_t index = 0;
+    ctx.registry.view<components::Flower, components::StemPoints>().each(
+        [&](ecs::Entity, components::Flower&, components::StemPoints& points) {
+            frame.stems.push_back({index++, points.position_m});
+        });
+    const auto* contacts = ctx.registry.resource<components::Contacts>();
+    frame.contacts = contacts ? contacts->list.size() : 0;
+    (*channel)->buffer.publish();
+}
+
+} // namespace ikebana::systems

@@ -1,0 +1,23 @@
+#pragma once
+// Copies what the main thread needs to draw into the frame channel, at the render rate.
+#include <string_view>
+
+#include "components/collision.hpp"
+#include "components/flower.hpp"
+#include "components/stem.hpp"
+#include "engine/sched/system.hpp"
+
+namespace ikebana::systems {
+
+struct PublishFrameSystem {
+    static constexpr std::string_view name = "publish_frame";
+    static constexpr std::string_view lane = "sim";
+    static constexpr std::string_view phase = "output";
+    static constexpr std::string_view rate = "render";
+    using reads = sched::Components<components::StemPoints, components::Flower, components::Contacts>;
+    using writes = sched::Components<>;
+
+    void operator()(sched::SystemContext& ctx);
+};
+
+} // namespace ikebana::systems

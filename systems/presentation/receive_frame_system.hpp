@@ -1,0 +1,20 @@
+#pragma once
+// Main lane: takes the newest simulation snapshot for drawing (the renderer issue draws it).
+#include <string_view>
+
+#include "engine/sched/system.hpp"
+
+namespace ikebana::systems {
+
+struct ReceiveFrameSystem {
+    static constexpr std::string_view name = "receive_frame";
+    static constexpr std::string_view lane = "main";
+    static constexpr std::string_view phase = "frame";
+    static constexpr std::string_view rate = "render";
+    using reads = sched::Components<>;
+    using writes = sched::Components<>;
+
+    void operator()(sched::SystemContext& ctx);
+};
+
+} // namespace ikebana::systems

@@ -1,0 +1,139 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <random>
+
+#include "engine/assets/json_checker.hpp"
+#include "game/species/species.hpp"
+
+using namespace ikebana;
+using namespace ikebana::game;
+
+namespace {
+std::string sunflower_text() {
+    return *assets::read_text_file(std::string(IKEBANA_ASSET_DIR) + "/species/sunflower.json");
+}
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return text.replace(at, from.size(), to);
+}
+} // namespace
+
+TEST(Species, ShippedFilesLoad) {
+    for (const auto& entry : std::filesystem::directory_iterator(std::string(IKEBANA_ASSET_DIR) + "/species")) {
+        const auto sp = load_species_file(entry.path());
+        EXPECT_TRUE(sp) << entry.path() << ": " << (sp ? "" : sp.error().message);
+    }
+}
+
+TEST(Species, SunflowerIsThePapersFlowerInSI) {
+    const auto sp = load_species("sunflower");
+    ASSERT_TRUE(sp);
+    EXPECT_DOUBLE_EQ(sp->length_m, 0.230);
+    EXPECT_DOUBLE_EQ(sp->diameter_m, 0.0075);
+    ASSERT_TRUE(sp->soft.has_value());
+    ASSERT_EQ(sp->soft->n_per_m_by_insertion.size(), 6u);
+    EXPECT_NEAR(sp->soft->n_per_m_by_insertion[0], 9.3 * 9.80665, 1e-9) << "9.3 gf/mm in N/m";
+    EXPECT_NEAR(sp->soft->max_per_pin_n_by_insertion[0], 121 * 9.80665e-3, 1e-12);
+    EXPECT_EQ(sp->deterioration.model, "paper_baseline");
+}
+
+TEST(Species, WrongTypeIsReportedWithFileAndPath) {
+    const auto sp = parse_species(replace(sunflower_text(), "\"segments\": 20", "\"segments\": \"ten\""), "sunflower.json");
+    ASSERT_FALSE(sp);
+    EXPECT_EQ(sp.error().message, "sunflower.json: /stem/segments: expected an integer >= 2 and <= 200, got \"ten\"");
+}
+
+TEST(Species, EveryProblemIsReportedNotJustTheFirst) {
+    auto text = replace(sunflower_text(), "\"segments\": 20", "\"segments\": 1");
+    text = replace(text, "\"diameter_mm\": 7.5", "\"diameter_mm\": -7.5");
+    text = replace(text, "\"collision\": \"inactive\"", "\"collision\": \"sometimes\"");
+    text = replace(text, "\"mass_g\": 8", "\"mas_g\": 8");
+    const auto sp = parse_species(text, "s.json");
+    ASSERT_FALSE(sp);
+    const auto& m = sp.error().message;
+    EXPECT_NE(m.find("s.json: /stem/segments: expected an integer >= 2"), std::string::npos) << m;
+    EXPECT_NE(m.find("s.json: /stem/diameter_mm: expected a number in [0.5, 100], got -7.5"), std::string::npos) << m;
+    EXPECT_NE(m.find("s.json: /parts/0/collision: expected one of \"active\", \"passive\", \"inactive\""), std::string::npos) << m;
+    EXPECT_NE(m.find("s.json: /stem/mas_g: unknown field"), std::string::npos) << m;
+    EXPECT_NE(m.find("s.json: /stem/mass_g: missing"), std::string::npos) << m;
+}
+
+TEST(Species, SyntaxErrorNamesLineAndColumn) {
+    const auto sp = parse_species("{\n  \"format\": \"ikebana-species/1\",\n  \"id\": sunflower\n}", "bad.json");
+    ASSERT_FALSE(sp);
+    EXPECT_EQ(sp.error().message.rfind("bad.json:3:", 0), 0u) << sp.error().message;
+}
+
+TEST(Species, ResistanceModelMustMatchBranchKind) {
+    const auto sp = parse_species(replace(sunflower_text(), "\"branch\": \"soft\"", "\"branch\": \"hard\""), "s.json");
+    ASSERT_FALSE(sp);
+    EXPECT_NE(sp.error().message.find("/resistance/model"), std::string::npos);
+}
+
+TEST(Species, MissingFileIsNotFound) {
+    const auto sp = load_species("does_not_exist");
+    ASSERT_FALSE(sp);
+    EXPECT_EQ(sp.error().code, ErrorCode::not_found);
+    EXPECT_NE(sp.error().message.find("does_not_exist.json"), std::string::npos);
+}
+
+// Property: whatever the bytes, the loader answers with a species whose numbers are in range, or an
+// error that names the file; it never crashes and never returns half a species.
+TEST(Species, MutatedFilesNeverCrashTheLoader) {
+    const std::string original = sunflower_text();
+    std::mt19937_64 rng(2024);
+    const std::string alphabet = "{}[]\":,.-+eE0123456789 \n\tabcnulltruefalse\\";
+    std::size_t accepted = 0;
+    for (int iteration = 0; iteration < 3000; ++iteration) {
+        std::string text = original;
+        const int edits = 1 + static_cast<int>(rng() % 4);
+        for (int k = 0; k < edits && !text.empty(); ++k) {
+            const std::size_t at = rng() % text.size();
+            switch (rng() % 5) {
+            case 0: text.erase(at, 1 + rng() % 8); break;
+            case 1: text.insert(at, 1, alphabet[rng() % alphabet.size()]); break;
+            case 2: text[at] = alphabet[rng() % alphabet.size()]; break;
+            case 3: text.resize(at); break;
+            default: text.insert(at, text.substr(rng() % text.size(), 1 + rng() % 16)); break;
+            }
+        }
+        const auto sp = parse_species(text, "fuzz.json");
+        if (sp) {
+            ++accepted;
+            EXPECT_GE(sp->segments, 2u);
+            EXPECT_GT(sp->length_m, 0.0);
+            EXPECT_GT(sp->diameter_m, 0.0);
+            EXPECT_GT(sp->youngs_modulus_pa, 0.0);
+            EXPECT_TRUE(sp->soft.has_value() || sp->hard.has_value());
+        } else {
+            EXPECT_EQ(sp.error().message.rfind("fuzz.json", 0), 0u) << sp.error().message;
+        }
+    }
+    EXPECT_GT(accepted, 0u) << "some mutations (inside strings, whitespace) are harmless";
+}
+
+// Property at the JSON level: any field replaced by a value of another type is reported at its path.
+TEST(Species, AnyFieldWithWrongTypeIsReportedAtItsPath) {
+    const auto root = assets::Json::parse(sunflower_text());
+    const std::vector<assets::Json> wrong = {"text", -1, nullptr, assets::Json::array(), assets::Json::object(), true};
+    std::size_t reported = 0;
+    std::size_t tried = 0;
+    const auto flat = root.flatten(); // keep it alive: items() refers into it
+    for (const auto& [pointer, value] : flat.items()) {
+        if (pointer == "/notes" || pointer == "/name") continue; // free text: any string is fine
+        for (const auto& w : wrong) {
+            auto mutated = root;
+            mutated[assets::Json::json_pointer(pointer)] = w;
+            const auto sp = parse_species(mutated.dump(), "m.json");
+            ++tried;
+            if (!sp) {
+                ++reported;
+                EXPECT_NE(sp.error().message.find("m.json: /"), std::string::npos);
+            }
+        }
+    }
+    // A few replacements are legitimately accepted (e.g. a mesh path given as another string).
+    EXPECT_GT(static_cast<double>(reported), 0.9 * static_cast<double>(tried));
+}
