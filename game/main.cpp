@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "game/asset_paths.hpp"
+#include "game/cli/assets_command.hpp"
 #include "game/cli/sim_command.hpp"
 #include "game/cli/species_command.hpp"
 
@@ -15,6 +16,7 @@ int main(int argc, char** argv) {
     int exit_code = 0;
     ikebana::game::add_sim_command(app, exit_code);
     ikebana::game::add_species_command(app, exit_code);
+    ikebana::game::add_assets_command(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
