@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "engine/assets/mesh.hpp"
+#include "game/asset_paths.hpp"
 #include "game/species/species.hpp"
 
 namespace ikebana::game {
@@ -12,6 +14,24 @@ int check_species_files(const std::vector<std::string>& files) {
     for (const auto& file : files) {
         const auto species = load_species_file(file);
         if (species) {
+            // Meshes are checked too: the app would draw a placeholder, but a designer wants to know.
+            std::vector<std::pair<std::string, std::string>> meshes;
+            if (!species->head_mesh.empty()) meshes.emplace_back("/head/mesh", species->head_mesh);
+            for (std::size_t i = 0; i < species->parts.size(); ++i) {
+                if (!species->parts[i].mesh.empty()) meshes.emplace_back("/parts/" + std::to_string(i) + "/mesh", species->parts[i].mesh);
+            }
+            bool meshes_ok = true;
+            for (const auto& [where, mesh] : meshes) {
+                const auto loaded = assets::load_gltf_mesh(asset_path(mesh));
+                if (!loaded) {
+                    std::cerr << std::filesystem::path(file).filename().string() << ": " << where << ": " << loaded.error().message << "\n";
+                    meshes_ok = false;
+                }
+            }
+            if (!meshes_ok) {
+                ++bad;
+                continue;
+            }
             std::printf("%s: ok (%s, %s branch, %u segments, %.0f mm)\n", file.c_str(), species->id.c_str(),
                         species->branch == BranchKind::hard ? "hard" : "soft", species->segments, species->length_m * 1e3);
         } else {

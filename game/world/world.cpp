@@ -12,6 +12,8 @@
 #include "engine/core/hash.hpp"
 #include "engine/ecs/hierarchy.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
+#include "systems/collision/collider_update_system.hpp"
+#include "systems/collision/collision_detection_system.hpp"
 #include "systems/physics/spring_physics_system.hpp"
 #include "systems/physics/stem_builder.hpp"
 #include "systems/physics/table_support_system.hpp"
@@ -41,7 +43,9 @@ Result<void> register_systems(World& w) {
         return r;
     }
     if (auto r = w.schedule.add_lane({"main", &w.main, sched::LaneThread::caller, {"frame"}}); !r) return r;
-    for (auto desc : {describe(systems::SpringPhysicsSystem{}), describe(systems::TableSupportSystem{}),
+    for (auto desc : {describe(systems::ColliderUpdateSystem{}),
+                      describe(systems::CollisionDetectionSystem{}, {std::string(systems::ColliderUpdateSystem::name)}),
+                      describe(systems::SpringPhysicsSystem{}), describe(systems::TableSupportSystem{}),
                       describe(systems::PublishFrameSystem{}), describe(systems::ReceiveFrameSystem{})}) {
         if (auto r = w.schedule.add(std::move(desc)); !r) return r;
     }

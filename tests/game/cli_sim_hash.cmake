@@ -1,0 +1,25 @@
+# `ikebana sim --hash` twice on the default scene: the last line is the state hash, and equal; a
+# changed rate changes it.
+foreach(run a b)
+  execute_process(COMMAND ${IKEBANA} sim --scene ${SCENE} --seconds 2 --hash
+                  OUTPUT_VARIABLE out_${run} RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "ikebana sim failed: ${rc}")
+  endif()
+  string(STRIP "${out_${run}}" out_${run})
+  string(REGEX MATCH "[^\n]*$" last_${run} "${out_${run}}")
+  if(NOT last_${run} MATCHES "^state-hash: [0-9a-f]+$")
+    message(FATAL_ERROR "last line is not the state hash: '${last_${run}}'")
+  endif()
+endforeach()
+if(NOT last_a STREQUAL last_b)
+  message(FATAL_ERROR "two runs differ: ${last_a} vs ${last_b}")
+endif()
+execute_process(COMMAND ${IKEBANA} sim --scene ${SCENE} --seconds 2 --hash --rate position_check=20
+                OUTPUT_VARIABLE out_c)
+string(STRIP "${out_c}" out_c)
+string(REGEX MATCH "[^\n]*$" last_c "${out_c}")
+if(last_c STREQUAL last_a)
+  message(FATAL_ERROR "changing the collision rate did not change the state hash")
+endif()
+message(STATUS "deterministic: ${last_a}")

@@ -1,0 +1,119 @@
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "components/collision.hpp"
+#include "components/flower.hpp"
+#include "components/kenzan.hpp"
+#include "engine/ecs/registry.hpp"
+#include "systems/collision/collision_detection_system.hpp"
+
+using namespace ikebana;
+using namespace ikebana::components;
+
+namespace {
+Collider sphere(glm::dvec3 c, double r) { return {ShapeKind::sphere, c, c, r, glm::dvec3{0.0}}; }
+Collider capsule(glm::dvec3 a, glm::dvec3 b, double r) { return {ShapeKind::capsule, a, b, r, glm::dvec3{0.0}}; }
+
+template <typename Tag>
+ecs::Entity add(ecs::Registry& r, Collider c) {
+    const auto e = r.create();
+    r.emplace<Collider>(e, c);
+    r.emplace<Tag>(e);
+    return e;
+}
+
+const Contacts& detect(ecs::Registry& r) {
+    systems::CollisionDetectionSystem system;
+    sched::SystemContext ctx{r, 0, 0.0625, 0};
+    system(ctx);
+    return *r.resource<Contacts>();
+}
+
+Kenzan standard_kenzan() {
+    Kenzan k{};
+    k.layout = "test";
+    k.origin_m = {0, 0, 0};
+    k.pitch_m = 0.004;
+    k.columns = 20;
+    k.rows = 20;
+    k.pin = {0.0009, 0.011, 0.0015};
+    k.base_thickness_m = 0.008;
+    return k;
+}
+} // namespace
+
+TEST(CollisionDetection, ActiveAgainstPassiveGivesContactWithDepthAndNormal) {
+    ecs::Registry r;
+    const auto a = add<ActiveCollider>(r, sphere({0, 0, 0.015}, 0.01));
+    const auto b = add<PassiveCollider>(r, sphere({0, 0, 0}, 0.01));
+    const auto& c = detect(r);
+    ASSERT_EQ(c.list.size(), 1u);
+    EXPECT_EQ(c.list[0].a, a);
+    EXPECT_EQ(c.list[0].b, b);
+    EXPECT_NEAR(c.list[0].depth_m, 0.005, 1e-12);
+    EXPECT_NEAR(c.list[0].normal.z, 1.0, 1e-12);
+    EXPECT_EQ(c.list[0].pin, -1);
+}
+
+TEST(CollisionDetection, InactivePartsNeverProduceContacts) {
+    ecs::Registry r;
+    add<ActiveCollider>(r, sphere({0, 0, 0}, 0.01));
+    for (int i = 0; i < 50; ++i) add<InactiveCollider>(r, sphere({0, 0, 0.001 * i}, 0.01));
+    const auto& c = detect(r);
+    EXPECT_TRUE(c.list.empty());
+    EXPECT_EQ(c.pairs_tested, 0u) << "inactive parts are not even candidates";
+}
+
+TEST(CollisionDetection, PassivePairsAreNeverTested) {
+    ecs::Registry r;
+    add<PassiveCollider>(r, sphere({0, 0, 0}, 0.01));
+    add<PassiveCollider>(r, sphere({0, 0, 0.005}, 0.01));
+    const auto& c = detect(r);
+    EXPECT_TRUE(c.list.empty());
+    EXPECT_EQ(c.pairs_tested, 0u);
+}
+
+TEST(CollisionDetection, ActivePairsAreReportedOnce) {
+    ecs::Registry r;
+    add<ActiveCollider>(r, sphere({0, 0, 0}, 0.01));
+    add<ActiveCollider>(r, sphere({0, 0, 0.01}, 0.01));
+    EXPECT_EQ(detect(r).list.size(), 1u);
+}
+
+TEST(CollisionDetection, PartsOfOneFlowerDoNotCollide) {
+    ecs::Registry r;
+    const auto flower = r.create();
+    const auto a = add<ActiveCollider>(r, capsule({0, 0, 0}, {0, 0, 0.01}, 0.004));
+    const auto b = add<PassiveCollider>(r, capsule({0, 0, 0.01}, {0, 0, 0.02}, 0.004));
+    ecs::attach(r, a, flower);
+    ecs::attach(r, b, flower);
+    EXPECT_TRUE(detect(r).list.empty());
+}
+
+TEST(CollisionDetection, FarApartCollidersAreNotTested) {
+    ecs::Registry r;
+    add<ActiveCollider>(r, sphere({0, 0, 0}, 0.01));
+    add<PassiveCollider>(r, sphere({1.0, 0, 0}, 0.01));
+    EXPECT_EQ(detect(r).pairs_tested, 0u) << "the spatial hash kept them apart";
+}
+
+TEST(CollisionDetection, StemEndPushedIntoKenzanMeetsThePinsUnderIt) {
+    ecs::Registry r;
+    const auto kenzan = r.create();
+    r.emplace<Kenzan>(kenzan, standard_kenzan());
+    r.emplace<PassiveCollider>(kenzan);
+    // A 7.5 mm stem, vertical, centred between four pins (pitch 4 mm, grid of even size: pins at
+    // +-2 mm), bottom 5 mm above the base plate: those four pins are inside its footprint.
+    const auto stem = add<ActiveCollider>(r, capsule({0, 0, 0.005}, {0, 0, 0.05}, 0.00375));
+    const auto& c = detect(r);
+    std::set<std::int32_t> pins;
+    for (const auto& contact : c.list) {
+        EXPECT_EQ(contact.a, stem);
+        EXPECT_EQ(contact.b, kenzan);
+        EXPECT_GT(contact.depth_m, 0.0);
+        pins.insert(contact.pin);
+    }
+    EXPECT_EQ(pins.size(), 4u);
+    EXPECT_LE(c.pairs_tested, 16u) << "the grid limits candidates to the pins under the stem";
+}
