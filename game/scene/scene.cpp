@@ -29,7 +29,7 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
         return c.error();
     }
     c.no_unknown_keys(*root, "", {"format", "name", "seed", "rates_hz", "gravity_m_s2", "table_height_mm", "kenzan",
-                                  "flowers", "hands", "notes"});
+                                  "flowers", "hands", "environment", "notes"});
     const auto format = c.string(*root, "", "format");
     if (format && *format != "ikebana-scene/1") c.problem("/format", "expected \"ikebana-scene/1\", got \"" + *format + "\"");
     SceneDef s{};
@@ -39,6 +39,13 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
     if (const auto* rates = c.object(*root, "", "rates_hz", false)) {
         for (const auto& [name, value] : rates->items()) {
             if (const auto hz = c.number(*rates, "/rates_hz", name.c_str(), {0, 100000, true})) s.rates_hz[name] = *hz;
+        }
+    }
+    if (const auto* env = c.object(*root, "", "environment", false)) {
+        for (const auto& [name, value] : env->items()) {
+            if (value.is_number()) s.environment.numeric[name] = value.get<double>();
+            else if (value.is_string()) s.environment.category[name] = value.get<std::string>();
+            else c.problem("/environment/" + name, "expected a number or a string, got " + JsonChecker::describe(value));
         }
     }
     if (const auto* k = c.object(*root, "", "kenzan")) {

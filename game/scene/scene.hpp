@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/core/result.hpp"
+#include "systems/insertion/deterioration.hpp"
 
 namespace ikebana::game {
 
@@ -42,6 +43,9 @@ struct SceneDef {
     glm::dvec3 kenzan_position_m;
     std::vector<FlowerPlacement> flowers;
     std::vector<HandPlacement> hands;
+    // Values that are not part of the simulated world (a room temperature, a batch name) but that an
+    // extended species model may depend on: the scene's "environment", overridden by --env.
+    systems::insertion::Covariates environment;
 };
 
 Result<SceneDef> parse_scene(std::string_view text, const std::string& label);

@@ -116,17 +116,44 @@ void read_resistance(JsonChecker& c, const Json& root, SpeciesDef& out) {
 void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
     const Json* d = c.object(root, "", "deterioration");
     if (!d) return;
-    const auto model = c.choice(*d, "/deterioration", "model", {"paper_baseline", "table_hold_last", "none", "extended"});
+    const std::string p = "/deterioration";
+    const std::vector<std::string> plain = {"paper_baseline", "table_hold_last", "none"};
+    std::vector<std::string> all = plain;
+    all.push_back("extended");
+    const auto model = c.choice(*d, p, "model", all);
     out.deterioration.model = model.value_or("");
-    out.deterioration.source_json = d->dump();
-    if ((model == "paper_baseline" || model == "table_hold_last") && !out.soft && out.branch == BranchKind::soft) {
-        c.problem("/deterioration/model", "\"" + *model + "\" needs a \"soft_table\" resistance");
+    std::string base = out.deterioration.model;
+    if (model == "extended") {
+        c.no_unknown_keys(*d, p, {"model", "base", "terms", "fitted_from", "notes"});
+        base = c.choice(*d, p, "base", plain).value_or("");
+        out.deterioration.base_model = base;
+        if (const Json* terms = c.array(*d, p, "terms")) {
+            for (std::size_t i = 0; i < terms->size(); ++i) {
+                const std::string tp = p + "/terms/" + std::to_string(i);
+                const Json& t = (*terms)[i];
+                if (!t.is_object()) {
+                    c.problem(tp, "expected an object, got " + JsonChecker::describe(t));
+                    continue;
+                }
+                c.no_unknown_keys(t, tp, {"covariate", "form", "coefficient", "scale", "category"});
+                components::DeteriorationTerm term{};
+                term.covariate = c.string(t, tp, "covariate").value_or("");
+                term.form = c.choice(t, tp, "form", {"constant", "linear", "log", "saturating", "power", "step", "category"}).value_or("");
+                term.coefficient = c.number(t, tp, "coefficient", {-50, 50}).value_or(0);
+                term.scale = c.number(t, tp, "scale", {-1e9, 1e9}, false).value_or(0);
+                term.category = c.string(t, tp, "category", term.form == "category").value_or("");
+                out.deterioration.terms.push_back(term);
+            }
+        }
+    } else {
+        c.no_unknown_keys(*d, p, {"model"});
     }
-    if (model == "paper_baseline" && out.soft && out.soft->n_per_m_by_insertion.size() < 3) {
-        c.problem("/resistance/gf_per_mm_by_insertion",
-                  "\"paper_baseline\" averages insertions 3 onwards: give at least 3 values");
+    if ((base == "paper_baseline" || base == "table_hold_last") && !out.soft && out.branch == BranchKind::soft) {
+        c.problem(p + "/model", "\"" + base + "\" needs a \"soft_table\" resistance");
     }
-    if (model != "extended") c.no_unknown_keys(*d, "/deterioration", {"model"});
+    if (base == "paper_baseline" && out.soft && out.soft->n_per_m_by_insertion.size() < 3) {
+        c.problem("/resistance/gf_per_mm_by_insertion", "\"paper_baseline\" averages insertions 3 onwards: give at least 3 values");
+    }
 }
 
 void read_breakage(JsonChecker& c, const Json& root, SpeciesDef& out) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "components/flower.hpp"
+#include "components/insertion.hpp"
 #include "engine/core/result.hpp"
 
 namespace ikebana::game {
@@ -46,7 +47,8 @@ struct SoftResistance {
 // its last value from then on. "none": no change (hard branches in the paper).
 struct DeteriorationDef {
     std::string model;
-    std::string source_json; // the block as written, so that an extended model can carry its terms
+    std::string base_model;                        // "extended": the model the terms multiply
+    std::vector<components::DeteriorationTerm> terms; // "extended": exp(sum of terms) factor
 };
 
 // The stem bottom splitting (section 3.1: on average after 2.6 insertions).

@@ -4,6 +4,7 @@
 
 #include "components/collision.hpp"
 #include "components/flower.hpp"
+#include "components/insertion.hpp"
 #include "components/kenzan.hpp"
 #include "components/physics.hpp"
 #include "systems/physics/stem_dynamics.hpp"
@@ -33,6 +34,24 @@ WorldSummary summarize(World& w) {
             for (const auto& x : p.position_m) s.highest_point_m = std::max(s.highest_point_m, x.z);
         });
     if (const auto* frames = w.main.resource<systems::ReceivedFrames>()) s.frames_received = frames->fresh;
+    for (const auto& f : w.flowers) {
+        FlowerSummary fs;
+        fs.species = f.species;
+        if (const auto* h = r.try_get<InsertionHistory>(f.entity)) {
+            fs.insertions = h->insertions;
+            fs.broken = h->bottom_broken;
+        }
+        if (const auto* e = r.try_get<PinEngagement>(f.entity)) {
+            fs.in_kenzan = e->in_kenzan;
+            fs.pins = e->pins.size();
+            fs.depth_m = e->depth_m;
+            fs.resistance_n = e->resistance_n;
+            fs.holding_moment_nm = e->holding_moment_nm;
+            fs.gravity_moment_nm = e->gravity_moment_nm;
+        }
+        if (const auto* grip = r.try_get<KenzanGrip>(f.entity)) fs.fallen = grip->fallen;
+        s.flower_states.push_back(fs);
+    }
     return s;
 }
 
@@ -50,7 +69,22 @@ std::string format_summary(const WorldSummary& s, double seconds) {
                   seconds, s.flowers, s.active_parts, s.passive_parts, s.inactive_parts, s.kenzan_pins, s.hands,
                   s.contacts, s.kinetic_j, s.elastic_j, s.gravitational_j, s.kinetic_j + s.elastic_j + s.gravitational_j,
                   s.highest_point_m * 1e3, static_cast<unsigned long long>(s.frames_received));
-    return buffer;
+    std::string out = buffer;
+    for (const auto& f : s.flower_states) {
+        char line[512];
+        if (f.in_kenzan) {
+            std::snprintf(line, sizeof line,
+                          "  %-14s in the kenzan: %zu pins, %.1f mm deep, resistance %.0f gf, holding %.2f mN m vs gravity %.2f mN m (margin %+.2f), insertions %u%s -> %s\n",
+                          f.species.c_str(), f.pins, f.depth_m * 1e3, f.resistance_n / 9.80665e-3, f.holding_moment_nm * 1e3,
+                          f.gravity_moment_nm * 1e3, (f.holding_moment_nm - f.gravity_moment_nm) * 1e3, f.insertions,
+                          f.broken ? ", bottom broken" : "", f.fallen ? "FELL" : "stands");
+        } else {
+            std::snprintf(line, sizeof line, "  %-14s not in the kenzan, insertions %u%s%s\n", f.species.c_str(), f.insertions,
+                          f.broken ? ", bottom broken" : "", f.fallen ? ", fell" : "");
+        }
+        out += line;
+    }
+    return out;
 }
 
 } // namespace ikebana::game

@@ -5,7 +5,21 @@
 
 namespace ikebana::game {
 
+struct FlowerSummary {
+    std::string species;
+    std::uint32_t insertions = 0;
+    bool broken = false;
+    bool in_kenzan = false;
+    std::size_t pins = 0;
+    double depth_m = 0.0;
+    double resistance_n = 0.0;
+    double holding_moment_nm = 0.0;
+    double gravity_moment_nm = 0.0;
+    bool fallen = false;
+};
+
 struct WorldSummary {
+    std::vector<FlowerSummary> flower_states;
     std::size_t flowers = 0;
     std::size_t active_parts = 0;
     std::size_t passive_parts = 0;

@@ -14,6 +14,13 @@
 #include "game/kenzan/kenzan_layout.hpp"
 #include "systems/collision/collider_update_system.hpp"
 #include "systems/collision/collision_detection_system.hpp"
+#include "components/insertion.hpp"
+#include "systems/insertion/deterioration.hpp"
+#include "systems/insertion/insertion_resistance_system.hpp"
+#include "systems/insertion/insertion_tracking_system.hpp"
+#include "systems/insertion/kenzan_grip_system.hpp"
+#include "systems/insertion/scripted_insertion_system.hpp"
+#include "systems/insertion/stem_cutting_system.hpp"
 #include "systems/physics/spring_physics_system.hpp"
 #include "systems/physics/stem_builder.hpp"
 #include "systems/physics/table_support_system.hpp"
@@ -38,12 +45,19 @@ Result<void> register_systems(World& w) {
     using sched::describe;
     // The lanes' phases, in execution order at equal timestamps.
     if (auto r = w.schedule.add_lane({"sim", &w.sim, sched::LaneThread::own,
-                                      {"input", "collision", "physics", "constraints", "output"}});
+                                      {"input", "collision", "insertion", "physics", "constraints", "output"}});
         !r) {
         return r;
     }
     if (auto r = w.schedule.add_lane({"main", &w.main, sched::LaneThread::caller, {"frame"}}); !r) return r;
-    for (auto desc : {describe(systems::ColliderUpdateSystem{}),
+    using systems::InsertionResistanceSystem;
+    using systems::InsertionTrackingSystem;
+    for (auto desc : {describe(systems::StemCuttingSystem{}),
+                      describe(systems::ScriptedInsertionSystem{}, {std::string(systems::StemCuttingSystem::name)}),
+                      describe(systems::ColliderUpdateSystem{}),
+                      describe(InsertionTrackingSystem{}),
+                      describe(InsertionResistanceSystem{}, {std::string(InsertionTrackingSystem::name)}),
+                      describe(systems::KenzanGripSystem{}, {std::string(InsertionResistanceSystem::name)}),
                       describe(systems::CollisionDetectionSystem{}, {std::string(systems::ColliderUpdateSystem::name)}),
                       describe(systems::SpringPhysicsSystem{}), describe(systems::TableSupportSystem{}),
                       describe(systems::PublishFrameSystem{}), describe(systems::ReceiveFrameSystem{})}) {
@@ -53,6 +67,27 @@ Result<void> register_systems(World& w) {
 }
 
 } // namespace
+
+components::PinResistance pin_resistance_of(const SpeciesDef& sp) {
+    PinResistance m{};
+    if (sp.hard) {
+        m.kind = ResistanceKind::hard_eq6;
+        m.cortex_tip_n_per_m = sp.hard->cortex_tip_n_per_m;
+        m.cortex_trunk_n_per_m = sp.hard->cortex_trunk_n_per_m;
+        m.pith_tip_n_per_m = sp.hard->pith_tip_n_per_m;
+        m.pith_trunk_n_per_m = sp.hard->pith_trunk_n_per_m;
+        m.pith_diameter_m = sp.hard->pith_diameter_m;
+    } else if (sp.soft) {
+        m.kind = ResistanceKind::soft_table;
+        const std::string base = sp.deterioration.model == "extended" ? sp.deterioration.base_model : sp.deterioration.model;
+        m.n_per_m_by_insertion = systems::insertion::expand_deterioration(base, sp.soft->n_per_m_by_insertion);
+        m.extension = sp.deterioration.terms;
+    }
+    m.break_probability_by_insertion = sp.breakage.model == "hazard_by_insertion" ? sp.breakage.probability_by_insertion : std::vector<double>{};
+    m.broken_holding_factor = sp.breakage.broken_holding_factor;
+    m.broken_seat_loss_m = sp.breakage.broken_seat_loss_m;
+    return m;
+}
 
 ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPlacement& placement, double table_height_m) {
     systems::physics::StemSpec spec;
@@ -79,10 +114,13 @@ ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPla
 
     const ecs::Entity flower = r.create();
     r.emplace<Flower>(flower, sp.id, sp.total_mass_kg());
-    if (placement.placement == Placement::inserted) {
-        // Until the insertion system holds the stem by its pins, an inserted stem is built in at its base.
-        r.emplace<StemClamp>(flower, systems::physics::clamp_bottom(stem));
-    }
+    // The kenzan grip engages this clamp when the stem stands released in the pins.
+    r.emplace<StemClamp>(flower, StemClamp{false, spec.base_m, placement.direction, 0.0});
+    r.emplace<PinResistance>(flower, pin_resistance_of(sp));
+    r.emplace<InsertionHistory>(flower);
+    r.emplace<PinEngagement>(flower);
+    r.emplace<KenzanGrip>(flower);
+    r.emplace<Grasp>(flower);
     const auto point_count = static_cast<std::uint32_t>(stem.points.position_m.size());
     r.emplace<StemPoints>(flower, std::move(stem.points));
     r.emplace<StemRestShape>(flower, std::move(stem.rest));
@@ -134,6 +172,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     }
 
     auto& r = w->sim;
+    r.set_resource<systems::insertion::Covariates>(scene.environment);
     r.set_resource<PhysicsSettings>(scene.gravity_m_s2);
     r.set_resource<Table>(scene.table_height_m, 0.6);
     r.set_resource<Contacts>();
@@ -146,8 +185,17 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     r.emplace<Kenzan>(kenzan_entity, std::move(kenzan).value());
     r.emplace<PassiveCollider>(kenzan_entity);
 
-    for (const auto& f : scene.flowers) {
+    const ecs::Entity world_entity = r.create();
+    r.emplace<RandomStream>(world_entity, scene.seed * 0x9e3779b97f4a7c15ull + 1);
+
+    const auto& kenzan_now = r.get<Kenzan>(kenzan_entity);
+    for (auto f : scene.flowers) {
         const auto& sp = w->species.at(f.species);
+        if (f.placement == Placement::inserted) {
+            // Standing in the pins: the stem end's lowest point `inserted_depth` below the pin tips.
+            const double lowest_offset = 0.5 * sp.diameter_m * std::sqrt(std::max(0.0, 1.0 - f.direction.z * f.direction.z));
+            f.base_m.z = kenzan_now.origin_m.z + kenzan_now.pin_height_m() - f.inserted_depth_m + lowest_offset;
+        }
         w->flowers.push_back({spawn_flower(r, sp, f, scene.table_height_m), sp.id});
     }
     for (const auto& h : scene.hands) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "components/insertion.hpp"
 #include "engine/core/result.hpp"
 #include "engine/ecs/registry.hpp"
 #include "engine/sched/schedule.hpp"
@@ -44,6 +45,9 @@ public:
 private:
     World() = default;
 };
+
+// The species' resistance, deterioration and breakage as the insertion systems use them.
+components::PinResistance pin_resistance_of(const SpeciesDef& species);
 
 // Adds one flower of `species` to `registry`: the flower entity carries the stem physics, and owns one
 // part entity per stem segment, petal and leaf, each with its collision tag.

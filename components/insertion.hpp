@@ -1,0 +1,135 @@
+#pragma once
+// Insertion into the kenzan (paper sections 2.5 and 3): what each flower remembers of its insertions,
+// which pins are in its stem now, and the resistance model its species gives it. SI units.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace ikebana::components {
+
+// One pin inside the stem, with its contact length split by pin part (Figure 10: cone tip, cylindrical
+// trunk) and, for a hard branch, by tissue (Figure 11: cortex, pith).
+struct PinContact {
+    std::int32_t pin;          // row * columns + column
+    double tip_m;              // length of the cone inside the stem
+    double trunk_m;            // length of the trunk inside the stem
+    double tip_in_pith_m;      // hard branch: parts of tip_m / trunk_m inside the pith
+    double trunk_in_pith_m;
+    double force_n;            // this pin's resistance now
+    double lever_m;            // its lever arm about the tipping edge (holding moment)
+};
+
+struct PinEngagement {
+    std::vector<PinContact> pins;
+    double depth_m;               // how far the stem bottom is below the pin tips
+    double resistance_n;          // sum of the pins' forces: what resists insertion and withdrawal
+    double holding_moment_nm;     // what the pins can resist (Eq. 7, left side, made a moment)
+    double gravity_moment_nm;     // m g r cos(theta) about the tipping edge (Eq. 7, right side)
+    bool in_kenzan;
+};
+
+struct InsertionRecord {
+    std::uint32_t number;         // 1-based, counted on the current stem end
+    std::int64_t start_us;
+    double max_depth_m;
+    double max_resistance_n;
+    double max_pin_force_n;
+    std::uint32_t max_pins;
+    double angle_deg;             // stem elevation against the horizontal when it entered
+    bool reused_hole;             // entered where an earlier insertion of this end had been
+    bool broke;                   // the bottom split during this insertion
+};
+
+// The flower's own history (kept by insertion_tracking_system).
+struct InsertionHistory {
+    std::uint32_t insertions;        // on the current stem end: what deterioration counts
+    std::uint32_t insertions_total;  // over the flower's life, across cuts
+    bool bottom_broken;
+    std::uint32_t cuts;
+    std::int64_t cut_at_us;          // simulation time of the last cut (or of the flower's creation)
+    std::vector<InsertionRecord> records;
+    std::vector<glm::dvec2> holes;   // where the current end entered the kenzan (x, y)
+};
+
+enum class ResistanceKind : std::uint8_t { soft_table, hard_eq6 };
+
+// A multiplicative extension of the soft-branch deterioration, fitted from measured data:
+// factor = exp(sum of terms). Forms: "linear", "log", "saturating", "power", "step", "category".
+struct DeteriorationTerm {
+    std::string covariate;        // a column name of the measured data, or "insertion"
+    std::string form;
+    double coefficient;
+    double scale;                 // saturating: rate; step: threshold; power: exponent
+    std::string category;         // for "category": which value the coefficient applies to
+};
+
+// The species' resistance model as the systems use it (copied from the species file on spawn).
+struct PinResistance {
+    ResistanceKind kind;
+    // soft_table: resistance per metre of pin by insertion count, already expanded by the
+    // deterioration model (index k-1 for the k-th insertion; the last value holds from then on).
+    std::vector<double> n_per_m_by_insertion;
+    std::vector<DeteriorationTerm> extension;
+    // hard_eq6 (Table 1)
+    double cortex_tip_n_per_m;
+    double cortex_trunk_n_per_m;
+    double pith_tip_n_per_m;
+    double pith_trunk_n_per_m;
+    double pith_diameter_m;
+    // breakage (section 3.1)
+    std::vector<double> break_probability_by_insertion;
+    double broken_holding_factor;
+    double broken_seat_loss_m;
+};
+
+// Deterministic random numbers in the world state (so the state hash covers them): splitmix64.
+struct RandomStream {
+    std::uint64_t state;
+};
+
+} // namespace ikebana::components
+
+namespace ikebana::components {
+
+// How the kenzan holds a released stem: the bottom point stays where it entered and the first segment
+// is held in direction by a root hinge whose moment is capped at the pins' holding moment. Beyond
+// the cap the hinge yields and the stem tips over about the kenzan (Eq. 7 made dynamic).
+struct KenzanGrip {
+    bool engaged;
+    glm::dvec3 entry_axis;       // the stem's direction when it was released in the kenzan
+    double holding_moment_nm;    // the cap, from the pins
+    bool fallen;                 // tipped more than fall_angle from entry_axis
+};
+
+// How many hands hold the flower now (scripted or haptic). An insertion is a held stem entering the
+// pins; a stem that falls or slides onto them is not one, and a held stem is not gripped by the kenzan.
+struct Grasp {
+    std::uint8_t hands;
+};
+
+// A scripted hand that inserts and withdraws a stem (the experiment, tests, demos; the haptics issue
+// puts real hands in its place). It holds the stem straight along `axis` and moves it vertically.
+struct ScriptedInsertion {
+    enum class Stage : std::uint8_t { idle, pushing, released, withdrawing, lifted };
+    Stage stage;
+    glm::dvec3 axis;             // unit, bottom to top, kept while held
+    glm::dvec3 bottom_m;         // where the hand holds the bottom now
+    double speed_m_s;
+    double stop_z_m;             // pushing stops when the stem's lowest point reaches this height
+    double max_push_n;           // or when the pins resist more than the hand pushes
+    double lift_to_z_m;          // withdrawing stops when the bottom is this high
+};
+
+} // namespace ikebana::components
+
+namespace ikebana::components {
+
+// A request to cut this much off the stem end (the trainee's scissors; scripted in tests). The
+// cutting system shortens the stem, and the fresh end has no history: no break, no holes, no wear.
+struct CutRequest {
+    double length_m;
+};
+
+} // namespace ikebana::components

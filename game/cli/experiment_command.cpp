@@ -1,0 +1,63 @@
+#include "game/cli/experiment_command.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+#include <unistd.h>
+
+#include "game/experiment/insertion_experiment.hpp"
+
+namespace ikebana::game {
+
+namespace {
+bool write_file(const std::string& path, const std::string& text) {
+    const std::string temporary = path + ".tmp";
+    {
+        std::ofstream out(temporary, std::ios::trunc);
+        out << text;
+        if (!out) return false;
+    }
+    return std::rename(temporary.c_str(), path.c_str()) == 0;
+}
+} // namespace
+
+void add_experiment_command(CLI::App& app, int& exit_code) {
+    struct Args {
+        ExperimentOptions options;
+        std::string json;
+        std::string csv;
+    };
+    auto args = std::make_shared<Args>();
+    auto* cmd = app.add_subcommand("experiment", "Reproduce the paper's repeated-insertion experiment (section 3.1) headless");
+    cmd->add_option("--trials", args->options.trials, "Flowers to use")->capture_default_str()->check(CLI::Range(1u, 100000u));
+    cmd->add_option("--seed", args->options.seed, "Random seed (breakage, where each insertion lands)")->capture_default_str();
+    cmd->add_option("--angle", args->options.angle_deg, "Insertion angle against the horizontal, degrees")->capture_default_str()->check(CLI::Range(10.0, 90.0));
+    cmd->add_option("--species", args->options.species, "Species id or file")->capture_default_str();
+    cmd->add_option("--max-insertions", args->options.max_insertions, "Give up on a flower after this many")->capture_default_str()->check(CLI::Range(1u, 1000u));
+    cmd->add_option("--json", args->json, "Write the summary as JSON");
+    cmd->add_option("--csv", args->csv, "Write every insertion as CSV");
+    cmd->callback([args, &exit_code] {
+        const bool tty = isatty(fileno(stderr)) != 0;
+        auto result = run_insertion_experiment(args->options, [tty](std::uint32_t t, std::uint32_t n) {
+            if (tty) std::fprintf(stderr, "\rtrial %u / %u", t, n);
+            if (tty && t == n) std::fprintf(stderr, "\n");
+        });
+        if (!result) {
+            std::cerr << "ikebana experiment: " << result.error().message << "\n";
+            exit_code = 2;
+            return;
+        }
+        std::printf("%s", experiment_report(*result, args->options).c_str());
+        if (!args->json.empty() && !write_file(args->json, experiment_json(*result, args->options))) {
+            std::cerr << "ikebana experiment: cannot write " << args->json << "\n";
+            exit_code = 1;
+        }
+        if (!args->csv.empty() && !write_file(args->csv, experiment_csv(*result))) {
+            std::cerr << "ikebana experiment: cannot write " << args->csv << "\n";
+            exit_code = 1;
+        }
+    });
+}
+
+} // namespace ikebana::game

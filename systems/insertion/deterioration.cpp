@@ -1,0 +1,62 @@
+#include "systems/insertion/deterioration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace ikebana::systems::insertion {
+
+std::vector<double> expand_deterioration(const std::string& model, const std::vector<double>& table) {
+    if (table.empty()) return {};
+    if (model == "paper_baseline") {
+        std::vector<double> out(table.begin(), table.begin() + std::min<std::ptrdiff_t>(2, static_cast<std::ptrdiff_t>(table.size())));
+        if (table.size() > 2) {
+            const auto last = table.begin() + std::min<std::ptrdiff_t>(6, static_cast<std::ptrdiff_t>(table.size()));
+            out.push_back(std::accumulate(table.begin() + 2, last, 0.0) / static_cast<double>(last - (table.begin() + 2)));
+        }
+        return out;
+    }
+    if (model == "table_hold_last") return table;
+    if (model == "none") return {table.front()};
+    return {};
+}
+
+double term_basis(const std::string& form, double x, double scale) {
+    if (form == "constant") return 1.0;
+    if (form == "linear") return x;
+    if (form == "log") return std::log(std::max(x + scale, 1e-9));
+    if (form == "saturating") return scale > 0.0 ? 1.0 - std::exp(-x / scale) : 0.0;
+    if (form == "power") return std::pow(std::max(x, 0.0), scale);
+    if (form == "step") return x >= scale ? 1.0 : 0.0;
+    return 0.0;
+}
+
+double extension_factor(const std::vector<components::DeteriorationTerm>& terms, std::uint32_t insertion,
+                        const Covariates& covariates) {
+    double exponent = 0.0;
+    for (const auto& t : terms) {
+        if (t.form == "category") {
+            const auto it = covariates.category.find(t.covariate);
+            if (it != covariates.category.end() && it->second == t.category) exponent += t.coefficient;
+            continue;
+        }
+        double x = 0.0;
+        if (t.covariate == "insertion") {
+            x = static_cast<double>(insertion);
+        } else if (const auto it = covariates.numeric.find(t.covariate); it != covariates.numeric.end()) {
+            x = it->second;
+        } else if (t.form != "constant") {
+            continue; // a covariate this world does not have: the term does not apply
+        }
+        exponent += t.coefficient * term_basis(t.form, x, t.scale);
+    }
+    return std::exp(exponent);
+}
+
+double soft_resistance_n_per_m(const components::PinResistance& model, std::uint32_t insertion, const Covariates& covariates) {
+    if (model.n_per_m_by_insertion.empty()) return 0.0;
+    const std::size_t k = std::clamp<std::size_t>(insertion, 1, model.n_per_m_by_insertion.size()) - 1;
+    return model.n_per_m_by_insertion[k] * extension_factor(model.extension, insertion, covariates);
+}
+
+} // namespace ikebana::systems::insertion

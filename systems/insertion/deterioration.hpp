@@ -1,0 +1,39 @@
+#pragma once
+// Soft-branch resistance per metre of pin as a function of use (paper section 3.1, Table 2), and the
+// extension terms a fitted model adds. The model is data: the species file names it, and an extended
+// species file carries its terms; no code changes to switch.
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "components/insertion.hpp"
+
+namespace ikebana::systems::insertion {
+
+// Values a term may depend on besides the insertion count: trial covariates or world settings.
+struct Covariates {
+    std::map<std::string, double> numeric;
+    std::map<std::string, std::string> category;
+};
+
+// Expands a measured table by a named model into per-insertion values (index k-1 for insertion k,
+// the last value holding from then on):
+//   paper_baseline  - insertions 1 and 2 as measured, the mean of insertions 3..6 from the third on
+//                     (the paper's own model: it calls 3..6 experimental error);
+//   table_hold_last - the table as measured;
+//   none            - the first value for ever.
+// An unknown model name gives an empty vector.
+std::vector<double> expand_deterioration(const std::string& model, const std::vector<double>& table);
+
+// exp(sum of terms) for these covariates; 1 when there are no terms. "insertion" is always available.
+double extension_factor(const std::vector<components::DeteriorationTerm>& terms, std::uint32_t insertion,
+                        const Covariates& covariates);
+
+// The basis value of one term's form at x (used by the fit as well as by the model).
+double term_basis(const std::string& form, double x, double scale);
+
+// Resistance per metre of pin at the k-th insertion (k >= 1) of a sound stem end.
+double soft_resistance_n_per_m(const components::PinResistance& model, std::uint32_t insertion, const Covariates& covariates = {});
+
+} // namespace ikebana::systems::insertion

@@ -1,0 +1,68 @@
+#include "systems/insertion/insertion_resistance_system.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "components/kenzan.hpp"
+#include "engine/ecs/registry.hpp"
+#include "systems/insertion/deterioration.hpp"
+#include "systems/insertion/pin_geometry.hpp"
+#include "systems/insertion/resistance_law.hpp"
+
+namespace ikebana::systems {
+
+using namespace components;
+
+void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
+    auto& r = ctx.registry;
+    const Kenzan* kenzan = nullptr;
+    r.view<Kenzan>().each([&](ecs::Entity, Kenzan& k) { kenzan = &k; });
+    const auto* settings = r.resource<PhysicsSettings>();
+    const double g = settings ? glm::length(settings->gravity_m_s2) : 9.80665;
+    const auto* world_covariates = r.resource<insertion::Covariates>();
+    r.view<StemPoints, StemRestShape, PinResistance, InsertionHistory, PinEngagement>().each(
+        [&](ecs::Entity, StemPoints& points, StemRestShape& rest, PinResistance& model, InsertionHistory& history,
+            PinEngagement& engagement) {
+            engagement.resistance_n = 0.0;
+            engagement.holding_moment_nm = 0.0;
+            engagement.gravity_moment_nm = 0.0;
+            if (!engagement.in_kenzan || !kenzan) return;
+            // Covariates a fitted extension may use: the world's, plus this insertion's own.
+            insertion::Covariates covariates = world_covariates ? *world_covariates : insertion::Covariates{};
+            covariates.numeric["minutes_since_cut"] = static_cast<double>(ctx.time_us - history.cut_at_us) / 60e6;
+            if (!history.records.empty()) {
+                covariates.numeric["angle_deg"] = history.records.back().angle_deg;
+                covariates.numeric["hole_reuse"] = history.records.back().reused_hole ? 1.0 : 0.0;
+            }
+            covariates.numeric["pins"] = static_cast<double>(engagement.pins.size());
+            const double soft = model.kind == ResistanceKind::soft_table
+                                    ? insertion::soft_resistance_n_per_m(model, std::max(history.insertions, 1u), covariates)
+                                    : 0.0;
+            const double factor = history.bottom_broken ? model.broken_holding_factor : 1.0;
+            for (auto& p : engagement.pins) {
+                p.force_n = factor * insertion::pin_resistance_n(p, model, soft);
+                engagement.resistance_n += p.force_n;
+                engagement.holding_moment_nm += p.force_n * p.lever_m;
+            }
+            // Gravity moment about the tipping edge, from the live mass points.
+            const auto& x = points.position_m;
+            const glm::dvec3 axis = glm::normalize(x[1] - x[0]);
+            insertion::StemEnd end{x[0], axis, 0.5 * rest.diameter_m, 0.0, 0.0, 0.05};
+            std::vector<PinContact> none;
+            const glm::dvec3 edge = insertion::assign_lever_arms(end, *kenzan, none);
+            const glm::dvec2 lean{insertion::lean_direction(axis)};
+            double moment = 0.0;
+            for (std::size_t i = 0; i < x.size(); ++i) moment += points.mass_kg[i] * g * glm::dot(glm::dvec2(x[i]) - glm::dvec2(edge), lean);
+            engagement.gravity_moment_nm = std::max(0.0, moment);
+            // Records keep the largest values seen during the insertion (what a sclerometer reads).
+            if (!history.records.empty()) {
+                auto& rec = history.records.back();
+                rec.max_depth_m = std::max(rec.max_depth_m, engagement.depth_m);
+                rec.max_resistance_n = std::max(rec.max_resistance_n, engagement.resistance_n);
+                rec.max_pins = std::max(rec.max_pins, static_cast<std::uint32_t>(engagement.pins.size()));
+                for (const auto& p : engagement.pins) rec.max_pin_force_n = std::max(rec.max_pin_force_n, p.force_n);
+            }
+        });
+}
+
+} // namespace ikebana::systems

@@ -1,0 +1,27 @@
+#pragma once
+// Finds the pins inside each stem from geometry (pin_geometry.hpp), and keeps each flower's history:
+// a new insertion begins when a stem that was clear of the pins enters them. At that moment the
+// bottom may split (breakage, section 3.1): with the species' probability for this insertion count,
+// drawn from the world's RandomStream so that runs are reproducible.
+#include <string_view>
+
+#include "components/insertion.hpp"
+#include "components/kenzan.hpp"
+#include "components/stem.hpp"
+#include "engine/sched/system.hpp"
+
+namespace ikebana::systems {
+
+struct InsertionTrackingSystem {
+    static constexpr std::string_view name = "insertion_tracking";
+    static constexpr std::string_view lane = "sim";
+    static constexpr std::string_view phase = "insertion";
+    static constexpr std::string_view rate = "haptic";
+    using reads = sched::Components<components::StemPoints, components::StemRestShape, components::Kenzan,
+                                    components::PinResistance, components::Grasp>;
+    using writes = sched::Components<components::PinEngagement, components::InsertionHistory, components::RandomStream>;
+
+    void operator()(sched::SystemContext& ctx);
+};
+
+} // namespace ikebana::systems

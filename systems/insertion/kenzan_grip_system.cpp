@@ -1,0 +1,59 @@
+#include "systems/insertion/kenzan_grip_system.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/ecs/registry.hpp"
+
+namespace ikebana::systems {
+
+using namespace components;
+
+namespace {
+double angle_between(glm::dvec3 a, glm::dvec3 b) {
+    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+// Rotates `from` towards `to` so that the angle between them becomes `angle` (<= current).
+glm::dvec3 rotate_towards(glm::dvec3 from, glm::dvec3 to, double angle) {
+    const glm::dvec3 axis = glm::cross(to, from);
+    const double s = glm::length(axis);
+    if (s < 1e-12) return to;
+    const glm::dvec3 k = axis / s;
+    // Rodrigues: `to` rotated about k by `angle` lands between to and from.
+    return glm::normalize(to * std::cos(angle) + glm::cross(k, to) * std::sin(angle) + k * glm::dot(k, to) * (1.0 - std::cos(angle)));
+}
+} // namespace
+
+void KenzanGripSystem::operator()(sched::SystemContext& ctx) {
+    auto& r = ctx.registry;
+    r.view<KenzanGrip, StemClamp, PinEngagement, StemPoints, StemSprings>().each(
+        [&](ecs::Entity e, KenzanGrip& grip, StemClamp& clamp, PinEngagement& engagement, StemPoints& points,
+            StemSprings& springs) {
+            const auto* grasp = r.try_get<Grasp>(e);
+            const bool held = grasp && grasp->hands > 0;
+            const auto& x = points.position_m;
+            if (held || !engagement.in_kenzan || x.size() < 2) {
+                grip.engaged = false;
+                clamp.engaged = false;
+                return;
+            }
+            const glm::dvec3 first = glm::normalize(x[1] - x[0]);
+            const double root_stiffness = 2.0 * (springs.hinge_nm_per_rad.empty() ? 0.0 : springs.hinge_nm_per_rad[0]);
+            if (!grip.engaged) {
+                grip.engaged = true;
+                grip.fallen = false;
+                grip.entry_axis = glm::normalize(x.back() - x[0]);
+                clamp = StemClamp{true, x[0], first, root_stiffness};
+            }
+            grip.holding_moment_nm = engagement.holding_moment_nm;
+            // Elastic up to the holding moment, then the hinge yields (return mapping).
+            if (root_stiffness > 0.0) {
+                const double limit = grip.holding_moment_nm / root_stiffness;
+                if (angle_between(clamp.direction, first) > limit) clamp.direction = rotate_towards(clamp.direction, first, limit);
+            }
+            grip.fallen = grip.fallen || angle_between(grip.entry_axis, glm::normalize(x.back() - x[0])) > fall_angle_rad;
+        });
+}
+
+} // namespace ikebana::systems

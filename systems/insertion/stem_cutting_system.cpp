@@ -1,0 +1,54 @@
+#include "systems/insertion/stem_cutting_system.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+#include "engine/ecs/registry.hpp"
+
+namespace ikebana::systems {
+
+using namespace components;
+
+void StemCuttingSystem::operator()(sched::SystemContext& ctx) {
+    auto& r = ctx.registry;
+    r.view<CutRequest, StemPoints, StemRestShape, StemSprings, InsertionHistory>().each(
+        [&](ecs::Entity e, CutRequest& cut, StemPoints& points, StemRestShape& rest, StemSprings& springs,
+            InsertionHistory& history) {
+            r.commands().remove<CutRequest>(e);
+            const double length = std::accumulate(rest.segment_length_m.begin(), rest.segment_length_m.end(), 0.0);
+            if (!(cut.length_m > 0.0) || length - cut.length_m < shortest_stem_m) return;
+            const double keep = (length - cut.length_m) / length;
+            // The new points: the old polyline resampled from arc length `cut` upwards.
+            const auto& old = points.position_m;
+            std::vector<glm::dvec3> fresh(old.size());
+            std::vector<double> arc(old.size(), 0.0);
+            for (std::size_t i = 1; i < old.size(); ++i) arc[i] = arc[i - 1] + glm::length(old[i] - old[i - 1]);
+            const double total = arc.back();
+            for (std::size_t i = 0; i < old.size(); ++i) {
+                const double s = total * (cut.length_m / length) + total * keep * static_cast<double>(i) / static_cast<double>(old.size() - 1);
+                const auto it = std::upper_bound(arc.begin(), arc.end(), s);
+                const std::size_t j = std::clamp<std::size_t>(static_cast<std::size_t>(it - arc.begin()), 1, old.size() - 1);
+                const double span = arc[j] - arc[j - 1];
+                const double t = span > 0.0 ? std::clamp((s - arc[j - 1]) / span, 0.0, 1.0) : 0.0;
+                fresh[i] = old[j - 1] + t * (old[j] - old[j - 1]);
+            }
+            // Mass: the stem's own mass shrinks with its length; what the top point carries beyond
+            // its share of stem (the head) stays.
+            const double stem_share = points.mass_kg.front() * 2.0; // a lumped segment's mass
+            const double head = points.mass_kg.back() - 0.5 * stem_share;
+            for (auto& m : points.mass_kg) m *= keep;
+            points.mass_kg.back() = 0.5 * stem_share * keep + head;
+            for (auto& l : rest.segment_length_m) l *= keep;
+            for (auto& k : springs.axial_n_per_m) k /= keep;
+            for (auto& k : springs.hinge_nm_per_rad) k /= keep;
+            points.position_m = std::move(fresh);
+            for (auto& v : points.velocity_m_s) v = glm::dvec3{0.0};
+            history.bottom_broken = false;
+            history.insertions = 0;
+            history.holes.clear();
+            ++history.cuts;
+            history.cut_at_us = ctx.time_us;
+        });
+}
+
+} // namespace ikebana::systems

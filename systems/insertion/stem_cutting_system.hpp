@@ -1,0 +1,29 @@
+#pragma once
+// Cuts the stem end (section 1: cutting is part of the simulator). The stem keeps its segment count
+// and gets shorter: every rest length shrinks in proportion, the spring constants follow (axial E A / l,
+// hinge E I / l), the removed length's mass goes, and the points are laid along the old shape from the
+// new bottom. The end is fresh: not broken, no insertions, no holes; the flower's lifetime count stays.
+#include <string_view>
+
+#include "components/insertion.hpp"
+#include "components/stem.hpp"
+#include "engine/sched/system.hpp"
+
+namespace ikebana::systems {
+
+struct StemCuttingSystem {
+    static constexpr std::string_view name = "stem_cutting";
+    static constexpr std::string_view lane = "sim";
+    static constexpr std::string_view phase = "input";
+    static constexpr std::string_view rate = "haptic";
+    using reads = sched::Components<components::CutRequest>;
+    using writes = sched::Components<components::StemPoints, components::StemRestShape, components::StemSprings,
+                                     components::InsertionHistory>;
+
+    void operator()(sched::SystemContext& ctx);
+
+    // Nothing shorter than this is left (a cut that would go further is refused).
+    double shortest_stem_m = 0.03;
+};
+
+} // namespace ikebana::systems
