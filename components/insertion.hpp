@@ -40,6 +40,7 @@ struct InsertionRecord {
     double angle_deg;             // stem elevation against the horizontal when it entered
     bool reused_hole;             // entered where an earlier insertion of this end had been
     bool broke;                   // the bottom split during this insertion
+    std::vector<std::int32_t> pins; // every pin that was inside the stem during this insertion
 };
 
 // The flower's own history (kept by insertion_tracking_system).

@@ -111,6 +111,7 @@ Result<TrialResult> run_insertion_trial(const ExperimentOptions& o, std::uint64_
             out.broke = record.broke;
             out.max_pin_force_n = record.max_pin_force_n;
             out.max_resistance_n = record.max_resistance_n;
+            out.pins_used = static_cast<std::uint32_t>(record.pins.size());
         }
         out.fell = r.get<KenzanGrip>(flower).fallen || !r.get<PinEngagement>(flower).in_kenzan;
         trial.insertions.push_back(out);

@@ -48,6 +48,7 @@ struct InsertionOutcome {
     bool fell;
     bool broken_before; // the bottom was already split when this insertion began
     std::uint32_t counted; // the flower's own insertion count after this insertion
+    std::uint32_t pins_used; // distinct pins that were in the stem during the insertion (its history)
 };
 
 struct TrialResult {

@@ -60,7 +60,10 @@ void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
                 rec.max_depth_m = std::max(rec.max_depth_m, engagement.depth_m);
                 rec.max_resistance_n = std::max(rec.max_resistance_n, engagement.resistance_n);
                 rec.max_pins = std::max(rec.max_pins, static_cast<std::uint32_t>(engagement.pins.size()));
-                for (const auto& p : engagement.pins) rec.max_pin_force_n = std::max(rec.max_pin_force_n, p.force_n);
+                for (const auto& p : engagement.pins) {
+                    rec.max_pin_force_n = std::max(rec.max_pin_force_n, p.force_n);
+                    if (std::find(rec.pins.begin(), rec.pins.end(), p.pin) == rec.pins.end()) rec.pins.push_back(p.pin);
+                }
             }
         });
 }

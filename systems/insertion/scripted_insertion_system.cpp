@@ -44,6 +44,12 @@ void ScriptedInsertionSystem::operator()(sched::SystemContext& ctx) {
             }
             case Stage::released: break;
             case Stage::withdrawing:
+                // The pins resist withdrawal as they resist insertion: a hand that cannot pull harder
+                // than that holds the stem where it is.
+                if (engagement.resistance_n > hand.max_push_n) {
+                    hold_straight(points, rest, hand.bottom_m, hand.axis, glm::dvec3{0.0});
+                    break;
+                }
                 hand.bottom_m.z += hand.speed_m_s * ctx.dt_s;
                 hold_straight(points, rest, hand.bottom_m, hand.axis, glm::dvec3{0.0, 0.0, hand.speed_m_s});
                 if (hand.bottom_m.z >= hand.lift_to_z_m) hand.stage = Stage::lifted;

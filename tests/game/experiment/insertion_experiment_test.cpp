@@ -78,6 +78,7 @@ TEST(InsertionExperiment, VerticalInsertionReproducesTable2) {
     const double expected[] = {121, 115, 100, 100, 100};
     for (std::size_t i = 0; i < trial->insertions.size(); ++i) {
         EXPECT_EQ(trial->insertions[i].pins, 4u);
+        EXPECT_EQ(trial->insertions[i].pins_used, 4u) << "the history names the four pins";
         EXPECT_NEAR(trial->insertions[i].max_pin_force_n / gf, expected[i], 1.5) << "insertion " << i + 1;
         EXPECT_FALSE(trial->insertions[i].fell) << "a vertical stem has no gravity moment to resist";
     }

@@ -103,3 +103,4 @@ TEST(Breakage, ReusedHoleIsRecorded) {
     EXPECT_FALSE(records[0].reused_hole);
     EXPECT_TRUE(records[1].reused_hole);
 }
+
