@@ -141,6 +141,14 @@ public:
         return valid(e) && (has_one<T>(e) || ...);
     }
 
+    // The component of the one entity that has T (the kenzan, the world's random stream), or null.
+    // With several, the first in storage order.
+    template <typename T>
+    [[nodiscard]] T* single() {
+        auto* pool = find_storage<T>();
+        return pool && pool->size() > 0 ? pool->try_get(pool->entities().front()) : nullptr;
+    }
+
     template <typename T>
     [[nodiscard]] std::size_t count() const {
         const auto* pool = find_storage<T>();

@@ -20,19 +20,10 @@ public:
     // f(entity, components...) with the non-empty Get components by reference.
     template <typename F>
     void each(F&& f) {
-        const SparseSet* lead = smallest();
-        if (!lead) return;
-        IterationScope scope(registry_);
-        // Storages are resolved once per call, not once per entity.
-        const std::tuple<Storage<Get>*...> pools{registry_.template find_storage<Get>()...};
-        const std::tuple<Storage<Excluded>*...> excluded{registry_.template find_storage<Excluded>()...};
-        // Structural changes are refused during iteration, so the dense array cannot move under us.
-        for (const Entity e : lead->entities()) {
-            if (!(std::get<Storage<Get>*>(pools)->contains(e) && ...)) continue;
-            if (((std::get<Storage<Excluded>*>(excluded) && std::get<Storage<Excluded>*>(excluded)->contains(e)) || ...)) continue;
+        for_matching([&](Entity e, const auto& pools) {
             std::apply([&](auto&... components) { f(e, components...); },
                        std::tuple_cat(fetch<Get>(std::get<Storage<Get>*>(pools), e)...));
-        }
+        });
     }
 
     // Number of entities that match (walks the smallest storage).
@@ -44,16 +35,7 @@ public:
 
     template <typename F>
     void each_entity(F&& f) {
-        const SparseSet* lead = smallest();
-        if (!lead) return;
-        IterationScope scope(registry_);
-        const std::tuple<Storage<Get>*...> pools{registry_.template find_storage<Get>()...};
-        const std::tuple<Storage<Excluded>*...> excluded{registry_.template find_storage<Excluded>()...};
-        for (const Entity e : lead->entities()) {
-            if (!(std::get<Storage<Get>*>(pools)->contains(e) && ...)) continue;
-            if (((std::get<Storage<Excluded>*>(excluded) && std::get<Storage<Excluded>*>(excluded)->contains(e)) || ...)) continue;
-            f(e);
-        }
+        for_matching([&](Entity e, const auto&) { f(e); });
     }
 
 private:
@@ -62,6 +44,22 @@ private:
         ~IterationScope() { --r_.iteration_depth_; }
         Registry& r_;
     };
+
+    // Calls visit(entity, pools) for every entity with all Get and no Excluded components. Storages are
+    // resolved once per call; structural changes are refused meanwhile, so the dense array cannot move.
+    template <typename Visit>
+    void for_matching(Visit&& visit) {
+        const SparseSet* lead = smallest();
+        if (!lead) return;
+        IterationScope scope(registry_);
+        const std::tuple<Storage<Get>*...> pools{registry_.template find_storage<Get>()...};
+        const std::tuple<Storage<Excluded>*...> excluded{registry_.template find_storage<Excluded>()...};
+        for (const Entity e : lead->entities()) {
+            if (!(std::get<Storage<Get>*>(pools)->contains(e) && ...)) continue;
+            if (((std::get<Storage<Excluded>*>(excluded) && std::get<Storage<Excluded>*>(excluded)->contains(e)) || ...)) continue;
+            visit(e, pools);
+        }
+    }
 
     template <typename T>
     static auto fetch(Storage<T>* pool, Entity e) {

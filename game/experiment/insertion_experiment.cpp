@@ -57,9 +57,7 @@ Result<TrialResult> run_insertion_trial(const ExperimentOptions& o, std::uint64_
     World& w = **world;
     auto& r = w.sim;
     const ecs::Entity flower = w.flowers[0].entity;
-    const Kenzan* kenzan_in_world = nullptr;
-    r.view<Kenzan>().each([&](ecs::Entity, Kenzan& found) { kenzan_in_world = &found; });
-    const Kenzan& k = *kenzan_in_world;
+    const Kenzan& k = *r.single<Kenzan>();
     if (force_broken.has_value()) {
         auto& model = r.get<PinResistance>(flower);
         model.break_probability_by_insertion.clear();

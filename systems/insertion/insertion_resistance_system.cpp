@@ -15,8 +15,7 @@ using namespace components;
 
 void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    const Kenzan* kenzan = nullptr;
-    r.view<Kenzan>().each([&](ecs::Entity, Kenzan& k) { kenzan = &k; });
+    const Kenzan* kenzan = r.single<Kenzan>();
     const auto* settings = r.resource<PhysicsSettings>();
     const double g = settings ? glm::length(settings->gravity_m_s2) : 9.80665;
     const auto* world_covariates = r.resource<insertion::Covariates>();

@@ -15,10 +15,8 @@ using namespace components;
 
 void InsertionTrackingSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    const Kenzan* kenzan = nullptr;
-    r.view<Kenzan>().each([&](ecs::Entity, Kenzan& k) { kenzan = &k; });
-    RandomStream* random = nullptr;
-    r.view<RandomStream>().each([&](ecs::Entity, RandomStream& s) { random = &s; });
+    const Kenzan* kenzan = r.single<Kenzan>();
+    RandomStream* random = r.single<RandomStream>();
     if (!kenzan) return;
     r.view<StemPoints, StemRestShape, PinResistance, InsertionHistory, PinEngagement>().each(
         [&](ecs::Entity flower, StemPoints& points, StemRestShape& rest, PinResistance& model, InsertionHistory& history,

@@ -123,3 +123,13 @@ TEST(Registry, StateHashSeesTheSmallestChange) {
     r.get<Position>(e).value.x = std::nextafter(1.0, 2.0);
     EXPECT_NE(before, r.state_hash());
 }
+
+TEST(Registry, SingleFindsTheOneEntityWithAComponent) {
+    Registry r;
+    EXPECT_EQ(r.single<Position>(), nullptr);
+    r.create();
+    const Entity e = r.create();
+    r.emplace<Position>(e, glm::dvec3{4, 5, 6});
+    ASSERT_NE(r.single<Position>(), nullptr);
+    EXPECT_EQ(r.single<Position>()->value.z, 6.0);
+}
