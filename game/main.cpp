@@ -7,6 +7,7 @@
 
 #include "game/asset_paths.hpp"
 #include "game/cli/assets_command.hpp"
+#include "game/cli/devices_command.hpp"
 #include "game/cli/experiment_command.hpp"
 #include "game/cli/sim_command.hpp"
 #include "game/cli/species_command.hpp"
@@ -19,6 +20,7 @@ int main(int argc, char** argv) {
     ikebana::game::add_species_command(app, exit_code);
     ikebana::game::add_assets_command(app, exit_code);
     ikebana::game::add_experiment_command(app, exit_code);
+    ikebana::game::add_devices_command(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

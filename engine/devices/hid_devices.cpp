@@ -1,0 +1,81 @@
+#include "engine/devices/hid_devices.hpp"
+
+#include <array>
+
+namespace ikebana::devices {
+
+DeviceMatch match_hid_device(const HidDeviceInfo& info) {
+    if (const auto p = find_spacemouse_profile(info.vendor_id, info.product_id)) return {DeviceMatch::Kind::spacemouse, p->name};
+    if (info.vendor_id == diy_vendor_id && info.product_id == diy_product_id) {
+        return {DeviceMatch::Kind::diy_force, "DIY force-feedback device (protocol v1)"};
+    }
+    return {};
+}
+
+SpaceMouseDevice::SpaceMouseDevice(std::unique_ptr<HidTransport> transport, SpaceMouseProfile profile)
+    : transport_(std::move(transport)), parser_(profile) {
+    caps_.name = profile.name;
+    caps_.has_force_output = false;
+    caps_.reports_position = false;
+}
+
+Result<DeviceSample> SpaceMouseDevice::poll(std::int64_t now_us) {
+    std::array<std::uint8_t, 64> buffer{};
+    for (int i = 0; i < 64; ++i) { // a bounded drain: a flood of reports cannot hold the loop
+        auto n = transport_->read(buffer, 0);
+        if (!n) return std::move(n).error();
+        if (*n == 0) break;
+        (void)parser_.feed(std::span<const std::uint8_t>(buffer.data(), *n));
+    }
+    return parser_.sample(now_us);
+}
+
+DiyForceDevice::DiyForceDevice(std::unique_ptr<HidTransport> transport, ForceSafetyConfig safety)
+    : transport_(std::move(transport)), safety_(safety), safety_config_(safety) {
+    caps_.name = "DIY force-feedback device";
+    caps_.has_force_output = true;
+    caps_.max_force_n = safety.max_force_n;
+    caps_.workspace_half_extent_m = glm::dvec3{0.08};
+    caps_.reports_position = true;
+}
+
+Result<DeviceSample> DiyForceDevice::poll(std::int64_t now_us) {
+    std::array<std::uint8_t, 64> buffer{};
+    for (int i = 0; i < 16; ++i) {
+        auto n = transport_->read(buffer, 0);
+        if (!n) return std::move(n).error();
+        if (*n == 0) break;
+        const auto report = diy::decode_state(std::span<const std::uint8_t>(buffer.data(), *n));
+        if (!report || !inbound_.accept(report->sequence)) {
+            ++refused_;
+            continue;
+        }
+        last_ = *report;
+        // The device's own limit tightens ours (never loosens it).
+        if (last_.max_force_n > 0.0 && last_.max_force_n < caps_.max_force_n) {
+            caps_.max_force_n = last_.max_force_n;
+            safety_config_.max_force_n = last_.max_force_n;
+            safety_ = ForceSafety(safety_config_);
+        }
+    }
+    last_poll_us_ = now_us;
+    DeviceSample s;
+    s.time_us = now_us;
+    s.position = glm::dvec3(last_.position_um) * 1e-6;
+    s.rotation = glm::dvec3(last_.rotation_mrad) * 1e-3;
+    s.buttons = last_.buttons;
+    return s;
+}
+
+Result<void> DiyForceDevice::send_force(glm::dvec3 force_n) {
+    const glm::dvec3 safe = safety_.filter(force_n, last_poll_us_);
+    const auto bytes = diy::encode_force(diy::ForceReport{static_cast<std::uint16_t>(outbound_.fetch_add(1) + 1), safe, true, 2});
+    return transport_->write(bytes);
+}
+
+Result<void> DiyForceDevice::send_zero() {
+    const auto bytes = diy::encode_force(diy::ForceReport{static_cast<std::uint16_t>(outbound_.fetch_add(1) + 1), glm::dvec3{0.0}, true, 2});
+    return transport_->write(bytes);
+}
+
+} // namespace ikebana::devices

@@ -1,0 +1,70 @@
+#pragma once
+// HapticDevice backends over a HidTransport: the SpaceMouse family (6-DoF input, no force) and the DIY
+// force-feedback device (docs/diy-haptic-protocol.md).
+#include <atomic>
+#include <memory>
+#include <optional>
+
+#include "engine/devices/diy_protocol.hpp"
+#include "engine/devices/force_safety.hpp"
+#include "engine/devices/haptic_device.hpp"
+#include "engine/devices/hid_transport.hpp"
+#include "engine/devices/spacemouse.hpp"
+
+namespace ikebana::devices {
+
+// The DIY device's USB ids (pid.codes' open-source vendor id; change both in firmware and here).
+inline constexpr std::uint16_t diy_vendor_id = 0x1209;
+inline constexpr std::uint16_t diy_product_id = 0x1d3a;
+
+// Which profile, if any, a HID device matches: for `ikebana devices` and automatic selection.
+struct DeviceMatch {
+    enum class Kind { spacemouse, diy_force, unknown } kind = Kind::unknown;
+    std::string profile;
+};
+[[nodiscard]] DeviceMatch match_hid_device(const HidDeviceInfo& info);
+
+class SpaceMouseDevice final : public HapticDevice {
+public:
+    SpaceMouseDevice(std::unique_ptr<HidTransport> transport, SpaceMouseProfile profile);
+    [[nodiscard]] const DeviceCapabilities& capabilities() const override { return caps_; }
+    // Drains every pending report; refused ones are counted and skipped, the device stays usable.
+    Result<DeviceSample> poll(std::int64_t now_us) override;
+    Result<void> send_force(glm::dvec3) override { return {}; }
+    [[nodiscard]] const SpaceMouseParser& parser() const noexcept { return parser_; }
+
+private:
+    std::unique_ptr<HidTransport> transport_;
+    SpaceMouseParser parser_;
+    DeviceCapabilities caps_;
+};
+
+class DiyForceDevice final : public HapticDevice {
+public:
+    DiyForceDevice(std::unique_ptr<HidTransport> transport, ForceSafetyConfig safety = {});
+    [[nodiscard]] const DeviceCapabilities& capabilities() const override { return caps_; }
+    Result<DeviceSample> poll(std::int64_t now_us) override;
+    // Passes the force through ForceSafety (clamped also to the device's own reported maximum) and
+    // sends it with the next sequence number.
+    Result<void> send_force(glm::dvec3 force_n) override;
+    // Zero force, motors still enabled: what the watchdog sends. Safe from another thread.
+    Result<void> send_zero();
+
+    [[nodiscard]] const diy::SequenceTracker& sequence() const noexcept { return inbound_; }
+    [[nodiscard]] const ForceSafety& safety() const noexcept { return safety_; }
+    [[nodiscard]] std::uint64_t reports_refused() const noexcept { return refused_; }
+    [[nodiscard]] std::uint8_t last_status() const noexcept { return last_.status; }
+
+private:
+    std::unique_ptr<HidTransport> transport_;
+    ForceSafety safety_;
+    ForceSafetyConfig safety_config_;
+    diy::SequenceTracker inbound_;
+    diy::StateReport last_{};
+    std::atomic<std::uint16_t> outbound_{0};
+    std::uint64_t refused_ = 0;
+    std::int64_t last_poll_us_ = 0;
+    DeviceCapabilities caps_;
+};
+
+} // namespace ikebana::devices

@@ -1,0 +1,117 @@
+#include <gtest/gtest.h>
+
+#include <deque>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "engine/devices/hid_devices.hpp"
+
+using namespace ikebana;
+using namespace ikebana::devices;
+
+namespace {
+// A transport that replays fixture reports and records what is written.
+struct FakeTransport : HidTransport {
+    std::deque<std::vector<std::uint8_t>> inbound;
+    std::vector<std::vector<std::uint8_t>> written;
+    std::mutex mutex;
+    bool unplugged = false;
+
+    Result<std::size_t> read(std::span<std::uint8_t> buffer, int) override {
+        std::lock_guard lock(mutex);
+        if (unplugged) return make_error(ErrorCode::device_error, "fake: gone");
+        if (inbound.empty()) return std::size_t{0};
+        const auto report = inbound.front();
+        inbound.pop_front();
+        const std::size_t n = std::min(report.size(), buffer.size());
+        std::copy_n(report.begin(), n, buffer.begin());
+        return n;
+    }
+    Result<void> write(std::span<const std::uint8_t> report) override {
+        std::lock_guard lock(mutex);
+        if (unplugged) return make_error(ErrorCode::device_error, "fake: gone");
+        written.emplace_back(report.begin(), report.end());
+        return {};
+    }
+};
+
+std::vector<std::uint8_t> state(std::uint16_t seq, glm::ivec3 position_um, std::uint16_t buttons, double max_force = 2.5) {
+    const auto b = diy::encode_state(diy::StateReport{seq, 0, position_um, {0, 0, 0}, buttons, diy::status::motors_enabled, max_force});
+    return {b.begin(), b.end()};
+}
+} // namespace
+
+TEST(HidDevices, ProfilesAreMatchedByVendorAndProduct) {
+    EXPECT_EQ(match_hid_device({0x046d, 0xc626, "", "", ""}).kind, DeviceMatch::Kind::spacemouse);
+    EXPECT_EQ(match_hid_device({diy_vendor_id, diy_product_id, "", "", ""}).kind, DeviceMatch::Kind::diy_force);
+    EXPECT_EQ(match_hid_device({0x1234, 0x5678, "", "", ""}).kind, DeviceMatch::Kind::unknown);
+}
+
+TEST(HidDevices, SpaceMouseSkipsGarbageAndReportsUnplugging) {
+    auto transport = std::make_unique<FakeTransport>();
+    auto* fake = transport.get();
+    fake->inbound = {{0x01, 0x5e, 0x01, 0, 0, 0, 0}, {0x01, 0xde, 0xad}, {0x99, 1, 2, 3}, {0x03, 0x01}};
+    SpaceMouseDevice device(std::move(transport), *find_spacemouse_profile(0x046d, 0xc626));
+    const auto s = device.poll(10);
+    ASSERT_TRUE(s);
+    EXPECT_DOUBLE_EQ(s->position.x, 1.0);
+    EXPECT_EQ(s->buttons, 1u);
+    EXPECT_EQ(device.parser().reports_refused(), 1u);
+    EXPECT_FALSE(device.capabilities().has_force_output);
+    fake->unplugged = true;
+    EXPECT_FALSE(device.poll(20)) << "unplugging is reported, not hidden";
+}
+
+TEST(HidDevices, DiyDeviceReadsPositionAndRefusesCorruptAndReplayedReports) {
+    auto transport = std::make_unique<FakeTransport>();
+    auto* fake = transport.get();
+    auto corrupt = state(2, {9, 9, 9}, 0);
+    corrupt[10] ^= 0xff;
+    fake->inbound = {state(1, {10000, -20000, 30000}, 1), corrupt, state(1, {5, 5, 5}, 0)};
+    DiyForceDevice device(std::move(transport));
+    const auto s = device.poll(1000);
+    ASSERT_TRUE(s);
+    EXPECT_NEAR(s->position.x, 0.01, 1e-12);
+    EXPECT_NEAR(s->position.y, -0.02, 1e-12);
+    EXPECT_EQ(s->buttons, 1u);
+    EXPECT_EQ(device.reports_refused(), 2u) << "the corrupt one and the replay";
+    EXPECT_DOUBLE_EQ(device.capabilities().max_force_n, 2.5) << "the device's own limit tightens ours";
+}
+
+TEST(HidDevices, DiyDeviceNeverSendsMoreThanItsLimitNorNaN) {
+    auto transport = std::make_unique<FakeTransport>();
+    auto* fake = transport.get();
+    fake->inbound = {state(1, {0, 0, 0}, 0, 2.5)};
+    DiyForceDevice device(std::move(transport));
+    std::uint16_t previous_sequence = 0;
+    for (int tick = 1; tick <= 2000; ++tick) {
+        ASSERT_TRUE(device.poll(tick * 1000));
+        const glm::dvec3 request = tick % 97 == 0 ? glm::dvec3{std::nan(""), 0, 0} : glm::dvec3{0, 0, 100.0};
+        ASSERT_TRUE(device.send_force(request));
+        const auto report = diy::decode_force(fake->written.back());
+        ASSERT_TRUE(report);
+        ASSERT_LE(glm::length(report->force_n), 2.5 + 1e-3) << "tick " << tick;
+        ASSERT_TRUE(std::isfinite(report->force_n.z));
+        ASSERT_EQ(static_cast<std::uint16_t>(report->sequence - previous_sequence), 1) << "one new sequence per report";
+        previous_sequence = report->sequence;
+    }
+}
+
+// The force watchdog writes zero from its own thread while the haptic loop writes forces.
+TEST(HidDevices, WatchdogZeroFromAnotherThreadIsSafe) {
+    auto transport = std::make_unique<FakeTransport>();
+    auto* fake = transport.get();
+    DiyForceDevice device(std::move(transport));
+    std::thread watchdog([&] {
+        for (int i = 0; i < 500; ++i) (void)device.send_zero();
+    });
+    for (int tick = 1; tick <= 500; ++tick) {
+        (void)device.poll(tick * 1000);
+        (void)device.send_force({0, 0, 1.0});
+    }
+    watchdog.join();
+    std::lock_guard lock(fake->mutex);
+    EXPECT_EQ(fake->written.size(), 1000u);
+    for (const auto& w : fake->written) EXPECT_TRUE(diy::decode_force(w));
+}
