@@ -1,0 +1,63 @@
+#pragma once
+// Devices that play back a file: a scripted trajectory (timed poses and buttons, linearly interpolated;
+// tests, demos, CI) and the replay of a recorded session (every sample exactly as recorded, no
+// interpolation). Both read the same CSV:
+//
+//   # comment lines start with '#'
+//   time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons
+//   0.000,0.00,0.00,0.10,0,0,0,0
+//   0.500,0.02,0.00,0.05,0,0,0,1
+//
+// Times strictly increase; buttons is a bitmask (bit 0: grab). DeviceRecorder writes this format with
+// full double precision, so a replay reproduces every sample bit for bit.
+#include <cstdint>
+#include <filesystem>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "engine/core/result.hpp"
+#include "engine/devices/haptic_device.hpp"
+
+namespace ikebana::devices {
+
+struct Keyframe {
+    double time_s;
+    glm::dvec3 position_m;
+    glm::dvec3 rotation_rad;
+    std::uint32_t buttons;
+};
+
+// Errors name the file, line and column.
+Result<std::vector<Keyframe>> parse_trajectory(std::string_view text, const std::string& label);
+Result<std::vector<Keyframe>> load_trajectory(const std::filesystem::path& path);
+
+class ScriptedDevice final : public HapticDevice {
+public:
+    enum class Mode { interpolate, replay };
+    ScriptedDevice(std::vector<Keyframe> keys, Mode mode, std::string name = "scripted");
+    [[nodiscard]] const DeviceCapabilities& capabilities() const override { return caps_; }
+    Result<DeviceSample> poll(std::int64_t now_us) override;
+    // Forces are not applied to anything; the last one is kept for tests to inspect.
+    Result<void> send_force(glm::dvec3 force_n) override;
+    [[nodiscard]] glm::dvec3 last_force() const noexcept { return last_force_; }
+    [[nodiscard]] double duration_s() const noexcept { return keys_.empty() ? 0.0 : keys_.back().time_s; }
+
+private:
+    std::vector<Keyframe> keys_;
+    Mode mode_;
+    DeviceCapabilities caps_;
+    glm::dvec3 last_force_{0.0};
+};
+
+// Writes every sample a device produced, with its time, in the trajectory format.
+class DeviceRecorder {
+public:
+    explicit DeviceRecorder(std::ostream& out);
+    void record(const DeviceSample& sample);
+
+private:
+    std::ostream& out_;
+};
+
+} // namespace ikebana::devices

@@ -1,0 +1,90 @@
+#include <gtest/gtest.h>
+
+#include <random>
+#include <sstream>
+
+#include "engine/devices/scripted_device.hpp"
+
+using namespace ikebana;
+using namespace ikebana::devices;
+
+namespace {
+const char* trajectory = "# a push down and a grab\n"
+                         "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n"
+                         "0.0,0.00,0.00,0.10,0,0,0,0\n"
+                         "0.5,0.02,0.00,0.05,0,0,0.2,1\n"
+                         "1.0,0.02,0.00,0.05,0,0,0.2,0\n";
+}
+
+TEST(ScriptedDevice, InterpolatesPosesAndStepsButtons) {
+    auto keys = parse_trajectory(trajectory, "t.csv");
+    ASSERT_TRUE(keys) << keys.error().message;
+    ScriptedDevice device(std::move(keys).value(), ScriptedDevice::Mode::interpolate);
+    const auto mid = device.poll(250'000);
+    ASSERT_TRUE(mid);
+    EXPECT_NEAR(mid->position.x, 0.01, 1e-12);
+    EXPECT_NEAR(mid->position.z, 0.075, 1e-12);
+    EXPECT_NEAR(mid->rotation.z, 0.1, 1e-12);
+    EXPECT_EQ(mid->buttons, 0u) << "the grab begins at 0.5 s, not half-way to it";
+    EXPECT_EQ(device.poll(600'000)->buttons, 1u);
+    EXPECT_EQ(device.poll(5'000'000)->buttons, 0u);
+    EXPECT_NEAR(device.poll(5'000'000)->position.z, 0.05, 1e-12) << "holds the last pose";
+}
+
+TEST(ScriptedDevice, BadFilesNameLineAndColumn) {
+    const auto missing_header = parse_trajectory("0,0,0,0,0,0,0,0\n", "a.csv");
+    ASSERT_FALSE(missing_header);
+    EXPECT_NE(missing_header.error().message.find("a.csv:1:1: expected the header"), std::string::npos);
+    const auto bad_number = parse_trajectory("time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n0.1,0,zero,0,0,0,0,0\n", "b.csv");
+    ASSERT_FALSE(bad_number);
+    EXPECT_NE(bad_number.error().message.find("b.csv:2:7: 'zero' is not a finite number"), std::string::npos) << bad_number.error().message;
+    const auto backwards = parse_trajectory("time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n1,0,0,0,0,0,0,0\n0.5,0,0,0,0,0,0,0\n", "c.csv");
+    ASSERT_FALSE(backwards);
+    EXPECT_NE(backwards.error().message.find("c.csv:3:1: time must increase"), std::string::npos);
+    const auto fields = parse_trajectory("time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n1,0,0,0,0,0,0,0,9\n", "d.csv");
+    ASSERT_FALSE(fields);
+    EXPECT_NE(fields.error().message.find("expected 8 fields, found 9"), std::string::npos);
+    EXPECT_FALSE(parse_trajectory("", "e.csv"));
+    EXPECT_FALSE(load_trajectory("/nonexistent.csv"));
+}
+
+// Recording every sample and replaying it gives back exactly the same samples, bit for bit.
+TEST(ScriptedDevice, RecordedSessionReplaysExactly) {
+    ScriptedDevice source(*parse_trajectory(trajectory, "t.csv"), ScriptedDevice::Mode::interpolate);
+    std::ostringstream file;
+    DeviceRecorder recorder(file);
+    std::vector<DeviceSample> recorded;
+    for (std::int64_t t = 0; t <= 1'000'000; t += 1000) {
+        recorded.push_back(*source.poll(t));
+        recorder.record(recorded.back());
+    }
+    const auto keys = parse_trajectory(file.str(), "session.csv");
+    ASSERT_TRUE(keys) << keys.error().message;
+    ScriptedDevice replay(*keys, ScriptedDevice::Mode::replay);
+    for (const auto& r : recorded) {
+        const auto s = replay.poll(r.time_us);
+        ASSERT_EQ(s->position, r.position) << r.time_us;
+        ASSERT_EQ(s->rotation, r.rotation);
+        ASSERT_EQ(s->buttons, r.buttons);
+    }
+}
+
+TEST(ScriptedDevice, MutatedFilesNeverCrashTheParser) {
+    std::mt19937_64 rng(11);
+    const std::string original = trajectory;
+    const std::string alphabet = "0123456789.,-e\n#abc ";
+    for (int i = 0; i < 5000; ++i) {
+        std::string text = original;
+        for (int k = 0; k < 3 && !text.empty(); ++k) {
+            const auto at = rng() % text.size();
+            if (rng() % 2) text[at] = alphabet[rng() % alphabet.size()];
+            else text.erase(at, 1 + rng() % 3);
+        }
+        const auto keys = parse_trajectory(text, "m.csv");
+        if (keys) {
+            for (std::size_t j = 1; j < keys->size(); ++j) ASSERT_GT((*keys)[j].time_s, (*keys)[j - 1].time_s);
+        } else {
+            ASSERT_EQ(keys.error().message.rfind("m.csv", 0), 0u);
+        }
+    }
+}
