@@ -20,12 +20,6 @@ struct Collider {
     glm::dvec3 half_extent_m; // box (axis-aligned in the hand's frame; hands do not rotate the cube)
 };
 
-// The hand of the paper: a cube driven by one haptic device (the haptics issue drives it).
-struct HandCube {
-    std::uint8_t hand;     // 0 left, 1 right
-    double edge_m;
-};
-
 struct Contact {
     ecs::Entity a;         // the Active side
     ecs::Entity b;

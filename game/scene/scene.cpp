@@ -84,11 +84,12 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
                 c.problem(p, "expected an object");
                 continue;
             }
-            c.no_unknown_keys(h, p, {"hand", "position_mm", "edge_mm"});
+            c.no_unknown_keys(h, p, {"hand", "position_mm", "edge_mm", "trajectory"});
             HandPlacement hp{};
             hp.hand = c.choice(h, p, "hand", {"left", "right"}) == "right" ? 1 : 0;
             hp.position_m = vec3(c, h, p, "position_mm", true, 1e-3).value_or(glm::dvec3{0.0});
             hp.edge_m = c.number(h, p, "edge_mm", {1, 200}, false).value_or(20) * 1e-3;
+            hp.trajectory = c.string(h, p, "trajectory", false).value_or("");
             s.hands.push_back(hp);
         }
     }

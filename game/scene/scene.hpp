@@ -31,6 +31,7 @@ struct HandPlacement {
     std::uint8_t hand; // 0 left, 1 right
     glm::dvec3 position_m;
     double edge_m;
+    std::string trajectory; // a scripted device for this hand (CSV, relative to assets/), or empty
 };
 
 struct SceneDef {

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "components/collision.hpp"
+#include "components/hand.hpp"
 #include "components/flower.hpp"
 #include "components/insertion.hpp"
 #include "components/kenzan.hpp"

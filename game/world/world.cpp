@@ -11,10 +11,17 @@
 #include "components/stem.hpp"
 #include "engine/core/hash.hpp"
 #include "engine/ecs/hierarchy.hpp"
+#include "game/asset_paths.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
 #include "systems/collision/collider_update_system.hpp"
 #include "systems/collision/collision_detection_system.hpp"
 #include "components/insertion.hpp"
+#include "components/hand.hpp"
+#include "engine/devices/scripted_device.hpp"
+#include "systems/haptics/grab_system.hpp"
+#include "systems/haptics/hand_devices.hpp"
+#include "systems/haptics/hand_force_system.hpp"
+#include "systems/haptics/hand_input_system.hpp"
 #include "systems/insertion/deterioration.hpp"
 #include "systems/insertion/insertion_resistance_system.hpp"
 #include "systems/insertion/insertion_tracking_system.hpp"
@@ -52,8 +59,12 @@ Result<void> register_systems(World& w) {
     if (auto r = w.schedule.add_lane({"main", &w.main, sched::LaneThread::caller, {"frame"}}); !r) return r;
     using systems::InsertionResistanceSystem;
     using systems::InsertionTrackingSystem;
+    // The input phase's writers of stem points run in this order: cut, scripted hand, device hands, grab.
     for (auto desc : {describe(systems::StemCuttingSystem{}),
                       describe(systems::ScriptedInsertionSystem{}, {std::string(systems::StemCuttingSystem::name)}),
+                      describe(systems::HandInputSystem{}, {std::string(systems::ScriptedInsertionSystem::name)}),
+                      describe(systems::GrabSystem{}, {std::string(systems::HandInputSystem::name)}),
+                      describe(systems::HandForceSystem{}),
                       describe(systems::ColliderUpdateSystem{}),
                       describe(InsertionTrackingSystem{}),
                       describe(InsertionResistanceSystem{}, {std::string(InsertionTrackingSystem::name)}),
@@ -198,14 +209,37 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
         }
         w->flowers.push_back({spawn_flower(r, sp, f, scene.table_height_m), sp.id});
     }
+    r.set_resource<systems::HandDevices>();
     for (const auto& h : scene.hands) {
         const ecs::Entity hand = r.create();
         r.emplace<HandCube>(hand, h.hand, h.edge_m);
         r.emplace<Collider>(hand, ShapeKind::box, h.position_m, h.position_m, 0.0, glm::dvec3{0.5 * h.edge_m});
         r.emplace<ActiveCollider>(hand);
+        HandState state{};
+        state.hand = h.hand;
+        state.device_m = h.position_m;
+        state.proxy_m = h.position_m;
+        state.held = ecs::null_entity;
+        r.emplace<HandState>(hand, state);
+        // Scripted trajectories are in world coordinates.
+        r.emplace<WorkspaceMapping>(hand, glm::dvec3{0.0}, 1.0, 0.0, 0.3);
+        if (h.hand < 2) w->hands[h.hand] = hand;
+        if (!h.trajectory.empty()) {
+            auto keys = devices::load_trajectory(asset_path(h.trajectory));
+            if (!keys) return std::move(keys).error();
+            w->attach_device(h.hand, std::make_unique<devices::ScriptedDevice>(std::move(keys).value(), devices::ScriptedDevice::Mode::interpolate,
+                                                                               h.trajectory));
+        }
     }
     if (auto ok = register_systems(*w); !ok) return std::move(ok).error();
     return w;
+}
+
+void World::attach_device(std::uint8_t hand, std::unique_ptr<devices::HapticDevice> device) {
+    if (hand >= 2) return;
+    auto* slots = sim.resource<systems::HandDevices>();
+    hand_devices[hand] = std::move(device);
+    if (slots) slots->device[hand] = hand_devices[hand].get();
 }
 
 std::uint64_t World::state_hash() const {

@@ -8,8 +8,10 @@
 #include <memory>
 #include <string>
 #include <vector>
+#include <array>
 
 #include "components/insertion.hpp"
+#include "engine/devices/haptic_device.hpp"
 #include "engine/core/result.hpp"
 #include "engine/ecs/registry.hpp"
 #include "engine/sched/schedule.hpp"
@@ -38,6 +40,11 @@ public:
     systems::FrameChannel channel;
     std::map<std::string, SpeciesDef> species;
     std::vector<SpawnedFlower> flowers;
+    std::array<std::unique_ptr<devices::HapticDevice>, 2> hand_devices;
+    std::array<ecs::Entity, 2> hands{ecs::null_entity, ecs::null_entity};
+
+    // Puts a device on a hand (replacing any), or takes it away with nullptr (as if unplugged).
+    void attach_device(std::uint8_t hand, std::unique_ptr<devices::HapticDevice> device);
 
     // Both lanes, in lane order.
     [[nodiscard]] std::uint64_t state_hash() const;

@@ -4,6 +4,7 @@
 #include <benchmark/benchmark.h>
 
 #include "components/collision.hpp"
+#include "components/hand.hpp"
 #include "components/flower.hpp"
 #include "components/kenzan.hpp"
 #include "components/stem.hpp"

@@ -1,0 +1,39 @@
+#pragma once
+// The trainee's hands (paper 2.4): each device drives a hand cube. The device's position maps into
+// the world through a workspace mapping that can follow the camera; the cube itself (the proxy) never
+// goes through rigid things, and the spring between the two is part of what the hand feels.
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "engine/ecs/entity.hpp"
+
+namespace ikebana::components {
+
+// The hand of the paper: a cube driven by one haptic device.
+struct HandCube {
+    std::uint8_t hand;     // 0 left, 1 right
+    double edge_m;
+};
+
+struct WorkspaceMapping {
+    glm::dvec3 centre_m;    // where the device's centre lands in the world
+    double scale;           // world metres per device metre (position devices)
+    double yaw_rad;         // turns with the camera, so "away from me" stays away from the viewer
+    double rate_speed_m_s;  // rate devices (a SpaceMouse): hand speed at a full push
+};
+
+struct HandState {
+    std::uint8_t hand;          // 0 left, 1 right
+    bool connected;
+    glm::dvec3 device_m;        // where the device puts the hand
+    glm::dvec3 proxy_m;         // where the hand cube is
+    glm::dvec3 force_n;         // what the hand should feel (the device's safety chain comes after)
+    std::uint32_t buttons;
+    std::uint32_t previous_buttons;
+    ecs::Entity held;           // the flower it holds, or null
+    std::uint32_t held_point;   // which of its stem's mass points
+    std::uint64_t disconnects;  // times the device went away
+};
+
+} // namespace ikebana::components

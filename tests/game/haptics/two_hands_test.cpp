@@ -1,0 +1,151 @@
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "components/hand.hpp"
+#include "components/insertion.hpp"
+#include "components/stem.hpp"
+#include "engine/devices/scripted_device.hpp"
+#include "engine/sched/clocks.hpp"
+#include "game/world/world.hpp"
+
+using namespace ikebana;
+using namespace ikebana::game;
+using namespace ikebana::components;
+
+namespace {
+// Keyframes as (t, x, y, z, buttons); positions in metres, world frame.
+struct Key {
+    double t, x, y, z;
+    int buttons;
+};
+std::unique_ptr<devices::ScriptedDevice> script(const std::vector<Key>& keys) {
+    std::ostringstream csv;
+    csv << "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n";
+    for (const auto& k : keys) csv << k.t << "," << k.x << "," << k.y << "," << k.z << ",0,0,0," << k.buttons << "\n";
+    auto parsed = devices::parse_trajectory(csv.str(), "test");
+    EXPECT_TRUE(parsed) << (parsed ? "" : parsed.error().message);
+    return std::make_unique<devices::ScriptedDevice>(std::move(parsed).value(), devices::ScriptedDevice::Mode::interpolate);
+}
+
+// A sunflower lying along +x on the table (points every 11.5 mm from x = 0.1), two hands, no gravity
+// tricks: the real world setup.
+std::unique_ptr<World> lying_flower(glm::dvec3 base = {0.1, 0.1, 0.0}, glm::dvec3 direction = {1, 0, 0}) {
+    SceneDef scene{};
+    scene.seed = 1;
+    scene.gravity_m_s2 = {0, 0, -9.80665};
+    scene.kenzan_layout = "standard";
+    scene.kenzan_position_m = {0, 0, 0.008};
+    scene.flowers.push_back({"sunflower", Placement::lying, base, glm::normalize(direction), 0.0});
+    scene.hands.push_back({0, {0.1, 0.2, 0.1}, 0.02, ""});
+    scene.hands.push_back({1, {0.2, 0.2, 0.1}, 0.02, ""});
+    auto world = World::create(scene);
+    EXPECT_TRUE(world) << (world ? "" : world.error().message);
+    return std::move(world).value();
+}
+
+glm::dvec3 point(World& w, std::size_t i) { return w.sim.get<StemPoints>(w.flowers[0].entity).position_m[i]; }
+const HandState& hand(World& w, int h) { return w.sim.get<HandState>(w.hands[static_cast<std::size_t>(h)]); }
+} // namespace
+
+TEST(TwoHands, GrabbedPointFollowsTheHandAndTheHandFeelsTheWeight) {
+    auto w = lying_flower();
+    const glm::dvec3 p10 = point(*w, 10);
+    w->attach_device(0, script({{0.0, p10.x, p10.y, 0.05, 0}, {0.3, p10.x, p10.y, p10.z, 0}, {0.4, p10.x, p10.y, p10.z, 1},
+                                {1.4, p10.x, p10.y, 0.10, 1}, {3.0, p10.x, p10.y, 0.10, 1}}));
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(3'000'000);
+    EXPECT_EQ(hand(*w, 0).held, w->flowers[0].entity);
+    EXPECT_EQ(w->sim.get<Grasp>(w->flowers[0].entity).hands, 1);
+    EXPECT_NEAR(point(*w, hand(*w, 0).held_point).z, 0.10, 1e-9) << "the held point is where the hand is";
+    EXPECT_LT(hand(*w, 0).force_n.z, -0.05) << "the hand carries part of the flower's weight (N)";
+    EXPECT_GT(point(*w, 20).z, 0.0) << "the rest hangs from it";
+}
+
+// Figure 5: each hand holds a different element of one flower; pulling them apart stretches the part
+// held by neither, and the restoring force pulls each hand back, in opposite directions.
+TEST(TwoHands, StretchingOneFlowerPullsBothHandsTogether) {
+    auto w = lying_flower();
+    const glm::dvec3 a = point(*w, 5);
+    const glm::dvec3 b = point(*w, 15);
+    const double lift = 0.06;
+    const double stretch = 0.0005;
+    w->attach_device(0, script({{0.0, a.x, a.y, a.z, 1}, {0.5, a.x, a.y, lift, 1}, {2.0, a.x, a.y, lift, 1}}));
+    w->attach_device(1, script({{0.0, b.x, b.y, b.z, 1}, {0.5, b.x, b.y, lift, 1}, {1.0, b.x, b.y, lift, 1},
+                                {1.5, b.x + stretch, b.y, lift, 1}, {2.0, b.x + stretch, b.y, lift, 1}}));
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(1'000'000);
+    const double before = hand(*w, 1).force_n.x;
+    clock.run_for_us(1'000'000);
+    const auto& h0 = hand(*w, 0);
+    const auto& h1 = hand(*w, 1);
+    ASSERT_EQ(h0.held, h1.held) << "both hold the same flower";
+    EXPECT_EQ(w->sim.get<Grasp>(w->flowers[0].entity).hands, 2);
+    EXPECT_GT(h0.force_n.x, 1.0) << "the left hand is pulled towards the right (N)";
+    EXPECT_LT(h1.force_n.x, -1.0) << "the right hand is pulled towards the left";
+    EXPECT_NEAR(h0.force_n.x, -h1.force_n.x, 0.05 * std::abs(h1.force_n.x)) << "equal and opposite";
+    EXPECT_LT(h1.force_n.x, before - 1.0) << "stretching increased the pull";
+}
+
+// A stem held at 45 degrees by two hands and lowered into the kenzan is an insertion; let go, the
+// kenzan holds it.
+TEST(TwoHands, HandsInsertAStemAndReleaseIt) {
+    const glm::dvec3 axis = glm::normalize(glm::dvec3{1, 0, 1});
+    const glm::dvec3 bottom{0.0, 0.0, 0.03};
+    auto w = lying_flower(bottom, axis); // "lying" in the air: the hands catch it at once
+    const glm::dvec3 p1 = point(*w, 1);
+    const glm::dvec3 p8 = point(*w, 8);
+    const double down = 0.026;
+    w->attach_device(0, script({{0.0, p1.x, p1.y, p1.z, 1}, {1.0, p1.x, p1.y, p1.z - down, 1}, {1.2, p1.x, p1.y, p1.z - down, 0},
+                                {4.0, p1.x, p1.y, 0.15, 0}}));
+    w->attach_device(1, script({{0.0, p8.x, p8.y, p8.z, 1}, {1.0, p8.x, p8.y, p8.z - down, 1}, {1.2, p8.x, p8.y, p8.z - down, 0},
+                                {4.0, p8.x, p8.y + 0.1, 0.15, 0}}));
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(1'100'000);
+    const auto flower = w->flowers[0].entity;
+    EXPECT_EQ(w->sim.get<InsertionHistory>(flower).insertions, 1u);
+    EXPECT_TRUE(w->sim.get<PinEngagement>(flower).in_kenzan);
+    EXPECT_GE(w->sim.get<PinEngagement>(flower).pins.size(), 4u);
+    clock.run_for_us(2'000'000);
+    EXPECT_EQ(w->sim.get<Grasp>(flower).hands, 0) << "released";
+    EXPECT_TRUE(w->sim.get<KenzanGrip>(flower).engaged) << "the kenzan holds what the hands let go";
+    EXPECT_TRUE(w->sim.get<PinEngagement>(flower).in_kenzan);
+}
+
+// Unplugging a device mid-session releases what that hand held and zeroes its force; the world runs
+// on; plugging it back re-attaches the hand.
+TEST(TwoHands, UnpluggedDeviceReleasesAndReattaches) {
+    auto w = lying_flower();
+    const glm::dvec3 p10 = point(*w, 10);
+    w->attach_device(0, script({{0.0, p10.x, p10.y, p10.z, 1}, {0.5, p10.x, p10.y, 0.06, 1}, {5.0, p10.x, p10.y, 0.06, 1}}));
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(600'000);
+    ASSERT_FALSE(hand(*w, 0).held.is_null());
+    // Unplugged: a device whose every read fails.
+    struct Gone : devices::HapticDevice {
+        devices::DeviceCapabilities caps{"gone", false, 0.0, glm::dvec3{0.0}, true};
+        const devices::DeviceCapabilities& capabilities() const override { return caps; }
+        Result<devices::DeviceSample> poll(std::int64_t) override { return make_error(ErrorCode::device_error, "unplugged"); }
+        Result<void> send_force(glm::dvec3) override { return make_error(ErrorCode::device_error, "unplugged"); }
+    };
+    w->attach_device(0, std::make_unique<Gone>());
+    clock.run_for_us(500'000);
+    EXPECT_FALSE(hand(*w, 0).connected);
+    EXPECT_TRUE(hand(*w, 0).held.is_null()) << "what it held was released";
+    EXPECT_EQ(hand(*w, 0).force_n, glm::dvec3(0.0));
+    EXPECT_EQ(hand(*w, 0).disconnects, 1u);
+    EXPECT_LT(point(*w, 10).z, 0.02) << "and fell";
+    w->attach_device(0, script({{0.0, p10.x, p10.y, 0.05, 0}, {5.0, p10.x, p10.y, 0.05, 0}}));
+    clock.run_for_us(100'000);
+    EXPECT_TRUE(hand(*w, 0).connected) << "plugged back in";
+}
+
+TEST(TwoHands, HandCannotGoThroughTheTable) {
+    auto w = lying_flower();
+    w->attach_device(0, script({{0.0, 0.3, 0.3, 0.05, 0}, {0.5, 0.3, 0.3, -0.05, 0}, {1.0, 0.3, 0.3, -0.05, 0}}));
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(1'000'000);
+    EXPECT_NEAR(hand(*w, 0).proxy_m.z, 0.01, 1e-12) << "the cube rests on the table (half its 20 mm edge)";
+    EXPECT_NEAR(hand(*w, 0).device_m.z, -0.05, 1e-9);
+    EXPECT_NEAR(hand(*w, 0).force_n.z, 400.0 * 0.06, 1e-6) << "the coupling spring pushes the hand back up";
+}
