@@ -28,6 +28,7 @@ struct HandState {
     bool connected;
     glm::dvec3 device_m;        // where the device puts the hand
     glm::dvec3 proxy_m;         // where the hand cube is
+    glm::dvec3 slip_m_s;        // how fast the proxy moves relative to the device (coupling damping)
     glm::dvec3 force_n;         // what the hand should feel (the device's safety chain comes after)
     std::uint32_t buttons;
     std::uint32_t previous_buttons;

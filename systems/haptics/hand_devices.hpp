@@ -3,6 +3,7 @@
 #include <array>
 
 #include "engine/devices/haptic_device.hpp"
+#include "engine/devices/scripted_device.hpp"
 
 namespace ikebana::systems {
 
@@ -10,6 +11,10 @@ struct HandDevices {
     std::array<devices::HapticDevice*, 2> device{nullptr, nullptr};
     // Spring between the device and the proxy cube (N/m): what pressing on a rigid thing feels like.
     double coupling_n_per_m = 400.0;
+    // Damping of the coupling (N s/m): the proxy's motion relative to the device's.
+    double coupling_damping_n_s_per_m = 2.0;
+    // When set, every sample each device produces is recorded with its time (a session to replay).
+    std::array<devices::DeviceRecorder*, 2> recorder{nullptr, nullptr};
 };
 
 } // namespace ikebana::systems

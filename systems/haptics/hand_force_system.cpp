@@ -18,7 +18,8 @@ void HandForceSystem::operator()(sched::SystemContext& ctx) {
             hand.force_n = glm::dvec3{0.0};
             return;
         }
-        glm::dvec3 force = devices->coupling_n_per_m * (hand.proxy_m - hand.device_m);
+        // Virtual coupling: a spring and a damper between the device and the proxy it drives.
+        glm::dvec3 force = devices->coupling_n_per_m * (hand.proxy_m - hand.device_m) + devices->coupling_damping_n_s_per_m * hand.slip_m_s;
         if (!hand.held.is_null()) {
             auto* points = r.try_get<StemPoints>(hand.held);
             auto* rest = r.try_get<StemRestShape>(hand.held);

@@ -47,9 +47,11 @@ void HandInputSystem::operator()(sched::SystemContext& ctx) {
                 return;
             }
             hand.connected = true;
+            if (devices->recorder[hand.hand]) devices->recorder[hand.hand]->record(*sample);
             const double c = std::cos(map.yaw_rad);
             const double s = std::sin(map.yaw_rad);
             auto turn = [&](glm::dvec3 v) { return glm::dvec3{c * v.x - s * v.y, s * v.x + c * v.y, v.z}; };
+            const glm::dvec3 previous_device = hand.device_m;
             if (device->capabilities().reports_position) {
                 hand.device_m = map.centre_m + turn(map.scale * sample->position);
             } else {
@@ -68,6 +70,8 @@ void HandInputSystem::operator()(sched::SystemContext& ctx) {
                     proxy.z = std::max(proxy.z, kenzan->origin_m.z + half);
                 }
             }
+            const glm::dvec3 slip = proxy - hand.device_m;
+            hand.slip_m_s = ctx.dt_s > 0.0 ? (slip - (hand.proxy_m - previous_device)) / ctx.dt_s : glm::dvec3{0.0};
             hand.proxy_m = proxy;
             collider.a_m = proxy;
             collider.b_m = proxy;

@@ -8,6 +8,7 @@
 #include "engine/devices/scripted_device.hpp"
 #include "engine/sched/clocks.hpp"
 #include "game/world/world.hpp"
+#include "systems/haptics/hand_devices.hpp"
 
 using namespace ikebana;
 using namespace ikebana::game;
@@ -148,4 +149,37 @@ TEST(TwoHands, HandCannotGoThroughTheTable) {
     EXPECT_NEAR(hand(*w, 0).proxy_m.z, 0.01, 1e-12) << "the cube rests on the table (half its 20 mm edge)";
     EXPECT_NEAR(hand(*w, 0).device_m.z, -0.05, 1e-9);
     EXPECT_NEAR(hand(*w, 0).force_n.z, 400.0 * 0.06, 1e-6) << "the coupling spring pushes the hand back up";
+}
+
+// Every device sample recorded with its time, replayed on the deterministic clock: the same world.
+TEST(TwoHands, ReplayedSessionGivesTheSameWorldHash) {
+    const auto make_live = [] {
+        auto w = lying_flower();
+        const glm::dvec3 a = point(*w, 5);
+        const glm::dvec3 b = point(*w, 15);
+        w->attach_device(0, script({{0.0, a.x, a.y, a.z + 0.02, 0}, {0.3, a.x, a.y, a.z, 0}, {0.35, a.x, a.y, a.z, 1},
+                                    {1.0, a.x + 0.01, a.y, 0.07, 1}, {1.6, a.x, a.y + 0.02, 0.05, 0}}));
+        w->attach_device(1, script({{0.0, b.x, b.y, b.z, 1}, {0.8, b.x + 0.002, b.y, 0.06, 1}, {1.6, b.x, b.y, 0.06, 1}}));
+        return w;
+    };
+    std::ostringstream left_file;
+    std::ostringstream right_file;
+    devices::DeviceRecorder left(left_file);
+    devices::DeviceRecorder right(right_file);
+    auto live = make_live();
+    live->sim.resource<systems::HandDevices>()->recorder = {&left, &right};
+    sched::DeterministicClock live_clock(live->schedule);
+    live_clock.run_for_us(2'000'000);
+
+    auto replay = lying_flower();
+    for (int h = 0; h < 2; ++h) {
+        auto keys = devices::parse_trajectory(h == 0 ? left_file.str() : right_file.str(), "session");
+        ASSERT_TRUE(keys) << keys.error().message;
+        replay->attach_device(static_cast<std::uint8_t>(h),
+                              std::make_unique<devices::ScriptedDevice>(std::move(keys).value(), devices::ScriptedDevice::Mode::replay));
+    }
+    sched::DeterministicClock replay_clock(replay->schedule);
+    replay_clock.run_for_us(2'000'000);
+    EXPECT_EQ(replay->state_hash(), live->state_hash());
+    EXPECT_NE(hand(*live, 0).held_point, hand(*live, 1).held_point) << "the session did something";
 }
