@@ -55,17 +55,26 @@ void DeterministicClock::run_until(std::int64_t t_us) {
         for (const auto& s : systems) t = std::min(t, s.next_due_us);
         if (t >= t_us) break;
         now_us_ = t;
+        if (tick_ns_.size() < lanes.size()) tick_ns_.resize(lanes.size());
+        std::vector<std::int64_t> lane_ns(measure_ ? lanes.size() : 0, 0);
+        std::vector<bool> lane_ran(measure_ ? lanes.size() : 0, false);
         // `systems` is already in tie-break order (lane, phase, after, registration).
         for (auto& s : systems) {
             if (s.next_due_us != t) continue;
             if (measure_) {
                 const auto begin = monotonic_ns();
                 s.fire(*lanes[s.lane].registry);
-                s.stats.duration_ns.record(monotonic_ns() - begin);
+                const std::int64_t took = monotonic_ns() - begin;
+                s.stats.duration_ns.record(took);
+                lane_ns[s.lane] += took;
+                lane_ran[s.lane] = true;
             } else {
                 s.fire(*lanes[s.lane].registry);
             }
             ++s.stats.calls;
+        }
+        for (std::size_t li = 0; li < lane_ns.size(); ++li) {
+            if (lane_ran[li]) tick_ns_[li].record(lane_ns[li]);
         }
     }
     now_us_ = t_us;
@@ -121,6 +130,7 @@ std::vector<LaneReport> RealtimeClock::run_for(double seconds, const std::atomic
                 ++s->stats.calls;
                 ++report.firings;
             }
+            report.tick_ns.record(monotonic_ns() - woke_ns);
         }
     };
 

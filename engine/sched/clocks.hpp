@@ -27,9 +27,12 @@ public:
     [[nodiscard]] std::int64_t now_us() const noexcept { return now_us_; }
     // Turns the per-firing duration measurement off, for benchmarks of the scheduler itself.
     void measure_durations(bool on) noexcept { measure_ = on; }
+    // Duration of everything one lane ran at one timestamp (a "tick"), per lane.
+    [[nodiscard]] const std::vector<DurationHistogram>& tick_ns() const noexcept { return tick_ns_; }
 
 private:
     Schedule& schedule_;
+    std::vector<DurationHistogram> tick_ns_;
     std::int64_t now_us_ = 0;
     bool measure_ = true;
 };
@@ -39,6 +42,7 @@ struct LaneReport {
     std::uint64_t clamp_events = 0;   // times the catch-up clamp dropped firings
     std::uint64_t skipped_firings = 0;
     DurationHistogram wake_lateness_ns; // how late the lane woke for each due time
+    DurationHistogram tick_ns;          // from waking to the end of the last system due then
 };
 
 struct RealtimeConfig {

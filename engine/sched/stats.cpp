@@ -49,3 +49,16 @@ void DurationHistogram::merge(const DurationHistogram& other) noexcept {
 }
 
 } // namespace ikebana::sched
+
+namespace ikebana::sched {
+
+double DurationHistogram::fraction_above(std::int64_t ns) const noexcept {
+    if (count_ == 0) return 0.0;
+    std::uint64_t above = 0;
+    for (std::size_t b = 0; b < buckets_.size(); ++b) {
+        if (upper_edge(b) > ns) above += buckets_[b];
+    }
+    return static_cast<double>(above) / static_cast<double>(count_);
+}
+
+} // namespace ikebana::sched

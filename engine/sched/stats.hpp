@@ -17,6 +17,8 @@ public:
     // The value at quantile q in [0, 1]: the upper edge of the bucket holding it, clamped to max().
     [[nodiscard]] std::int64_t percentile(double q) const noexcept;
     void merge(const DurationHistogram& other) noexcept;
+    // Share of recorded values above `ns` (bucket resolution: within about 3 % of `ns`).
+    [[nodiscard]] double fraction_above(std::int64_t ns) const noexcept;
 
 private:
     static constexpr int sub_bits = 5;

@@ -35,3 +35,12 @@ TEST(DurationHistogram, SmallValuesAreExact) {
     h.record(-5); // clock oddities never produce a negative bucket
     EXPECT_EQ(h.count(), 11u);
 }
+
+TEST(DurationHistogram, FractionAboveAThreshold) {
+    DurationHistogram h;
+    for (int i = 0; i < 900; ++i) h.record(100'000);  // 100 us
+    for (int i = 0; i < 100; ++i) h.record(400'000);  // 400 us
+    EXPECT_NEAR(h.fraction_above(200'000), 0.1, 1e-12);
+    EXPECT_EQ(h.fraction_above(1'000'000), 0.0);
+    EXPECT_EQ(DurationHistogram{}.fraction_above(0), 0.0);
+}
