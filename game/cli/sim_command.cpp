@@ -3,12 +3,18 @@
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 
 #include <unistd.h>
 
 #include "engine/sched/clocks.hpp"
+#include "components/hand.hpp"
+#include "engine/devices/scripted_device.hpp"
 #include "game/asset_paths.hpp"
+#include "game/devices/hand_device_selection.hpp"
+#include "systems/haptics/hand_devices.hpp"
 #include "game/world/summary.hpp"
 #include "game/world/world.hpp"
 
@@ -55,6 +61,35 @@ int run_sim(const SimOptions& options) {
         return 2;
     }
     World& w = **world;
+    // Devices: the command line overrides the scene, hand by hand.
+    const std::string* specs[2] = {&options.left_device, &options.right_device};
+    for (std::uint8_t hand = 0; hand < 2; ++hand) {
+        if (specs[hand]->empty()) continue;
+        auto opened = open_hand_device(*specs[hand], hand);
+        if (!opened) {
+            std::cerr << "ikebana sim: " << (hand ? "--right: " : "--left: ") << opened.error().message << "\n";
+            return 2;
+        }
+        std::printf("%s hand: %s\n", hand ? "right" : "left", opened->description.c_str());
+        w.attach_device(hand, std::move(opened->device));
+    }
+    std::ofstream record_files[2];
+    std::unique_ptr<devices::DeviceRecorder> recorders[2];
+    if (!options.record_dir.empty()) {
+        std::filesystem::create_directories(options.record_dir);
+        auto* slots = w.sim.resource<systems::HandDevices>();
+        for (int hand = 0; hand < 2; ++hand) {
+            const auto path = std::filesystem::path(options.record_dir) / (hand ? "right.csv" : "left.csv");
+            record_files[hand].open(path);
+            if (!record_files[hand]) {
+                std::cerr << "ikebana sim: cannot write " << path.string() << "\n";
+                return 2;
+            }
+            recorders[hand] = std::make_unique<devices::DeviceRecorder>(record_files[hand]);
+            slots->recorder[static_cast<std::size_t>(hand)] = recorders[hand].get();
+        }
+        std::printf("recording every device sample to %s/{left,right}.csv (replay with --left replay:FILE)\n", options.record_dir.c_str());
+    }
     const auto wall_start = std::chrono::steady_clock::now();
     if (options.realtime) {
         std::printf("running %.1f s in real time (simulation lane on its own thread)...\n", options.seconds);
@@ -88,6 +123,14 @@ int run_sim(const SimOptions& options) {
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     std::printf("%s", format_summary(summarize(w), options.seconds).c_str());
+    for (std::uint8_t hand = 0; hand < 2; ++hand) {
+        if (w.hands[hand].is_null()) continue;
+        const auto& state = w.sim.get<components::HandState>(w.hands[hand]);
+        const auto* device = w.hand_devices[hand].get();
+        std::printf("%s hand: %s, %s, %llu disconnect(s)%s\n", hand ? "right" : "left",
+                    device ? device->capabilities().name.c_str() : "no device", state.connected ? "connected" : "not connected",
+                    static_cast<unsigned long long>(state.disconnects), state.held.is_null() ? "" : ", holding a flower");
+    }
     std::printf("wall time %.3f s (%.1fx real time)\n", wall, wall > 0 ? options.seconds / wall : 0.0);
     if (options.stats) std::printf("\n%s", w.schedule.stats_table().c_str());
     if (options.hash) std::printf("state-hash: %016" PRIx64 "\n", w.state_hash());
@@ -103,6 +146,9 @@ void add_sim_command(CLI::App& app, int& exit_code) {
     sim->add_flag("--stats", options->stats, "Print per-system statistics (calls, mean, p99, max, lateness, missed)");
     sim->add_flag("--hash", options->hash, "Print the final state hash as the last line (state-hash: <hex>)");
     sim->add_flag("--realtime", options->realtime, "Pace by the wall clock, simulation lane on its own thread");
+    sim->add_option("--left", options->left_device, "Left hand's device: auto, none, scripted:FILE, replay:FILE, hid:PATH");
+    sim->add_option("--right", options->right_device, "Right hand's device (as --left)");
+    sim->add_option("--record", options->record_dir, "Record every device sample of each hand into this folder");
     sim->add_option("--rate", options->rates, "Change a rate, e.g. --rate render=60 (haptic, position_estimate, position_check, render)");
     sim->callback([options, &exit_code] { exit_code = run_sim(*options); });
 }

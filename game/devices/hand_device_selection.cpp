@@ -1,0 +1,88 @@
+#include "game/devices/hand_device_selection.hpp"
+
+#include <algorithm>
+
+#include "engine/devices/hid_devices.hpp"
+#include "engine/devices/reconnecting_device.hpp"
+#include "engine/devices/scripted_device.hpp"
+#include "game/asset_paths.hpp"
+
+namespace ikebana::game {
+
+namespace {
+
+Result<std::unique_ptr<devices::HapticDevice>> open_hid(const devices::HidDeviceInfo& info) {
+    const auto match = devices::match_hid_device(info);
+    auto transport = devices::open_hid_device(info.path);
+    if (!transport) return std::move(transport).error();
+    if (match.kind == devices::DeviceMatch::Kind::diy_force) {
+        return std::unique_ptr<devices::HapticDevice>(std::make_unique<devices::DiyForceDevice>(std::move(transport).value()));
+    }
+    if (match.kind == devices::DeviceMatch::Kind::spacemouse) {
+        return std::unique_ptr<devices::HapticDevice>(std::make_unique<devices::SpaceMouseDevice>(
+            std::move(transport).value(), *devices::find_spacemouse_profile(info.vendor_id, info.product_id)));
+    }
+    return make_error(ErrorCode::device_error, info.path + ": no hand-device profile for " + std::to_string(info.vendor_id) + ":" +
+                                                   std::to_string(info.product_id));
+}
+
+OpenedDevice reconnecting(const devices::HidDeviceInfo& info) {
+    const auto match = devices::match_hid_device(info);
+    devices::DeviceCapabilities expected;
+    expected.name = match.profile;
+    expected.has_force_output = match.kind == devices::DeviceMatch::Kind::diy_force;
+    expected.reports_position = expected.has_force_output;
+    auto device = std::make_unique<devices::ReconnectingDevice>(
+        [info]() -> Result<std::unique_ptr<devices::HapticDevice>> {
+            // Plugged back in, a device may come back under another path: look it up by its ids.
+            auto found = devices::enumerate_hid_devices();
+            if (!found) return std::move(found).error();
+            for (const auto& d : *found) {
+                if (d.vendor_id == info.vendor_id && d.product_id == info.product_id) return open_hid(d);
+            }
+            return make_error(ErrorCode::device_error, info.product + ": not plugged in");
+        },
+        expected);
+    return {std::move(device), match.profile + " at " + info.path};
+}
+
+} // namespace
+
+Result<OpenedDevice> open_hand_device(const std::string& spec, std::uint8_t hand) {
+    if (spec == "none") return OpenedDevice{nullptr, "none"};
+    const auto colon = spec.find(':');
+    const std::string kind = spec.substr(0, colon);
+    const std::string arg = colon == std::string::npos ? "" : spec.substr(colon + 1);
+    if (kind == "scripted" || kind == "replay") {
+        if (arg.empty()) return make_error(ErrorCode::invalid_argument, "'" + spec + "': give a file, e.g. " + kind + ":session.csv");
+        const std::filesystem::path file = std::filesystem::exists(arg) ? std::filesystem::path(arg) : asset_path(arg);
+        auto keys = devices::load_trajectory(file);
+        if (!keys) return std::move(keys).error();
+        const auto mode = kind == "replay" ? devices::ScriptedDevice::Mode::replay : devices::ScriptedDevice::Mode::interpolate;
+        return OpenedDevice{std::make_unique<devices::ScriptedDevice>(std::move(keys).value(), mode, spec), spec};
+    }
+    if (kind == "hid" || kind == "auto") {
+        auto found = devices::enumerate_hid_devices();
+        if (!found) return std::move(found).error();
+        if (kind == "hid") {
+            for (const auto& d : *found) {
+                if (d.path == arg) return reconnecting(d);
+            }
+            return make_error(ErrorCode::not_found, "'" + arg + "': no such HID device (see `ikebana devices`)");
+        }
+        std::vector<devices::HidDeviceInfo> usable;
+        for (const auto& d : *found) {
+            if (devices::match_hid_device(d).kind != devices::DeviceMatch::Kind::unknown) usable.push_back(d);
+        }
+        std::stable_sort(usable.begin(), usable.end(), [](const auto& a, const auto& b) {
+            return devices::match_hid_device(a).kind == devices::DeviceMatch::Kind::diy_force &&
+                   devices::match_hid_device(b).kind != devices::DeviceMatch::Kind::diy_force;
+        });
+        if (hand < usable.size()) return reconnecting(usable[hand]);
+        return OpenedDevice{nullptr, "none found"};
+    }
+    return make_error(ErrorCode::invalid_argument,
+                      "'" + spec + "': expected auto, none, scripted:FILE, replay:FILE or hid:PATH");
+}
+
+} // namespace ikebana::game
