@@ -3,6 +3,7 @@
 // the world through a workspace mapping that can follow the camera; the cube itself (the proxy) never
 // goes through rigid things, and the spring between the two is part of what the hand feels.
 #include <cstdint>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -34,7 +35,25 @@ struct HandState {
     std::uint32_t previous_buttons;
     ecs::Entity held;           // the flower it holds, or null
     std::uint32_t held_point;   // which of its stem's mass points
+    glm::dvec3 held_offset_m;   // where that point was relative to the cube when grabbed
     std::uint64_t disconnects;  // times the device went away
+};
+
+// The paper's multi-rate force scheme (section 2.3), per hand: the force is checked at 16 Hz,
+// estimated at 100 Hz from the last two checks (the moving vector) and the same estimate is sent ten
+// times at 1 kHz.
+struct ForceChecks {
+    glm::dvec3 last_n;
+    glm::dvec3 previous_n;
+    std::int64_t last_us;
+    std::int64_t previous_us;
+    std::uint32_t checks;
+};
+
+// Every force sent to each hand's device, for measurements (a sim-lane resource, off by default).
+struct SentForceLog {
+    bool enabled;
+    std::vector<glm::dvec3> hand[2];
 };
 
 } // namespace ikebana::components

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     ikebana::game::add_species_command(app, exit_code);
     ikebana::game::add_assets_command(app, exit_code);
     ikebana::game::add_experiment_command(app, exit_code);
+    ikebana::game::add_force_bench_command(app, exit_code);
     ikebana::game::add_devices_command(app, exit_code);
     try {
         app.parse(argc, argv);

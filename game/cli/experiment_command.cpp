@@ -6,6 +6,8 @@
 
 #include <unistd.h>
 
+#include "game/asset_paths.hpp"
+#include "game/experiment/force_scheme_comparison.hpp"
 #include "game/experiment/insertion_experiment.hpp"
 
 namespace ikebana::game {
@@ -57,6 +59,29 @@ void add_experiment_command(CLI::App& app, int& exit_code) {
             std::cerr << "ikebana experiment: cannot write " << args->csv << "\n";
             exit_code = 1;
         }
+    });
+}
+
+void add_force_bench_command(CLI::App& app, int& exit_code) {
+    struct Args {
+        std::string scene;
+        double seconds = 8.0;
+    };
+    auto args = std::make_shared<Args>();
+    args->scene = (asset_dir() / "scenes" / "arrangement.json").string();
+    auto* bench = app.add_subcommand("bench", "Measurements that print figures");
+    bench->require_subcommand(1);
+    auto* forces = bench->add_subcommand("forces", "The paper's multi-rate force scheme against full rate, on one scripted session");
+    forces->add_option("--scene", args->scene, "Scene with scripted hands")->capture_default_str();
+    forces->add_option("--seconds", args->seconds, "Simulated seconds")->capture_default_str()->check(CLI::PositiveNumber);
+    forces->callback([args, &exit_code] {
+        const auto result = compare_force_schemes(args->scene, args->seconds);
+        if (!result) {
+            std::cerr << "ikebana bench forces: " << result.error().message << "\n";
+            exit_code = 2;
+            return;
+        }
+        std::printf("%s", format_force_comparison(*result).c_str());
     });
 }
 

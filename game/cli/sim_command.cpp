@@ -55,7 +55,7 @@ int run_sim(const SimOptions& options) {
         std::cerr << "ikebana sim: " << scene.error().message << "\n";
         return 2;
     }
-    auto world = World::create(*scene, WorldOptions{options.rates});
+    auto world = World::create(*scene, WorldOptions{.rate_overrides = options.rates, .force_scheme = options.force_scheme});
     if (!world) {
         std::cerr << "ikebana sim: " << world.error().message << "\n";
         return 2;
@@ -148,6 +148,8 @@ void add_sim_command(CLI::App& app, int& exit_code) {
     sim->add_flag("--realtime", options->realtime, "Pace by the wall clock, simulation lane on its own thread");
     sim->add_option("--left", options->left_device, "Left hand's device: auto, none, scripted:FILE, replay:FILE, hid:PATH");
     sim->add_option("--right", options->right_device, "Right hand's device (as --left)");
+    sim->add_option("--force-scheme", options->force_scheme, "full_rate (forces every tick) or paper (16 Hz check, 100 Hz estimate, reused 10 times)")
+        ->check(CLI::IsMember({"full_rate", "paper"}));
     sim->add_option("--record", options->record_dir, "Record every device sample of each hand into this folder");
     sim->add_option("--rate", options->rates, "Change a rate, e.g. --rate render=60 (haptic, position_estimate, position_check, render)");
     sim->callback([options, &exit_code] { exit_code = run_sim(*options); });

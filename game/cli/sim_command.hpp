@@ -16,6 +16,7 @@ struct SimOptions {
     std::string left_device;  // empty: what the scene says (see game/devices/hand_device_selection.hpp)
     std::string right_device;
     std::string record_dir;   // when set: every device sample of each hand, to replay later
+    std::string force_scheme; // empty: the scene's
 };
 
 // `ikebana sim`: runs a scene headless on the deterministic (or real-time) clock.

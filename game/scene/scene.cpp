@@ -29,7 +29,7 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
         return c.error();
     }
     c.no_unknown_keys(*root, "", {"format", "name", "seed", "rates_hz", "gravity_m_s2", "table_height_mm", "kenzan",
-                                  "flowers", "hands", "environment", "notes"});
+                                  "flowers", "hands", "environment", "force_scheme", "notes"});
     const auto format = c.string(*root, "", "format");
     if (format && *format != "ikebana-scene/1") c.problem("/format", "expected \"ikebana-scene/1\", got \"" + *format + "\"");
     SceneDef s{};
@@ -41,6 +41,7 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
             if (const auto hz = c.number(*rates, "/rates_hz", name.c_str(), {0, 100000, true})) s.rates_hz[name] = *hz;
         }
     }
+    s.force_scheme = c.choice(*root, "", "force_scheme", {"full_rate", "paper"}, false).value_or("full_rate");
     if (const auto* env = c.object(*root, "", "environment", false)) {
         for (const auto& [name, value] : env->items()) {
             if (value.is_number()) s.environment.numeric[name] = value.get<double>();

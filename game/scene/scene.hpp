@@ -47,6 +47,9 @@ struct SceneDef {
     // Values that are not part of the simulated world (a room temperature, a batch name) but that an
     // extended species model may depend on: the scene's "environment", overridden by --env.
     systems::insertion::Covariates environment;
+    // "full_rate": hand forces every 1 kHz tick; "paper": the paper's 16 Hz check, 100 Hz estimate,
+    // each force sent ten times.
+    std::string force_scheme = "full_rate";
 };
 
 Result<SceneDef> parse_scene(std::string_view text, const std::string& label);

@@ -48,7 +48,7 @@ void add_collision_tag(ecs::Registry& r, ecs::Entity e, CollisionClass c) {
     }
 }
 
-Result<void> register_systems(World& w) {
+Result<void> register_systems(World& w, const std::string& force_scheme) {
     using sched::describe;
     // The lanes' phases, in execution order at equal timestamps.
     if (auto r = w.schedule.add_lane({"sim", &w.sim, sched::LaneThread::own,
@@ -64,7 +64,7 @@ Result<void> register_systems(World& w) {
                       describe(systems::ScriptedInsertionSystem{}, {std::string(systems::StemCuttingSystem::name)}),
                       describe(systems::HandInputSystem{}, {std::string(systems::ScriptedInsertionSystem::name)}),
                       describe(systems::GrabSystem{}, {std::string(systems::HandInputSystem::name)}),
-                      describe(systems::HandForceSystem{}),
+
                       describe(systems::ColliderUpdateSystem{}),
                       describe(InsertionTrackingSystem{}),
                       describe(InsertionResistanceSystem{}, {std::string(InsertionTrackingSystem::name)}),
@@ -73,6 +73,16 @@ Result<void> register_systems(World& w) {
                       describe(systems::SpringPhysicsSystem{}), describe(systems::TableSupportSystem{}),
                       describe(systems::PublishFrameSystem{}), describe(systems::ReceiveFrameSystem{})}) {
         if (auto r = w.schedule.add(std::move(desc)); !r) return r;
+    }
+    if (force_scheme == "paper") {
+        using systems::ForceCheckSystem;
+        using systems::ForceEstimateSystem;
+        for (auto desc : {describe(ForceCheckSystem{}), describe(ForceEstimateSystem{}, {std::string(ForceCheckSystem::name)}),
+                          describe(systems::ForceOutputSystem{}, {std::string(ForceEstimateSystem::name)})}) {
+            if (auto r = w.schedule.add(std::move(desc)); !r) return r;
+        }
+    } else {
+        if (auto r = w.schedule.add(describe(systems::HandForceSystem{})); !r) return r;
     }
     return w.schedule.finalize();
 }
@@ -210,6 +220,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
         w->flowers.push_back({spawn_flower(r, sp, f, scene.table_height_m), sp.id});
     }
     r.set_resource<systems::HandDevices>();
+    r.set_resource<SentForceLog>();
     for (const auto& h : scene.hands) {
         const ecs::Entity hand = r.create();
         r.emplace<HandCube>(hand, h.hand, h.edge_m);
@@ -221,6 +232,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
         state.proxy_m = h.position_m;
         state.held = ecs::null_entity;
         r.emplace<HandState>(hand, state);
+        r.emplace<ForceChecks>(hand);
         // Scripted trajectories are in world coordinates.
         r.emplace<WorkspaceMapping>(hand, glm::dvec3{0.0}, 1.0, 0.0, 0.3);
         if (h.hand < 2) w->hands[h.hand] = hand;
@@ -231,7 +243,11 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
                                                                                h.trajectory));
         }
     }
-    if (auto ok = register_systems(*w); !ok) return std::move(ok).error();
+    const std::string scheme = options.force_scheme.empty() ? scene.force_scheme : options.force_scheme;
+    if (scheme != "full_rate" && scheme != "paper") {
+        return make_error(ErrorCode::invalid_argument, "force scheme '" + scheme + "': expected full_rate or paper");
+    }
+    if (auto ok = register_systems(*w, scheme); !ok) return std::move(ok).error();
     return w;
 }
 

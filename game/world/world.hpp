@@ -23,6 +23,7 @@ namespace ikebana::game {
 
 struct WorldOptions {
     std::vector<std::string> rate_overrides; // "name=hz", applied after the scene's own rates
+    std::string force_scheme;                // overrides the scene's ("full_rate" or "paper")
 };
 
 struct SpawnedFlower {

@@ -39,6 +39,9 @@ void GrabSystem::operator()(sched::SystemContext& ctx) {
             });
             if (!hand.held.is_null()) {
                 if (auto* grasp = r.try_get<Grasp>(hand.held)) ++grasp->hands;
+                // The point stays where it was in the hand: snapping it to the cube's centre would
+                // stretch the stem's stiff springs by millimetres in one tick (a knock in the hand).
+                hand.held_offset_m = r.get<StemPoints>(hand.held).position_m[hand.held_point] - hand.proxy_m;
             }
         }
         if (hand.held.is_null()) return;
@@ -48,8 +51,9 @@ void GrabSystem::operator()(sched::SystemContext& ctx) {
             return;
         }
         auto& x = points->position_m[hand.held_point];
-        points->velocity_m_s[hand.held_point] = ctx.dt_s > 0.0 ? (hand.proxy_m - x) / ctx.dt_s : glm::dvec3{0.0};
-        x = hand.proxy_m;
+        const glm::dvec3 target = hand.proxy_m + hand.held_offset_m;
+        points->velocity_m_s[hand.held_point] = ctx.dt_s > 0.0 ? (target - x) / ctx.dt_s : glm::dvec3{0.0};
+        x = target;
         points->pinned[hand.held_point] = 1;
     });
 }

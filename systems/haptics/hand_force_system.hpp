@@ -1,17 +1,26 @@
 #pragma once
-// What each hand feels, sent to its device: the coupling spring between the device and the cube it
-// drives (pressing on the table or the kenzan), plus the stem's pull on the point the hand holds
-// (its weight, its bending, and, when both hands hold one flower, the stretch of the part between:
-// equal and opposite on the two hands). The device's own safety chain clamps, rate-limits and ramps.
+// What each hand feels: the coupling spring between the device and the cube it drives (pressing on
+// the table or the kenzan), plus the stem's pull on the point the hand holds (its weight, its bending,
+// and, when both hands hold one flower, the stretch of the part between: equal and opposite on the
+// two hands). The device's own safety chain clamps, rate-limits and ramps afterwards.
+//
+// Two schemes, chosen when the world is built:
+//  - full rate: HandForceSystem computes the force every 1 kHz tick;
+//  - the paper's (section 2.3): ForceCheckSystem computes it at 16 Hz (position check),
+//    ForceEstimateSystem extrapolates it at 100 Hz from the last two checks (the moving vector),
+//    and ForceOutputSystem sends the same estimate ten times at 1 kHz.
 #include <string_view>
+#include <vector>
 
 #include "components/hand.hpp"
 #include "components/physics.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/system.hpp"
-#include "systems/physics/stem_dynamics.hpp"
 
 namespace ikebana::systems {
+
+// The force a hand feels now, from the live state (shared by both schemes).
+glm::dvec3 hand_feels(ecs::Registry& registry, const components::HandState& hand, std::vector<glm::dvec3>& scratch);
 
 struct HandForceSystem {
     static constexpr std::string_view name = "hand_force";
@@ -21,10 +30,41 @@ struct HandForceSystem {
     using reads = sched::Components<components::StemPoints, components::StemRestShape, components::StemSprings,
                                     components::StemClamp, components::PhysicsSettings>;
     using writes = sched::Components<components::HandState>;
-
     void operator()(sched::SystemContext& ctx);
+    std::vector<glm::dvec3> scratch;
+};
 
-    std::vector<glm::dvec3> force_scratch;
+struct ForceCheckSystem {
+    static constexpr std::string_view name = "force_check";
+    static constexpr std::string_view lane = "sim";
+    static constexpr std::string_view phase = "output";
+    static constexpr std::string_view rate = "position_check";
+    using reads = sched::Components<components::HandState, components::StemPoints, components::StemRestShape,
+                                    components::StemSprings, components::StemClamp, components::PhysicsSettings>;
+    using writes = sched::Components<components::ForceChecks>;
+    void operator()(sched::SystemContext& ctx);
+    std::vector<glm::dvec3> scratch;
+};
+
+struct ForceEstimateSystem {
+    static constexpr std::string_view name = "force_estimate";
+    static constexpr std::string_view lane = "sim";
+    static constexpr std::string_view phase = "output";
+    static constexpr std::string_view rate = "position_estimate";
+    using reads = sched::Components<components::ForceChecks>;
+    using writes = sched::Components<components::HandState>;
+    void operator()(sched::SystemContext& ctx);
+};
+
+// Sends each hand's current force to its device every tick (the paper scheme's "reused ten times").
+struct ForceOutputSystem {
+    static constexpr std::string_view name = "force_output";
+    static constexpr std::string_view lane = "sim";
+    static constexpr std::string_view phase = "output";
+    static constexpr std::string_view rate = "haptic";
+    using reads = sched::Components<components::HandState>;
+    using writes = sched::Components<>;
+    void operator()(sched::SystemContext& ctx);
 };
 
 } // namespace ikebana::systems
