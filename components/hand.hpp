@@ -31,12 +31,26 @@ struct HandState {
     glm::dvec3 proxy_m;         // where the hand cube is
     glm::dvec3 slip_m_s;        // how fast the proxy moves relative to the device (coupling damping)
     glm::dvec3 force_n;         // what the hand should feel (the device's safety chain comes after)
+    glm::dvec3 rotation_rad;    // the device's rotation (roll, pitch, yaw); bending uses the roll
     std::uint32_t buttons;
     std::uint32_t previous_buttons;
     ecs::Entity held;           // the flower it holds, or null
     std::uint32_t held_point;   // which of its stem's mass points
     glm::dvec3 held_offset_m;   // where that point was relative to the cube when grabbed
     std::uint64_t disconnects;  // times the device went away
+};
+
+// Both-hand bending on one flower (paper Figures 6-8): set by bending_system while both hands bend it.
+struct Bending {
+    bool active;
+    double theta_rad;           // angle between the two halves; pi is straight
+    double span_m;              // L, between the supports A and B (the index fingers)
+    std::uint32_t support_a;    // stem point indices
+    std::uint32_t support_b;
+    glm::dvec3 push_direction;  // where the thumbs push the middle (unit)
+    double force_n;             // F^b (Eq. 5), felt by both hands
+    double permanent_set_rad;   // the species' threshold (bending beyond it stays)
+    double set_applied_rad;     // how much permanent set this flower has taken so far
 };
 
 // The paper's multi-rate force scheme (section 2.3), per hand: the force is checked at 16 Hz,

@@ -5,6 +5,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include "components/collision.hpp"
+#include "components/hand.hpp"
 #include "components/flower.hpp"
 #include "components/kenzan.hpp"
 #include "components/physics.hpp"
@@ -18,6 +19,7 @@
 #include "components/insertion.hpp"
 #include "components/hand.hpp"
 #include "engine/devices/scripted_device.hpp"
+#include "systems/haptics/bending_system.hpp"
 #include "systems/haptics/grab_system.hpp"
 #include "systems/haptics/hand_devices.hpp"
 #include "systems/haptics/hand_force_system.hpp"
@@ -64,6 +66,7 @@ Result<void> register_systems(World& w, const std::string& force_scheme) {
                       describe(systems::ScriptedInsertionSystem{}, {std::string(systems::StemCuttingSystem::name)}),
                       describe(systems::HandInputSystem{}, {std::string(systems::ScriptedInsertionSystem::name)}),
                       describe(systems::GrabSystem{}, {std::string(systems::HandInputSystem::name)}),
+                      describe(systems::BendingSystem{}, {std::string(systems::GrabSystem::name)}),
 
                       describe(systems::ColliderUpdateSystem{}),
                       describe(InsertionTrackingSystem{}),
@@ -142,6 +145,9 @@ ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPla
     r.emplace<PinEngagement>(flower);
     r.emplace<KenzanGrip>(flower);
     r.emplace<Grasp>(flower);
+    Bending bending{};
+    bending.permanent_set_rad = sp.permanent_set_rad;
+    r.emplace<Bending>(flower, bending);
     const auto point_count = static_cast<std::uint32_t>(stem.points.position_m.size());
     r.emplace<StemPoints>(flower, std::move(stem.points));
     r.emplace<StemRestShape>(flower, std::move(stem.rest));

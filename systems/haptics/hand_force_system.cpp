@@ -31,6 +31,8 @@ glm::dvec3 hand_feels(ecs::Registry& r, const HandState& hand, std::vector<glm::
             physics::stem_forces(*points, *rest, *springs, r.try_get<StemClamp>(hand.held), g, scratch);
             force += scratch[hand.held_point];
         }
+        // Bending: the thumbs push the middle with F^b (Eq. 5); each hand takes half of it back.
+        if (const auto* bend = r.try_get<Bending>(hand.held); bend && bend->active) force -= 0.5 * bend->force_n * bend->push_direction;
     }
     return force;
 }

@@ -57,6 +57,7 @@ void HandInputSystem::operator()(sched::SystemContext& ctx) {
             } else {
                 hand.device_m += turn(sample->position * map.rate_speed_m_s * ctx.dt_s);
             }
+            hand.rotation_rad = sample->rotation;
             hand.previous_buttons = hand.buttons;
             hand.buttons = sample->buttons;
             // The proxy: the device position, kept above the table and out of the kenzan's base.

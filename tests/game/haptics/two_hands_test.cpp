@@ -183,3 +183,77 @@ TEST(TwoHands, ReplayedSessionGivesTheSameWorldHash) {
     EXPECT_EQ(replay->state_hash(), live->state_hash());
     EXPECT_NE(hand(*live, 0).held_point, hand(*live, 1).held_point) << "the session did something";
 }
+
+namespace {
+// Two hands, tips together, hold a cherry branch lying on the table, lift it, and roll the left device
+// by `roll` radians to bend it; then let go.
+struct BendRun {
+    std::unique_ptr<World> w;
+    double total_rest_before = 0.0;
+    Bending during{};
+    glm::dvec3 left_force{0.0};
+    glm::dvec3 right_force{0.0};
+};
+BendRun bend_branch(double roll) {
+    SceneDef scene{};
+    scene.seed = 1;
+    scene.gravity_m_s2 = {0, 0, -9.80665};
+    scene.kenzan_layout = "standard";
+    scene.kenzan_position_m = {0, 0, 0.008};
+    scene.flowers.push_back({"cherry_branch", Placement::lying, {0.1, 0.1, 0.0}, {1, 0, 0}, 0.0});
+    scene.hands.push_back({0, {0.1, 0.2, 0.1}, 0.02, ""});
+    scene.hands.push_back({1, {0.2, 0.2, 0.1}, 0.02, ""});
+    BendRun run;
+    run.w = std::move(World::create(scene)).value();
+    auto& w = *run.w;
+    const glm::dvec3 a = point(w, 11);
+    const glm::dvec3 b = point(w, 13);
+    auto script6 = [](glm::dvec3 p, double roll_to) {
+        std::ostringstream csv;
+        csv << "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n"
+            << "0," << p.x << "," << p.y << "," << p.z << ",0,0,0,1\n"
+            << "0.5," << p.x << "," << p.y << ",0.1,0,0,0,1\n"
+            << "1.0," << p.x << "," << p.y << ",0.1," << roll_to << ",0,0,1\n"
+            << "2.0," << p.x << "," << p.y << ",0.1," << roll_to << ",0,0,1\n"
+            << "2.1," << p.x << "," << p.y << ",0.1,0,0,0,0\n";
+        return std::make_unique<devices::ScriptedDevice>(*devices::parse_trajectory(csv.str(), "bend"), devices::ScriptedDevice::Mode::interpolate);
+    };
+    w.attach_device(0, script6(a, roll));
+    w.attach_device(1, script6(b, 0.0));
+    for (double angle : w.sim.get<StemRestShape>(w.flowers[0].entity).hinge_angle_rad) run.total_rest_before += angle;
+    sched::DeterministicClock clock(w.schedule);
+    clock.run_for_us(1'500'000);
+    run.during = w.sim.get<Bending>(w.flowers[0].entity);
+    run.left_force = hand(w, 0).force_n;
+    run.right_force = hand(w, 1).force_n;
+    clock.run_for_us(2'000'000);
+    return run;
+}
+double total_rest(World& w) {
+    double total = 0.0;
+    for (double angle : w.sim.get<StemRestShape>(w.flowers[0].entity).hinge_angle_rad) total += angle;
+    return total;
+}
+} // namespace
+
+// Figures 6-8 as a gesture: the stem between the supports takes Eq. 4's shape and both hands feel F^b.
+TEST(TwoHands, BendingFeedsEq5BackToBothHands) {
+    auto run = bend_branch(0.5);
+    ASSERT_TRUE(run.during.active);
+    EXPECT_NEAR(run.during.theta_rad, M_PI - 0.5, 1e-9);
+    const double ei = 6e9 * M_PI * std::pow(0.008, 4) / 64.0;
+    EXPECT_NEAR(run.during.force_n, 24.0 * ei / (run.during.span_m * run.during.span_m * std::tan(0.5 * run.during.theta_rad)),
+                1e-6 * run.during.force_n);
+    EXPECT_LT(glm::dot(run.left_force, run.during.push_direction), 0.0) << "pushed back against the thumbs";
+    EXPECT_LT(glm::dot(run.right_force, run.during.push_direction), 0.0);
+}
+
+// Bent 0.5 rad (28.6 degrees) against a 12-degree threshold: 16.6 degrees stay after release.
+TEST(TwoHands, BendingPastTheThresholdLeavesAPermanentSet) {
+    auto run = bend_branch(0.5);
+    const double set = total_rest(*run.w) - run.total_rest_before;
+    EXPECT_NEAR(set, 0.5 - 12.0 * M_PI / 180.0, 1e-6);
+    EXPECT_FALSE(run.w->sim.get<Bending>(run.w->flowers[0].entity).active) << "released";
+    auto gentle = bend_branch(0.15); // 8.6 degrees: springs back
+    EXPECT_NEAR(total_rest(*gentle.w), gentle.total_rest_before, 1e-12);
+}

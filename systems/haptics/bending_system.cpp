@@ -1,0 +1,100 @@
+#include "systems/haptics/bending_system.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "engine/ecs/registry.hpp"
+#include "systems/haptics/bending.hpp"
+
+namespace ikebana::systems {
+
+using namespace components;
+
+void BendingSystem::operator()(sched::SystemContext& ctx) {
+    auto& r = ctx.registry;
+    HandState* hands[2] = {nullptr, nullptr};
+    r.view<HandState>().each([&](ecs::Entity, HandState& h) {
+        if (h.hand < 2) hands[h.hand] = &h;
+    });
+    // A bend that stops hands its points back to the physics (except the ones a hand holds).
+    r.view<Bending, StemPoints>().each([&](ecs::Entity flower, Bending& b, StemPoints& pts) {
+        if (b.active) {
+            for (std::uint32_t i = b.support_a; i <= b.support_b && i < pts.pinned.size(); ++i) {
+                const bool held = (hands[0] && hands[0]->held == flower && hands[0]->held_point == i) ||
+                                  (hands[1] && hands[1]->held == flower && hands[1]->held_point == i);
+                if (!held) pts.pinned[i] = 0;
+            }
+        }
+        b.active = false;
+        b.force_n = 0.0;
+    });
+    if (!hands[0] || !hands[1]) return;
+    HandState& left = *hands[0];
+    HandState& right = *hands[1];
+    if (left.held.is_null() || left.held != right.held) return;
+    if (glm::length(left.proxy_m - right.proxy_m) > tips_together_m) return;
+    auto* points = r.try_get<StemPoints>(left.held);
+    auto* rest = r.try_get<StemRestShape>(left.held);
+    auto* springs = r.try_get<StemSprings>(left.held);
+    auto* bend = r.try_get<Bending>(left.held);
+    if (!points || !rest || !springs || !bend || points->position_m.size() < 3) return;
+    const double theta = M_PI - std::min(std::abs(left.rotation_rad.x - right.rotation_rad.x), M_PI - 1e-3);
+    if (M_PI - theta < 1e-3) return;
+
+    // C: the stem point nearest the middle of the two hands; A and B: L/2 of rest length either side.
+    auto& x = points->position_m;
+    const glm::dvec3 middle = 0.5 * (left.proxy_m + right.proxy_m);
+    std::size_t c = 0;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        if (glm::length(x[i] - middle) < nearest) {
+            nearest = glm::length(x[i] - middle);
+            c = i;
+        }
+    }
+    std::size_t a = c;
+    std::size_t b = c;
+    for (double run = 0.0; a > 0 && run < 0.5 * span_m; --a) run += rest->segment_length_m[a - 1];
+    for (double run = 0.0; b + 1 < x.size() && run < 0.5 * span_m; ++b) run += rest->segment_length_m[b];
+    if (b - a < 2) return;
+    const glm::dvec3 ab = x[b] - x[a];
+    const double span = glm::length(ab);
+    if (span <= 0.0) return;
+    const glm::dvec3 along = ab / span;
+    // The thumbs push upwards (perpendicular to A-B in the vertical plane), or sideways if A-B is vertical.
+    glm::dvec3 push = glm::dvec3{0, 0, 1} - glm::dot(glm::dvec3{0, 0, 1}, along) * along;
+    if (glm::length(push) < 1e-6) push = glm::dvec3{1, 0, 0} - glm::dot(glm::dvec3{1, 0, 0}, along) * along;
+    push = glm::normalize(push);
+
+    // Eq. 4 between the supports: the points are held on the bent shape while the hands bend it.
+    double rest_span = 0.0;
+    for (std::size_t k = a; k < b; ++k) rest_span += rest->segment_length_m[k];
+    const glm::dvec3 origin = x[a];
+    double s = 0.0;
+    for (std::size_t i = a; i <= b; ++i) {
+        if (i > a) s += rest->segment_length_m[i - 1];
+        const double along_s = s * span / std::max(rest_span, 1e-12);
+        const glm::dvec3 target = origin + along * along_s + push * bending::displacement(along_s, span, theta);
+        points->velocity_m_s[i] = ctx.dt_s > 0.0 ? (target - x[i]) / ctx.dt_s : glm::dvec3{0.0};
+        x[i] = target;
+        points->pinned[i] = 1;
+    }
+    // Eq. 5, with E I from the hinge springs (k_theta = E I / l).
+    const double ei = springs->hinge_nm_per_rad.empty() ? 0.0 : springs->hinge_nm_per_rad[0] * rest->segment_length_m[0];
+    bend->active = true;
+    bend->theta_rad = theta;
+    bend->span_m = span;
+    bend->support_a = static_cast<std::uint32_t>(a);
+    bend->support_b = static_cast<std::uint32_t>(b);
+    bend->push_direction = push;
+    bend->force_n = bending::force(ei, span, theta);
+    // Permanent set: only what this bend adds beyond what the flower has already taken.
+    const double beyond = (M_PI - theta) - bend->permanent_set_rad;
+    if (beyond > bend->set_applied_rad && a + 1 <= b - 1) {
+        const double add = beyond - bend->set_applied_rad;
+        bending::apply_permanent_set(*rest, a, b - 2, M_PI - (bend->permanent_set_rad + add), bend->permanent_set_rad);
+        bend->set_applied_rad = beyond;
+    }
+}
+
+} // namespace ikebana::systems
