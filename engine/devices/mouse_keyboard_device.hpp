@@ -1,0 +1,45 @@
+#pragma once
+// Two hands from one mouse and keyboard, for trainees with no haptic device. The mouse drives the
+// active hand; Tab switches hands (the other keeps its place and its grip, so both stay reachable).
+// Horizontal motion moves the hand left-right, vertical motion up-down; with Shift held, vertical
+// motion moves it in depth instead, and the wheel moves it in depth too. The left button grabs.
+// No force output: the window shows what a force device would make felt.
+#include <array>
+#include <memory>
+
+#include "engine/devices/haptic_device.hpp"
+#include "engine/platform/pointer_input.hpp"
+
+namespace ikebana::devices {
+
+class MouseKeyboardHands {
+public:
+    struct Config {
+        double workspace_width_m = 0.30;  // the window's width spans this much (device space)
+        double workspace_height_m = 0.25;
+        double depth_per_scroll_m = 0.01;
+    };
+    explicit MouseKeyboardHands(platform::PointerSource& source) : MouseKeyboardHands(source, Config{}) {}
+    MouseKeyboardHands(platform::PointerSource& source, Config config);
+
+    // A device for hand 0 or 1; both share this object (which must outlive them).
+    [[nodiscard]] std::unique_ptr<HapticDevice> hand(std::uint8_t which);
+    [[nodiscard]] std::uint8_t active_hand() const noexcept { return active_; }
+
+    // Reads the pointer once per tick, however many hands poll.
+    void update(std::int64_t now_us);
+    [[nodiscard]] DeviceSample sample(std::uint8_t which, std::int64_t now_us) const;
+
+private:
+    platform::PointerSource& source_;
+    Config config_;
+    std::uint8_t active_ = 1; // the right hand first
+    std::int64_t last_update_us_ = -1;
+    bool tab_was_down_ = false;
+    bool started_ = false;
+    platform::PointerState last_{};
+    std::array<glm::dvec3, 2> position_{glm::dvec3{-0.06, 0.0, 0.12}, glm::dvec3{0.06, 0.0, 0.12}};
+    std::array<std::uint32_t, 2> buttons_{0, 0};
+};
+
+} // namespace ikebana::devices

@@ -1,0 +1,33 @@
+#include "engine/platform/pointer_input.hpp"
+
+#include <GLFW/glfw3.h>
+
+namespace ikebana::platform {
+
+GlfwPointerSource::GlfwPointerSource(GLFWwindow* window) : window_(window) {
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double y) {
+        if (auto* self = static_cast<GlfwPointerSource*>(glfwGetWindowUserPointer(w))) self->scroll_ += y;
+    });
+}
+
+GlfwPointerSource::~GlfwPointerSource() {
+    glfwSetScrollCallback(window_, nullptr);
+    glfwSetWindowUserPointer(window_, nullptr);
+}
+
+PointerState GlfwPointerSource::read() {
+    PointerState s;
+    glfwGetCursorPos(window_, &s.cursor_px.x, &s.cursor_px.y);
+    int width = 1;
+    int height = 1;
+    glfwGetWindowSize(window_, &width, &height);
+    s.window_px = {width > 0 ? width : 1, height > 0 ? height : 1};
+    s.grab_button = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+    s.depth_modifier = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+    s.switch_hand = glfwGetKey(window_, GLFW_KEY_TAB) == GLFW_PRESS;
+    s.scroll = scroll_;
+    return s;
+}
+
+} // namespace ikebana::platform

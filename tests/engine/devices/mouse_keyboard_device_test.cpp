@@ -1,0 +1,61 @@
+#include <gtest/gtest.h>
+
+#include "engine/devices/mouse_keyboard_device.hpp"
+
+using namespace ikebana;
+using namespace ikebana::devices;
+
+namespace {
+struct FakePointer : platform::PointerSource {
+    platform::PointerState state{{400, 300}, {800, 600}, false, false, false, 0.0};
+    platform::PointerState read() override { return state; }
+};
+} // namespace
+
+TEST(MouseKeyboard, MouseMovesTheActiveHandOnly) {
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto left = hands.hand(0);
+    auto right = hands.hand(1);
+    const auto left0 = left->poll(0)->position;
+    const auto right0 = right->poll(0)->position;
+    pointer.state.cursor_px.x += 400; // half the window: half the 0.30 m workspace
+    pointer.state.cursor_px.y -= 120; // up a fifth of the window: a fifth of 0.25 m
+    EXPECT_NEAR(right->poll(1000)->position.x - right0.x, 0.15 - 0.06, 1e-12) << "clamped at the workspace edge";
+    EXPECT_NEAR(right->poll(1000)->position.z - right0.z, 0.05, 1e-12);
+    EXPECT_EQ(left->poll(1000)->position, left0);
+}
+
+TEST(MouseKeyboard, ShiftOrWheelMovesInDepth) {
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto right = hands.hand(1);
+    const auto start = right->poll(0)->position;
+    pointer.state.depth_modifier = true;
+    pointer.state.cursor_px.y -= 60;
+    const auto after = right->poll(1000)->position;
+    EXPECT_NEAR(after.y - start.y, 0.025, 1e-12);
+    EXPECT_NEAR(after.z, start.z, 1e-12);
+    pointer.state.depth_modifier = false;
+    pointer.state.scroll += 3;
+    EXPECT_NEAR(right->poll(2000)->position.y - after.y, 0.03, 1e-12);
+}
+
+TEST(MouseKeyboard, TabSwitchesHandsAndEachKeepsItsGrip) {
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto left = hands.hand(0);
+    auto right = hands.hand(1);
+    pointer.state.grab_button = true;
+    EXPECT_EQ(right->poll(0)->buttons, 1u) << "the right hand grabs";
+    pointer.state.switch_hand = true;
+    (void)right->poll(1000);
+    EXPECT_EQ(hands.active_hand(), 0);
+    pointer.state.switch_hand = false;
+    pointer.state.grab_button = false;
+    pointer.state.cursor_px.x -= 80;
+    EXPECT_EQ(left->poll(2000)->buttons, 0u);
+    EXPECT_EQ(right->poll(2000)->buttons, 1u) << "the right hand still holds what it grabbed";
+    EXPECT_LT(left->poll(2000)->position.x, -0.06) << "the mouse now drives the left hand";
+    EXPECT_FALSE(right->capabilities().has_force_output);
+}
