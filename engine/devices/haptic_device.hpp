@@ -37,6 +37,8 @@ public:
     virtual Result<DeviceSample> poll(std::int64_t now_us) = 0;
     // Sends a force already made safe by ForceSafety; devices without force output ignore it.
     virtual Result<void> send_force(glm::dvec3 force_n) = 0;
+    // Zero force now. Unlike send_force this may be called from another thread (the force watchdog's).
+    virtual Result<void> zero_force() { return {}; }
 };
 
 } // namespace ikebana::devices

@@ -49,6 +49,7 @@ public:
     Result<void> send_force(glm::dvec3 force_n) override;
     // Zero force, motors still enabled: what the watchdog sends. Safe from another thread.
     Result<void> send_zero();
+    Result<void> zero_force() override { return send_zero(); }
 
     [[nodiscard]] const diy::SequenceTracker& sequence() const noexcept { return inbound_; }
     [[nodiscard]] const ForceSafety& safety() const noexcept { return safety_; }

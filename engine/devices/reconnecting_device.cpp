@@ -15,12 +15,14 @@ Result<DeviceSample> ReconnectingDevice::poll(std::int64_t now_us) {
             next_try_us_ = now_us + retry_us_;
             return std::move(opened).error();
         }
+        std::lock_guard lock(inner_mutex_);
         inner_ = std::move(opened).value();
         if (ever_attached_) ++reconnects_;
         ever_attached_ = true;
     }
     auto sample = inner_->poll(now_us);
     if (!sample) {
+        std::lock_guard lock(inner_mutex_);
         inner_.reset();
         next_try_us_ = now_us + retry_us_;
     }
@@ -30,6 +32,15 @@ Result<DeviceSample> ReconnectingDevice::poll(std::int64_t now_us) {
 Result<void> ReconnectingDevice::send_force(glm::dvec3 force_n) {
     if (!inner_) return {}; // nothing to push against: the hand is released and its force zero
     return inner_->send_force(force_n);
+}
+
+} // namespace ikebana::devices
+
+namespace ikebana::devices {
+
+Result<void> ReconnectingDevice::zero_force() {
+    std::lock_guard lock(inner_mutex_);
+    return inner_ ? inner_->zero_force() : Result<void>{};
 }
 
 } // namespace ikebana::devices

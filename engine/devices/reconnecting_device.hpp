@@ -4,6 +4,7 @@
 // tries to open it again every `retry_us` until it answers again.
 #include <functional>
 #include <memory>
+#include <mutex>
 
 #include "engine/devices/haptic_device.hpp"
 
@@ -17,6 +18,7 @@ public:
     [[nodiscard]] const DeviceCapabilities& capabilities() const override;
     Result<DeviceSample> poll(std::int64_t now_us) override;
     Result<void> send_force(glm::dvec3 force_n) override;
+    Result<void> zero_force() override;
 
     [[nodiscard]] bool attached() const noexcept { return inner_ != nullptr; }
     [[nodiscard]] std::uint64_t reconnects() const noexcept { return reconnects_; }
@@ -26,6 +28,7 @@ private:
     DeviceCapabilities expected_;
     std::int64_t retry_us_;
     std::unique_ptr<HapticDevice> inner_;
+    std::mutex inner_mutex_; // zero_force() comes from the watchdog's thread while poll() may drop inner_
     std::int64_t next_try_us_ = 0;
     std::uint64_t reconnects_ = 0;
     bool ever_attached_ = false;

@@ -94,8 +94,23 @@ int run_sim(const SimOptions& options) {
     if (options.realtime) {
         std::printf("running %.1f s in real time (simulation lane on its own thread)...\n", options.seconds);
         std::fflush(stdout);
+        // Devices that push get a watchdog: if the haptic loop falls silent for 2 ms, zero force.
+        std::unique_ptr<devices::ForceWatchdog> watchdogs[2];
+        auto* slots = w.sim.resource<systems::HandDevices>();
+        for (std::size_t hand = 0; hand < 2; ++hand) {
+            auto* device = w.hand_devices[hand].get();
+            if (!device || !device->capabilities().has_force_output) continue;
+            watchdogs[hand] = std::make_unique<devices::ForceWatchdog>([device] { (void)device->zero_force(); });
+            slots->watchdog[hand] = watchdogs[hand].get();
+        }
         sched::RealtimeClock clock(w.schedule);
         const auto reports = clock.run_for(options.seconds);
+        for (std::size_t hand = 0; hand < 2; ++hand) {
+            if (!watchdogs[hand]) continue;
+            slots->watchdog[hand] = nullptr;
+            std::printf("%s hand force watchdog: tripped %llu time(s)\n", hand ? "right" : "left",
+                        static_cast<unsigned long long>(watchdogs[hand]->trips()));
+        }
         print_realtime_report(w, reports);
     } else {
         sched::DeterministicClock clock(w.schedule);

@@ -2,6 +2,7 @@
 // The devices driving the two hands (a sim-lane resource; the app owns the devices).
 #include <array>
 
+#include "engine/devices/force_safety.hpp"
 #include "engine/devices/haptic_device.hpp"
 #include "engine/devices/scripted_device.hpp"
 
@@ -15,6 +16,8 @@ struct HandDevices {
     double coupling_damping_n_s_per_m = 2.0;
     // When set, every sample each device produces is recorded with its time (a session to replay).
     std::array<devices::DeviceRecorder*, 2> recorder{nullptr, nullptr};
+    // In real time: fed after every force sent, so that a stalled loop gets its devices zeroed.
+    std::array<devices::ForceWatchdog*, 2> watchdog{nullptr, nullptr};
 };
 
 } // namespace ikebana::systems

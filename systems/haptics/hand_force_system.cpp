@@ -11,7 +11,10 @@ using namespace components;
 namespace {
 void send(ecs::Registry& r, const HandState& hand) {
     const auto* devices = r.resource<HandDevices>();
-    if (devices && hand.hand < 2 && devices->device[hand.hand]) (void)devices->device[hand.hand]->send_force(hand.force_n);
+    if (devices && hand.hand < 2 && devices->device[hand.hand]) {
+        (void)devices->device[hand.hand]->send_force(hand.force_n);
+        if (devices->watchdog[hand.hand]) devices->watchdog[hand.hand]->feed();
+    }
     if (auto* log = r.resource<SentForceLog>(); log && log->enabled && hand.hand < 2) log->hand[hand.hand].push_back(hand.force_n);
 }
 } // namespace

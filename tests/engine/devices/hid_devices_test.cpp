@@ -115,3 +115,15 @@ TEST(HidDevices, WatchdogZeroFromAnotherThreadIsSafe) {
     EXPECT_EQ(fake->written.size(), 1000u);
     for (const auto& w : fake->written) EXPECT_TRUE(diy::decode_force(w));
 }
+
+// The watchdog's zero goes through the generic interface, even across a reconnecting wrapper.
+TEST(HidDevices, ZeroForceReachesTheDeviceThroughTheInterface) {
+    auto transport = std::make_unique<FakeTransport>();
+    auto* fake = transport.get();
+    std::unique_ptr<HapticDevice> device = std::make_unique<DiyForceDevice>(std::move(transport));
+    ASSERT_TRUE(device->zero_force());
+    ASSERT_EQ(fake->written.size(), 1u);
+    const auto report = diy::decode_force(fake->written[0]);
+    ASSERT_TRUE(report);
+    EXPECT_EQ(report->force_n, glm::dvec3(0.0));
+}
