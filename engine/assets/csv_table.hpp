@@ -1,0 +1,35 @@
+#pragma once
+// A CSV table as researchers write it: a header row, lines starting with '#' are comments, fields
+// separated by commas, optionally quoted ("a, b" and "" for a quote). Every column is kept as text
+// and, where every non-empty cell parses as a finite number, also as numbers, so that columns the
+// program has never heard of can be analysed as numeric or categorical. Errors name the file, the
+// line and the column; nothing is returned half read.
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/core/result.hpp"
+
+namespace ikebana::assets {
+
+struct CsvColumn {
+    std::string name;
+    std::vector<std::string> text;              // every cell as written (unquoted)
+    std::optional<std::vector<double>> numbers;  // when every non-empty cell is a number; empty cells are NaN
+    [[nodiscard]] bool numeric() const noexcept { return numbers.has_value(); }
+};
+
+struct CsvTable {
+    std::string label;
+    std::vector<CsvColumn> columns;
+    std::vector<std::size_t> line_of_row; // source line of each row, for messages about rows
+    [[nodiscard]] std::size_t rows() const noexcept { return line_of_row.size(); }
+    [[nodiscard]] const CsvColumn* find(std::string_view name) const noexcept;
+};
+
+Result<CsvTable> parse_csv(std::string_view text, const std::string& label);
+Result<CsvTable> load_csv(const std::string& path);
+
+} // namespace ikebana::assets

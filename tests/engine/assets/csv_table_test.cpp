@@ -1,0 +1,71 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "engine/assets/csv_table.hpp"
+
+using namespace ikebana::assets;
+
+TEST(CsvTable, ReadsHeaderCommentsNumbersAndText) {
+    const auto t = parse_csv("# measured 2026-11-01\n"
+                             "flower_id,insertion,max_force_gf,room\n"
+                             "A,1,484,dry\n"
+                             "\n"
+                             "A,2,460,\"humid, warm\"\n",
+                             "m.csv");
+    ASSERT_TRUE(t) << t.error().message;
+    EXPECT_EQ(t->rows(), 2u);
+    EXPECT_EQ(t->line_of_row[1], 5u);
+    ASSERT_NE(t->find("max_force_gf"), nullptr);
+    ASSERT_TRUE(t->find("max_force_gf")->numeric());
+    EXPECT_EQ((*t->find("max_force_gf")->numbers)[1], 460.0);
+    EXPECT_FALSE(t->find("flower_id")->numeric()) << "letters: categorical";
+    EXPECT_EQ(t->find("room")->text[1], "humid, warm");
+}
+
+TEST(CsvTable, EmptyCellsInANumericColumnAreMissing) {
+    const auto t = parse_csv("x,y\n1,2\n,3\n", "e.csv");
+    ASSERT_TRUE(t);
+    ASSERT_TRUE(t->find("x")->numeric());
+    EXPECT_TRUE(std::isnan((*t->find("x")->numbers)[1]));
+}
+
+TEST(CsvTable, ErrorsNameFileLineAndColumn) {
+    const auto fields = parse_csv("a,b,c\n1,2,3\n1,2\n", "f.csv");
+    ASSERT_FALSE(fields);
+    EXPECT_EQ(fields.error().message, "f.csv:3:1: expected 3 fields (as the header), found 2");
+    const auto quote = parse_csv("a,b\n1,\"open\n", "q.csv");
+    ASSERT_FALSE(quote);
+    EXPECT_EQ(quote.error().message, "q.csv:2:3: unterminated quote");
+    const auto twice = parse_csv("a,b,a\n", "d.csv");
+    ASSERT_FALSE(twice);
+    EXPECT_EQ(twice.error().message, "d.csv:1:5: column 'a' appears twice");
+    EXPECT_FALSE(parse_csv("# only a comment\n", "c.csv"));
+    EXPECT_FALSE(load_csv("/nonexistent/data.csv"));
+}
+
+TEST(CsvTable, MutatedFilesNeverCrashAndRowsStayRectangular) {
+    const std::string original = "flower_id,insertion,max_force_gf,note\nA,1,484,\"x, y\"\nA,2,460,z\nB,1,470,\n";
+    std::mt19937_64 rng(5);
+    const std::string alphabet = ",\"\n#0123456789.e-ab ";
+    for (int i = 0; i < 20000; ++i) {
+        std::string text = original;
+        for (int k = 0; k < 3 && !text.empty(); ++k) {
+            const auto at = rng() % text.size();
+            if (rng() % 2) text[at] = alphabet[rng() % alphabet.size()];
+            else text.erase(at, 1 + rng() % 3);
+        }
+        const auto t = parse_csv(text, "m.csv");
+        if (!t) {
+            ASSERT_EQ(t.error().message.rfind("m.csv", 0), 0u);
+            continue;
+        }
+        for (const auto& c : t->columns) {
+            ASSERT_EQ(c.text.size(), t->rows());
+            if (c.numbers) {
+                ASSERT_EQ(c.numbers->size(), t->rows());
+            }
+        }
+    }
+}
