@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <random>
 
+#include "engine/assets/csv_table.hpp"
 #include "engine/assets/json_checker.hpp"
 #include "game/species/species.hpp"
 
@@ -136,4 +137,20 @@ TEST(Species, AnyFieldWithWrongTypeIsReportedAtItsPath) {
     }
     // A few replacements are legitimately accepted (e.g. a mesh path given as another string).
     EXPECT_GT(static_cast<double>(reported), 0.9 * static_cast<double>(tried));
+}
+
+// The paper's Table 2 ships twice: as data to validate against and inside the sunflower species.
+// They must agree.
+TEST(Species, SunflowerCarriesThePapersTable2) {
+    const auto table = assets::load_csv(std::string(IKEBANA_ASSET_DIR) + "/data/paper/table2_sunflower.csv");
+    ASSERT_TRUE(table) << table.error().message;
+    const auto sp = load_species("sunflower");
+    ASSERT_TRUE(sp && sp->soft);
+    const auto& per_mm = *table->find("resistance_gf_per_mm")->numbers;
+    const auto& per_pin = *table->find("max_per_pin_gf")->numbers;
+    ASSERT_EQ(per_mm.size(), sp->soft->n_per_m_by_insertion.size());
+    for (std::size_t i = 0; i < per_mm.size(); ++i) {
+        EXPECT_NEAR(sp->soft->n_per_m_by_insertion[i], per_mm[i] * gram_force_n / 1e-3, 1e-9);
+        EXPECT_NEAR(sp->soft->max_per_pin_n_by_insertion[i], per_pin[i] * gram_force_n, 1e-12);
+    }
 }
