@@ -9,6 +9,7 @@
 #include "game/cli/assets_command.hpp"
 #include "game/cli/devices_command.hpp"
 #include "game/cli/experiment_command.hpp"
+#include "game/cli/predict_command.hpp"
 #include "game/cli/sim_command.hpp"
 #include "game/cli/species_command.hpp"
 
@@ -22,6 +23,7 @@ int main(int argc, char** argv) {
     ikebana::game::add_experiment_command(app, exit_code);
     ikebana::game::add_force_bench_command(app, exit_code);
     ikebana::game::add_devices_command(app, exit_code);
+    ikebana::game::add_predict_command(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

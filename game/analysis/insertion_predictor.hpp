@@ -1,0 +1,49 @@
+#pragma once
+// What the simulation predicts for one measured insertion, through the live systems: a headless world
+// with the species and the kenzan, the flower's history set to the row's insertion count, and a
+// scripted hand pushing it in at the row's angle and depth. Where the stem lands on the grid and
+// whether its bottom has split are random in reality; the prediction is their expectation, so it is a
+// deterministic function of the row:
+//  - landings: 16 fixed placements (4 offsets in the pitch cell x 4 lean directions), averaged; when
+//    the row gives `pins`, only the placements that engage that many pins (if any do);
+//  - breakage: P(split by insertion k) = 1 - prod_{j<=k} (1 - p_j) from the species' hazards, and the
+//    force is the mixture of the sound and the split predictions.
+// Identical keys (species, angle, depth, insertion, pins, covariates) are computed once.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "engine/core/result.hpp"
+#include "systems/insertion/deterioration.hpp"
+
+namespace ikebana::game {
+
+struct InsertionConditions {
+    std::string species = "sunflower";    // id or file
+    double angle_deg = 45.0;
+    std::optional<double> depth_m;        // below the pin tips; none: down to the base plate
+    std::uint32_t insertion = 1;
+    std::optional<std::uint32_t> pins;
+    bool want_outcome = false;
+    systems::insertion::Covariates covariates; // for an extended species' terms
+};
+
+struct InsertionPrediction {
+    double max_force_n = 0.0;     // expected maximum total resistance during the insertion
+    double fall_probability = 0.0; // when asked for: share of (weighted) placements that fell
+    double broken_probability = 0.0;
+};
+
+class InsertionPredictor {
+public:
+    explicit InsertionPredictor(std::string kenzan = "standard") : kenzan_(std::move(kenzan)) {}
+    Result<InsertionPrediction> predict(const InsertionConditions& conditions);
+    [[nodiscard]] std::size_t simulated() const noexcept { return cache_.size(); }
+
+private:
+    std::string kenzan_;
+    std::map<std::string, InsertionPrediction> cache_;
+};
+
+} // namespace ikebana::game

@@ -1,0 +1,40 @@
+#pragma once
+// Measured insertions (docs/measured-data.md): a CSV with a header; '#' lines are comments.
+// Required: flower_id, insertion (integer >= 1), max_force_gf (> 0). Standard optional: species,
+// angle_deg, depth_mm, pins, speed_mm_s, minutes_since_cut, hole_reuse (0/1), outcome (stood, fell,
+// broke). Every other column is a candidate covariate, numeric or categorical.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/assets/csv_table.hpp"
+#include "engine/core/result.hpp"
+#include "systems/insertion/deterioration.hpp"
+
+namespace ikebana::game {
+
+struct MeasuredTrial {
+    std::size_t line = 0;
+    std::string flower_id;
+    std::uint32_t insertion = 1;
+    double max_force_gf = 0.0;
+    std::optional<std::string> species;
+    std::optional<double> angle_deg;
+    std::optional<double> depth_mm;
+    std::optional<std::uint32_t> pins;
+    std::optional<std::string> outcome;
+    systems::insertion::Covariates covariates; // every other column (and the standard numeric ones)
+};
+
+struct MeasuredData {
+    assets::CsvTable table;
+    std::vector<MeasuredTrial> trials;
+    bool has_outcome = false;
+};
+
+// Every problem is an error naming the file, the line and the column; nothing is returned half read.
+Result<MeasuredData> read_measured_data(assets::CsvTable table);
+Result<MeasuredData> load_measured_data(const std::string& path);
+
+} // namespace ikebana::game

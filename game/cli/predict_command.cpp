@@ -1,0 +1,107 @@
+#include "game/cli/predict_command.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <unistd.h>
+
+#include "engine/assets/json_checker.hpp"
+#include "game/analysis/insertion_predictor.hpp"
+#include "game/analysis/measured_data.hpp"
+#include "game/species/species.hpp"
+
+namespace ikebana::game {
+
+int run_predict(const std::string& input, const std::string& species_override, const std::string& output) {
+    auto data = load_measured_data(input);
+    if (!data) {
+        std::cerr << "ikebana predict: " << data.error().message << "\n";
+        return 2;
+    }
+    InsertionPredictor predictor;
+    std::vector<std::pair<double, std::string>> predictions(data->trials.size());
+    const bool tty = isatty(fileno(stderr)) != 0;
+    for (std::size_t i = 0; i < data->trials.size(); ++i) {
+        const auto& t = data->trials[i];
+        InsertionConditions c;
+        c.species = !species_override.empty() ? species_override : t.species.value_or("sunflower");
+        c.angle_deg = t.angle_deg.value_or(45.0);
+        if (t.depth_mm) c.depth_m = *t.depth_mm * 1e-3;
+        c.insertion = t.insertion;
+        c.pins = t.pins;
+        c.want_outcome = data->has_outcome;
+        c.covariates = t.covariates;
+        const auto p = predictor.predict(c);
+        if (!p) {
+            std::cerr << "ikebana predict: " << input << ":" << t.line << ": " << p.error().message << "\n";
+            return 2;
+        }
+        predictions[i] = {p->max_force_n / gram_force_n, p->fall_probability > 0.5 ? "fell" : "stood"};
+        if (tty) std::fprintf(stderr, "\rpredicted %zu / %zu rows (%zu simulated)", i + 1, data->trials.size(), predictor.simulated());
+    }
+    if (tty) std::fprintf(stderr, "\n");
+    // The input's lines, unchanged, each data line with the predictions appended.
+    auto text = assets::read_text_file(input);
+    if (!text) {
+        std::cerr << "ikebana predict: " << text.error().message << "\n";
+        return 2;
+    }
+    std::map<std::size_t, std::size_t> row_of_line;
+    for (std::size_t i = 0; i < data->table.line_of_row.size(); ++i) row_of_line[data->table.line_of_row[i]] = i;
+    std::ostringstream out;
+    std::istringstream in(*text);
+    std::string line;
+    bool header_done = false;
+    for (std::size_t line_no = 1; std::getline(in, line); ++line_no) {
+        const bool cr = !line.empty() && line.back() == '\r';
+        if (cr) line.pop_back();
+        const bool blank = line.find_first_not_of(" \t") == std::string::npos;
+        if (!blank && line.front() != '#' && !header_done) {
+            header_done = true;
+            line += data->has_outcome ? ",predicted_force_gf,predicted_outcome" : ",predicted_force_gf";
+        } else if (const auto it = row_of_line.find(line_no); it != row_of_line.end()) {
+            char value[64];
+            std::snprintf(value, sizeof value, ",%.2f", predictions[it->second].first);
+            line += value;
+            if (data->has_outcome) line += "," + predictions[it->second].second;
+        }
+        out << line << (cr ? "\r\n" : "\n");
+    }
+    // Written beside the target and renamed: no half-written output.
+    const std::string temporary = output + ".tmp";
+    {
+        std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+        file << out.str();
+        if (!file) {
+            std::cerr << "ikebana predict: cannot write " << output << "\n";
+            return 2;
+        }
+    }
+    std::error_code ec;
+    std::filesystem::rename(temporary, output, ec);
+    if (ec) {
+        std::cerr << "ikebana predict: " << output << ": " << ec.message() << "\n";
+        return 2;
+    }
+    std::printf("wrote %zu predictions to %s (%zu distinct conditions simulated)\n", data->trials.size(), output.c_str(), predictor.simulated());
+    return 0;
+}
+
+void add_predict_command(CLI::App& app, int& exit_code) {
+    struct Args {
+        std::string input;
+        std::string species;
+        std::string output;
+    };
+    auto args = std::make_shared<Args>();
+    auto* cmd = app.add_subcommand("predict", "Predict every measured insertion through the simulation; rows are written back with predicted_force_gf");
+    cmd->add_option("trials", args->input, "Measured trials (CSV, docs/measured-data.md)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("--species", args->species, "Species id or file for every row (default: the row's species column, else sunflower)");
+    cmd->add_option("-o,--output", args->output, "Where to write the rows with predictions")->required();
+    cmd->callback([args, &exit_code] { exit_code = run_predict(args->input, args->species, args->output); });
+}
+
+} // namespace ikebana::game

@@ -1,0 +1,93 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "engine/assets/json_checker.hpp"
+#include "game/analysis/measured_data.hpp"
+#include "game/cli/predict_command.hpp"
+
+using namespace ikebana;
+using namespace ikebana::game;
+
+namespace {
+std::string temp(const std::string& name) { return (std::filesystem::temp_directory_path() / ("ikebana_predict_" + name)).string(); }
+std::string write(const std::string& name, const std::string& text) {
+    const auto path = temp(name);
+    std::ofstream(path) << text;
+    return path;
+}
+std::vector<std::string> lines(const std::string& path) {
+    std::vector<std::string> out;
+    std::istringstream in(*assets::read_text_file(path));
+    for (std::string l; std::getline(in, l);) out.push_back(l);
+    return out;
+}
+} // namespace
+
+TEST(Predict, RowsComeBackUnchangedWithThePredictionAppended) {
+    const auto input = write("in.csv", "# a comment stays\nflower_id,insertion,max_force_gf,room,note\nA,1,480,dry,\"first, gently\"\nA,3,410,dry,x\n");
+    const auto output = temp("out.csv");
+    ASSERT_EQ(run_predict(input, "", output), 0);
+    const auto in = lines(input);
+    const auto out = lines(output);
+    ASSERT_EQ(out.size(), in.size());
+    EXPECT_EQ(out[0], in[0]);
+    EXPECT_EQ(out[1], in[1] + ",predicted_force_gf");
+    for (std::size_t i = 2; i < in.size(); ++i) {
+        ASSERT_EQ(out[i].rfind(in[i] + ",", 0), 0u) << "the row itself is untouched, extra columns included";
+    }
+    const double first = std::stod(out[2].substr(out[2].rfind(',') + 1));
+    const double third = std::stod(out[3].substr(out[3].rfind(',') + 1));
+    EXPECT_GT(first, 100.0) << "grams-force for several pins";
+    EXPECT_GT(first, third) << "the third insertion resists less (Table 2, and the bottom may have split)";
+}
+
+TEST(Predict, SameRowSamePredictionWhateverElseIsInTheFile) {
+    const auto alone = write("alone.csv", "flower_id,insertion,max_force_gf\nA,2,460\n");
+    const auto crowd = write("crowd.csv", "flower_id,insertion,max_force_gf\nB,5,300\nC,1,480\nA,2,460\n");
+    ASSERT_EQ(run_predict(alone, "", temp("alone_out.csv")), 0);
+    ASSERT_EQ(run_predict(crowd, "", temp("crowd_out.csv")), 0);
+    const auto a = lines(temp("alone_out.csv"));
+    const auto c = lines(temp("crowd_out.csv"));
+    EXPECT_EQ(a[1], c[3]);
+    ASSERT_EQ(run_predict(crowd, "", temp("crowd_again.csv")), 0);
+    EXPECT_EQ(lines(temp("crowd_again.csv")), c) << "deterministic run to run";
+}
+
+TEST(Predict, OutcomeColumnGetsAPredictedOutcome) {
+    const auto input = write("outcome.csv", "flower_id,insertion,max_force_gf,outcome\nA,1,480,stood\n");
+    ASSERT_EQ(run_predict(input, "", temp("outcome_out.csv")), 0);
+    const auto out = lines(temp("outcome_out.csv"));
+    EXPECT_EQ(out[0], "flower_id,insertion,max_force_gf,outcome,predicted_force_gf,predicted_outcome");
+    EXPECT_TRUE(out[1].ends_with(",stood") || out[1].ends_with(",fell"));
+}
+
+TEST(Predict, BadInputNamesFileLineAndColumnAndWritesNothing) {
+    const auto bad = write("bad.csv", "flower_id,insertion,max_force_gf\nA,1,480\nA,two,460\n");
+    const auto data = load_measured_data(bad);
+    ASSERT_FALSE(data);
+    EXPECT_NE(data.error().message.find("bad.csv:3: column 'insertion': expected a number, got 'two'"), std::string::npos)
+        << data.error().message;
+    const auto output = temp("never.csv");
+    std::filesystem::remove(output);
+    EXPECT_NE(run_predict(bad, "", output), 0);
+    EXPECT_FALSE(std::filesystem::exists(output));
+    const auto missing = load_measured_data(write("missing.csv", "flower_id,max_force_gf\nA,480\n"));
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.error().message.find("missing the required column 'insertion'"), std::string::npos);
+    const auto zero = load_measured_data(write("zero.csv", "flower_id,insertion,max_force_gf\nA,0,480\n"));
+    EXPECT_FALSE(zero);
+    const auto outcome = load_measured_data(write("out.csv", "flower_id,insertion,max_force_gf,outcome\nA,1,480,wilted\n"));
+    ASSERT_FALSE(outcome);
+    EXPECT_NE(outcome.error().message.find("expected stood, fell or broke"), std::string::npos);
+}
+
+TEST(Predict, UnknownColumnsBecomeCovariates) {
+    const auto data = load_measured_data(write("cov.csv", "flower_id,insertion,max_force_gf,room_c,batch\nA,1,480,21.5,north\n"));
+    ASSERT_TRUE(data) << data.error().message;
+    EXPECT_EQ(data->trials[0].covariates.numeric.at("room_c"), 21.5);
+    EXPECT_EQ(data->trials[0].covariates.category.at("batch"), "north");
+    EXPECT_EQ(data->trials[0].covariates.numeric.at("insertion"), 1.0);
+}
