@@ -17,6 +17,12 @@ int main(int argc, char** argv) {
     CLI::App app{"Ikebana: a training simulator for Japanese flower arrangement"};
     app.require_subcommand(0, 1);
     int exit_code = 0;
+    // The trainee app picks its hands' devices by itself; these override it.
+    std::string left_device = "auto";
+    std::string right_device = "auto";
+    app.add_option("--left", left_device, "Left hand's device for the app: auto, none, scripted:FILE, replay:FILE, hid:PATH")
+        ->capture_default_str();
+    app.add_option("--right", right_device, "Right hand's device for the app (as --left)")->capture_default_str();
     ikebana::game::add_sim_command(app, exit_code);
     ikebana::game::add_species_command(app, exit_code);
     ikebana::game::add_assets_command(app, exit_code);
@@ -39,6 +45,8 @@ int main(int argc, char** argv) {
         ikebana::game::SimOptions options;
         options.scene = (ikebana::game::asset_dir() / "scenes" / "default.json").string();
         options.seconds = 10.0;
+        options.left_device = left_device;
+        options.right_device = right_device;
         return ikebana::game::run_sim(options);
     }
     return exit_code;
