@@ -13,10 +13,17 @@ struct StemPose {
     std::vector<glm::dvec3> points_m;
 };
 
+struct HandStatus {
+    bool present;       // the scene has this hand
+    bool connected;     // its device answers
+    std::uint64_t disconnects;
+};
+
 struct FrameSnapshot {
     std::int64_t sim_time_us;
     std::vector<StemPose> stems;
     std::uint64_t contacts;
+    HandStatus hands[2];
 };
 
 } // namespace ikebana::components

@@ -73,6 +73,13 @@ int run_sim(const SimOptions& options) {
         std::printf("%s hand: %s\n", hand ? "right" : "left", opened->description.c_str());
         w.attach_device(hand, std::move(opened->device));
     }
+    // Device news reaches the terminal when it happens (on the main lane, in simulated time order).
+    if (auto* frames = w.main.resource<systems::ReceivedFrames>()) {
+        frames->announce = [](const std::string& message) {
+            std::printf("ikebana: %s\n", message.c_str());
+            std::fflush(stdout);
+        };
+    }
     std::ofstream record_files[2];
     std::unique_ptr<devices::DeviceRecorder> recorders[2];
     if (!options.record_dir.empty()) {

@@ -54,7 +54,7 @@ Result<void> register_systems(World& w, const std::string& force_scheme) {
     using sched::describe;
     // The lanes' phases, in execution order at equal timestamps.
     if (auto r = w.schedule.add_lane({"sim", &w.sim, sched::LaneThread::own,
-                                      {"input", "collision", "insertion", "physics", "constraints", "output"}});
+                                      {"input", "collision", "insertion", "physics", "constraints", "output", "present"}});
         !r) {
         return r;
     }

@@ -1,5 +1,6 @@
 #include "systems/presentation/publish_frame_system.hpp"
 
+#include "components/hand.hpp"
 #include "engine/ecs/registry.hpp"
 #include "systems/presentation/frame_channel.hpp"
 
@@ -16,6 +17,10 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
         [&](ecs::Entity, components::Flower&, components::StemPoints& points) {
             frame.stems.push_back({index++, points.position_m});
         });
+    for (auto& h : frame.hands) h = components::HandStatus{false, false, 0};
+    ctx.registry.view<components::HandState>().each([&](ecs::Entity, components::HandState& hand) {
+        if (hand.hand < 2) frame.hands[hand.hand] = components::HandStatus{true, hand.connected, hand.disconnects};
+    });
     const auto* contacts = ctx.registry.resource<components::Contacts>();
     frame.contacts = contacts ? contacts->list.size() : 0;
     (*channel)->buffer.publish();

@@ -4,6 +4,7 @@
 
 #include "components/collision.hpp"
 #include "components/flower.hpp"
+#include "components/hand.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/system.hpp"
 
@@ -12,9 +13,9 @@ namespace ikebana::systems {
 struct PublishFrameSystem {
     static constexpr std::string_view name = "publish_frame";
     static constexpr std::string_view lane = "sim";
-    static constexpr std::string_view phase = "output";
+    static constexpr std::string_view phase = "present"; // after every system that writes what it copies
     static constexpr std::string_view rate = "render";
-    using reads = sched::Components<components::StemPoints, components::Flower, components::Contacts>;
+    using reads = sched::Components<components::StemPoints, components::Flower, components::Contacts, components::HandState>;
     using writes = sched::Components<>;
 
     void operator()(sched::SystemContext& ctx);

@@ -9,6 +9,7 @@
 #include "engine/sched/clocks.hpp"
 #include "game/world/world.hpp"
 #include "systems/haptics/hand_devices.hpp"
+#include "systems/presentation/frame_channel.hpp"
 
 using namespace ikebana;
 using namespace ikebana::game;
@@ -256,4 +257,30 @@ TEST(TwoHands, BendingPastTheThresholdLeavesAPermanentSet) {
     EXPECT_FALSE(run.w->sim.get<Bending>(run.w->flowers[0].entity).active) << "released";
     auto gentle = bend_branch(0.15); // 8.6 degrees: springs back
     EXPECT_NEAR(total_rest(*gentle.w), gentle.total_rest_before, 1e-12);
+}
+
+// The main lane hears of it when a device goes away and when it comes back.
+TEST(TwoHands, UnpluggingIsAnnouncedWhenItHappens) {
+    auto w = lying_flower();
+    std::vector<std::string> heard;
+    w->main.resource<systems::ReceivedFrames>()->announce = [&](const std::string& m) { heard.push_back(m); };
+    const glm::dvec3 p = point(*w, 10);
+    w->attach_device(0, script({{0.0, p.x, p.y, 0.05, 0}, {5.0, p.x, p.y, 0.05, 0}}));
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(300'000);
+    EXPECT_TRUE(heard.empty());
+    struct Gone : devices::HapticDevice {
+        devices::DeviceCapabilities caps{"gone", false, 0.0, glm::dvec3{0.0}, true};
+        const devices::DeviceCapabilities& capabilities() const override { return caps; }
+        Result<devices::DeviceSample> poll(std::int64_t) override { return make_error(ErrorCode::device_error, "unplugged"); }
+        Result<void> send_force(glm::dvec3) override { return {}; }
+    };
+    w->attach_device(0, std::make_unique<Gone>());
+    clock.run_for_us(200'000);
+    ASSERT_EQ(heard.size(), 1u);
+    EXPECT_NE(heard[0].find("left hand: device unplugged"), std::string::npos);
+    w->attach_device(0, script({{0.0, p.x, p.y, 0.05, 0}, {5.0, p.x, p.y, 0.05, 0}}));
+    clock.run_for_us(200'000);
+    ASSERT_EQ(heard.size(), 2u);
+    EXPECT_NE(heard[1].find("left hand: device back"), std::string::npos);
 }
