@@ -48,6 +48,14 @@ std::unique_ptr<World> lying_flower(glm::dvec3 base = {0.1, 0.1, 0.0}, glm::dvec
 
 glm::dvec3 point(World& w, std::size_t i) { return w.sim.get<StemPoints>(w.flowers[0].entity).position_m[i]; }
 const HandState& hand(World& w, int h) { return w.sim.get<HandState>(w.hands[static_cast<std::size_t>(h)]); }
+
+// An unplugged device: every read fails.
+struct Gone : devices::HapticDevice {
+    devices::DeviceCapabilities caps{"gone", false, 0.0, glm::dvec3{0.0}, true};
+    const devices::DeviceCapabilities& capabilities() const override { return caps; }
+    Result<devices::DeviceSample> poll(std::int64_t) override { return make_error(ErrorCode::device_error, "unplugged"); }
+    Result<void> send_force(glm::dvec3) override { return make_error(ErrorCode::device_error, "unplugged"); }
+};
 } // namespace
 
 TEST(TwoHands, GrabbedPointFollowsTheHandAndTheHandFeelsTheWeight) {
@@ -123,13 +131,6 @@ TEST(TwoHands, UnpluggedDeviceReleasesAndReattaches) {
     sched::DeterministicClock clock(w->schedule);
     clock.run_for_us(600'000);
     ASSERT_FALSE(hand(*w, 0).held.is_null());
-    // Unplugged: a device whose every read fails.
-    struct Gone : devices::HapticDevice {
-        devices::DeviceCapabilities caps{"gone", false, 0.0, glm::dvec3{0.0}, true};
-        const devices::DeviceCapabilities& capabilities() const override { return caps; }
-        Result<devices::DeviceSample> poll(std::int64_t) override { return make_error(ErrorCode::device_error, "unplugged"); }
-        Result<void> send_force(glm::dvec3) override { return make_error(ErrorCode::device_error, "unplugged"); }
-    };
     w->attach_device(0, std::make_unique<Gone>());
     clock.run_for_us(500'000);
     EXPECT_FALSE(hand(*w, 0).connected);
@@ -269,12 +270,6 @@ TEST(TwoHands, UnpluggingIsAnnouncedWhenItHappens) {
     sched::DeterministicClock clock(w->schedule);
     clock.run_for_us(300'000);
     EXPECT_TRUE(heard.empty());
-    struct Gone : devices::HapticDevice {
-        devices::DeviceCapabilities caps{"gone", false, 0.0, glm::dvec3{0.0}, true};
-        const devices::DeviceCapabilities& capabilities() const override { return caps; }
-        Result<devices::DeviceSample> poll(std::int64_t) override { return make_error(ErrorCode::device_error, "unplugged"); }
-        Result<void> send_force(glm::dvec3) override { return {}; }
-    };
     w->attach_device(0, std::make_unique<Gone>());
     clock.run_for_us(200'000);
     ASSERT_EQ(heard.size(), 1u);
