@@ -62,8 +62,13 @@ struct DeteriorationTerm {
     std::string covariate;        // a column name of the measured data, or "insertion"
     std::string form;
     double coefficient;
-    double scale;                 // saturating: rate; step: threshold; power: exponent
+    double scale;                 // log: shift; saturating: length; step: threshold; power: exponent
     std::string category;         // for "category": which value the coefficient applies to
+    double origin;                // the form is evaluated at (covariate - origin)
+    // The covariate is clamped into [range_low, range_high] (the values the term was fitted on) so a
+    // fitted curve is never extrapolated; equal bounds: no clamp.
+    double range_low;
+    double range_high;
 };
 
 // The species' resistance model as the systems use it (copied from the species file on spawn).

@@ -135,12 +135,22 @@ void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
                     c.problem(tp, "expected an object, got " + JsonChecker::describe(t));
                     continue;
                 }
-                c.no_unknown_keys(t, tp, {"covariate", "form", "coefficient", "scale", "category"});
+                c.no_unknown_keys(t, tp, {"covariate", "form", "coefficient", "scale", "origin", "range", "category"});
                 components::DeteriorationTerm term{};
                 term.covariate = c.string(t, tp, "covariate").value_or("");
                 term.form = c.choice(t, tp, "form", {"constant", "linear", "log", "saturating", "power", "step", "category"}).value_or("");
                 term.coefficient = c.number(t, tp, "coefficient", {-50, 50}).value_or(0);
                 term.scale = c.number(t, tp, "scale", {-1e9, 1e9}, false).value_or(0);
+                term.origin = c.number(t, tp, "origin", {-1e9, 1e9}, false).value_or(0);
+                if (t.contains("range")) {
+                    const auto range = c.numbers(t, tp, "range", {-1e9, 1e9}, 2);
+                    if (range && range->size() != 2) c.problem(tp + "/range", "expected [low, high]");
+                    else if (range && (*range)[0] > (*range)[1]) c.problem(tp + "/range", "expected low <= high");
+                    else if (range) {
+                        term.range_low = (*range)[0];
+                        term.range_high = (*range)[1];
+                    }
+                }
                 term.category = c.string(t, tp, "category", term.form == "category").value_or("");
                 out.deterioration.terms.push_back(term);
             }

@@ -48,7 +48,8 @@ double extension_factor(const std::vector<components::DeteriorationTerm>& terms,
         } else if (t.form != "constant") {
             continue; // a covariate this world does not have: the term does not apply
         }
-        exponent += t.coefficient * term_basis(t.form, x, t.scale);
+        if (t.range_high > t.range_low) x = std::clamp(x, t.range_low, t.range_high);
+        exponent += t.coefficient * term_basis(t.form, x - t.origin, t.scale);
     }
     return std::exp(exponent);
 }

@@ -27,10 +27,12 @@ struct Covariates {
 std::vector<double> expand_deterioration(const std::string& model, const std::vector<double>& table);
 
 // exp(sum of terms) for these covariates; 1 when there are no terms. "insertion" is always available.
+// The factor multiplies the resistance of either branch kind (soft table or hard Eq. 6).
 double extension_factor(const std::vector<components::DeteriorationTerm>& terms, std::uint32_t insertion,
                         const Covariates& covariates);
 
-// The basis value of one term's form at x (used by the fit as well as by the model).
+// The basis value of one term's form at x (already less the term's origin); used by the fit as well
+// as by the model, so the two cannot disagree.
 double term_basis(const std::string& form, double x, double scale);
 
 // Resistance per metre of pin at the k-th insertion (k >= 1) of a sound stem end.

@@ -37,7 +37,11 @@ void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
             const double soft = model.kind == ResistanceKind::soft_table
                                     ? insertion::soft_resistance_n_per_m(model, std::max(history.insertions, 1u), covariates)
                                     : 0.0;
-            const double factor = history.bottom_broken ? model.broken_holding_factor : 1.0;
+            // A fitted extension multiplies a hard branch's Eq. 6 as well (the soft table has it already).
+            const double extension = model.kind == ResistanceKind::soft_table
+                                         ? 1.0
+                                         : insertion::extension_factor(model.extension, std::max(history.insertions, 1u), covariates);
+            const double factor = (history.bottom_broken ? model.broken_holding_factor : 1.0) * extension;
             for (auto& p : engagement.pins) {
                 p.force_n = factor * insertion::pin_resistance_n(p, model, soft);
                 engagement.resistance_n += p.force_n;
