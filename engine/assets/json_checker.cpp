@@ -240,4 +240,25 @@ Result<std::string> read_text_file(const std::filesystem::path& path) {
     return text.str();
 }
 
+Result<void> write_text_file(const std::filesystem::path& path, const std::string& text) {
+    const std::filesystem::path temporary = path.string() + ".tmp";
+    {
+        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+        out << text;
+        out.flush();
+        if (!out) {
+            std::error_code ignored;
+            std::filesystem::remove(temporary, ignored);
+            return make_error(ErrorCode::io_error, path.string() + ": cannot be written");
+        }
+    }
+    std::error_code ec;
+    std::filesystem::rename(temporary, path, ec);
+    if (ec) {
+        std::filesystem::remove(temporary, ec);
+        return make_error(ErrorCode::io_error, path.string() + ": " + ec.message());
+    }
+    return Ok{};
+}
+
 } // namespace ikebana::assets

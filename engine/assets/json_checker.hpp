@@ -67,5 +67,7 @@ private:
 
 // Reads a whole file; not_found or io_error naming the path.
 Result<std::string> read_text_file(const std::filesystem::path& path);
+// Writes beside the target and renames over it: a reader sees the old file or the whole new one.
+Result<void> write_text_file(const std::filesystem::path& path, const std::string& text);
 
 } // namespace ikebana::assets

@@ -1,6 +1,7 @@
 #include "game/analysis/insertion_predictor.hpp"
 
 #include <cmath>
+#include <set>
 #include <sstream>
 
 #include <glm/gtc/constants.hpp>
@@ -10,6 +11,7 @@
 #include "components/stem.hpp"
 #include "engine/sched/clocks.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
+#include "game/species/species.hpp"
 #include "game/world/world.hpp"
 
 namespace ikebana::game {
@@ -18,13 +20,19 @@ using namespace components;
 
 namespace {
 
-std::string key_of(const InsertionConditions& c) {
+// Only the covariates the species' extension terms read change the simulation, so only they are part
+// of the key: a file of many rows with unknown columns still costs one simulation per condition.
+std::string key_of(const InsertionConditions& c, const std::set<std::string>& used) {
     std::ostringstream k;
     k.precision(17);
     k << c.species << '|' << c.angle_deg << '|' << (c.depth_m ? *c.depth_m : -1.0) << '|' << c.insertion << '|'
       << (c.pins ? static_cast<long>(*c.pins) : -1L) << '|' << c.want_outcome;
-    for (const auto& [name, v] : c.covariates.numeric) k << '|' << name << '=' << v;
-    for (const auto& [name, v] : c.covariates.category) k << '|' << name << '=' << v;
+    for (const auto& [name, v] : c.covariates.numeric) {
+        if (used.contains(name)) k << '|' << name << '=' << v;
+    }
+    for (const auto& [name, v] : c.covariates.category) {
+        if (used.contains(name)) k << '|' << name << '=' << v;
+    }
     return k.str();
 }
 
@@ -42,8 +50,44 @@ void run_until(sched::DeterministicClock& clock, F&& done, double limit_s) {
 
 } // namespace
 
+InsertionConditions conditions_for(const MeasuredTrial& t, const std::string& species_override, bool want_outcome) {
+    InsertionConditions c;
+    c.species = !species_override.empty() ? species_override : t.species.value_or("sunflower");
+    c.angle_deg = t.angle_deg.value_or(45.0);
+    if (t.depth_mm) c.depth_m = *t.depth_mm * 1e-3;
+    c.insertion = t.insertion;
+    c.pins = t.pins;
+    c.want_outcome = want_outcome;
+    c.covariates = t.covariates;
+    return c;
+}
+
+const std::set<std::string>* InsertionPredictor::covariates_used(const std::string& species, Error* error) {
+    auto it = covariates_used_.find(species);
+    if (it == covariates_used_.end()) {
+        auto def = load_species(species);
+        if (!def) {
+            if (error) *error = def.error();
+            return nullptr;
+        }
+        std::set<std::string> used;
+        for (const auto& t : def->deterioration.terms) used.insert(t.covariate);
+        it = covariates_used_.emplace(species, std::move(used)).first;
+    }
+    return &it->second;
+}
+
+std::string InsertionPredictor::key(const InsertionConditions& c) {
+    const auto* used = covariates_used(c.species, nullptr);
+    return used ? key_of(c, *used) : std::string();
+}
+
 Result<InsertionPrediction> InsertionPredictor::predict(const InsertionConditions& c) {
-    const std::string key = key_of(c);
+    Error error{};
+    const auto* used_set = covariates_used(c.species, &error);
+    if (!used_set) return error;
+    const std::set<std::string>& used = *used_set;
+    const std::string key = key_of(c, used);
     if (const auto it = cache_.find(key); it != cache_.end()) return it->second;
     if (c.insertion < 1) return make_error(ErrorCode::invalid_argument, "insertion must be 1 or more");
 
@@ -54,7 +98,12 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
     scene.gravity_m_s2 = {0.0, 0.0, -9.80665};
     scene.kenzan_layout = kenzan_;
     scene.kenzan_position_m = {0.0, 0.0, kenzan_def->base_thickness_m};
-    scene.environment = c.covariates;
+    for (const auto& [name, v] : c.covariates.numeric) {
+        if (used.contains(name)) scene.environment.numeric[name] = v;
+    }
+    for (const auto& [name, v] : c.covariates.category) {
+        if (used.contains(name)) scene.environment.category[name] = v;
+    }
     scene.flowers.push_back({c.species, game::Placement::lying, {0.3, 0.0, 0.0}, {1.0, 0.0, 0.0}, 0.0});
     auto world = World::create(scene);
     if (!world) return std::move(world).error();
@@ -76,6 +125,13 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
     r.emplace<ScriptedInsertion>(flower);
     sched::DeterministicClock clock(w.schedule);
 
+    const auto numeric = [&](const char* name) {
+        const auto it = c.covariates.numeric.find(name);
+        return used.contains(name) && it != c.covariates.numeric.end() ? it->second : 0.0;
+    };
+    const bool reuse = numeric("hole_reuse") > 0.5;
+    const double minutes_since_cut = std::max(0.0, numeric("minutes_since_cut"));
+
     InsertionPrediction out;
     out.broken_probability = broken_weight;
     for (const bool broken : {false, true}) {
@@ -91,6 +147,10 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
                 history.records.clear();
                 history.holes.clear();
                 const glm::dvec2 landing = k.pitch_m * glm::dvec2{(i + 0.5) / 4.0, ((3 * i) % 4 + 0.5) / 4.0};
+                // The row's own state where the world would otherwise make it up: a re-used hole
+                // is an earlier hole at this landing, and the cut happened that long ago.
+                if (reuse) history.holes.push_back(glm::dvec2{k.origin_m.x + landing.x, k.origin_m.y + landing.y});
+                history.cut_at_us = clock.now_us() - static_cast<std::int64_t>(minutes_since_cut * 60e6);
                 const double azimuth = (a + 0.125) * 0.5 * glm::pi<double>();
                 auto& hand = r.get<ScriptedInsertion>(flower);
                 hand.axis = {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
@@ -118,21 +178,21 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
                 clock.run_for_us(2000);
             }
         }
-        std::vector<const PlacementResult*> used;
+        std::vector<const PlacementResult*> matching;
         for (const auto& p : placements) {
-            if (!c.pins || p.pins == *c.pins) used.push_back(&p);
+            if (!c.pins || p.pins == *c.pins) matching.push_back(&p);
         }
-        if (used.empty()) {
-            for (const auto& p : placements) used.push_back(&p);
+        if (matching.empty()) {
+            for (const auto& p : placements) matching.push_back(&p);
         }
         double force = 0.0;
         double fell = 0.0;
-        for (const auto* p : used) {
+        for (const auto* p : matching) {
             force += p->force_n;
             fell += p->fell ? 1.0 : 0.0;
         }
-        out.max_force_n += weight * force / static_cast<double>(used.size());
-        out.fall_probability += weight * fell / static_cast<double>(used.size());
+        out.max_force_n += weight * force / static_cast<double>(matching.size());
+        out.fall_probability += weight * fell / static_cast<double>(matching.size());
     }
     cache_.emplace(key, out);
     return out;

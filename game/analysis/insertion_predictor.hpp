@@ -8,13 +8,16 @@
 //    the row gives `pins`, only the placements that engage that many pins (if any do);
 //  - breakage: P(split by insertion k) = 1 - prod_{j<=k} (1 - p_j) from the species' hazards, and the
 //    force is the mixture of the sound and the split predictions.
-// Identical keys (species, angle, depth, insertion, pins, covariates) are computed once.
+// Identical keys (species, angle, depth, insertion, pins, and the covariates the species' extension
+// terms read) are computed once.
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "engine/core/result.hpp"
+#include "game/analysis/measured_data.hpp"
 #include "systems/insertion/deterioration.hpp"
 
 namespace ikebana::game {
@@ -35,15 +38,23 @@ struct InsertionPrediction {
     double broken_probability = 0.0;
 };
 
+// A measured row as simulation conditions: the species from `species_override`, else the row's, else
+// sunflower; 45 degrees and down to the base plate where the row does not say.
+InsertionConditions conditions_for(const MeasuredTrial& trial, const std::string& species_override, bool want_outcome);
+
 class InsertionPredictor {
 public:
     explicit InsertionPredictor(std::string kenzan = "standard") : kenzan_(std::move(kenzan)) {}
     Result<InsertionPrediction> predict(const InsertionConditions& conditions);
     [[nodiscard]] std::size_t simulated() const noexcept { return cache_.size(); }
+    // What identifies a simulation: rows with equal keys share one (empty when the species is bad).
+    std::string key(const InsertionConditions& conditions);
 
 private:
+    const std::set<std::string>* covariates_used(const std::string& species, Error* error);
     std::string kenzan_;
     std::map<std::string, InsertionPrediction> cache_;
+    std::map<std::string, std::set<std::string>> covariates_used_; // by species: what its terms read
 };
 
 } // namespace ikebana::game

@@ -26,15 +26,7 @@ int run_predict(const std::string& input, const std::string& species_override, c
     const bool tty = isatty(fileno(stderr)) != 0;
     for (std::size_t i = 0; i < data->trials.size(); ++i) {
         const auto& t = data->trials[i];
-        InsertionConditions c;
-        c.species = !species_override.empty() ? species_override : t.species.value_or("sunflower");
-        c.angle_deg = t.angle_deg.value_or(45.0);
-        if (t.depth_mm) c.depth_m = *t.depth_mm * 1e-3;
-        c.insertion = t.insertion;
-        c.pins = t.pins;
-        c.want_outcome = data->has_outcome;
-        c.covariates = t.covariates;
-        const auto p = predictor.predict(c);
+        const auto p = predictor.predict(conditions_for(t, species_override, data->has_outcome));
         if (!p) {
             std::cerr << "ikebana predict: " << input << ":" << t.line << ": " << p.error().message << "\n";
             return 2;
