@@ -1,0 +1,805 @@
+#include "game/analysis/discrepancy_analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numeric>
+#include <optional>
+#include <random>
+
+#include <Eigen/Dense>
+
+namespace ikebana::game {
+
+namespace {
+
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+using Rows = std::vector<Index>;
+
+Index idx(std::size_t i) { return static_cast<Index>(i); }
+
+// Rows grouped by flower (or one group per row when there are too few flowers to hold any out).
+struct Groups {
+    std::vector<Rows> rows;
+    std::vector<std::size_t> of_row;
+};
+
+Groups make_groups(const std::vector<std::string>& flower, bool rows_as_groups) {
+    Groups g;
+    g.of_row.resize(flower.size());
+    std::map<std::string, std::size_t> index;
+    for (std::size_t i = 0; i < flower.size(); ++i) {
+        const std::string key = rows_as_groups ? std::to_string(i) : flower[i];
+        const auto [it, fresh] = index.emplace(key, g.rows.size());
+        if (fresh) g.rows.emplace_back();
+        g.rows[it->second].push_back(idx(i));
+        g.of_row[i] = it->second;
+    }
+    return g;
+}
+
+// Least squares with column pivoting: a rank-deficient design (a resample that lost a level) still
+// gives a finite answer.
+VectorXd least_squares(const MatrixXd& x, const VectorXd& y) {
+    if (x.cols() == 0) return VectorXd();
+    Eigen::ColPivHouseholderQR<MatrixXd> qr(x);
+    qr.setThreshold(1e-10);
+    VectorXd beta = qr.solve(y);
+    for (Index k = 0; k < beta.size(); ++k) {
+        if (!std::isfinite(beta(k))) beta(k) = 0.0;
+    }
+    return beta;
+}
+
+MatrixXd join(const std::vector<const MatrixXd*>& blocks, Index n, bool intercept) {
+    Index cols = intercept ? 1 : 0;
+    for (const auto* b : blocks) cols += b->cols();
+    MatrixXd x(n, cols);
+    Index at = 0;
+    if (intercept) x.col(at++).setOnes();
+    for (const auto* b : blocks) {
+        x.middleCols(at, b->cols()) = *b;
+        at += b->cols();
+    }
+    return x;
+}
+
+// A candidate covariate with the raw basis of every shape of every form.
+struct Candidate {
+    std::size_t column = 0;
+    std::vector<TermShape> shapes;
+    std::vector<MatrixXd> bases; // per shape
+    bool block = false;          // categorical: the statistic sums its columns
+};
+
+// A term kept in the model: one candidate at one shape.
+struct Term {
+    std::size_t candidate = 0;
+    TermShape shape;
+    MatrixXd basis;
+};
+
+struct TestOutcome {
+    std::vector<double> observed; // per candidate: share of the residual's sum of squares
+    std::vector<double> p;
+    std::vector<double> z;        // observed against the permutation distribution, in sds
+    std::vector<std::size_t> best_shape;
+    std::vector<double> adjusted; // family-wise: Westfall-Young step-down over the candidates tested
+};
+
+class ResidualPermuter {
+public:
+    explicit ResidualPermuter(const Groups& groups) : groups_(groups) {}
+
+    // One permutation of e: flower means among flowers, deviations within each flower.
+    void permute(const VectorXd& e, std::mt19937_64& rng, float* out) {
+        const std::size_t g = groups_.rows.size();
+        means_.resize(g);
+        for (std::size_t k = 0; k < g; ++k) {
+            double s = 0.0;
+            for (Index i : groups_.rows[k]) s += e(i);
+            means_[k] = s / static_cast<double>(groups_.rows[k].size());
+        }
+        order_.resize(g);
+        std::iota(order_.begin(), order_.end(), std::size_t{0});
+        std::shuffle(order_.begin(), order_.end(), rng);
+        for (std::size_t k = 0; k < g; ++k) {
+            const Rows& rows = groups_.rows[k];
+            within_.assign(rows.begin(), rows.end());
+            std::shuffle(within_.begin(), within_.end(), rng);
+            for (std::size_t j = 0; j < rows.size(); ++j) {
+                out[rows[j]] = static_cast<float>(means_[order_[k]] + e(within_[j]) - means_[k]);
+            }
+        }
+    }
+
+private:
+    const Groups& groups_;
+    std::vector<double> means_;
+    std::vector<std::size_t> order_;
+    Rows within_;
+};
+
+// Projects the columns of b off the span of q (orthonormal) and normalises what is left; a column that
+// lies in the span (collinear with accepted terms) becomes zero.
+MatrixXd orthonormal_rest(const MatrixXd& b, const MatrixXd& q, bool block) {
+    MatrixXd w = b - q * (q.transpose() * b);
+    if (block) {
+        Eigen::ColPivHouseholderQR<MatrixXd> qr(w);
+        qr.setThreshold(1e-8);
+        const Index rank = qr.rank();
+        MatrixXd thin = qr.householderQ() * MatrixXd::Identity(w.rows(), rank);
+        return thin;
+    }
+    for (Index k = 0; k < w.cols(); ++k) {
+        const double before = b.col(k).norm();
+        const double norm = w.col(k).norm();
+        if (norm <= 1e-8 * std::max(before, 1e-300)) w.col(k).setZero();
+        else w.col(k) /= norm;
+    }
+    return w;
+}
+
+MatrixXd orthonormal_basis(const MatrixXd& design) {
+    if (design.cols() == 0) return MatrixXd(design.rows(), 0);
+    Eigen::ColPivHouseholderQR<MatrixXd> qr(design);
+    qr.setThreshold(1e-10);
+    return qr.householderQ() * MatrixXd::Identity(design.rows(), qr.rank());
+}
+
+class Analysis {
+public:
+    Analysis(const AnalysisInput& input, const AnalysisOptions& options) : in_(input), opt_(options) {}
+    Result<AnalysisResult> run();
+
+private:
+    TestOutcome test(const VectorXd& residual, const MatrixXd& design, const std::vector<std::size_t>& which,
+                     std::uint64_t stream, const std::string& stage);
+    double level_p_value(const VectorXd& residual, std::uint64_t stream) const;
+    MatrixXd design_of(const std::vector<Term>& terms, bool intercept) const;
+    // Grouped CV mean squared error of r by intercept + fixed terms (+ a free form whose shape is
+    // chosen on each training fold); oof receives the held-out fits.
+    double cv_mse(const std::vector<Term>& fixed, bool intercept, const Candidate* free, const std::string& form,
+                  VectorXd* oof = nullptr) const;
+    TermShape best_shape_on_all(const std::vector<Term>& fixed, const Candidate& c, const std::string& form) const;
+    void report(const std::string& line) {
+        result_.log.push_back(line);
+    }
+
+    const AnalysisInput& in_;
+    const AnalysisOptions& opt_;
+    AnalysisResult result_;
+    Groups groups_;
+    std::vector<int> fold_of_row_;
+    std::vector<Candidate> candidates_;
+    VectorXd r_;
+    Index n_ = 0;
+};
+
+TestOutcome Analysis::test(const VectorXd& residual, const MatrixXd& design, const std::vector<std::size_t>& which,
+                           std::uint64_t stream, const std::string& stage) {
+    const MatrixXd q = orthonormal_basis(design);
+    const VectorXd e = residual - q * (q.transpose() * residual);
+    const double total = std::max(e.squaredNorm(), 1e-300);
+    // Every candidate's shapes side by side, orthonormal to the model: a statistic is then a dot product.
+    struct Span {
+        Index begin, end;
+        bool block;
+        std::vector<std::size_t> shape_of_column;
+    };
+    std::vector<MatrixXd> parts;
+    std::vector<Span> spans;
+    Index cols = 0;
+    for (std::size_t c : which) {
+        const Candidate& cand = candidates_[c];
+        Span s{cols, cols, cand.block, {}};
+        for (std::size_t k = 0; k < cand.bases.size(); ++k) {
+            MatrixXd w = orthonormal_rest(cand.bases[k], q, cand.block);
+            for (Index j = 0; j < w.cols(); ++j) s.shape_of_column.push_back(k);
+            cols += w.cols();
+            parts.push_back(std::move(w));
+        }
+        s.end = cols;
+        spans.push_back(std::move(s));
+    }
+    Eigen::MatrixXf w(n_, cols);
+    {
+        Index at = 0;
+        for (const auto& p : parts) {
+            w.middleCols(at, p.cols()) = p.cast<float>();
+            at += p.cols();
+        }
+    }
+    auto statistic = [&](const Span& s, const auto& g, Index column_of_perm, std::size_t* best) {
+        double stat = 0.0;
+        for (Index j = s.begin; j < s.end; ++j) {
+            const double v = static_cast<double>(g(j, column_of_perm)) * static_cast<double>(g(j, column_of_perm));
+            if (s.block) {
+                stat += v;
+            } else if (v > stat) {
+                stat = v;
+                if (best) *best = s.shape_of_column[static_cast<std::size_t>(j - s.begin)];
+            }
+        }
+        return stat;
+    };
+    TestOutcome out;
+    const Eigen::VectorXf ef = e.cast<float>();
+    const Eigen::MatrixXf g0 = w.transpose() * ef;
+    std::vector<std::size_t> exceed(which.size(), 0);
+    std::vector<double> sum(which.size(), 0.0), sum_sq(which.size(), 0.0);
+    std::vector<double> permuted(static_cast<std::size_t>(opt_.permutations) * which.size()); // [b * C + c]
+    for (std::size_t c = 0; c < which.size(); ++c) {
+        std::size_t best = 0;
+        out.observed.push_back(statistic(spans[c], g0, 0, &best) / total);
+        out.best_shape.push_back(best);
+    }
+    std::mt19937_64 rng(opt_.seed * 0x9E3779B97F4A7C15ULL + stream);
+    ResidualPermuter permuter(groups_);
+    const std::uint32_t b_total = opt_.permutations;
+    constexpr std::uint32_t batch = 64;
+    Eigen::MatrixXf perm(n_, batch);
+    for (std::uint32_t done = 0; done < b_total;) {
+        const std::uint32_t now = std::min(batch, b_total - done);
+        for (std::uint32_t k = 0; k < now; ++k) permuter.permute(e, rng, perm.col(k).data());
+        const Eigen::MatrixXf g = w.transpose() * perm.leftCols(now);
+        for (std::uint32_t k = 0; k < now; ++k) {
+            for (std::size_t c = 0; c < which.size(); ++c) {
+                const double s = statistic(spans[c], g, static_cast<Index>(k), nullptr) / total;
+                permuted[(done + k) * which.size() + c] = s;
+                sum[c] += s;
+                sum_sq[c] += s * s;
+                if (s >= out.observed[c] * (1.0 - 1e-6)) ++exceed[c];
+            }
+        }
+        done += now;
+        if (opt_.progress) opt_.progress(stage, done, b_total);
+    }
+    for (std::size_t c = 0; c < which.size(); ++c) {
+        out.p.push_back((1.0 + static_cast<double>(exceed[c])) / (1.0 + b_total));
+        const double mean = sum[c] / std::max(1u, b_total);
+        const double sd = std::sqrt(std::max(sum_sq[c] / std::max(1u, b_total) - mean * mean, 1e-300));
+        out.z.push_back((out.observed[c] - mean) / sd);
+    }
+    // Westfall-Young step-down maxT on the standardised statistics: the permutation counterpart of
+    // Holm that keeps the dependence between candidates, so 1000 permutations can reach p = 0.001
+    // for a whole family (Holm would need 1000 x the family size).
+    const std::size_t m = which.size();
+    std::vector<std::size_t> order(m);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return out.z[a] > out.z[b]; });
+    std::vector<double> mean(m), sd(m);
+    for (std::size_t c = 0; c < m; ++c) {
+        mean[c] = sum[c] / std::max(1u, b_total);
+        sd[c] = std::sqrt(std::max(sum_sq[c] / std::max(1u, b_total) - mean[c] * mean[c], 1e-300));
+    }
+    std::vector<std::size_t> count(m, 0);
+    for (std::uint32_t b = 0; b < b_total; ++b) {
+        // Successive maxima from the least significant up.
+        double running = -INFINITY;
+        for (std::size_t j = m; j-- > 0;) {
+            const std::size_t c = order[j];
+            running = std::max(running, (permuted[b * m + c] - mean[c]) / sd[c]);
+            if (running >= out.z[c] - 1e-9) ++count[j];
+        }
+    }
+    out.adjusted.assign(m, 1.0);
+    double previous = 0.0;
+    for (std::size_t j = 0; j < m; ++j) {
+        const double p = std::max(previous, (1.0 + static_cast<double>(count[j])) / (1.0 + b_total));
+        out.adjusted[order[j]] = std::max(p, out.p[order[j]]);
+        previous = out.adjusted[order[j]];
+    }
+    return out;
+}
+
+// The overall level: |mean residual| against sign flips of whole flowers.
+double Analysis::level_p_value(const VectorXd& residual, std::uint64_t stream) const {
+    std::vector<double> sums;
+    for (const auto& rows : groups_.rows) {
+        double s = 0.0;
+        for (Index i : rows) s += residual(i);
+        sums.push_back(s);
+    }
+    const double observed = std::abs(std::accumulate(sums.begin(), sums.end(), 0.0));
+    std::mt19937_64 rng(opt_.seed * 0x9E3779B97F4A7C15ULL + stream);
+    std::size_t exceed = 0;
+    for (std::uint32_t b = 0; b < opt_.permutations; ++b) {
+        double s = 0.0;
+        for (double v : sums) s += (rng() & 1U) ? v : -v;
+        if (std::abs(s) >= observed * (1.0 - 1e-9)) ++exceed;
+    }
+    return (1.0 + static_cast<double>(exceed)) / (1.0 + opt_.permutations);
+}
+
+MatrixXd Analysis::design_of(const std::vector<Term>& terms, bool intercept) const {
+    std::vector<const MatrixXd*> blocks;
+    for (const auto& t : terms) blocks.push_back(&t.basis);
+    return join(blocks, n_, intercept);
+}
+
+double Analysis::cv_mse(const std::vector<Term>& fixed, bool intercept, const Candidate* free, const std::string& form,
+                        VectorXd* oof) const {
+    const MatrixXd base = design_of(fixed, intercept);
+    std::vector<std::size_t> free_shapes;
+    if (free) {
+        for (std::size_t k = 0; k < free->shapes.size(); ++k) {
+            if (free->shapes[k].form == form) free_shapes.push_back(k);
+        }
+    }
+    double sse = 0.0;
+    if (oof) oof->setZero(n_);
+    const int folds = static_cast<int>(result_.folds);
+    for (int f = 0; f < folds; ++f) {
+        Rows train, held;
+        for (Index i = 0; i < n_; ++i) (fold_of_row_[static_cast<std::size_t>(i)] == f ? held : train).push_back(i);
+        if (held.empty() || train.empty()) continue;
+        const VectorXd y = r_(train);
+        auto fit_with = [&](const MatrixXd* extra, double* train_sse) {
+            MatrixXd x_train(static_cast<Index>(train.size()), base.cols() + (extra ? extra->cols() : 0));
+            x_train.leftCols(base.cols()) = base(train, Eigen::all);
+            if (extra) x_train.rightCols(extra->cols()) = (*extra)(train, Eigen::all);
+            const VectorXd beta = least_squares(x_train, y);
+            if (train_sse) *train_sse = beta.size() ? (y - x_train * beta).squaredNorm() : y.squaredNorm();
+            return beta;
+        };
+        VectorXd fit_held = VectorXd::Zero(static_cast<Index>(held.size()));
+        if (free_shapes.empty()) {
+            const VectorXd beta = fit_with(nullptr, nullptr);
+            if (beta.size()) fit_held = base(held, Eigen::all) * beta;
+        } else {
+            double best = INFINITY;
+            for (std::size_t k : free_shapes) {
+                double train_sse = 0.0;
+                const VectorXd beta = fit_with(&free->bases[k], &train_sse);
+                if (train_sse < best) {
+                    best = train_sse;
+                    MatrixXd x_held(static_cast<Index>(held.size()), beta.size());
+                    x_held.leftCols(base.cols()) = base(held, Eigen::all);
+                    x_held.rightCols(free->bases[k].cols()) = free->bases[k](held, Eigen::all);
+                    fit_held = x_held * beta;
+                }
+            }
+        }
+        const VectorXd err = r_(held) - fit_held;
+        sse += err.squaredNorm();
+        if (oof) (*oof)(held) = fit_held;
+    }
+    return sse / static_cast<double>(n_);
+}
+
+TermShape Analysis::best_shape_on_all(const std::vector<Term>& fixed, const Candidate& c, const std::string& form) const {
+    const MatrixXd base = design_of(fixed, true);
+    double best = INFINITY;
+    TermShape shape;
+    for (std::size_t k = 0; k < c.shapes.size(); ++k) {
+        if (c.shapes[k].form != form) continue;
+        MatrixXd x(n_, base.cols() + c.bases[k].cols());
+        x << base, c.bases[k];
+        const double sse = (r_ - x * least_squares(x, r_)).squaredNorm();
+        if (sse < best) {
+            best = sse;
+            shape = c.shapes[k];
+        }
+    }
+    return shape;
+}
+
+std::vector<double> holm(const std::vector<double>& p) {
+    std::vector<std::size_t> order(p.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p[a] < p[b]; });
+    std::vector<double> adjusted(p.size(), 1.0);
+    double running = 0.0;
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        running = std::max(running, std::min(1.0, static_cast<double>(p.size() - k) * p[order[k]]));
+        adjusted[order[k]] = running;
+    }
+    return adjusted;
+}
+
+double quantile(std::vector<double> v, double q) {
+    if (v.empty()) return NAN;
+    std::sort(v.begin(), v.end());
+    const double at = q * static_cast<double>(v.size() - 1);
+    const auto lo = static_cast<std::size_t>(std::floor(at));
+    const std::size_t hi = std::min(lo + 1, v.size() - 1);
+    return v[lo] + (at - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+double rmse_gf(const AnalysisInput& in, const VectorXd* log_factor) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < in.measured_gf.size(); ++i) {
+        const double predicted = in.predicted_gf[i] * (log_factor ? std::exp((*log_factor)(idx(i))) : 1.0);
+        s += (in.measured_gf[i] - predicted) * (in.measured_gf[i] - predicted);
+    }
+    return std::sqrt(s / static_cast<double>(in.measured_gf.size()));
+}
+
+std::vector<ResidualBin> bins_of(const CovariateColumn& c, const VectorXd& r) {
+    std::vector<std::vector<Index>> members;
+    std::vector<std::string> labels;
+    if (!c.numeric) {
+        members.resize(c.levels.size());
+        labels = c.levels;
+        for (std::size_t i = 0; i < c.level.size(); ++i) members[c.level[i]].push_back(idx(i));
+    } else {
+        std::vector<double> distinct = c.values;
+        std::sort(distinct.begin(), distinct.end());
+        distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+        char text[96];
+        if (distinct.size() <= 10) {
+            members.resize(distinct.size());
+            for (double v : distinct) {
+                std::snprintf(text, sizeof text, "%.4g", v);
+                labels.emplace_back(text);
+            }
+            for (std::size_t i = 0; i < c.values.size(); ++i) {
+                const auto at = std::lower_bound(distinct.begin(), distinct.end(), c.values[i]) - distinct.begin();
+                members[static_cast<std::size_t>(at)].push_back(idx(i));
+            }
+        } else {
+            // Deciles of the rows (ties kept together).
+            std::vector<double> cuts;
+            for (int k = 1; k < 10; ++k) cuts.push_back(quantile(c.values, k / 10.0));
+            cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+            members.resize(cuts.size() + 1);
+            std::vector<double> lo(members.size(), INFINITY), hi(members.size(), -INFINITY);
+            for (std::size_t i = 0; i < c.values.size(); ++i) {
+                const auto at = static_cast<std::size_t>(std::upper_bound(cuts.begin(), cuts.end(), c.values[i]) - cuts.begin());
+                members[at].push_back(idx(i));
+                lo[at] = std::min(lo[at], c.values[i]);
+                hi[at] = std::max(hi[at], c.values[i]);
+            }
+            for (std::size_t k = 0; k < members.size(); ++k) {
+                std::snprintf(text, sizeof text, "%.4g-%.4g", lo[k], hi[k]);
+                labels.emplace_back(text);
+            }
+        }
+    }
+    std::vector<ResidualBin> out;
+    for (std::size_t k = 0; k < members.size(); ++k) {
+        if (members[k].empty()) continue;
+        ResidualBin b;
+        b.label = labels[k];
+        b.n = members[k].size();
+        double s = 0.0, s2 = 0.0, x = 0.0;
+        for (Index i : members[k]) {
+            s += r(i);
+            s2 += r(i) * r(i);
+            if (c.numeric) x += c.values[static_cast<std::size_t>(i)];
+        }
+        const double n = static_cast<double>(b.n);
+        const double mean = s / n;
+        const double sem = b.n > 1 ? std::sqrt(std::max(0.0, (s2 - n * mean * mean) / (n - 1)) / n) : 0.0;
+        b.x = c.numeric ? x / n : static_cast<double>(k);
+        b.factor = std::exp(mean);
+        b.low = std::exp(mean - 2 * sem);
+        b.high = std::exp(mean + 2 * sem);
+        out.push_back(b);
+    }
+    return out;
+}
+
+// Relative change of the force across the covariate (numeric), or for the level that differs most
+// from the row-weighted mean of the other levels (categorical: independent of the reference level).
+double effect_of(const Cause& cause, const Eigen::VectorXd& coefficients, std::size_t* level = nullptr, std::optional<std::size_t> fixed = {}) {
+    if (cause.shape.form == "category") {
+        const std::size_t levels = cause.level_share.size();
+        auto beta = [&](std::size_t l) { return l == 0 ? 0.0 : coefficients(static_cast<Index>(l) - 1); };
+        auto deviation = [&](std::size_t l) {
+            double s = 0.0, w = 0.0;
+            for (std::size_t m = 0; m < levels; ++m) {
+                if (m == l) continue;
+                s += cause.level_share[m] * beta(m);
+                w += cause.level_share[m];
+            }
+            return beta(l) - (w > 0.0 ? s / w : 0.0);
+        };
+        std::size_t best = fixed.value_or(0);
+        if (!fixed) {
+            for (std::size_t l = 1; l < levels; ++l) {
+                if (std::abs(deviation(l)) > std::abs(deviation(best))) best = l;
+            }
+        }
+        if (level) *level = best;
+        return std::exp(deviation(best)) - 1.0;
+    }
+    const double b_low = basis_value(cause.shape, cause.x_low);
+    const double b_high = basis_value(cause.shape, cause.x_high);
+    return std::exp(coefficients(0) * (b_high - b_low)) - 1.0;
+}
+
+Result<AnalysisResult> Analysis::run() {
+    const std::size_t n = in_.measured_gf.size();
+    if (n < 3) return make_error(ErrorCode::invalid_argument, "the analysis needs at least 3 trials, got " + std::to_string(n));
+    if (in_.predicted_gf.size() != n || in_.flower.size() != n) {
+        return make_error(ErrorCode::invalid_argument, "measured, predicted and flower columns differ in length");
+    }
+    n_ = idx(n);
+    r_.resize(n_);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!(in_.measured_gf[i] > 0.0) || !(in_.predicted_gf[i] > 0.0) || !std::isfinite(in_.measured_gf[i]) ||
+            !std::isfinite(in_.predicted_gf[i])) {
+            return make_error(ErrorCode::invalid_argument, "row " + std::to_string(i + 1) + ": measured and predicted forces must be positive (measured " +
+                                                               std::to_string(in_.measured_gf[i]) + ", predicted " + std::to_string(in_.predicted_gf[i]) + ")");
+        }
+        r_(idx(i)) = std::log(in_.measured_gf[i] / in_.predicted_gf[i]);
+    }
+    for (const auto& c : in_.covariates.columns) {
+        if ((c.numeric ? c.values.size() : c.level.size()) != n) {
+            return make_error(ErrorCode::invalid_argument, "covariate '" + c.name + "' has a different number of rows");
+        }
+    }
+    result_.n_trials = n;
+    groups_ = make_groups(in_.flower, false);
+    result_.n_flowers = groups_.rows.size();
+    if (groups_.rows.size() < 4) {
+        result_.rows_as_groups = true;
+        groups_ = make_groups(in_.flower, true);
+    }
+    // Folds: whole flowers, dealt out in a seeded random order.
+    result_.folds = std::min<std::uint32_t>(std::max<std::uint32_t>(2, opt_.folds), static_cast<std::uint32_t>(groups_.rows.size()));
+    {
+        std::vector<std::size_t> order(groups_.rows.size());
+        std::iota(order.begin(), order.end(), std::size_t{0});
+        std::mt19937_64 rng(opt_.seed);
+        std::shuffle(order.begin(), order.end(), rng);
+        fold_of_row_.assign(n, 0);
+        for (std::size_t k = 0; k < order.size(); ++k) {
+            for (Index i : groups_.rows[order[k]]) fold_of_row_[static_cast<std::size_t>(i)] = static_cast<int>(k % result_.folds);
+        }
+    }
+    for (std::size_t c = 0; c < in_.covariates.columns.size(); ++c) {
+        const auto& column = in_.covariates.columns[c];
+        Candidate cand;
+        cand.column = c;
+        cand.block = !column.numeric;
+        cand.shapes = all_shapes_of(column);
+        for (const auto& s : cand.shapes) cand.bases.push_back(basis_of(column, s));
+        candidates_.push_back(std::move(cand));
+    }
+
+    result_.baseline_rmse_gf = rmse_gf(in_, nullptr);
+    result_.baseline_cv_rmse_gf = result_.baseline_rmse_gf; // the baseline fits nothing
+    result_.baseline_log_rmse = std::sqrt(r_.squaredNorm() / static_cast<double>(n));
+
+    // Step 1: every covariate against the baseline residual, and the overall level.
+    std::vector<std::size_t> all(candidates_.size());
+    std::iota(all.begin(), all.end(), std::size_t{0});
+    const double level_p = level_p_value(r_, 0);
+    const MatrixXd intercept_only = MatrixXd::Ones(n_, 1);
+    TestOutcome first = test(r_, intercept_only, all, 1, "testing every covariate");
+    const std::vector<double>& first_adjusted = first.adjusted;
+    for (std::size_t c = 0; c < candidates_.size(); ++c) {
+        const auto& column = in_.covariates.columns[c];
+        CovariateDiagnostic d;
+        d.covariate = column.name;
+        d.numeric = column.numeric;
+        d.bins = bins_of(column, r_);
+        d.strength = first.observed[c];
+        d.best_shape = describe_shape(candidates_[c].shapes[first.best_shape[c]]);
+        d.p_value = first.p[c];
+        d.p_adjusted = first_adjusted[c];
+        result_.diagnostics.push_back(std::move(d));
+    }
+    // The level is a family of its own: is the simulation's scale off at all?
+    result_.calibration.p_value = level_p;
+    const double cv_none = cv_mse({}, false, nullptr, "");
+    const double cv_level = cv_mse({}, true, nullptr, "");
+    result_.calibration.significant = level_p <= opt_.alpha && cv_level < cv_none;
+    {
+        char line[200];
+        std::snprintf(line, sizeof line, "overall level: measured/predicted = %.3f, p = %.4g, CV MSE %.5f -> %.5f with a level: %s",
+                      std::exp(r_.mean()), level_p, cv_none, cv_level, result_.calibration.significant ? "kept" : "not kept");
+        report(line);
+    }
+
+    // Forward selection.
+    std::vector<Term> terms;
+    std::vector<std::size_t> remaining = all;
+    std::vector<double> given_model_p(candidates_.size(), 1.0);
+    bool tested_final_model = false;
+    for (std::uint32_t step = 0; step < opt_.max_terms && !remaining.empty(); ++step) {
+        TestOutcome t;
+        std::vector<double> adjusted;
+        if (step == 0) {
+            t = first;
+        } else {
+            const MatrixXd design = design_of(terms, true);
+            const VectorXd e = r_ - design * least_squares(design, r_);
+            t = test(e, design, remaining, 2 + step, "step " + std::to_string(step + 1) + ": given " + std::to_string(terms.size()) + " term(s)");
+        }
+        adjusted = t.adjusted;
+        for (std::size_t k = 0; k < remaining.size(); ++k) given_model_p[remaining[k]] = adjusted[k];
+        tested_final_model = true;
+        std::vector<std::size_t> significant;
+        for (std::size_t k = 0; k < remaining.size(); ++k) {
+            if (adjusted[k] <= opt_.alpha) significant.push_back(k);
+        }
+        std::sort(significant.begin(), significant.end(), [&](std::size_t a, std::size_t b) { return t.z[a] > t.z[b]; });
+        const double cv_now = cv_mse(terms, true, nullptr, "");
+        bool accepted = false;
+        for (std::size_t k : significant) {
+            const std::size_t c = remaining[k];
+            const Candidate& cand = candidates_[c];
+            std::string best_form;
+            double best_cv = INFINITY;
+            std::string forms_text;
+            for (const auto& form : forms_for(in_.covariates.columns[c])) {
+                const double cv = cv_mse(terms, true, &cand, form);
+                char part[64];
+                std::snprintf(part, sizeof part, "%s%s %.5f", forms_text.empty() ? "" : ", ", form.c_str(), cv);
+                forms_text += part;
+                if (cv < best_cv) {
+                    best_cv = cv;
+                    best_form = form;
+                }
+            }
+            char line[512];
+            std::snprintf(line, sizeof line, "step %u: '%s' p = %.4g (family-wise), z = %.1f; CV MSE now %.5f, by form: %s", step + 1,
+                          in_.covariates.columns[c].name.c_str(), adjusted[k], t.z[k], cv_now, forms_text.c_str());
+            report(line);
+            if (best_cv < cv_now) {
+                Term term;
+                term.candidate = c;
+                term.shape = best_shape_on_all(terms, cand, best_form);
+                term.basis = basis_of(in_.covariates.columns[c], term.shape);
+                report("  accepted as " + best_form + ": " + describe_shape(term.shape));
+                terms.push_back(std::move(term));
+                remaining.erase(remaining.begin() + static_cast<std::ptrdiff_t>(k));
+                accepted = true;
+                tested_final_model = false;
+                break;
+            }
+            report("  not accepted: no form lowers the cross-validated error");
+        }
+        if (!accepted) break;
+    }
+
+    // Backward: every kept term given all the others; drop the weakest until all hold.
+    std::vector<double> kept_p(terms.size(), 0.0);
+    for (std::uint64_t round = 0; !terms.empty(); ++round) {
+        std::vector<double> p;
+        for (std::size_t k = 0; k < terms.size(); ++k) {
+            std::vector<Term> others = terms;
+            others.erase(others.begin() + static_cast<std::ptrdiff_t>(k));
+            const MatrixXd design = design_of(others, true);
+            const VectorXd e = r_ - design * least_squares(design, r_);
+            const TestOutcome t = test(e, design, {terms[k].candidate}, 100 + round * 16 + k,
+                                       "re-testing '" + in_.covariates.columns[terms[k].candidate].name + "' given the others");
+            p.push_back(t.p[0]);
+        }
+        const auto adjusted = holm(p);
+        const auto worst = static_cast<std::size_t>(std::max_element(adjusted.begin(), adjusted.end()) - adjusted.begin());
+        if (adjusted[worst] <= opt_.alpha) {
+            kept_p = adjusted;
+            break;
+        }
+        report("backward: '" + in_.covariates.columns[terms[worst].candidate].name + "' no longer significant given the others (p = " +
+               std::to_string(adjusted[worst]) + "): dropped");
+        remaining.push_back(terms[worst].candidate);
+        terms.erase(terms.begin() + static_cast<std::ptrdiff_t>(worst));
+        tested_final_model = false;
+    }
+    if (!tested_final_model && !remaining.empty()) {
+        const MatrixXd design = design_of(terms, true);
+        const VectorXd e = r_ - design * least_squares(design, r_);
+        const TestOutcome t = test(e, design, remaining, 99, "final model: testing the rest");
+        const auto& adjusted = t.adjusted;
+        for (std::size_t k = 0; k < remaining.size(); ++k) given_model_p[remaining[k]] = adjusted[k];
+    }
+
+    // The extended model: a level whenever anything is kept, and the terms.
+    const bool extended = !terms.empty() || result_.calibration.significant;
+    result_.discrepancy_found = extended;
+    VectorXd fitted = VectorXd::Zero(n_);
+    VectorXd oof = VectorXd::Zero(n_);
+    if (extended) {
+        const MatrixXd design = design_of(terms, true);
+        const VectorXd beta = least_squares(design, r_);
+        fitted = design * beta;
+        cv_mse(terms, true, nullptr, "", &oof);
+        result_.extension.push_back({.covariate = "level", .form = "constant", .coefficient = beta(0), .scale = 0.0, .category = {}, .origin = 0.0,
+                                     .range_low = 0.0, .range_high = 0.0});
+        Index at = 1;
+        const double total = std::max((r_.array() - r_.mean()).matrix().squaredNorm(), 1e-300);
+        const double sse_full = (r_ - fitted).squaredNorm();
+        for (std::size_t k = 0; k < terms.size(); ++k) {
+            const Term& t = terms[k];
+            const CovariateColumn& column = in_.covariates.columns[t.candidate];
+            Cause cause;
+            cause.covariate = column.name;
+            cause.shape = t.shape;
+            cause.coefficients = beta.segment(at, t.basis.cols());
+            at += t.basis.cols();
+            const auto terms_here = terms_of(column, t.shape, cause.coefficients);
+            result_.extension.insert(result_.extension.end(), terms_here.begin(), terms_here.end());
+            if (column.numeric) {
+                const bool step = t.shape.form == "step";
+                cause.x_low = step ? *std::min_element(column.values.begin(), column.values.end()) : quantile(column.values, 0.05);
+                cause.x_high = step ? *std::max_element(column.values.begin(), column.values.end()) : quantile(column.values, 0.95);
+                for (int g = 0; g <= 40; ++g) {
+                    const double x = cause.x_low + (cause.x_high - cause.x_low) * g / 40.0;
+                    cause.curve_x.push_back(x);
+                    cause.curve_factor.push_back(std::exp(cause.coefficients(0) * basis_value(t.shape, x)));
+                }
+            } else {
+                cause.reference = column.levels[0];
+                cause.level_share.assign(column.levels.size(), 0.0);
+                for (auto l : column.level) cause.level_share[l] += 1.0 / static_cast<double>(n);
+                cause.curve_x.push_back(0.0);
+                cause.curve_factor.push_back(1.0);
+                for (Index l = 0; l < cause.coefficients.size(); ++l) {
+                    cause.curve_x.push_back(static_cast<double>(l + 1));
+                    cause.curve_factor.push_back(std::exp(cause.coefficients(l)));
+                }
+            }
+            std::size_t level = 0;
+            cause.effect_size = effect_of(cause, cause.coefficients, &level);
+            if (!column.numeric) cause.category = column.levels[level];
+            cause.direction = cause.effect_size >= 0.0 ? "increases" : "decreases";
+            cause.p_value = kept_p[k];
+            std::vector<Term> others = terms;
+            others.erase(others.begin() + static_cast<std::ptrdiff_t>(k));
+            const MatrixXd without = design_of(others, true);
+            cause.importance = ((r_ - without * least_squares(without, r_)).squaredNorm() - sse_full) / total;
+            result_.causes.push_back(std::move(cause));
+            result_.diagnostics[t.candidate].cause = true;
+            given_model_p[t.candidate] = kept_p[k];
+        }
+        // Intervals: resample whole flowers, refit the same terms at the same shapes.
+        std::vector<std::vector<double>> effects(terms.size());
+        std::vector<double> levels;
+        std::mt19937_64 rng(opt_.seed ^ 0xB007B007ULL);
+        std::uniform_int_distribution<std::size_t> pick(0, groups_.rows.size() - 1);
+        for (std::uint32_t b = 0; b < opt_.bootstrap; ++b) {
+            Rows rows;
+            for (std::size_t g = 0; g < groups_.rows.size(); ++g) {
+                const Rows& gr = groups_.rows[pick(rng)];
+                rows.insert(rows.end(), gr.begin(), gr.end());
+            }
+            const VectorXd bb = least_squares(design(rows, Eigen::all), r_(rows));
+            if (bb.size() != design.cols()) continue;
+            levels.push_back(std::exp((design * bb).mean()));
+            Index a = 1;
+            for (std::size_t k = 0; k < terms.size(); ++k) {
+                const VectorXd coefficients = bb.segment(a, terms[k].basis.cols());
+                a += terms[k].basis.cols();
+                // A category: the same level as the point estimate, not whichever differs most here.
+                std::size_t level = 0;
+                effect_of(result_.causes[k], result_.causes[k].coefficients, &level);
+                effects[k].push_back(effect_of(result_.causes[k], coefficients, nullptr, level));
+            }
+        }
+        for (std::size_t k = 0; k < terms.size(); ++k) {
+            result_.causes[k].effect_low = quantile(effects[k], 0.025);
+            result_.causes[k].effect_high = quantile(effects[k], 0.975);
+        }
+        result_.calibration.factor = std::exp(fitted.mean());
+        result_.calibration.low = quantile(levels, 0.025);
+        result_.calibration.high = quantile(levels, 0.975);
+        std::stable_sort(result_.causes.begin(), result_.causes.end(), [](const Cause& a, const Cause& b) { return a.importance > b.importance; });
+    }
+    for (std::size_t c = 0; c < candidates_.size(); ++c) result_.diagnostics[c].p_given_model = given_model_p[c];
+    result_.fitted_log_factor.assign(fitted.data(), fitted.data() + n_);
+    result_.cv_log_factor.assign(oof.data(), oof.data() + n_);
+    result_.extended_rmse_gf = extended ? rmse_gf(in_, &fitted) : result_.baseline_rmse_gf;
+    result_.extended_cv_rmse_gf = extended ? rmse_gf(in_, &oof) : result_.baseline_cv_rmse_gf;
+    result_.extended_log_rmse = std::sqrt((r_ - fitted).squaredNorm() / static_cast<double>(n));
+    result_.gain = extended && result_.baseline_cv_rmse_gf > 0.0 ? 1.0 - result_.extended_cv_rmse_gf / result_.baseline_cv_rmse_gf : 0.0;
+    return std::move(result_);
+}
+
+} // namespace
+
+Result<AnalysisResult> analyse_discrepancy(const AnalysisInput& input, const AnalysisOptions& options) {
+    if (options.permutations < 19) return make_error(ErrorCode::invalid_argument, "at least 19 permutations are needed for p < 0.05");
+    Analysis analysis(input, options);
+    return analysis.run();
+}
+
+} // namespace ikebana::game

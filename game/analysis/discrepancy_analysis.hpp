@@ -1,0 +1,122 @@
+#pragma once
+// Where the simulation disagrees with measured insertions, why, and a fitted extension that fixes it
+// (docs/measured-data.md, "How validate decides"). The input is the measured force, the simulation's
+// prediction and the candidate covariates of every trial; the analysis knows nothing about any
+// column beyond its values.
+//
+// Everything is on the log scale: forces are positive and the effects are multiplicative, so the
+// residual is r = ln(measured / predicted) and an extension multiplies the force by exp(sum of terms).
+//  - Tests: a covariate's statistic is the largest share of the current residual that one of its
+//    shapes explains (a category: its whole block), after the accepted terms. Its null distribution
+//    comes from permuting the residual while keeping each flower's rows together: flower means are
+//    permuted among flowers, and deviations within each flower. p-values are corrected for the
+//    family of covariates by Westfall-Young step-down maxT (the permutation form of Holm's method,
+//    which keeps the dependence between correlated columns); the kept terms' final p-values by Holm.
+//    The overall level is tested on its own, by sign flips of whole flowers.
+//  - Forward selection judges each candidate given the terms already accepted; a term is accepted
+//    only when it is significant after correction AND its best form (chosen by grouped
+//    cross-validation) lowers the cross-validated error. A backward pass then re-tests every accepted
+//    term given all the others and drops any that no longer holds: a correlated bystander accepted
+//    early does not survive the real cause.
+//  - Cross-validation folds never split a flower. With fewer than 4 flowers (the paper's table has
+//    one row per insertion count), rows stand in for flowers and the report says so.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "components/insertion.hpp"
+#include "engine/core/result.hpp"
+#include "game/analysis/covariate_columns.hpp"
+#include "game/analysis/term_shapes.hpp"
+
+namespace ikebana::game {
+
+struct AnalysisInput {
+    std::vector<std::string> flower;    // per row: which physical flower
+    std::vector<double> measured_gf;    // > 0
+    std::vector<double> predicted_gf;   // > 0, the simulation's
+    CovariateSet covariates;
+};
+
+using AnalysisProgress = std::function<void(const std::string& stage, std::uint32_t done, std::uint32_t of)>;
+
+struct AnalysisOptions {
+    std::uint32_t permutations = 1000;
+    double alpha = 0.01;          // family-wise: a false alarm costs a researcher more than a missed 2 % effect
+    std::uint64_t seed = 1;
+    std::uint32_t folds = 10;     // grouped CV; fewer when there are fewer flowers
+    std::uint32_t bootstrap = 200; // flower resamples for the intervals
+    std::uint32_t max_terms = 4;
+    AnalysisProgress progress;
+};
+
+struct ResidualBin {
+    std::string label;   // "1", "[2.5, 4.1)", or a category
+    double x = 0.0;      // the bin's mean covariate value (numeric)
+    std::size_t n = 0;
+    double factor = 1.0; // exp(mean residual): measured / predicted in the bin
+    double low = 1.0, high = 1.0; // +- 2 standard errors
+};
+
+struct CovariateDiagnostic {
+    std::string covariate;
+    bool numeric = true;
+    std::vector<ResidualBin> bins;   // the residual's shape against this covariate
+    double strength = 0.0;           // share of the baseline residual's variance its best shape explains
+    std::string best_shape;          // that shape
+    double p_value = 1.0;            // against the baseline residual, permutation
+    double p_adjusted = 1.0;         // family-wise over all covariates
+    double p_given_model = 1.0;      // against the final model's residual (family-wise there)
+    bool cause = false;              // kept in the final model
+};
+
+struct Cause {
+    std::string covariate;
+    std::string direction;    // increases, decreases, nonmonotone
+    TermShape shape;
+    std::string category;     // categorical: the level that differs most from the other levels
+    std::string reference;    // categorical: the level the coefficients are relative to (most common)
+    std::vector<double> level_share; // categorical: share of the rows at each level
+    double x_low = 0.0, x_high = 0.0; // numeric: the range the effect size spans (5th-95th percentile)
+    double effect_size = 0.0;  // relative change of the force across that range (categorical: the level
+                               // that differs most against the row-weighted mean of the others)
+    double effect_low = 0.0, effect_high = 0.0; // 95 % interval, flower bootstrap
+    double p_value = 1.0;      // given all other terms, Holm-adjusted over the kept terms
+    double importance = 0.0;   // share of the residual variance lost when the term is dropped
+    std::vector<double> curve_x, curve_factor; // the fitted factor across the covariate (for plots)
+    Eigen::VectorXd coefficients;
+};
+
+struct Calibration {
+    double factor = 1.0;         // geometric mean of measured / predicted the extended model applies
+    double low = 1.0, high = 1.0; // 95 % interval
+    double p_value = 1.0;        // the baseline's overall level against 1 (flower sign flips)
+    bool significant = false;
+};
+
+struct AnalysisResult {
+    std::size_t n_trials = 0;
+    std::size_t n_flowers = 0;
+    bool rows_as_groups = false;  // fewer than 4 flowers: rows stood in for flowers
+    std::uint32_t folds = 0;
+    double baseline_rmse_gf = 0.0;
+    double baseline_cv_rmse_gf = 0.0;
+    double baseline_log_rmse = 0.0;
+    double extended_rmse_gf = 0.0;
+    double extended_cv_rmse_gf = 0.0;
+    double extended_log_rmse = 0.0;
+    double gain = 0.0;            // 1 - extended CV RMSE / baseline CV RMSE; 0 when nothing is found
+    bool discrepancy_found = false;
+    Calibration calibration;
+    std::vector<CovariateDiagnostic> diagnostics; // every candidate, in the file's order
+    std::vector<Cause> causes;                    // by importance
+    std::vector<components::DeteriorationTerm> extension; // exp(sum) multiplies the force; empty: none
+    std::vector<double> fitted_log_factor;        // per row, in sample
+    std::vector<double> cv_log_factor;            // per row, from the fold that held the row out
+    std::vector<std::string> log;                 // what each step decided, for the report
+};
+
+Result<AnalysisResult> analyse_discrepancy(const AnalysisInput& input, const AnalysisOptions& options);
+
+} // namespace ikebana::game

@@ -1,0 +1,157 @@
+#include "game/analysis/validation.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/assets/json_checker.hpp"
+#include "game/analysis/cause_explanations.hpp"
+#include "game/asset_paths.hpp"
+#include "game/species/species.hpp"
+
+namespace ikebana::game {
+
+namespace {
+
+std::filesystem::path species_path(const std::string& id_or_path) {
+    if (id_or_path.find('/') != std::string::npos || id_or_path.ends_with(".json")) return id_or_path;
+    return asset_path(std::filesystem::path("species") / (id_or_path + ".json"));
+}
+
+std::optional<double> outcome_accuracy(const MeasuredData& data, const std::vector<double>& fall_probability, std::size_t* rows) {
+    std::size_t n = 0, right = 0;
+    for (std::size_t i = 0; i < data.trials.size(); ++i) {
+        const auto& o = data.trials[i].outcome;
+        if (!o || (*o != "stood" && *o != "fell")) continue;
+        ++n;
+        right += ((fall_probability[i] > 0.5) == (*o == "fell")) ? 1 : 0;
+    }
+    if (rows) *rows = n;
+    if (n == 0) return std::nullopt;
+    return static_cast<double>(right) / static_cast<double>(n);
+}
+
+} // namespace
+
+Result<std::string> extended_species_json(const std::string& species, const std::vector<components::DeteriorationTerm>& terms,
+                                          const std::string& measured_file) {
+    const auto path = species_path(species);
+    auto text = assets::read_text_file(path);
+    if (!text) return std::move(text).error();
+    nlohmann::json root = nlohmann::json::parse(*text, nullptr, false);
+    if (root.is_discarded() || !root.is_object()) return make_error(ErrorCode::parse_error, path.string() + ": not a species object");
+    nlohmann::json det = root.value("deterioration", nlohmann::json::object());
+    nlohmann::json out_terms = nlohmann::json::array();
+    std::string base = det.value("model", "paper_baseline");
+    if (base == "extended") {
+        base = det.value("base", "paper_baseline");
+        if (det.contains("terms")) out_terms = det["terms"];
+    }
+    for (const auto& t : terms) {
+        nlohmann::json j = {{"covariate", t.covariate}, {"form", t.form}, {"coefficient", t.coefficient}};
+        if (t.form != "constant" && t.form != "category" && t.form != "linear") j["scale"] = t.scale;
+        if (t.origin != 0.0) j["origin"] = t.origin;
+        if (t.range_high > t.range_low) j["range"] = {t.range_low, t.range_high};
+        if (t.form == "category") j["category"] = t.category;
+        out_terms.push_back(j);
+    }
+    root["deterioration"] = {{"model", "extended"}, {"base", base}, {"terms", out_terms},
+                             {"fitted_from", "ikebana validate " + measured_file},
+                             {"notes", "The force the base model gives is multiplied by exp(sum of the terms); the level term "
+                                       "is the overall calibration. Covariates the world does not have come from the trial row "
+                                       "(predict) or from --env / the scene's \"environment\" block (the app)."}};
+    const std::string id = root.value("id", std::string("species"));
+    if (!id.ends_with("-extended")) root["id"] = id + "-extended";
+    root["name"] = root.value("name", id) + " (extended by ikebana validate)";
+    std::string json = root.dump(2) + "\n";
+    // Refuse to hand out a file the species loader would reject.
+    auto check = parse_species(json, "extended species");
+    if (!check) return make_error(ErrorCode::parse_error, "the extended species does not load: " + check.error().message);
+    return json;
+}
+
+Result<ValidationResult> run_validation(const std::string& measured_path, const ValidationOptions& options) {
+    ValidationResult v;
+    v.measured_file = measured_path;
+    auto data = load_measured_data(measured_path);
+    if (!data) return std::move(data).error();
+    v.data = std::move(data).value();
+    if (v.data.trials.size() < 3) return make_error(ErrorCode::invalid_argument, measured_path + ": at least 3 trials are needed");
+    auto covariates = candidate_covariates(v.data.table, options.ignore);
+    if (!covariates) return std::move(covariates).error();
+
+    std::set<std::string> species;
+    for (const auto& t : v.data.trials) species.insert(!options.species_override.empty() ? options.species_override : t.species.value_or("sunflower"));
+    v.species = species.size() == 1 ? *species.begin() : std::string();
+
+    // The baseline: every row through the live systems.
+    InsertionPredictor predictor;
+    const bool outcomes = v.data.has_outcome;
+    std::vector<double> baseline_fall(v.data.trials.size(), 0.0);
+    for (std::size_t i = 0; i < v.data.trials.size(); ++i) {
+        const auto& t = v.data.trials[i];
+        const auto p = predictor.predict(conditions_for(t, options.species_override, outcomes));
+        if (!p) return make_error(p.error().code, measured_path + ":" + std::to_string(t.line) + ": " + p.error().message);
+        v.input.flower.push_back(t.flower_id);
+        v.input.measured_gf.push_back(t.max_force_gf);
+        v.input.predicted_gf.push_back(std::max(p->max_force_n / gram_force_n, 1e-6));
+        baseline_fall[i] = p->fall_probability;
+        if (options.progress) options.progress("simulating the baseline", i + 1, v.data.trials.size());
+    }
+    v.input.covariates = std::move(covariates).value();
+    auto analysis = analyse_discrepancy(v.input, options.analysis);
+    if (!analysis) return std::move(analysis).error();
+    v.analysis = std::move(analysis).value();
+    for (const auto& c : v.analysis.causes) v.explanations.push_back(explain_cause(c));
+    if (outcomes) v.baseline_outcome_accuracy = outcome_accuracy(v.data, baseline_fall, &v.outcome_rows);
+
+    if (v.analysis.extension.empty()) return v;
+    if (v.species.empty()) {
+        v.resimulation_note = "the rows use several species: no extended species written (pass --species to fit one)";
+        return v;
+    }
+    auto json = extended_species_json(v.species, v.analysis.extension, measured_path);
+    if (!json) return std::move(json).error();
+    v.extended_species_json = *json;
+
+    // The extended species back through the simulation, row by row.
+    char scratch[] = "/tmp/ikebana-extended-XXXXXX";
+    const int fd = mkstemp(scratch);
+    if (fd < 0) return make_error(ErrorCode::io_error, "cannot create a temporary species file");
+    close(fd);
+    const std::string temporary = std::string(scratch) + ".json";
+    std::filesystem::rename(scratch, temporary);
+    if (auto w = assets::write_text_file(temporary, v.extended_species_json); !w) return std::move(w).error();
+    std::set<std::string> distinct;
+    for (const auto& t : v.data.trials) distinct.insert(predictor.key(conditions_for(t, temporary, outcomes)));
+    if (distinct.size() > options.resimulate_limit) {
+        v.resimulation_note = std::to_string(distinct.size()) + " distinct conditions for the extended species (limit " +
+                              std::to_string(options.resimulate_limit) + "): not re-simulated here; `ikebana predict --species EXT.json` does it";
+    } else {
+        std::vector<double> fall(v.data.trials.size(), 0.0);
+        double sum = 0.0;
+        for (std::size_t i = 0; i < v.data.trials.size(); ++i) {
+            const auto& t = v.data.trials[i];
+            const auto p = predictor.predict(conditions_for(t, temporary, outcomes));
+            if (!p) {
+                std::filesystem::remove(temporary);
+                return make_error(p.error().code, measured_path + ":" + std::to_string(t.line) + ": " + p.error().message);
+            }
+            const double gf = p->max_force_n / gram_force_n;
+            v.simulated_extended_gf.push_back(gf);
+            sum += (t.max_force_gf - gf) * (t.max_force_gf - gf);
+            fall[i] = p->fall_probability;
+            if (options.progress) options.progress("simulating the extended species", i + 1, v.data.trials.size());
+        }
+        v.simulated_extended_rmse_gf = std::sqrt(sum / static_cast<double>(v.data.trials.size()));
+        if (outcomes) v.extended_outcome_accuracy = outcome_accuracy(v.data, fall, nullptr);
+    }
+    std::filesystem::remove(temporary);
+    return v;
+}
+
+} // namespace ikebana::game

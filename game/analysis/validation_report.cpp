@@ -1,0 +1,300 @@
+#include "game/analysis/validation_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/assets/json_checker.hpp"
+#include "game/analysis/svg_plot.hpp"
+
+namespace ikebana::game {
+
+namespace {
+
+double finite_or_zero(double v) { return std::isfinite(v) ? v : 0.0; }
+
+std::string fmt(const char* format, double v) {
+    char text[64];
+    std::snprintf(text, sizeof text, format, v);
+    return text;
+}
+
+std::string file_safe(const std::string& name) {
+    std::string out;
+    for (char c : name) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+    return out;
+}
+
+const CovariateColumn* column_named(const ValidationResult& v, const std::string& name) {
+    for (const auto& c : v.input.covariates.columns) {
+        if (c.name == name) return &c;
+    }
+    return nullptr;
+}
+
+const Cause* cause_named(const ValidationResult& v, const std::string& name) {
+    for (const auto& c : v.analysis.causes) {
+        if (c.covariate == name) return &c;
+    }
+    return nullptr;
+}
+
+bool flagged(const CovariateDiagnostic& d, double alpha) { return d.cause || d.p_adjusted <= alpha || d.p_given_model <= alpha; }
+
+std::string residual_chart(const ValidationResult& v, const CovariateDiagnostic& d) {
+    const CovariateColumn& column = *column_named(v, d.covariate);
+    SvgChart chart;
+    chart.title = "measured / simulated against " + d.covariate;
+    chart.x_label = d.covariate;
+    chart.y_label = "measured / simulated force";
+    chart.log_y = true;
+    chart.reference_y = {1.0};
+    SvgSeries rows{"trials", "#7f7f7f", {}, {}, {}, {}, false, 2.0, 0.35};
+    for (std::size_t i = 0; i < v.input.measured_gf.size(); ++i) {
+        // Discrete columns get a little deterministic jitter so that the rows do not hide each other.
+        const double jitter = (static_cast<double>((i * 2654435761U) % 1000) / 1000.0 - 0.5) * 0.25;
+        rows.x.push_back(column.numeric ? column.values[i] : static_cast<double>(column.level[i]) + jitter);
+        rows.y.push_back(v.input.measured_gf[i] / v.input.predicted_gf[i]);
+    }
+    if (!column.numeric) chart.x_categories = column.levels;
+    SvgSeries bins{"binned mean (±2 s.e.)", "#d62728", {}, {}, {}, {}, false, 4.0, 1.0};
+    for (const auto& b : d.bins) {
+        bins.x.push_back(b.x);
+        bins.y.push_back(b.factor);
+        bins.low.push_back(b.low);
+        bins.high.push_back(b.high);
+    }
+    chart.series.push_back(rows);
+    chart.series.push_back(bins);
+    if (const Cause* c = cause_named(v, d.covariate)) {
+        // The fitted term at the overall level, for comparison with the binned means.
+        SvgSeries fit{"extension (" + c->shape.form + ")", "#1f77b4", {}, {}, {}, {}, column.numeric, column.numeric ? 0.0 : 5.0, 1.0};
+        const double level = std::exp(v.analysis.extension.front().coefficient);
+        for (std::size_t k = 0; k < c->curve_x.size(); ++k) {
+            fit.x.push_back(c->curve_x[k]);
+            fit.y.push_back(level * c->curve_factor[k]);
+        }
+        chart.series.push_back(fit);
+    }
+    return render_svg(chart);
+}
+
+std::string model_chart(const ValidationResult& v) {
+    SvgChart chart;
+    chart.title = "simulation against measurement";
+    chart.x_label = "measured maximum force (gf)";
+    chart.y_label = "simulated maximum force (gf)";
+    chart.log_x = chart.log_y = true;
+    chart.identity_line = true;
+    SvgSeries before{"baseline simulation", "#ff7f0e", {}, {}, {}, {}, false, 2.5, 0.5};
+    SvgSeries after{"extended model", "#1f77b4", {}, {}, {}, {}, false, 2.5, 0.5};
+    SvgSeries simulated{"extended species, simulated", "#2ca02c", {}, {}, {}, {}, false, 2.0, 0.5};
+    for (std::size_t i = 0; i < v.input.measured_gf.size(); ++i) {
+        before.x.push_back(v.input.measured_gf[i]);
+        before.y.push_back(v.input.predicted_gf[i]);
+        if (!v.analysis.extension.empty()) {
+            after.x.push_back(v.input.measured_gf[i]);
+            after.y.push_back(v.input.predicted_gf[i] * std::exp(v.analysis.fitted_log_factor[i]));
+        }
+        if (i < v.simulated_extended_gf.size()) {
+            simulated.x.push_back(v.input.measured_gf[i]);
+            simulated.y.push_back(v.simulated_extended_gf[i]);
+        }
+    }
+    chart.series.push_back(before);
+    if (!after.x.empty()) chart.series.push_back(after);
+    if (!simulated.x.empty()) chart.series.push_back(simulated);
+    return render_svg(chart);
+}
+
+nlohmann::ordered_json term_json(const components::DeteriorationTerm& t) {
+    nlohmann::ordered_json j = {{"covariate", t.covariate}, {"form", t.form}, {"coefficient", t.coefficient}, {"scale", t.scale}, {"origin", t.origin}};
+    if (t.form == "category") j["category"] = t.category;
+    if (t.range_high > t.range_low) j["range"] = {t.range_low, t.range_high};
+    return j;
+}
+
+} // namespace
+
+std::string validation_json(const ValidationResult& v, const AnalysisOptions& options) {
+    const AnalysisResult& a = v.analysis;
+    nlohmann::ordered_json j;
+    j["n_trials"] = a.n_trials;
+    j["n_flowers"] = a.n_flowers;
+    j["measured_file"] = v.measured_file;
+    j["species"] = v.species;
+    j["rows_stand_in_for_flowers"] = a.rows_as_groups;
+    j["baseline"] = {{"rmse_gf", a.baseline_rmse_gf}, {"cv_rmse_gf", a.baseline_cv_rmse_gf}, {"log_rmse", a.baseline_log_rmse}};
+    if (v.baseline_outcome_accuracy) j["baseline"]["outcome_accuracy"] = *v.baseline_outcome_accuracy;
+    j["discrepancy_found"] = a.discrepancy_found;
+    j["calibration"] = {{"factor", a.calibration.factor}, {"interval", {finite_or_zero(a.calibration.low), finite_or_zero(a.calibration.high)}},
+                        {"p_value", a.calibration.p_value}, {"significant", a.calibration.significant}};
+    j["causes"] = nlohmann::ordered_json::array();
+    for (std::size_t k = 0; k < a.causes.size(); ++k) {
+        const Cause& c = a.causes[k];
+        nlohmann::ordered_json cj = {{"covariate", c.covariate},
+                             {"direction", c.direction},
+                             {"shape", c.shape.form},
+                             {"shape_detail", describe_shape(c.shape)},
+                             {"effect_size", c.effect_size},
+                             {"effect_interval", {finite_or_zero(c.effect_low), finite_or_zero(c.effect_high)}},
+                             {"p_value", c.p_value},
+                             {"importance", c.importance},
+                             {"explanation", v.explanations[k]}};
+        if (c.shape.form == "category") {
+            cj["category"] = c.category;
+            cj["reference"] = c.reference;
+        } else {
+            cj["range"] = {c.x_low, c.x_high};
+        }
+        j["causes"].push_back(cj);
+    }
+    j["extended"] = {{"cv_rmse_gf", a.extended_cv_rmse_gf}, {"gain", a.gain}, {"rmse_gf", a.extended_rmse_gf}, {"log_rmse", a.extended_log_rmse}};
+    j["extended"]["terms"] = nlohmann::ordered_json::array();
+    for (const auto& t : a.extension) j["extended"]["terms"].push_back(term_json(t));
+    if (v.simulated_extended_rmse_gf) j["extended"]["simulated_rmse_gf"] = *v.simulated_extended_rmse_gf;
+    if (v.extended_outcome_accuracy) j["extended"]["outcome_accuracy"] = *v.extended_outcome_accuracy;
+    if (!v.resimulation_note.empty()) j["extended"]["note"] = v.resimulation_note;
+    j["diagnostics"] = nlohmann::ordered_json::array();
+    for (const auto& d : a.diagnostics) {
+        nlohmann::ordered_json bins = nlohmann::ordered_json::array();
+        for (const auto& b : d.bins) bins.push_back({{"bin", b.label}, {"x", b.x}, {"n", b.n}, {"factor", b.factor}, {"low", b.low}, {"high", b.high}});
+        j["diagnostics"].push_back({{"covariate", d.covariate},
+                                    {"kind", d.numeric ? "numeric" : "categorical"},
+                                    {"strength", d.strength},
+                                    {"best_shape", d.best_shape},
+                                    {"p_value", d.p_value},
+                                    {"p_adjusted", d.p_adjusted},
+                                    {"p_given_model", d.p_given_model},
+                                    {"cause", d.cause},
+                                    {"bins", bins}});
+    }
+    j["constant_columns"] = v.input.covariates.constant;
+    j["options"] = {{"permutations", options.permutations}, {"alpha", options.alpha}, {"seed", options.seed}, {"folds", a.folds},
+                    {"bootstrap", options.bootstrap}};
+    j["log"] = a.log;
+    return j.dump(2) + "\n";
+}
+
+std::string validation_summary(const ValidationResult& v) {
+    const AnalysisResult& a = v.analysis;
+    std::ostringstream o;
+    o << v.measured_file << ": " << a.n_trials << " trials, " << a.n_flowers << " flower(s), species " << (v.species.empty() ? "(several)" : v.species)
+      << "\n";
+    o << "baseline:  RMSE " << fmt("%.1f", a.baseline_rmse_gf) << " gf, CV RMSE " << fmt("%.1f", a.baseline_cv_rmse_gf) << " gf";
+    if (v.baseline_outcome_accuracy) o << ", outcome accuracy " << fmt("%.0f %%", 100 * *v.baseline_outcome_accuracy);
+    o << "\n";
+    if (!a.discrepancy_found) {
+        o << "no discrepancy found: no covariate and no overall level is significant after correction\n";
+        return o.str();
+    }
+    o << "level:     measured/simulated x" << fmt("%.3f", a.calibration.factor) << " [" << fmt("%.3f", a.calibration.low) << ", "
+      << fmt("%.3f", a.calibration.high) << "], p = " << fmt("%.3g", a.calibration.p_value) << (a.calibration.significant ? "" : " (not significant alone)")
+      << "\n";
+    for (std::size_t k = 0; k < a.causes.size(); ++k) {
+        const Cause& c = a.causes[k];
+        o << "cause " << k + 1 << ":   " << c.covariate << (c.category.empty() ? "" : " = " + c.category) << ", " << c.direction << ", "
+          << c.shape.form << ", effect " << fmt("%+.1f %%", 100 * c.effect_size) << " [" << fmt("%+.1f", 100 * c.effect_low) << ", "
+          << fmt("%+.1f", 100 * c.effect_high) << "], p = " << fmt("%.3g", c.p_value) << "\n";
+    }
+    o << "extended:  CV RMSE " << fmt("%.1f", a.extended_cv_rmse_gf) << " gf, gain " << fmt("%.1f %%", 100 * a.gain);
+    if (v.simulated_extended_rmse_gf) o << "; the extended species simulated: RMSE " << fmt("%.1f", *v.simulated_extended_rmse_gf) << " gf";
+    if (v.extended_outcome_accuracy) o << ", outcome accuracy " << fmt("%.0f %%", 100 * *v.extended_outcome_accuracy);
+    o << "\n";
+    if (!v.resimulation_note.empty()) o << "note: " << v.resimulation_note << "\n";
+    return o.str();
+}
+
+Result<void> write_validation_report(const ValidationResult& v, const AnalysisOptions& options, const std::filesystem::path& dir,
+                                     const std::string& extra_markdown) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) return make_error(ErrorCode::io_error, dir.string() + ": " + ec.message());
+    const AnalysisResult& a = v.analysis;
+    std::ostringstream md;
+    md << "# Measured insertions against the simulation\n\n";
+    md << "Data: `" << v.measured_file << "`, " << a.n_trials << " trials of " << a.n_flowers << " flower(s); species `"
+       << (v.species.empty() ? "several" : v.species) << "`. Generated by `ikebana validate` (" << options.permutations
+       << " permutations, family-wise alpha " << options.alpha << ", seed " << options.seed << ").\n\n";
+    if (a.rows_as_groups) {
+        md << "> Fewer than 4 flowers: rows stand in for flowers in the permutations, the folds and the bootstrap. With one row per "
+              "insertion count (published means) this treats the rows as independent, which they are not quite.\n\n";
+    }
+    md << "## Summary\n\n```\n" << validation_summary(v) << "```\n\n";
+    md << "![simulation against measurement](model_vs_data.svg)\n\n";
+    md << "## How the simulation was compared\n\n"
+          "Every trial was run through the live insertion and deterioration systems (`ikebana predict`). The residual is "
+          "ln(measured / simulated): forces are positive and their errors multiplicative. Errors in gram-force are the RMSE of "
+          "measured minus simulated; the cross-validated RMSE holds out whole flowers (" << a.folds << " folds). The baseline fits "
+          "nothing, so its CV RMSE equals its RMSE.\n\n";
+    md << "## What the simulation gets wrong\n\n";
+    md << "Every candidate column against the residual. *strength*: the share of the residual's variance the best single shape "
+          "explains; *p*: permutation test keeping each flower's rows together; *family*: corrected for testing every column "
+          "(Westfall–Young step-down maxT, the permutation form of Holm's method); "
+          "*given model*: the same test against the final model's residual (a column that only mirrors a cause loses "
+          "significance here).\n\n";
+    md << "| column | kind | best shape | strength | p | family | given model | cause |\n|---|---|---|---|---|---|---|---|\n";
+    for (const auto& d : a.diagnostics) {
+        md << "| `" << d.covariate << "` | " << (d.numeric ? "numeric" : "categorical") << " | " << d.best_shape << " | " << fmt("%.3f", d.strength)
+           << " | " << fmt("%.3g", d.p_value) << " | " << fmt("%.3g", d.p_adjusted) << " | " << fmt("%.3g", d.p_given_model) << " | "
+           << (d.cause ? "**yes**" : "") << " |\n";
+    }
+    if (!v.input.covariates.constant.empty()) {
+        md << "\nNot tested (one value only):";
+        for (const auto& c : v.input.covariates.constant) md << " `" << c << "`";
+        md << ".\n";
+    }
+    md << "\n";
+    std::vector<std::pair<std::string, std::string>> figures;
+    figures.emplace_back("model_vs_data.svg", model_chart(v));
+    for (const auto& d : a.diagnostics) {
+        if (!flagged(d, options.alpha)) continue;
+        const std::string name = "residual_" + file_safe(d.covariate) + ".svg";
+        figures.emplace_back(name, residual_chart(v, d));
+        md << "### `" << d.covariate << "`\n\n![residual against " << d.covariate << "](" << name << ")\n\n";
+        md << "| bin | n | measured / simulated | ±2 s.e. |\n|---|---|---|---|\n";
+        for (const auto& b : d.bins) md << "| " << b.label << " | " << b.n << " | " << fmt("%.3f", b.factor) << " | " << fmt("%.3f", b.low) << "–" << fmt("%.3f", b.high) << " |\n";
+        md << "\n";
+    }
+    md << "## Causes\n\n";
+    if (a.causes.empty()) md << "No column explains the residual beyond chance after correction.\n\n";
+    for (std::size_t k = 0; k < a.causes.size(); ++k) md << k + 1 << ". **`" << a.causes[k].covariate << "`** — " << v.explanations[k] << "\n";
+    md << "\nOverall level: the extended model multiplies the simulation by " << fmt("%.3f", a.calibration.factor) << " on average (95 % interval "
+       << fmt("%.3f", a.calibration.low) << "–" << fmt("%.3f", a.calibration.high) << "); the baseline's level alone has p = "
+       << fmt("%.3g", a.calibration.p_value) << " (sign flips of whole flowers).\n\n";
+    md << "## The extension\n\n";
+    if (a.extension.empty()) {
+        md << "None: nothing was found, so the species is unchanged and the gain is 0.\n\n";
+    } else {
+        md << "The force the species gives is multiplied by exp(sum of terms):\n\n| covariate | form | coefficient | scale | origin | category |\n|---|---|---|---|---|---|\n";
+        for (const auto& t : a.extension) {
+            md << "| `" << t.covariate << "` | " << t.form << " | " << fmt("%.5g", t.coefficient) << " | " << fmt("%.5g", t.scale) << " | "
+               << fmt("%.5g", t.origin) << " | " << t.category << " |\n";
+        }
+        md << "\n`--write-species` writes these into a species file that `ikebana predict --species`, `ikebana experiment --species` and the app "
+              "load like any other.\n\n";
+    }
+    md << "## Gain\n\n| | baseline | extended |\n|---|---|---|\n";
+    md << "| RMSE (gf) | " << fmt("%.1f", a.baseline_rmse_gf) << " | " << fmt("%.1f", a.extended_rmse_gf) << " |\n";
+    md << "| grouped CV RMSE (gf) | " << fmt("%.1f", a.baseline_cv_rmse_gf) << " | " << fmt("%.1f", a.extended_cv_rmse_gf) << " |\n";
+    md << "| RMSE of ln(measured/simulated) | " << fmt("%.4f", a.baseline_log_rmse) << " | " << fmt("%.4f", a.extended_log_rmse) << " |\n";
+    if (v.simulated_extended_rmse_gf) md << "| RMSE, extended species through the simulation (gf) | " << fmt("%.1f", a.baseline_rmse_gf) << " | " << fmt("%.1f", *v.simulated_extended_rmse_gf) << " |\n";
+    if (v.baseline_outcome_accuracy) {
+        md << "| outcome accuracy (" << v.outcome_rows << " rows stood/fell) | " << fmt("%.1f %%", 100 * *v.baseline_outcome_accuracy) << " | "
+           << (v.extended_outcome_accuracy ? fmt("%.1f %%", 100 * *v.extended_outcome_accuracy) : std::string("not simulated")) << " |\n";
+    }
+    md << "\nGain = 1 − extended CV RMSE / baseline CV RMSE = **" << fmt("%.1f %%", 100 * a.gain) << "**.\n\n";
+    if (!v.resimulation_note.empty()) md << "Note: " << v.resimulation_note << ".\n\n";
+    md << extra_markdown;
+    md << "## Decisions, step by step\n\n";
+    for (const auto& line : a.log) md << "- " << line << "\n";
+    figures.emplace_back("report.md", md.str());
+    for (const auto& [name, text] : figures) {
+        if (auto w = assets::write_text_file(dir / name, text); !w) return w;
+    }
+    return Ok{};
+}
+
+} // namespace ikebana::game

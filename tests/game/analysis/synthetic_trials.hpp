@@ -1,0 +1,50 @@
+#pragma once
+// Synthetic measured data with a hidden effect, for tests and benchmarks of `ikebana validate`.
+// Flowers x repeated insertions with standard and unknown covariates, including bystanders that are
+// correlated with the planted cause; the "measured" force is the simulation's own prediction times the
+// planted effect times log-normal noise (per trial and per flower). The analysis only ever sees the CSV.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "game/analysis/discrepancy_analysis.hpp"
+#include "game/analysis/insertion_predictor.hpp"
+#include "game/analysis/measured_data.hpp"
+
+namespace ikebana::test {
+
+enum class PlantedEffect { none, unknown_numeric, category, insertion_count, step_threshold, saturating_decay };
+
+struct PlantedTruth {
+    std::string column;    // where the effect is planted (empty: none)
+    std::string direction; // increases / decreases
+};
+
+struct SyntheticOptions {
+    PlantedEffect effect = PlantedEffect::none;
+    std::uint64_t seed = 1;
+    std::uint32_t flowers = 60;
+    std::uint32_t insertions = 6;
+    double trial_noise_sd = 0.05;  // ln scale: about 5 % per trial
+    double flower_noise_sd = 0.03; // and 3 % between flowers
+    std::uint32_t extra_covariates = 0; // more unknown noise columns (for the speed benchmark)
+};
+
+struct SyntheticData {
+    std::string csv;
+    PlantedTruth truth;
+    std::vector<double> true_log_factor; // per row: the planted effect (no noise)
+    game::MeasuredData data;
+    std::vector<double> simulated_gf;    // the simulation's prediction per row
+};
+
+PlantedTruth truth_of(PlantedEffect effect);
+const char* name_of(PlantedEffect effect);
+
+// Simulates every distinct condition once through `predictor` (share it between calls: it caches).
+SyntheticData make_synthetic_trials(const SyntheticOptions& options, game::InsertionPredictor& predictor);
+
+// The analysis input for generated data (what validate builds from a file).
+game::AnalysisInput analysis_input(const SyntheticData& data);
+
+} // namespace ikebana::test
