@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
     app.add_option("--left", left_device, "Left hand's device for the app: auto, none, scripted:FILE, replay:FILE, hid:PATH")
         ->capture_default_str();
     app.add_option("--right", right_device, "Right hand's device for the app (as --left)")->capture_default_str();
+    std::vector<std::string> environment;
+    app.add_option("--env", environment, "Environment covariate for extended species in the app, name=value (repeatable)");
     ikebana::game::add_sim_command(app, exit_code);
     ikebana::game::add_species_command(app, exit_code);
     ikebana::game::add_assets_command(app, exit_code);
@@ -49,6 +51,7 @@ int main(int argc, char** argv) {
         options.seconds = 10.0;
         options.left_device = left_device;
         options.right_device = right_device;
+        options.env = environment;
         return ikebana::game::run_sim(options);
     }
     return exit_code;

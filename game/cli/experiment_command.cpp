@@ -9,6 +9,7 @@
 #include "game/asset_paths.hpp"
 #include "game/experiment/force_scheme_comparison.hpp"
 #include "game/experiment/insertion_experiment.hpp"
+#include "game/scene/scene.hpp"
 
 namespace ikebana::game {
 
@@ -29,6 +30,7 @@ void add_experiment_command(CLI::App& app, int& exit_code) {
         ExperimentOptions options;
         std::string json;
         std::string csv;
+        std::vector<std::string> env;
     };
     auto args = std::make_shared<Args>();
     auto* cmd = app.add_subcommand("experiment", "Reproduce the paper's repeated-insertion experiment (section 3.1) headless");
@@ -37,9 +39,15 @@ void add_experiment_command(CLI::App& app, int& exit_code) {
     cmd->add_option("--angle", args->options.angle_deg, "Insertion angle against the horizontal, degrees")->capture_default_str()->check(CLI::Range(10.0, 90.0));
     cmd->add_option("--species", args->options.species, "Species id or file")->capture_default_str();
     cmd->add_option("--max-insertions", args->options.max_insertions, "Give up on a flower after this many")->capture_default_str()->check(CLI::Range(1u, 1000u));
+    cmd->add_option("--env", args->env, "Environment covariate for an extended species, name=value (repeatable)");
     cmd->add_option("--json", args->json, "Write the summary as JSON");
     cmd->add_option("--csv", args->csv, "Write every insertion as CSV");
     cmd->callback([args, &exit_code] {
+        if (auto env = apply_environment_overrides(args->options.environment, args->env); !env) {
+            std::cerr << "ikebana experiment: " << env.error().message << "\n";
+            exit_code = 2;
+            return;
+        }
         const bool tty = isatty(fileno(stderr)) != 0;
         auto result = run_insertion_experiment(args->options, [tty](std::uint32_t t, std::uint32_t n) {
             if (tty) std::fprintf(stderr, "\rtrial %u / %u", t, n);

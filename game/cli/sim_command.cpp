@@ -55,6 +55,10 @@ int run_sim(const SimOptions& options) {
         std::cerr << "ikebana sim: " << scene.error().message << "\n";
         return 2;
     }
+    if (auto env = apply_environment_overrides(scene->environment, options.env); !env) {
+        std::cerr << "ikebana sim: " << env.error().message << "\n";
+        return 2;
+    }
     auto world = World::create(*scene, WorldOptions{.rate_overrides = options.rates, .force_scheme = options.force_scheme});
     if (!world) {
         std::cerr << "ikebana sim: " << world.error().message << "\n";
@@ -173,6 +177,7 @@ void add_sim_command(CLI::App& app, int& exit_code) {
     sim->add_option("--force-scheme", options->force_scheme, "full_rate (forces every tick) or paper (16 Hz check, 100 Hz estimate, reused 10 times)")
         ->check(CLI::IsMember({"full_rate", "paper"}));
     sim->add_option("--record", options->record_dir, "Record every device sample of each hand into this folder");
+    sim->add_option("--env", options->env, "Set an environment covariate for extended species, e.g. --env humidity_pct=70 --env vase=metal");
     sim->add_option("--rate", options->rates, "Change a rate, e.g. --rate render=60 (haptic, position_estimate, position_check, render)");
     sim->callback([options, &exit_code] { exit_code = run_sim(*options); });
 }

@@ -17,6 +17,7 @@ struct SimOptions {
     std::string right_device;
     std::string record_dir;   // when set: every device sample of each hand, to replay later
     std::string force_scheme; // empty: the scene's
+    std::vector<std::string> env; // name=value over the scene's "environment" (an extended species' covariates)
 };
 
 // `ikebana sim`: runs a scene headless on the deterministic (or real-time) clock.

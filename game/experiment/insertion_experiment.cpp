@@ -51,6 +51,7 @@ Result<TrialResult> run_insertion_trial(const ExperimentOptions& o, std::uint64_
     scene.table_height_m = 0.0;
     scene.kenzan_layout = o.kenzan;
     scene.kenzan_position_m = {0.0, 0.0, kenzan->base_thickness_m};
+    scene.environment = o.environment;
     scene.flowers.push_back({o.species, Placement::lying, {0.3, 0.0, 0.0}, {1.0, 0.0, 0.0}, 0.0});
     auto world = World::create(scene);
     if (!world) return std::move(world).error();

@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "game/species/species.hpp"
+#include "systems/insertion/deterioration.hpp"
 
 namespace ikebana::game {
 
@@ -34,6 +35,8 @@ struct ExperimentOptions {
     // The experimenter cuts `cut_length_m` off the end before these insertions (1-based).
     std::vector<std::uint32_t> cut_before;
     double cut_length_m = 0.01;
+    // Covariates an extended species may read that the world does not have (--env).
+    systems::insertion::Covariates environment;
 };
 
 struct InsertionOutcome {

@@ -1,5 +1,8 @@
 #include "game/scene/scene.hpp"
 
+#include <charconv>
+#include <cmath>
+
 #include "engine/assets/json_checker.hpp"
 
 namespace ikebana::game {
@@ -104,6 +107,26 @@ Result<SceneDef> load_scene(const std::filesystem::path& path) {
     auto scene = parse_scene(*text, path.filename().string());
     if (scene) scene->file = path;
     return scene;
+}
+
+Result<void> apply_environment_overrides(systems::insertion::Covariates& environment, const std::vector<std::string>& settings) {
+    systems::insertion::Covariates updated = environment;
+    for (const auto& setting : settings) {
+        const auto eq = setting.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == setting.size()) {
+            return make_error(ErrorCode::invalid_argument, "--env '" + setting + "': expected name=value");
+        }
+        const std::string name = setting.substr(0, eq);
+        const std::string value = setting.substr(eq + 1);
+        double number = 0.0;
+        const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), number);
+        updated.numeric.erase(name);
+        updated.category.erase(name);
+        if (ec == std::errc{} && ptr == value.data() + value.size() && std::isfinite(number)) updated.numeric[name] = number;
+        else updated.category[name] = value;
+    }
+    environment = std::move(updated);
+    return Ok{};
 }
 
 } // namespace ikebana::game

@@ -55,4 +55,9 @@ struct SceneDef {
 Result<SceneDef> parse_scene(std::string_view text, const std::string& label);
 Result<SceneDef> load_scene(const std::filesystem::path& path);
 
+// `--env name=value` settings over the scene's "environment": a value that parses as a number is
+// numeric, anything else a category. All or nothing: on an error (naming the setting) the
+// environment is unchanged.
+Result<void> apply_environment_overrides(systems::insertion::Covariates& environment, const std::vector<std::string>& settings);
+
 } // namespace ikebana::game

@@ -51,7 +51,10 @@ double extension_factor(const std::vector<components::DeteriorationTerm>& terms,
         if (t.range_high > t.range_low) x = std::clamp(x, t.range_low, t.range_high);
         exponent += t.coefficient * term_basis(t.form, x - t.origin, t.scale);
     }
-    return std::exp(exponent);
+    // A hand-edited or wild term must not give the physics an infinite or vanishing resistance:
+    // the factor stays within e^-5..e^5 (0.007..148), far outside anything a fit to data gives.
+    if (!std::isfinite(exponent)) exponent = 0.0;
+    return std::exp(std::clamp(exponent, -5.0, 5.0));
 }
 
 double soft_resistance_n_per_m(const components::PinResistance& model, std::uint32_t insertion, const Covariates& covariates) {

@@ -27,7 +27,8 @@ struct Covariates {
 std::vector<double> expand_deterioration(const std::string& model, const std::vector<double>& table);
 
 // exp(sum of terms) for these covariates; 1 when there are no terms. "insertion" is always available.
-// The factor multiplies the resistance of either branch kind (soft table or hard Eq. 6).
+// The factor multiplies the resistance of either branch kind (soft table or hard Eq. 6); it is kept
+// within e^-5..e^5, and a non-finite sum counts as 0.
 double extension_factor(const std::vector<components::DeteriorationTerm>& terms, std::uint32_t insertion,
                         const Covariates& covariates);
 

@@ -43,3 +43,18 @@ TEST(Kenzan, TouchingPinsAreRefused) {
     ASSERT_FALSE(k);
     EXPECT_NE(k.error().message.find("x.json: /pin/trunk_diameter_mm: pins would touch"), std::string::npos);
 }
+
+TEST(Scene, EnvironmentOverridesAreNumbersOrCategoriesAndAllOrNothing) {
+    ikebana::systems::insertion::Covariates env;
+    env.category["humidity_pct"] = "high";
+    ASSERT_TRUE(apply_environment_overrides(env, {"humidity_pct=70", "vase=metal"}));
+    EXPECT_EQ(env.numeric.at("humidity_pct"), 70.0);
+    EXPECT_FALSE(env.category.contains("humidity_pct")) << "a number replaces the earlier category";
+    EXPECT_EQ(env.category.at("vase"), "metal");
+    const auto before = env;
+    const auto bad = apply_environment_overrides(env, {"room=dry", "no-equals-sign"});
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("no-equals-sign"), std::string::npos);
+    EXPECT_EQ(env.numeric, before.numeric);
+    EXPECT_EQ(env.category, before.category) << "nothing half applied";
+}

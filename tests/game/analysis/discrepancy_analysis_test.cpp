@@ -1,0 +1,156 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "game/analysis/discrepancy_analysis.hpp"
+#include "game/analysis/svg_plot.hpp"
+#include "game/analysis/term_shapes.hpp"
+#include "systems/insertion/deterioration.hpp"
+
+using namespace ikebana;
+using namespace ikebana::game;
+
+namespace {
+
+CovariateColumn numeric_column(const std::string& name, std::vector<double> values) {
+    CovariateColumn c;
+    c.name = name;
+    c.values = std::move(values);
+    return c;
+}
+
+// Rows of `flowers` flowers x `per_flower` trials; predicted 100 gf; measured = 100 * exp(effect + noise).
+AnalysisInput small_input(std::size_t flowers, std::size_t per_flower, double slope, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> noise(0.0, 0.03);
+    AnalysisInput in;
+    std::vector<double> x, z;
+    for (std::size_t f = 0; f < flowers; ++f) {
+        for (std::size_t k = 0; k < per_flower; ++k) {
+            const double xv = static_cast<double>(k + 1);
+            in.flower.push_back("f" + std::to_string(f));
+            in.predicted_gf.push_back(100.0);
+            in.measured_gf.push_back(100.0 * std::exp(slope * xv + noise(rng)));
+            x.push_back(xv);
+            z.push_back(noise(rng));
+        }
+    }
+    in.covariates.columns.push_back(numeric_column("count", x));
+    in.covariates.columns.push_back(numeric_column("unrelated", z));
+    return in;
+}
+
+} // namespace
+
+TEST(TermShapes, AFittedTermMeansTheSameInTheSpeciesModel) {
+    const auto column = numeric_column("soak", {0.0, 3.0, 7.5, 12.0, 30.0, 45.0, 90.0});
+    for (const auto& shape : all_shapes_of(column)) {
+        const Eigen::MatrixXd basis = basis_of(column, shape);
+        // A coefficient of the size a fit gives: at most 0.5 in the exponent over the data.
+        const double coefficient = 0.5 / std::max(basis.cwiseAbs().maxCoeff(), 1e-9);
+        const auto terms = terms_of(column, shape, Eigen::VectorXd::Constant(1, coefficient));
+        ASSERT_EQ(terms.size(), 1u);
+        for (std::size_t i = 0; i < column.values.size(); ++i) {
+            systems::insertion::Covariates cov;
+            cov.numeric["soak"] = column.values[i];
+            EXPECT_NEAR(systems::insertion::extension_factor(terms, 1, cov), std::exp(coefficient * basis(static_cast<Eigen::Index>(i), 0)), 1e-12)
+                << shape.form << " at " << column.values[i];
+        }
+        // Beyond a tenth of the fitted range the curve holds its value instead of extrapolating.
+        systems::insertion::Covariates far, edge;
+        far.numeric["soak"] = 1000.0;
+        edge.numeric["soak"] = 99.0;
+        EXPECT_DOUBLE_EQ(systems::insertion::extension_factor(terms, 1, far), systems::insertion::extension_factor(terms, 1, edge)) << shape.form;
+    }
+}
+
+TEST(TermShapes, AWildTermCannotGiveTheSimulationAnInfiniteFactor) {
+    const std::vector<components::DeteriorationTerm> wild = {
+        {"x", "power", 50.0, 3.0, "", 0.0, 0.0, 0.0}, {"y", "log", 1.0, 0.0, "", 0.0, 0.0, 0.0}};
+    systems::insertion::Covariates cov;
+    cov.numeric["x"] = 1e6;
+    cov.numeric["y"] = -5.0; // log of a negative: the basis guards it
+    const double f = systems::insertion::extension_factor(wild, 1, cov);
+    EXPECT_TRUE(std::isfinite(f));
+    EXPECT_LE(f, std::exp(5.0));
+}
+
+TEST(TermShapes, CategoriesAreFactorsAgainstTheMostCommonLevel) {
+    CovariateColumn c;
+    c.name = "vase";
+    c.numeric = false;
+    c.levels = {"glass", "metal", "ceramic"};
+    c.level = {0, 1, 2, 0};
+    const auto terms = terms_of(c, {"category", 0.0, 0.0}, Eigen::Vector2d(-0.2, 0.1));
+    ASSERT_EQ(terms.size(), 2u);
+    systems::insertion::Covariates metal, glass;
+    metal.category["vase"] = "metal";
+    glass.category["vase"] = "glass";
+    EXPECT_NEAR(systems::insertion::extension_factor(terms, 1, metal), std::exp(-0.2), 1e-12);
+    EXPECT_DOUBLE_EQ(systems::insertion::extension_factor(terms, 1, glass), 1.0);
+}
+
+TEST(DiscrepancyAnalysis, RefusesNonPositiveForcesNamingTheRow) {
+    auto in = small_input(6, 4, 0.0, 1);
+    in.measured_gf[5] = 0.0;
+    const auto result = analyse_discrepancy(in, {});
+    ASSERT_FALSE(result);
+    EXPECT_NE(result.error().message.find("row 6"), std::string::npos) << result.error().message;
+}
+
+TEST(DiscrepancyAnalysis, FindsATrendAndLeavesTheUnrelatedColumnAlone) {
+    const auto result = analyse_discrepancy(small_input(12, 6, -0.05, 3), {});
+    ASSERT_TRUE(result) << result.error().message;
+    ASSERT_EQ(result->causes.size(), 1u);
+    EXPECT_EQ(result->causes[0].covariate, "count");
+    EXPECT_EQ(result->causes[0].direction, "decreases");
+    // exp(-0.05 * (5.75 - 1.25)) - 1 = -0.20 across the 5th-95th percentiles.
+    EXPECT_NEAR(result->causes[0].effect_size, -0.20, 0.04);
+    EXPECT_LT(result->causes[0].effect_low, result->causes[0].effect_size);
+    EXPECT_GT(result->causes[0].effect_high, result->causes[0].effect_size);
+    EXPECT_GT(result->gain, 0.3);
+    EXPECT_FALSE(result->rows_as_groups);
+    EXPECT_LT(result->extended_cv_rmse_gf, result->baseline_cv_rmse_gf);
+}
+
+TEST(DiscrepancyAnalysis, NoEffectGivesNoCausesAndNoGain) {
+    const auto result = analyse_discrepancy(small_input(12, 6, 0.0, 4), {});
+    ASSERT_TRUE(result) << result.error().message;
+    EXPECT_FALSE(result->discrepancy_found);
+    EXPECT_TRUE(result->causes.empty());
+    EXPECT_TRUE(result->extension.empty());
+    EXPECT_EQ(result->gain, 0.0);
+    EXPECT_EQ(result->extended_cv_rmse_gf, result->baseline_cv_rmse_gf);
+}
+
+TEST(DiscrepancyAnalysis, FewerThanFourFlowersLetRowsStandInForThem) {
+    const auto result = analyse_discrepancy(small_input(1, 12, -0.04, 5), {});
+    ASSERT_TRUE(result) << result.error().message;
+    EXPECT_TRUE(result->rows_as_groups);
+    EXPECT_EQ(result->n_flowers, 1u);
+    ASSERT_FALSE(result->causes.empty());
+    EXPECT_EQ(result->causes[0].covariate, "count");
+}
+
+TEST(DiscrepancyAnalysis, SameSeedSameAnswer) {
+    const auto in = small_input(10, 5, -0.03, 6);
+    const auto a = analyse_discrepancy(in, {});
+    const auto b = analyse_discrepancy(in, {});
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(a->diagnostics[0].p_value, b->diagnostics[0].p_value);
+    EXPECT_EQ(a->extended_cv_rmse_gf, b->extended_cv_rmse_gf);
+}
+
+TEST(SvgPlot, DrawsEveryPointAndEscapesText) {
+    SvgChart chart;
+    chart.title = "force <gf> & more";
+    chart.series.push_back({"rows", "#000", {1, 2, 3}, {10, 20, 40}, {}, {}, false, 2.0, 1.0});
+    chart.log_y = true;
+    const std::string svg = render_svg(chart);
+    std::size_t circles = 0;
+    for (std::size_t at = svg.find("<circle"); at != std::string::npos; at = svg.find("<circle", at + 1)) ++circles;
+    EXPECT_EQ(circles, 3u);
+    EXPECT_NE(svg.find("force &lt;gf&gt; &amp; more"), std::string::npos);
+    EXPECT_EQ(svg.find("nan"), std::string::npos);
+}

@@ -1,0 +1,77 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/assets/json_checker.hpp"
+#include "game/analysis/validation.hpp"
+#include "game/analysis/validation_report.hpp"
+#include "game/species/species.hpp"
+#include "synthetic_trials.hpp"
+
+using namespace ikebana;
+using namespace ikebana::game;
+
+TEST(Validation, ExtendedSpeciesRunsInTheSimulationAsItWasFitted) {
+    // Planted: continued softening with the insertion count, which the species can carry itself.
+    game::InsertionPredictor predictor;
+    test::SyntheticOptions o;
+    o.effect = test::PlantedEffect::insertion_count;
+    o.flowers = 16;
+    const auto synthetic = test::make_synthetic_trials(o, predictor);
+    const auto dir = std::filesystem::temp_directory_path() / "ikebana_validation_test";
+    std::filesystem::create_directories(dir);
+    const auto csv = (dir / "trials.csv").string();
+    std::ofstream(csv) << synthetic.csv;
+
+    ValidationOptions options;
+    options.analysis.bootstrap = 50;
+    const auto v = run_validation(csv, options);
+    ASSERT_TRUE(v) << v.error().message;
+    ASSERT_FALSE(v->analysis.causes.empty());
+    EXPECT_EQ(v->analysis.causes[0].covariate, "insertion");
+    EXPECT_EQ(v->analysis.causes[0].direction, "decreases");
+    ASSERT_FALSE(v->extended_species_json.empty());
+    const auto species = parse_species(v->extended_species_json, "extended");
+    ASSERT_TRUE(species) << species.error().message;
+    EXPECT_EQ(species->deterioration.model, "extended");
+    EXPECT_EQ(species->deterioration.terms.size(), v->analysis.extension.size());
+    // The species through the live systems gives what the fit promised (the force is linear in the
+    // soft resistance the terms multiply).
+    ASSERT_TRUE(v->simulated_extended_rmse_gf.has_value()) << v->resimulation_note;
+    EXPECT_NEAR(*v->simulated_extended_rmse_gf, v->analysis.extended_rmse_gf, 0.05 * v->analysis.extended_rmse_gf);
+    EXPECT_LT(*v->simulated_extended_rmse_gf, 0.8 * v->analysis.baseline_rmse_gf);
+
+    const auto json = nlohmann::json::parse(validation_json(*v, options.analysis));
+    EXPECT_EQ(json["n_trials"], synthetic.data.trials.size());
+    EXPECT_TRUE(json["discrepancy_found"].get<bool>());
+    EXPECT_EQ(json["causes"][0]["covariate"], "insertion");
+    for (const char* key : {"direction", "shape", "effect_size", "p_value", "explanation"}) EXPECT_TRUE(json["causes"][0].contains(key)) << key;
+    EXPECT_GT(json["extended"]["gain"].get<double>(), 0.0);
+    EXPECT_LT(json["extended"]["cv_rmse_gf"].get<double>(), json["baseline"]["cv_rmse_gf"].get<double>());
+
+    ASSERT_TRUE(write_validation_report(*v, options.analysis, dir / "report"));
+    EXPECT_TRUE(std::filesystem::exists(dir / "report" / "report.md"));
+    EXPECT_TRUE(std::filesystem::exists(dir / "report" / "model_vs_data.svg"));
+    EXPECT_TRUE(std::filesystem::exists(dir / "report" / "residual_insertion.svg"));
+}
+
+TEST(Validation, BadMeasuredFileNamesLineAndColumn) {
+    const auto path = (std::filesystem::temp_directory_path() / "ikebana_bad_trials.csv").string();
+    std::ofstream(path) << "flower_id,insertion,max_force_gf\nA,1,400\nA,two,380\nA,3,370\n";
+    const auto v = run_validation(path, {});
+    ASSERT_FALSE(v);
+    EXPECT_NE(v.error().message.find("ikebana_bad_trials.csv:3: column 'insertion'"), std::string::npos) << v.error().message;
+}
+
+TEST(Validation, IgnoringAColumnThatIsNotThereIsAnError) {
+    const auto path = (std::filesystem::temp_directory_path() / "ikebana_ignore_trials.csv").string();
+    std::ofstream(path) << "flower_id,insertion,max_force_gf\nA,1,400\nA,2,380\nA,3,370\n";
+    ValidationOptions options;
+    options.ignore = {"nope"};
+    const auto v = run_validation(path, options);
+    ASSERT_FALSE(v);
+    EXPECT_NE(v.error().message.find("'nope'"), std::string::npos);
+}
