@@ -100,9 +100,12 @@ std::vector<components::DeteriorationTerm> terms_of(const CovariateColumn& colum
 
 std::string describe_shape(const TermShape& shape) {
     char text[128];
-    if (shape.form == "log") std::snprintf(text, sizeof text, "log(x - %.4g)", shape.origin);
-    else if (shape.form == "saturating") std::snprintf(text, sizeof text, "1 - exp(-(x - %.4g) / %.4g)", shape.origin, shape.scale);
-    else if (shape.form == "power") std::snprintf(text, sizeof text, "(x - %.4g)^%.4g", shape.origin, shape.scale);
+    char x[48];
+    if (shape.origin == 0.0) std::snprintf(x, sizeof x, "x");
+    else std::snprintf(x, sizeof x, "x %c %.4g", shape.origin > 0.0 ? '-' : '+', std::abs(shape.origin));
+    if (shape.form == "log") std::snprintf(text, sizeof text, "log(%s)", x);
+    else if (shape.form == "saturating") std::snprintf(text, sizeof text, "1 - exp(-(%s) / %.4g)", x, shape.scale);
+    else if (shape.form == "power") std::snprintf(text, sizeof text, "(%s)^%.4g", x, shape.scale);
     else if (shape.form == "step") std::snprintf(text, sizeof text, "step at x >= %.4g", shape.scale);
     else if (shape.form == "linear") std::snprintf(text, sizeof text, "x");
     else std::snprintf(text, sizeof text, "a factor per level");

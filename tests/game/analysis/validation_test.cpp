@@ -75,3 +75,23 @@ TEST(Validation, IgnoringAColumnThatIsNotThereIsAnError) {
     ASSERT_FALSE(v);
     EXPECT_NE(v.error().message.find("'nope'"), std::string::npos);
 }
+
+TEST(Validation, OutcomesAreScoredWhenTheDataHasThem) {
+    const auto path = (std::filesystem::temp_directory_path() / "ikebana_outcome_trials.csv").string();
+    std::ofstream(path) << "flower_id,insertion,max_force_gf,outcome\n"
+                           "A,1,480,stood\nA,2,450,stood\nA,3,400,stood\nB,1,470,stood\nB,2,440,stood\nB,3,390,fell\n"
+                           "C,1,490,stood\nC,2,455,stood\nC,3,395,broke\nD,1,485,stood\nD,2,450,stood\nD,3,380,fell\n";
+    ValidationOptions options;
+    options.analysis.bootstrap = 20;
+    const auto v = run_validation(path, options);
+    ASSERT_TRUE(v) << v.error().message;
+    EXPECT_EQ(v->outcome_rows, 11u) << "'broke' rows are not stood/fell predictions";
+    ASSERT_TRUE(v->baseline_outcome_accuracy.has_value());
+    EXPECT_GE(*v->baseline_outcome_accuracy, 0.0);
+    EXPECT_LE(*v->baseline_outcome_accuracy, 1.0);
+    if (!v->analysis.extension.empty()) {
+        EXPECT_TRUE(v->extended_outcome_accuracy.has_value());
+    }
+    const auto json = nlohmann::json::parse(validation_json(*v, options.analysis));
+    EXPECT_TRUE(json["baseline"].contains("outcome_accuracy"));
+}
