@@ -3,7 +3,9 @@
 #include <cmath>
 #include <random>
 
+#include "engine/assets/csv_table.hpp"
 #include "game/analysis/discrepancy_analysis.hpp"
+#include "game/analysis/measured_data.hpp"
 #include "game/analysis/svg_plot.hpp"
 #include "game/analysis/term_shapes.hpp"
 #include "systems/insertion/deterioration.hpp"
@@ -153,4 +155,58 @@ TEST(SvgPlot, DrawsEveryPointAndEscapesText) {
     EXPECT_EQ(circles, 3u);
     EXPECT_NE(svg.find("force &lt;gf&gt; &amp; more"), std::string::npos);
     EXPECT_EQ(svg.find("nan"), std::string::npos);
+}
+
+// Mutated measured files: every one either reads, and then analyses to finite figures, or is refused
+// with the file's name; nothing crashes and nothing comes back half read.
+TEST(DiscrepancyAnalysis, MutatedFilesAreReadAndAnalysedOrRefusedNeverCrash) {
+    const std::string valid =
+        "flower_id,insertion,max_force_gf,angle_deg,room,temp\n"
+        "A,1,480,45,dry,21.5\nA,2,450,45,dry,21.7\nA,3,410,45,dry,22.0\nB,1,470,30,humid,19.0\n"
+        "B,2,445,30,humid,19.4\nB,3,400,30,humid,19.9\nC,1,490,60,dry,23.1\nC,2,460,60,dry,23.0\n"
+        "C,3,420,60,dry,23.4\nD,1,475,45,humid,20.2\nD,2,440,45,humid,20.5\nD,3,405,45,humid,20.9\n";
+    const std::string alphabet = ",\n\"#-.e0123456789abcAB \t";
+    std::mt19937_64 rng(7);
+    AnalysisOptions options;
+    options.permutations = 49;
+    options.bootstrap = 10;
+    std::size_t analysed = 0;
+    for (int round = 0; round < 300; ++round) {
+        std::string text = valid;
+        const int edits = 1 + static_cast<int>(rng() % 4);
+        for (int e = 0; e < edits; ++e) {
+            const std::size_t at = rng() % text.size();
+            switch (rng() % 3) {
+            case 0: text[at] = alphabet[rng() % alphabet.size()]; break;
+            case 1: text.erase(at, 1 + rng() % 3); break;
+            default: text.insert(at, 1, alphabet[rng() % alphabet.size()]); break;
+            }
+        }
+        auto table = assets::parse_csv(text, "mutated.csv");
+        if (!table) {
+            EXPECT_NE(table.error().message.find("mutated.csv"), std::string::npos) << table.error().message;
+            continue;
+        }
+        auto data = read_measured_data(std::move(table).value());
+        if (!data) {
+            EXPECT_NE(data.error().message.find("mutated.csv"), std::string::npos) << data.error().message;
+            continue;
+        }
+        auto covariates = candidate_covariates(data->table, {});
+        ASSERT_TRUE(covariates);
+        AnalysisInput in;
+        for (const auto& t : data->trials) {
+            in.flower.push_back(t.flower_id);
+            in.measured_gf.push_back(t.max_force_gf);
+            in.predicted_gf.push_back(400.0 + 10.0 * t.insertion);
+        }
+        in.covariates = std::move(covariates).value();
+        const auto result = analyse_discrepancy(in, options);
+        if (!result) continue; // too few rows: refused with a reason
+        ++analysed;
+        EXPECT_TRUE(std::isfinite(result->baseline_rmse_gf));
+        EXPECT_TRUE(std::isfinite(result->extended_cv_rmse_gf));
+        EXPECT_TRUE(std::isfinite(result->gain));
+    }
+    EXPECT_GT(analysed, 30u) << "most mutations still read";
 }
