@@ -1,28 +1,36 @@
 #version 450
 #extension GL_EXT_multiview : require
 // Scene geometry for both eyes in one pass: gl_ViewIndex picks the eye's off-axis projection.
+// Everything is instanced: pins, stem segments and petals are one mesh each with many instances.
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
-layout(location = 2) in vec4 in_instance_color;
+layout(location = 2) in vec4 in_model0;
+layout(location = 3) in vec4 in_model1;
+layout(location = 4) in vec4 in_model2;
+layout(location = 5) in vec4 in_model3;
+layout(location = 6) in vec4 in_colour;
 
-layout(set = 0, binding = 0) uniform Eyes {
+layout(set = 0, binding = 0) uniform Frame {
     mat4 view_projection[2];
     mat4 light_view_projection;
     vec4 light_direction;
-} eyes;
+} frame;
 
-layout(push_constant) uniform Model {
-    mat4 model;
-} model;
+// 0 in the multiview pass (gl_ViewIndex picks the eye); the eye itself when each eye has its own pass.
+layout(push_constant) uniform Eye {
+    int base;
+} eye;
 
 layout(location = 0) out vec3 out_normal;
-layout(location = 1) out vec4 out_color;
+layout(location = 1) out vec4 out_colour;
 layout(location = 2) out vec4 out_light_space;
 
 void main() {
-    vec4 world = model.model * vec4(in_position, 1.0);
-    out_normal = mat3(model.model) * in_normal;
-    out_color = in_instance_color;
-    out_light_space = eyes.light_view_projection * world;
-    gl_Position = eyes.view_projection[gl_ViewIndex] * world;
+    mat4 model = mat4(in_model0, in_model1, in_model2, in_model3);
+    vec4 world = model * vec4(in_position, 1.0);
+    // Scaled instances (pins, stem segments): the inverse transpose keeps normals perpendicular.
+    out_normal = transpose(inverse(mat3(model))) * in_normal;
+    out_colour = in_colour;
+    out_light_space = frame.light_view_projection * world;
+    gl_Position = frame.view_projection[gl_ViewIndex + eye.base] * world;
 }

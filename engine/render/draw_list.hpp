@@ -1,0 +1,39 @@
+#pragma once
+// What the renderer draws in a frame: meshes by name, each with its instances. The renderer knows
+// meshes, not flowers; the presentation systems turn the world into this list.
+// Built-in meshes: "cube" (unit, centred), "cylinder" (radius 1, from z = 0 to 1), "plane"
+// (unit square at z = 0, facing +z); any other name is a glTF file (a missing or broken one is drawn
+// as a placeholder, with a warning naming the file).
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace ikebana::render {
+
+struct MeshInstance {
+    glm::mat4 model;
+    glm::vec4 colour; // linear RGB, alpha unused
+};
+
+struct DrawBatch {
+    std::string mesh;
+    std::vector<MeshInstance> instances;
+};
+
+struct DrawList {
+    std::vector<DrawBatch> batches;
+    glm::vec3 light_direction{-0.4f, 0.3f, -1.0f}; // towards which the light shines
+    glm::vec3 background{0.93f, 0.92f, 0.88f};
+    glm::vec3 shadow_centre{0.0f, 0.0f, 0.1f};     // what the shadow map covers
+    float shadow_radius = 0.5f;
+
+    DrawBatch& batch(const std::string& mesh) {
+        for (auto& b : batches) {
+            if (b.mesh == mesh) return b;
+        }
+        return batches.emplace_back(DrawBatch{mesh, {}});
+    }
+};
+
+} // namespace ikebana::render

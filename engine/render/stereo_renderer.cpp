@@ -1,0 +1,672 @@
+#include "engine/render/stereo_renderer.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+#include "engine/render/builtin_meshes.hpp"
+
+namespace ikebana::render {
+
+namespace {
+
+constexpr VkFormat colour_format = VK_FORMAT_R8G8B8A8_UNORM;
+constexpr VkFormat depth_format = VK_FORMAT_D32_SFLOAT;
+
+struct FrameUniforms {
+    glm::mat4 view_projection[2];
+    glm::mat4 light_view_projection;
+    glm::vec4 light_direction;
+};
+
+struct Vertex {
+    glm::vec3 position;
+    glm::vec3 normal;
+};
+
+struct CompositeConstants {
+    std::int32_t mode;
+    std::int32_t eye_width;
+    std::int32_t eye_height;
+    std::int32_t first_row_eye;
+};
+
+#define IKEBANA_VK(call)                                                                                                                  \
+    do {                                                                                                                                   \
+        if (VkResult vk_result_ = (call); vk_result_ != VK_SUCCESS) return vulkan_error(#call, vk_result_);                               \
+    } while (false)
+
+double ms_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Orthographic light looking along `direction` at the shadow's centre (Vulkan depth 0..1).
+glm::mat4 light_matrix(const DrawList& list) {
+    const glm::vec3 dir = glm::normalize(list.light_direction);
+    const float r = list.shadow_radius;
+    const glm::vec3 eye = list.shadow_centre - dir * (2.0f * r);
+    const glm::vec3 up = std::abs(dir.z) > 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1);
+    const glm::vec3 s = glm::normalize(glm::cross(dir, up));
+    const glm::vec3 u = glm::cross(s, dir);
+    glm::mat4 view(1.0f);
+    view[0][0] = s.x, view[1][0] = s.y, view[2][0] = s.z;
+    view[0][1] = u.x, view[1][1] = u.y, view[2][1] = u.z;
+    view[0][2] = -dir.x, view[1][2] = -dir.y, view[2][2] = -dir.z;
+    view[3][0] = -glm::dot(s, eye), view[3][1] = -glm::dot(u, eye), view[3][2] = glm::dot(dir, eye);
+    const float n = 0.0f, f = 4.0f * r;
+    glm::mat4 ortho(1.0f);
+    ortho[0][0] = 1.0f / r;
+    ortho[1][1] = 1.0f / r;
+    ortho[2][2] = -1.0f / (f - n);
+    ortho[3][2] = -n / (f - n);
+    return ortho * view;
+}
+
+} // namespace
+
+std::filesystem::path default_shader_dir() {
+    if (const char* dir = std::getenv("IKEBANA_SHADERS"); dir && *dir) return dir;
+    return IKEBANA_SHADER_DIR;
+}
+
+Result<StereoMode> parse_stereo_mode(std::string_view text) {
+    if (text == "sbs") return StereoMode::side_by_side;
+    if (text == "rows") return StereoMode::rows;
+    if (text == "anaglyph") return StereoMode::anaglyph;
+    if (text == "mono") return StereoMode::mono;
+    return make_error(ErrorCode::invalid_argument, "stereo mode '" + std::string(text) + "': expected sbs, rows, anaglyph or mono");
+}
+
+const char* stereo_mode_name(StereoMode mode) {
+    switch (mode) {
+    case StereoMode::side_by_side: return "sbs";
+    case StereoMode::rows: return "rows";
+    case StereoMode::anaglyph: return "anaglyph";
+    case StereoMode::mono: return "mono";
+    }
+    return "?";
+}
+
+Result<std::unique_ptr<StereoRenderer>> StereoRenderer::create(VulkanContext& ctx, const RendererOptions& options) {
+    if (options.eye_width == 0 || options.eye_height == 0 || options.eye_width > 8192 || options.eye_height > 8192) {
+        return make_error(ErrorCode::invalid_argument, "eye size " + std::to_string(options.eye_width) + "x" + std::to_string(options.eye_height) +
+                                                           ": expected 1..8192 each");
+    }
+    std::unique_ptr<StereoRenderer> r(new StereoRenderer(ctx, options));
+    if (r->options_.frames_in_flight == 0) r->options_.frames_in_flight = 1;
+    const bool lavapipe = ctx.device_name().find("llvmpipe") != std::string::npos;
+    r->multiview_ = options.multiview == RendererOptions::Multiview::on ||
+                    (options.multiview == RendererOptions::Multiview::automatic && !lavapipe);
+    for (auto step : {&StereoRenderer::prepare_frames, &StereoRenderer::prepare_shadow_map, &StereoRenderer::prepare_descriptors,
+                      &StereoRenderer::prepare_targets, &StereoRenderer::prepare_pipelines, &StereoRenderer::prepare_builtin_meshes}) {
+        if (auto ok = ((*r).*step)(); !ok) return std::move(ok).error();
+    }
+    return r;
+}
+
+StereoRenderer::~StereoRenderer() {
+    VkDevice d = ctx_.device();
+    vkDeviceWaitIdle(d);
+    destroy_targets();
+    destroy_image(ctx_, shadow_);
+    for (auto& [name, m] : meshes_) {
+        destroy_buffer(ctx_, m.vertices);
+        destroy_buffer(ctx_, m.indices);
+    }
+    for (auto& f : frames_) {
+        destroy_buffer(ctx_, f.uniforms);
+        destroy_buffer(ctx_, f.instances);
+        destroy_buffer(ctx_, f.readback);
+        if (f.fence) vkDestroyFence(d, f.fence, nullptr);
+    }
+    for (VkPipeline p : {scene_pipeline_, per_eye_pipeline_, shadow_pipeline_, composite_pipeline_}) {
+        if (p) vkDestroyPipeline(d, p, nullptr);
+    }
+    for (VkPipelineLayout l : {scene_pipeline_layout_, composite_pipeline_layout_}) {
+        if (l) vkDestroyPipelineLayout(d, l, nullptr);
+    }
+    if (descriptor_pool_) vkDestroyDescriptorPool(d, descriptor_pool_, nullptr);
+    for (VkDescriptorSetLayout l : {scene_layout_, composite_layout_}) {
+        if (l) vkDestroyDescriptorSetLayout(d, l, nullptr);
+    }
+    for (VkSampler s : {shadow_sampler_, eye_sampler_}) {
+        if (s) vkDestroySampler(d, s, nullptr);
+    }
+    if (pool_) vkDestroyCommandPool(d, pool_, nullptr);
+}
+
+Result<void> StereoRenderer::prepare_frames() {
+    VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO, nullptr, VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT, ctx_.queue_family()};
+    IKEBANA_VK(vkCreateCommandPool(ctx_.device(), &pool, nullptr, &pool_));
+    frames_.resize(options_.frames_in_flight);
+    for (auto& f : frames_) {
+        VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO, nullptr, pool_, VK_COMMAND_BUFFER_LEVEL_PRIMARY, 1};
+        IKEBANA_VK(vkAllocateCommandBuffers(ctx_.device(), &alloc, &f.cmd));
+        VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO, nullptr, VK_FENCE_CREATE_SIGNALED_BIT};
+        IKEBANA_VK(vkCreateFence(ctx_.device(), &fence, nullptr, &f.fence));
+        auto uniforms = create_buffer(ctx_, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+        if (!uniforms) return std::move(uniforms).error();
+        f.uniforms = *uniforms;
+    }
+    return Ok{};
+}
+
+Result<void> StereoRenderer::prepare_shadow_map() {
+    auto shadow = create_image(ctx_, depth_format, {options_.shadow_map_size, options_.shadow_map_size}, 1,
+                               VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+    if (!shadow) return std::move(shadow).error();
+    shadow_ = *shadow;
+    VkSamplerCreateInfo s{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    s.magFilter = s.minFilter = VK_FILTER_LINEAR;
+    s.addressModeU = s.addressModeV = s.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER;
+    s.borderColor = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE;
+    s.compareEnable = VK_TRUE;
+    s.compareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
+    s.maxLod = 0.0f;
+    IKEBANA_VK(vkCreateSampler(ctx_.device(), &s, nullptr, &shadow_sampler_));
+    VkSamplerCreateInfo e{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    e.magFilter = e.minFilter = VK_FILTER_NEAREST;
+    e.addressModeU = e.addressModeV = e.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    IKEBANA_VK(vkCreateSampler(ctx_.device(), &e, nullptr, &eye_sampler_));
+    return Ok{};
+}
+
+VkExtent2D StereoRenderer::output_extent() const noexcept {
+    const std::uint32_t w = options_.mode == StereoMode::side_by_side ? 2 * options_.eye_width : options_.eye_width;
+    return {w, options_.eye_height};
+}
+
+void StereoRenderer::destroy_targets() {
+    for (int e = 0; e < 2; ++e) {
+        if (eye_layer_[e]) vkDestroyImageView(ctx_.device(), eye_layer_[e], nullptr);
+        if (depth_layer_[e]) vkDestroyImageView(ctx_.device(), depth_layer_[e], nullptr);
+        eye_layer_[e] = depth_layer_[e] = VK_NULL_HANDLE;
+    }
+    destroy_image(ctx_, eyes_);
+    destroy_image(ctx_, depth_);
+    destroy_image(ctx_, output_);
+}
+
+// Everything whose size follows the eye size or the stereo mode, and nothing else.
+Result<void> StereoRenderer::prepare_targets() {
+    const VkExtent2D eye{options_.eye_width, options_.eye_height};
+    auto eyes = create_image(ctx_, colour_format, eye, 2,
+                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
+    if (!eyes) return std::move(eyes).error();
+    eyes_ = *eyes;
+    auto depth = create_image(ctx_, depth_format, eye, 2, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                              VK_IMAGE_ASPECT_DEPTH_BIT);
+    if (!depth) return std::move(depth).error();
+    depth_ = *depth;
+    for (std::uint32_t e = 0; e < 2; ++e) {
+        VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+        view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+        view.image = eyes_.image;
+        view.format = colour_format;
+        view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, e, 1};
+        IKEBANA_VK(vkCreateImageView(ctx_.device(), &view, nullptr, &eye_layer_[e]));
+        view.image = depth_.image;
+        view.format = depth_format;
+        view.subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, e, 1};
+        IKEBANA_VK(vkCreateImageView(ctx_.device(), &view, nullptr, &depth_layer_[e]));
+    }
+    auto output = create_image(ctx_, colour_format, output_extent(), 1, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                               VK_IMAGE_ASPECT_COLOR_BIT);
+    if (!output) return std::move(output).error();
+    output_ = *output;
+    const VkDeviceSize eye_bytes = 4ull * eye.width * eye.height;
+    const VkDeviceSize readback = 4ull * output_.extent.width * output_.extent.height + 2 * eye_bytes;
+    for (auto& f : frames_) {
+        destroy_buffer(ctx_, f.readback);
+        auto buffer = create_buffer(ctx_, readback, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+        if (!buffer) return std::move(buffer).error();
+        f.readback = *buffer;
+    }
+    VkDescriptorImageInfo image{eye_sampler_, eyes_.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    write.dstSet = composite_set_;
+    write.dstBinding = 0;
+    write.descriptorCount = 1;
+    write.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+    write.pImageInfo = &image;
+    vkUpdateDescriptorSets(ctx_.device(), 1, &write, 0, nullptr);
+    return Ok{};
+}
+
+Result<void> StereoRenderer::resize(std::uint32_t eye_width, std::uint32_t eye_height) {
+    if (eye_width == 0 || eye_height == 0) return make_error(ErrorCode::invalid_argument, "eye size must be positive");
+    vkDeviceWaitIdle(ctx_.device());
+    destroy_targets();
+    options_.eye_width = eye_width;
+    options_.eye_height = eye_height;
+    return prepare_targets();
+}
+
+Result<void> StereoRenderer::set_mode(StereoMode mode) {
+    if (mode == options_.mode) return Ok{};
+    options_.mode = mode;
+    return resize(options_.eye_width, options_.eye_height);
+}
+
+Result<void> StereoRenderer::prepare_descriptors() {
+    const VkDescriptorSetLayoutBinding scene[2] = {
+        {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
+    VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO, nullptr, 0, 2, scene};
+    IKEBANA_VK(vkCreateDescriptorSetLayout(ctx_.device(), &info, nullptr, &scene_layout_));
+    const VkDescriptorSetLayoutBinding composite{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
+    VkDescriptorSetLayoutCreateInfo cinfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO, nullptr, 0, 1, &composite};
+    IKEBANA_VK(vkCreateDescriptorSetLayout(ctx_.device(), &cinfo, nullptr, &composite_layout_));
+    const auto n = static_cast<std::uint32_t>(frames_.size());
+    const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, n}, {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, n + 1}};
+    VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO, nullptr, 0, n + 1, 2, sizes};
+    IKEBANA_VK(vkCreateDescriptorPool(ctx_.device(), &pool, nullptr, &descriptor_pool_));
+    for (auto& f : frames_) {
+        VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO, nullptr, descriptor_pool_, 1, &scene_layout_};
+        IKEBANA_VK(vkAllocateDescriptorSets(ctx_.device(), &alloc, &f.scene_set));
+        VkDescriptorBufferInfo ubo{f.uniforms.buffer, 0, sizeof(FrameUniforms)};
+        VkDescriptorImageInfo shadow{shadow_sampler_, shadow_.view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+        VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+        writes[0].dstSet = f.scene_set;
+        writes[0].dstBinding = 0;
+        writes[0].descriptorCount = 1;
+        writes[0].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        writes[0].pBufferInfo = &ubo;
+        writes[1].dstSet = f.scene_set;
+        writes[1].dstBinding = 1;
+        writes[1].descriptorCount = 1;
+        writes[1].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+        writes[1].pImageInfo = &shadow;
+        vkUpdateDescriptorSets(ctx_.device(), 2, writes, 0, nullptr);
+    }
+    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO, nullptr, descriptor_pool_, 1, &composite_layout_};
+    IKEBANA_VK(vkAllocateDescriptorSets(ctx_.device(), &alloc, &composite_set_));
+    return Ok{};
+}
+
+Result<void> StereoRenderer::prepare_pipelines() {
+    VkShaderModule modules[5] = {};
+    const char* names[5] = {"mesh.vert.spv", "mesh.frag.spv", "shadow.vert.spv", "composite.vert.spv", "composite.frag.spv"};
+    for (int i = 0; i < 5; ++i) {
+        auto m = load_shader(ctx_, options_.shader_dir / names[i]);
+        if (!m) {
+            for (VkShaderModule done : modules) {
+                if (done) vkDestroyShaderModule(ctx_.device(), done, nullptr);
+            }
+            return std::move(m).error();
+        }
+        modules[i] = *m;
+    }
+    struct Cleanup {
+        VkDevice d;
+        VkShaderModule* m;
+        ~Cleanup() {
+            for (int i = 0; i < 5; ++i) vkDestroyShaderModule(d, m[i], nullptr);
+        }
+    } cleanup{ctx_.device(), modules};
+
+    const VkPushConstantRange eye_push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(std::int32_t)};
+    VkPipelineLayoutCreateInfo scene_layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, nullptr, 0, 1, &scene_layout_, 1, &eye_push};
+    IKEBANA_VK(vkCreatePipelineLayout(ctx_.device(), &scene_layout, nullptr, &scene_pipeline_layout_));
+    const VkPushConstantRange push{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(CompositeConstants)};
+    VkPipelineLayoutCreateInfo composite_layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, nullptr, 0, 1, &composite_layout_, 1, &push};
+    IKEBANA_VK(vkCreatePipelineLayout(ctx_.device(), &composite_layout, nullptr, &composite_pipeline_layout_));
+
+    const VkVertexInputBindingDescription bindings[2] = {{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX},
+                                                         {1, sizeof(MeshInstance), VK_VERTEX_INPUT_RATE_INSTANCE}};
+    const VkVertexInputAttributeDescription attributes[7] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, normal)},
+        {2, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 0},                       {3, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 16},
+        {4, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 32},                      {5, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 48},
+        {6, 1, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(MeshInstance, colour)}};
+    VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO, nullptr, 0, 2, bindings, 7, attributes};
+    VkPipelineVertexInputStateCreateInfo no_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO, nullptr, 0,
+                                                    VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, VK_FALSE};
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO, nullptr, 0, 1, nullptr, 1, nullptr};
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE; // petals and leaves are single sheets
+    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    raster.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    depth.depthTestEnable = VK_TRUE;
+    depth.depthWriteEnable = VK_TRUE;
+    depth.depthCompareOp = VK_COMPARE_OP_LESS;
+    VkPipelineDepthStencilStateCreateInfo no_depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    VkPipelineColorBlendAttachmentState blend_attachment{};
+    blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &blend_attachment;
+    VkPipelineColorBlendStateCreateInfo no_blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    const VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO, nullptr, 0, 2, dynamic_states};
+    auto stage = [](VkShaderStageFlagBits s, VkShaderModule m) {
+        return VkPipelineShaderStageCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, s, m, "main", nullptr};
+    };
+
+    // Scene: both eyes at once.
+    VkPipelineRenderingCreateInfo scene_rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    scene_rendering.viewMask = 0b11;
+    scene_rendering.colorAttachmentCount = 1;
+    scene_rendering.pColorAttachmentFormats = &colour_format;
+    scene_rendering.depthAttachmentFormat = depth_format;
+    const VkPipelineShaderStageCreateInfo scene_stages[2] = {stage(VK_SHADER_STAGE_VERTEX_BIT, modules[0]), stage(VK_SHADER_STAGE_FRAGMENT_BIT, modules[1])};
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    info.pNext = &scene_rendering;
+    info.stageCount = 2;
+    info.pStages = scene_stages;
+    info.pVertexInputState = &vertex_input;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &depth;
+    info.pColorBlendState = &blend;
+    info.pDynamicState = &dynamic;
+    info.layout = scene_pipeline_layout_;
+    IKEBANA_VK(vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &scene_pipeline_));
+    scene_rendering.viewMask = 0; // the same, one eye per pass
+    IKEBANA_VK(vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &per_eye_pipeline_));
+
+    // Shadow: depth only, from the light, with a slope bias against acne.
+    VkPipelineRenderingCreateInfo shadow_rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    shadow_rendering.depthAttachmentFormat = depth_format;
+    VkPipelineRasterizationStateCreateInfo shadow_raster = raster;
+    shadow_raster.depthBiasEnable = VK_TRUE;
+    shadow_raster.depthBiasConstantFactor = 1.25f;
+    shadow_raster.depthBiasSlopeFactor = 1.75f;
+    const VkPipelineShaderStageCreateInfo shadow_stage = stage(VK_SHADER_STAGE_VERTEX_BIT, modules[2]);
+    // Positions and model matrices only: normals and colours mean nothing to depth.
+    const VkVertexInputAttributeDescription shadow_attributes[5] = {attributes[0], attributes[2], attributes[3], attributes[4], attributes[5]};
+    VkPipelineVertexInputStateCreateInfo shadow_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO, nullptr, 0, 2, bindings, 5,
+                                                      shadow_attributes};
+    info.pVertexInputState = &shadow_input;
+    info.pNext = &shadow_rendering;
+    info.stageCount = 1;
+    info.pStages = &shadow_stage;
+    info.pRasterizationState = &shadow_raster;
+    info.pColorBlendState = &no_blend;
+    IKEBANA_VK(vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &shadow_pipeline_));
+
+    // Composite: one triangle, the eyes to the output.
+    VkPipelineRenderingCreateInfo composite_rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    composite_rendering.colorAttachmentCount = 1;
+    composite_rendering.pColorAttachmentFormats = &colour_format;
+    const VkPipelineShaderStageCreateInfo composite_stages[2] = {stage(VK_SHADER_STAGE_VERTEX_BIT, modules[3]),
+                                                                 stage(VK_SHADER_STAGE_FRAGMENT_BIT, modules[4])};
+    info.pNext = &composite_rendering;
+    info.stageCount = 2;
+    info.pStages = composite_stages;
+    info.pVertexInputState = &no_input;
+    info.pRasterizationState = &raster;
+    info.pDepthStencilState = &no_depth;
+    info.pColorBlendState = &blend;
+    info.layout = composite_pipeline_layout_;
+    IKEBANA_VK(vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &composite_pipeline_));
+    return Ok{};
+}
+
+Result<StereoRenderer::Mesh> StereoRenderer::upload(const assets::MeshData& data) {
+    Mesh m;
+    std::vector<Vertex> vertices(data.positions.size());
+    for (std::size_t i = 0; i < vertices.size(); ++i) vertices[i] = {data.positions[i], i < data.normals.size() ? data.normals[i] : glm::vec3(0, 0, 1)};
+    auto vb = create_buffer(ctx_, std::max<VkDeviceSize>(1, vertices.size() * sizeof(Vertex)), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+    if (!vb) return std::move(vb).error();
+    m.vertices = *vb;
+    std::memcpy(m.vertices.mapped, vertices.data(), vertices.size() * sizeof(Vertex));
+    auto ib = create_buffer(ctx_, std::max<VkDeviceSize>(1, data.indices.size() * sizeof(std::uint32_t)), VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+    if (!ib) {
+        destroy_buffer(ctx_, m.vertices);
+        return std::move(ib).error();
+    }
+    m.indices = *ib;
+    std::memcpy(m.indices.mapped, data.indices.data(), data.indices.size() * sizeof(std::uint32_t));
+    m.index_count = static_cast<std::uint32_t>(data.indices.size());
+    return m;
+}
+
+Result<void> StereoRenderer::prepare_builtin_meshes() {
+    for (const auto& data : {cube_mesh(), cylinder_mesh(), plane_mesh(), assets::placeholder_mesh()}) {
+        auto m = upload(data);
+        if (!m) return std::move(m).error();
+        meshes_[data.name == "placeholder" || data.name.empty() ? "placeholder" : data.name] = *m;
+    }
+    if (!meshes_.contains("placeholder")) meshes_["placeholder"] = meshes_.rbegin()->second;
+    return Ok{};
+}
+
+Result<StereoRenderer::Mesh*> StereoRenderer::mesh(const std::string& name) {
+    if (auto it = meshes_.find(name); it != meshes_.end()) return &it->second;
+    // A glTF file: a missing or broken one becomes the placeholder, once, with a warning.
+    auto data = assets::load_gltf_mesh(options_.asset_dir / name);
+    if (!data) {
+        warnings_.push_back("mesh " + name + ": " + data.error().message + "; drawing a placeholder");
+        data = assets::placeholder_mesh();
+    }
+    auto m = upload(*data);
+    if (!m) return std::move(m).error();
+    return &(meshes_[name] = *m);
+}
+
+std::vector<std::string> StereoRenderer::take_warnings() { return std::exchange(warnings_, {}); }
+
+Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoRig& rig_in, bool with_eyes) {
+    Frame& frame = frames_[frame_index_];
+    frame_index_ = (frame_index_ + 1) % frames_.size();
+    IKEBANA_VK(vkWaitForFences(ctx_.device(), 1, &frame.fence, VK_TRUE, UINT64_MAX));
+    const auto started = std::chrono::steady_clock::now();
+
+    // Instances of every batch in one buffer, each batch drawn from its offset.
+    std::vector<MeshInstance> instances;
+    std::vector<std::pair<Mesh*, std::uint32_t>> draws;
+    for (const auto& batch : list.batches) {
+        if (batch.instances.empty()) continue;
+        auto m = mesh(batch.mesh);
+        if (!m) return std::move(m).error();
+        draws.emplace_back(*m, static_cast<std::uint32_t>(batch.instances.size()));
+        instances.insert(instances.end(), batch.instances.begin(), batch.instances.end());
+    }
+    const VkDeviceSize needed = std::max<VkDeviceSize>(1, instances.size()) * sizeof(MeshInstance);
+    if (frame.instances.size < needed) {
+        destroy_buffer(ctx_, frame.instances);
+        auto buffer = create_buffer(ctx_, needed * 2, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+        if (!buffer) return std::move(buffer).error();
+        frame.instances = *buffer;
+    }
+    std::memcpy(frame.instances.mapped, instances.data(), instances.size() * sizeof(MeshInstance));
+
+    StereoRig rig = rig_in;
+    rig.aspect = static_cast<double>(options_.eye_width) / static_cast<double>(options_.eye_height);
+    if (options_.mode == StereoMode::mono) rig.eye_separation_m = 0.0;
+    FrameUniforms u{};
+    u.view_projection[0] = eye_matrices(rig, -1).view_projection;
+    u.view_projection[1] = eye_matrices(rig, +1).view_projection;
+    u.light_view_projection = light_matrix(list);
+    u.light_direction = glm::vec4(glm::normalize(list.light_direction), 0.0f);
+    std::memcpy(frame.uniforms.mapped, &u, sizeof u);
+
+    IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
+    IKEBANA_VK(vkResetCommandBuffer(frame.cmd, 0));
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO, nullptr, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, nullptr};
+    IKEBANA_VK(vkBeginCommandBuffer(frame.cmd, &begin));
+    record(frame, list, draws, with_eyes);
+    IKEBANA_VK(vkEndCommandBuffer(frame.cmd));
+    RenderedFrame out;
+    out.timing.record_ms = ms_since(started);
+
+    const auto submitted = std::chrono::steady_clock::now();
+    VkCommandBufferSubmitInfo cmd_info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO, nullptr, frame.cmd, 0};
+    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+    submit.commandBufferInfoCount = 1;
+    submit.pCommandBufferInfos = &cmd_info;
+    IKEBANA_VK(vkQueueSubmit2(ctx_.queue(), 1, &submit, frame.fence));
+    IKEBANA_VK(vkWaitForFences(ctx_.device(), 1, &frame.fence, VK_TRUE, UINT64_MAX));
+    out.timing.execute_ms = ms_since(submitted);
+
+    const auto copied = std::chrono::steady_clock::now();
+    const auto* bytes = static_cast<const std::uint8_t*>(frame.readback.mapped);
+    auto take = [&](RgbaImage& img, std::uint32_t w, std::uint32_t h, std::size_t offset) {
+        img.width = w;
+        img.height = h;
+        img.pixels.assign(bytes + offset, bytes + offset + 4ull * w * h);
+    };
+    const VkExtent2D o = output_.extent;
+    take(out.composed, o.width, o.height, 0);
+    if (with_eyes) {
+        const std::size_t eye_bytes = 4ull * options_.eye_width * options_.eye_height;
+        take(out.left, options_.eye_width, options_.eye_height, 4ull * o.width * o.height);
+        take(out.right, options_.eye_width, options_.eye_height, 4ull * o.width * o.height + eye_bytes);
+    }
+    out.timing.readback_ms = ms_since(copied);
+    return out;
+}
+
+void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vector<std::pair<Mesh*, std::uint32_t>>& draws, bool with_eyes) {
+    VkCommandBuffer cmd = frame.cmd;
+    auto draw_all = [&] {
+        VkDeviceSize zero = 0;
+        std::uint32_t first = 0;
+        for (const auto& [m, count] : draws) {
+            // Each batch's instances from its offset in the frame's instance buffer.
+            VkBuffer buffers[2] = {m->vertices.buffer, frame.instances.buffer};
+            VkDeviceSize offsets[2] = {zero, first * sizeof(MeshInstance)};
+            vkCmdBindVertexBuffers(cmd, 0, 2, buffers, offsets);
+            vkCmdBindIndexBuffer(cmd, m->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+            vkCmdDrawIndexed(cmd, m->index_count, count, 0, 0, 0);
+            first += count;
+        }
+    };
+    auto set_viewport = [&](VkExtent2D e) {
+        VkViewport v{0.0f, 0.0f, static_cast<float>(e.width), static_cast<float>(e.height), 0.0f, 1.0f};
+        VkRect2D s{{0, 0}, e};
+        vkCmdSetViewport(cmd, 0, 1, &v);
+        vkCmdSetScissor(cmd, 0, 1, &s);
+    };
+    constexpr auto none = VK_PIPELINE_STAGE_2_NONE;
+    // 1. Shadow map.
+    transition(cmd, shadow_.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+               VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+               VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+    VkRenderingAttachmentInfo shadow_depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    shadow_depth.imageView = shadow_.view;
+    shadow_depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    shadow_depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    shadow_depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    shadow_depth.clearValue.depthStencil = {1.0f, 0};
+    VkRenderingInfo shadow_pass{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    shadow_pass.renderArea = {{0, 0}, shadow_.extent};
+    shadow_pass.layerCount = 1;
+    shadow_pass.pDepthAttachment = &shadow_depth;
+    vkCmdBeginRendering(cmd, &shadow_pass);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, shadow_pipeline_);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, scene_pipeline_layout_, 0, 1, &frame.scene_set, 0, nullptr);
+    const std::int32_t no_eye = 0;
+    vkCmdPushConstants(cmd, scene_pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof no_eye, &no_eye);
+    set_viewport(shadow_.extent);
+    draw_all();
+    vkCmdEndRendering(cmd);
+    transition(cmd, shadow_.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+               VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+               VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+
+    // 2. Both eyes, one pass.
+    transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, none, 0,
+               VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    // Both depth layers cleared once, whether the eyes are drawn in one pass or two.
+    transition(cmd, depth_.image, VK_IMAGE_ASPECT_DEPTH_BIT, 2, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+               VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, 0, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    const VkClearDepthStencilValue far_depth{1.0f, 0};
+    const VkImageSubresourceRange both_layers{VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 2};
+    vkCmdClearDepthStencilImage(cmd, depth_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &far_depth, 1, &both_layers);
+    transition(cmd, depth_.image, VK_IMAGE_ASPECT_DEPTH_BIT, 2, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+               VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+               VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+               VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+    VkRenderingAttachmentInfo colour{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    colour.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    colour.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    colour.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    colour.clearValue.color = {{list.background.r, list.background.g, list.background.b, 1.0f}};
+    VkRenderingAttachmentInfo depth = shadow_depth;
+    depth.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+    depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    VkRenderingInfo scene{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    scene.renderArea = {{0, 0}, eyes_.extent};
+    scene.layerCount = 1;
+    scene.colorAttachmentCount = 1;
+    scene.pColorAttachments = &colour;
+    scene.pDepthAttachment = &depth;
+    // One multiview pass (viewMask 0b11: gl_ViewIndex picks the eye), or a pass per eye's layer.
+    const int passes = multiview_ ? 1 : 2;
+    for (int pass = 0; pass < passes; ++pass) {
+        colour.imageView = multiview_ ? eyes_.view : eye_layer_[pass];
+        depth.imageView = multiview_ ? depth_.view : depth_layer_[pass];
+        scene.viewMask = multiview_ ? 0b11u : 0u;
+        vkCmdBeginRendering(cmd, &scene);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, multiview_ ? scene_pipeline_ : per_eye_pipeline_);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, scene_pipeline_layout_, 0, 1, &frame.scene_set, 0, nullptr);
+        const std::int32_t base = pass;
+        vkCmdPushConstants(cmd, scene_pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof base, &base);
+        set_viewport(eyes_.extent);
+        draw_all();
+        vkCmdEndRendering(cmd);
+    }
+    transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+               VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+               VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+
+    // 3. Composite to the display's format.
+    transition(cmd, output_.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, none, 0,
+               VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    VkRenderingAttachmentInfo out = colour;
+    out.imageView = output_.view;
+    out.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    VkRenderingInfo composite{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    composite.renderArea = {{0, 0}, output_.extent};
+    composite.layerCount = 1;
+    composite.colorAttachmentCount = 1;
+    composite.pColorAttachments = &out;
+    vkCmdBeginRendering(cmd, &composite);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, composite_pipeline_);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, composite_pipeline_layout_, 0, 1, &composite_set_, 0, nullptr);
+    const CompositeConstants constants{static_cast<std::int32_t>(options_.mode), static_cast<std::int32_t>(options_.eye_width),
+                                       static_cast<std::int32_t>(options_.eye_height), 0};
+    vkCmdPushConstants(cmd, composite_pipeline_layout_, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof constants, &constants);
+    set_viewport(output_.extent);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRendering(cmd);
+
+    // 4. Read back.
+    transition(cmd, output_.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+               VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+               VK_ACCESS_2_TRANSFER_READ_BIT);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {output_.extent.width, output_.extent.height, 1};
+    vkCmdCopyImageToBuffer(cmd, output_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, frame.readback.buffer, 1, &region);
+    if (with_eyes) {
+        transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                   VK_ACCESS_2_TRANSFER_READ_BIT);
+        VkBufferImageCopy eyes[2] = {};
+        for (std::uint32_t e = 0; e < 2; ++e) {
+            eyes[e].bufferOffset = 4ull * output_.extent.width * output_.extent.height + e * 4ull * eyes_.extent.width * eyes_.extent.height;
+            eyes[e].imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, e, 1};
+            eyes[e].imageExtent = {eyes_.extent.width, eyes_.extent.height, 1};
+        }
+        vkCmdCopyImageToBuffer(cmd, eyes_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, frame.readback.buffer, 2, eyes);
+    }
+    VkMemoryBarrier2 host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2, nullptr, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                          VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT};
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.memoryBarrierCount = 1;
+    dep.pMemoryBarriers = &host;
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+} // namespace ikebana::render

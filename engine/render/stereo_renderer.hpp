@@ -1,0 +1,115 @@
+#pragma once
+// Both eyes in one pass (multiview, viewMask 0b11) into a two-layer image, with a shadow map, then a
+// composite pass to the display's format: side by side, row-interleaved (the paper's polarized
+// display), anaglyph red-cyan, or mono. Offscreen: the composed frame (and each eye) is read back.
+// Structure after Sascha Willems' examples: short prepare_*() steps; a resize recreates only the
+// size-dependent targets; per-frame resources live in arrays of frames in flight.
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/core/result.hpp"
+#include "engine/assets/mesh.hpp"
+#include "engine/render/draw_list.hpp"
+#include "engine/render/gpu_resources.hpp"
+#include "engine/render/png_image.hpp"
+#include "engine/render/stereo_camera.hpp"
+#include "engine/render/vulkan_context.hpp"
+
+namespace ikebana::render {
+
+enum class StereoMode { side_by_side, rows, anaglyph, mono };
+Result<StereoMode> parse_stereo_mode(std::string_view text); // sbs, rows, anaglyph, mono
+const char* stereo_mode_name(StereoMode mode);
+
+// $IKEBANA_SHADERS, else the build tree's compiled shaders.
+std::filesystem::path default_shader_dir();
+
+struct RendererOptions {
+    std::uint32_t eye_width = 1280;
+    std::uint32_t eye_height = 720;
+    StereoMode mode = StereoMode::side_by_side;
+    std::filesystem::path shader_dir = default_shader_dir(); // the .spv files
+    std::filesystem::path asset_dir;   // glTF mesh names are relative to it
+    std::uint32_t frames_in_flight = 2;
+    std::uint32_t shadow_map_size = 2048;
+    // Both eyes in one multiview pass, or one pass per eye. Automatic: multiview, except on lavapipe,
+    // whose multiview (Mesa 22.3) loses triangles clipped at the frustum in the second view.
+    enum class Multiview { automatic, on, off } multiview = Multiview::automatic;
+};
+
+struct FrameTiming {
+    double record_ms = 0.0;   // CPU: filling instances and recording commands
+    double execute_ms = 0.0;  // submit to fence: the device's work (lavapipe: CPU threads)
+    double readback_ms = 0.0; // copying pixels out
+};
+
+struct RenderedFrame {
+    RgbaImage composed;
+    RgbaImage left, right; // when asked for
+    FrameTiming timing;
+};
+
+class StereoRenderer {
+public:
+    static Result<std::unique_ptr<StereoRenderer>> create(VulkanContext& ctx, const RendererOptions& options);
+    ~StereoRenderer();
+    StereoRenderer(const StereoRenderer&) = delete;
+    StereoRenderer& operator=(const StereoRenderer&) = delete;
+
+    Result<void> resize(std::uint32_t eye_width, std::uint32_t eye_height);
+    Result<void> set_mode(StereoMode mode); // the output size depends on it: recreates the targets
+    Result<RenderedFrame> render(const DrawList& list, const StereoRig& rig, bool with_eyes);
+    [[nodiscard]] VkExtent2D output_extent() const noexcept;
+    [[nodiscard]] bool multiview() const noexcept { return multiview_; }
+    // Placeholder meshes drawn since the last call, each naming its file and why.
+    std::vector<std::string> take_warnings();
+
+private:
+    struct Mesh {
+        GpuBuffer vertices, indices;
+        std::uint32_t index_count = 0;
+    };
+    struct Frame {
+        VkCommandBuffer cmd = VK_NULL_HANDLE;
+        VkFence fence = VK_NULL_HANDLE;
+        GpuBuffer uniforms, instances, readback;
+        VkDescriptorSet scene_set = VK_NULL_HANDLE;
+    };
+
+    StereoRenderer(VulkanContext& ctx, const RendererOptions& options) : ctx_(ctx), options_(options) {}
+    Result<void> prepare_frames();
+    Result<void> prepare_shadow_map();
+    Result<void> prepare_targets();
+    Result<void> prepare_descriptors();
+    Result<void> prepare_pipelines();
+    Result<void> prepare_builtin_meshes();
+    void destroy_targets();
+    Result<Mesh*> mesh(const std::string& name);
+    Result<Mesh> upload(const assets::MeshData& data);
+    void record(Frame& frame, const DrawList& list, const std::vector<std::pair<Mesh*, std::uint32_t>>& draws, bool with_eyes);
+
+    VulkanContext& ctx_;
+    RendererOptions options_;
+    VkCommandPool pool_ = VK_NULL_HANDLE;
+    std::vector<Frame> frames_;
+    std::size_t frame_index_ = 0;
+    GpuImage eyes_, depth_, output_, shadow_;
+    VkImageView eye_layer_[2] = {}, depth_layer_[2] = {}; // single-layer views for one pass per eye
+    bool multiview_ = true;
+    VkSampler shadow_sampler_ = VK_NULL_HANDLE, eye_sampler_ = VK_NULL_HANDLE;
+    VkDescriptorSetLayout scene_layout_ = VK_NULL_HANDLE, composite_layout_ = VK_NULL_HANDLE;
+    VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
+    VkDescriptorSet composite_set_ = VK_NULL_HANDLE;
+    VkPipelineLayout scene_pipeline_layout_ = VK_NULL_HANDLE, composite_pipeline_layout_ = VK_NULL_HANDLE;
+    VkPipeline scene_pipeline_ = VK_NULL_HANDLE, per_eye_pipeline_ = VK_NULL_HANDLE, shadow_pipeline_ = VK_NULL_HANDLE, composite_pipeline_ = VK_NULL_HANDLE;
+    std::map<std::string, Mesh> meshes_;
+    std::vector<std::string> warnings_;
+};
+
+} // namespace ikebana::render

@@ -1,0 +1,66 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine/render/stereo_camera.hpp"
+
+using namespace ikebana::render;
+
+namespace {
+glm::dvec2 ndc(const EyeMatrices& m, glm::dvec3 p) {
+    const glm::dvec4 c = glm::dmat4(m.view_projection) * glm::dvec4(p, 1.0);
+    return {c.x / c.w, c.y / c.w};
+}
+} // namespace
+
+TEST(StereoCamera, EyesHaveAsymmetricFrustaNotToeIn) {
+    const StereoRig rig;
+    const auto left = eye_matrices(rig, -1), right = eye_matrices(rig, +1);
+    // Off-axis: the projection's x-shear terms are equal and opposite; the view axes are parallel.
+    EXPECT_GT(std::abs(left.projection[2][0]), 1e-4);
+    EXPECT_NEAR(left.projection[2][0], -right.projection[2][0], 1e-6);
+    EXPECT_NEAR(glm::length(glm::vec3(left.view[0][2], left.view[1][2], left.view[2][2]) -
+                            glm::vec3(right.view[0][2], right.view[1][2], right.view[2][2])), 0.0, 1e-6);
+    EXPECT_NEAR(glm::distance(left.eye_position_m, right.eye_position_m), rig.eye_separation_m, 1e-12);
+}
+
+TEST(StereoCamera, PointsOnTheScreenPlaneHaveNoParallaxAndNearOnesCross) {
+    const StereoRig rig;
+    const glm::dvec3 forward = glm::normalize(rig.target_m - rig.position_m);
+    const auto left = eye_matrices(rig, -1), right = eye_matrices(rig, +1);
+    const glm::dvec3 on_screen = rig.position_m + forward * rig.screen_distance_m;
+    EXPECT_NEAR(ndc(left, on_screen).x, ndc(right, on_screen).x, 1e-5);
+    const glm::dvec3 near_point = rig.position_m + forward * (0.5 * rig.screen_distance_m);
+    const glm::dvec3 far_point = rig.position_m + forward * (2.0 * rig.screen_distance_m);
+    const double near_parallax = ndc(left, near_point).x - ndc(right, near_point).x;
+    const double far_parallax = ndc(left, far_point).x - ndc(right, far_point).x;
+    EXPECT_GT(near_parallax, 0.0) << "a near point is further right in the left eye (crossed)";
+    EXPECT_LT(far_parallax, 0.0);
+    EXPECT_GT(std::abs(near_parallax), std::abs(far_parallax)) << "near objects shift more than far ones";
+    // No vertical parallax anywhere (the point of not toeing in).
+    const glm::dvec3 corner = near_point + glm::dvec3(0.1, 0.0, 0.08);
+    EXPECT_NEAR(ndc(left, corner).y, ndc(right, corner).y, 1e-6);
+}
+
+TEST(StereoCamera, DepthIsZeroToOneAndYPointsDown) {
+    const StereoRig rig;
+    const auto m = eye_matrices(rig, 0);
+    const glm::dvec3 forward = glm::normalize(rig.target_m - rig.position_m);
+    auto depth = [&](double d) {
+        const glm::dvec4 c = glm::dmat4(m.view_projection) * glm::dvec4(rig.position_m + forward * d, 1.0);
+        return c.z / c.w;
+    };
+    EXPECT_NEAR(depth(rig.near_m), 0.0, 1e-5);
+    EXPECT_NEAR(depth(rig.far_m), 1.0, 1e-5);
+    const glm::dvec3 above = rig.target_m + rig.up * 0.05;
+    EXPECT_LT(ndc(m, above).y, ndc(m, rig.target_m).y) << "Vulkan clip y points down";
+}
+
+TEST(StereoCamera, OrbitKeepsDistanceAndTarget) {
+    const StereoRig rig;
+    const StereoRig turned = orbited(rig, 1.0, 0.2);
+    EXPECT_NEAR(glm::distance(turned.position_m, turned.target_m), glm::distance(rig.position_m, rig.target_m), 1e-9);
+    EXPECT_GT(glm::distance(turned.position_m, rig.position_m), 0.1);
+    const StereoRig over = orbited(rig, 0.0, 10.0);
+    EXPECT_LT(glm::dot(glm::normalize(over.position_m - over.target_m), over.up), 0.99) << "pitch stops short of the pole";
+}

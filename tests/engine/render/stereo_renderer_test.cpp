@@ -1,0 +1,172 @@
+// On Mesa's lavapipe here and in CI (any Vulkan 1.3 device elsewhere), with the validation layer on.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine/render/stereo_renderer.hpp"
+
+using namespace ikebana;
+using namespace ikebana::render;
+
+namespace {
+
+std::unique_ptr<VulkanContext>& shared_context() {
+    static std::unique_ptr<VulkanContext> ctx = [] {
+        auto c = VulkanContext::create({.validation = true, .require_validation = false, .instance_extensions = {}});
+        return c ? std::move(c).value() : nullptr;
+    }();
+    return ctx;
+}
+
+RendererOptions sized(std::uint32_t w, std::uint32_t h) {
+    RendererOptions o;
+    o.eye_width = w;
+    o.eye_height = h;
+    return o;
+}
+
+MeshInstance cube_at(glm::vec3 p, float size, glm::vec4 colour) {
+    glm::mat4 m(size);
+    m[3] = glm::vec4(p, 1.0f);
+    return {m, colour};
+}
+
+// Centroid x of the pixels close to a colour.
+double centroid_x(const RgbaImage& img, glm::vec3 colour) {
+    double sum = 0.0, n = 0.0;
+    for (std::uint32_t y = 0; y < img.height; ++y) {
+        for (std::uint32_t x = 0; x < img.width; ++x) {
+            const std::uint8_t* p = &img.pixels[4ull * (y * img.width + x)];
+            // Hue test: which channel dominates, robust to shading.
+            const glm::vec3 c(p[0], p[1], p[2]);
+            const float top = std::max(c.r, std::max(c.g, c.b));
+            if (top < 30.0f) continue;
+            const glm::vec3 normalised = c / top;
+            if (glm::distance(normalised, colour) < 0.35f) {
+                sum += x;
+                n += 1.0;
+            }
+        }
+    }
+    return n > 20 ? sum / n : NAN;
+}
+
+DrawList two_cubes() {
+    DrawList list;
+    // Near red cube in front of the zero-parallax plane, far blue cube behind it.
+    list.batch("cube").instances = {cube_at({-0.05f, -0.35f, 0.2f}, 0.04f, {0.9f, 0.05f, 0.05f, 1}),
+                                    cube_at({0.1f, 0.6f, 0.15f}, 0.12f, {0.05f, 0.05f, 0.9f, 1})};
+    list.batch("plane").instances = {{glm::mat4(glm::vec4(2, 0, 0, 0), glm::vec4(0, 2, 0, 0), glm::vec4(0, 0, 1, 0), glm::vec4(0, 0, 0, 1)),
+                                      {0.8f, 0.8f, 0.75f, 1}}};
+    return list;
+}
+
+} // namespace
+
+class StereoRendererTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (!shared_context()) GTEST_SKIP() << "no Vulkan 1.3 device";
+    }
+};
+
+TEST_F(StereoRendererTest, EyesDifferByParallaxNearMoreThanFar) {
+    auto renderer = StereoRenderer::create(*shared_context(), sized(320, 180));
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    StereoRig rig;
+    rig.eye_separation_m = 0.065;
+    const auto frame = (*renderer)->render(two_cubes(), rig, true);
+    ASSERT_TRUE(frame) << frame.error().message;
+    const double near_l = centroid_x(frame->left, {1, 0, 0}), near_r = centroid_x(frame->right, {1, 0, 0});
+    const double far_l = centroid_x(frame->left, {0, 0, 1}), far_r = centroid_x(frame->right, {0, 0, 1});
+    ASSERT_FALSE(std::isnan(near_l) || std::isnan(near_r) || std::isnan(far_l) || std::isnan(far_r)) << "both cubes in both eyes";
+    EXPECT_GT(near_l - near_r, 2.0) << "the near cube is crossed: further right in the left eye";
+    EXPECT_LT(far_l - far_r, 0.0) << "the far cube, behind the screen plane, is uncrossed";
+    EXPECT_GT(std::abs(near_l - near_r), std::abs(far_l - far_r));
+    EXPECT_EQ(shared_context()->validation_errors(), 0u);
+}
+
+TEST_F(StereoRendererTest, CompositeModesLayOutTheEyesAsTheDisplayWants) {
+    auto renderer = StereoRenderer::create(*shared_context(), sized(160, 90));
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    StereoRig rig;
+    auto sbs = (*renderer)->render(two_cubes(), rig, true);
+    ASSERT_TRUE(sbs);
+    ASSERT_EQ(sbs->composed.width, 320u);
+    // The left half is the left eye, the right half the right eye, pixel for pixel.
+    for (std::uint32_t y = 0; y < 90; y += 7) {
+        for (std::uint32_t x = 0; x < 160; x += 5) {
+            ASSERT_EQ(sbs->composed.pixels[4 * (y * 320 + x)], sbs->left.pixels[4 * (y * 160 + x)]);
+            ASSERT_EQ(sbs->composed.pixels[4 * (y * 320 + 160 + x) + 2], sbs->right.pixels[4 * (y * 160 + x) + 2]);
+        }
+    }
+    ASSERT_TRUE((*renderer)->set_mode(StereoMode::rows));
+    auto rows = (*renderer)->render(two_cubes(), rig, true);
+    ASSERT_TRUE(rows);
+    ASSERT_EQ(rows->composed.width, 160u);
+    for (std::uint32_t x = 0; x < 160; x += 3) {
+        EXPECT_EQ(rows->composed.pixels[4 * (10 * 160 + x)], rows->left.pixels[4 * (10 * 160 + x)]) << "even rows: left";
+        EXPECT_EQ(rows->composed.pixels[4 * (11 * 160 + x)], rows->right.pixels[4 * (11 * 160 + x)]) << "odd rows: right";
+    }
+    ASSERT_TRUE((*renderer)->set_mode(StereoMode::anaglyph));
+    auto anaglyph = (*renderer)->render(two_cubes(), rig, true);
+    ASSERT_TRUE(anaglyph);
+    for (std::uint32_t p = 0; p < 160 * 90; p += 37) {
+        EXPECT_EQ(anaglyph->composed.pixels[4 * p], anaglyph->left.pixels[4 * p]) << "red from the left eye";
+        EXPECT_EQ(anaglyph->composed.pixels[4 * p + 1], anaglyph->right.pixels[4 * p + 1]) << "green and blue from the right";
+    }
+    ASSERT_TRUE((*renderer)->set_mode(StereoMode::mono));
+    auto mono = (*renderer)->render(two_cubes(), rig, true);
+    ASSERT_TRUE(mono);
+    const auto same = compare_images(mono->left, mono->right);
+    ASSERT_TRUE(same);
+    EXPECT_LT(same->mean_abs, 0.05) << "mono: no eye separation, the same picture twice (every batch in both views)";
+    EXPECT_EQ(shared_context()->validation_errors(), 0u);
+}
+
+TEST_F(StereoRendererTest, MissingMeshIsAPlaceholderWithAWarning) {
+    auto renderer = StereoRenderer::create(*shared_context(), sized(64, 64));
+    ASSERT_TRUE(renderer);
+    DrawList list;
+    list.batch("meshes/no_such_flower.gltf").instances = {cube_at({0, 0, 0.1f}, 0.1f, {1, 1, 0, 1})};
+    const auto frame = (*renderer)->render(list, StereoRig{}, false);
+    ASSERT_TRUE(frame) << frame.error().message;
+    const auto warnings = (*renderer)->take_warnings();
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("no_such_flower.gltf"), std::string::npos);
+}
+
+TEST_F(StereoRendererTest, ResizeChangesOnlyTheOutputSize) {
+    auto renderer = StereoRenderer::create(*shared_context(), sized(64, 48));
+    ASSERT_TRUE(renderer);
+    ASSERT_TRUE((*renderer)->resize(100, 60));
+    const auto frame = (*renderer)->render(two_cubes(), StereoRig{}, true);
+    ASSERT_TRUE(frame);
+    EXPECT_EQ(frame->composed.width, 200u);
+    EXPECT_EQ(frame->left.height, 60u);
+    EXPECT_FALSE((*renderer)->resize(0, 10));
+}
+
+TEST_F(StereoRendererTest, MultiviewPassDrawsWhatTwoPassesDraw) {
+    // Geometry well inside the frustum (no clipping), where lavapipe's multiview is right too.
+    DrawList list;
+    list.batch("cube").instances = {cube_at({-0.05f, -0.3f, 0.2f}, 0.04f, {0.9f, 0.1f, 0.1f, 1}), cube_at({0.05f, 0.2f, 0.12f}, 0.08f, {0.1f, 0.2f, 0.9f, 1})};
+    auto options = sized(200, 120);
+    options.multiview = RendererOptions::Multiview::on;
+    auto one_pass = StereoRenderer::create(*shared_context(), options);
+    options.multiview = RendererOptions::Multiview::off;
+    auto two_passes = StereoRenderer::create(*shared_context(), options);
+    ASSERT_TRUE(one_pass && two_passes);
+    EXPECT_TRUE((*one_pass)->multiview());
+    EXPECT_FALSE((*two_passes)->multiview());
+    const auto a = (*one_pass)->render(list, StereoRig{}, true);
+    const auto b = (*two_passes)->render(list, StereoRig{}, true);
+    ASSERT_TRUE(a && b);
+    for (auto eye : {&RenderedFrame::left, &RenderedFrame::right}) {
+        const auto d = compare_images((*a).*eye, (*b).*eye);
+        ASSERT_TRUE(d);
+        EXPECT_LT(d->mean_abs, 0.5);
+        EXPECT_LT(d->share_over_threshold, 0.002);
+    }
+    EXPECT_EQ(shared_context()->validation_errors(), 0u);
+}
