@@ -6,6 +6,8 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/render/draw_list.hpp"
+
 namespace ikebana::components {
 
 struct StemPose {
@@ -24,6 +26,7 @@ struct FrameSnapshot {
     std::vector<StemPose> stems;
     std::uint64_t contacts;
     HandStatus hands[2];
+    render::DrawList draw_list; // what the renderer draws this frame
 };
 
 } // namespace ikebana::components

@@ -9,11 +9,12 @@
 namespace ikebana::render {
 
 struct StereoRig {
-    glm::dvec3 position_m{0.0, -0.6, 0.25};
-    glm::dvec3 target_m{0.0, 0.0, 0.1};
+    // Defaults frame a kenzan at the origin and flowers up to 30 cm tall, seen from where a trainee sits.
+    glm::dvec3 position_m{0.0, -0.42, 0.3};
+    glm::dvec3 target_m{0.0, 0.0, 0.11};
     glm::dvec3 up{0.0, 0.0, 1.0};
     double eye_separation_m = 0.065;
-    double screen_distance_m = 0.6;  // the zero-parallax plane, along the view axis
+    double screen_distance_m = 0.46; // the zero-parallax plane, along the view axis (about the target)
     double vertical_fov_rad = 0.7;   // of the screen rectangle seen from the rig's centre
     double aspect = 16.0 / 9.0;      // width / height of one eye's image
     double near_m = 0.02;

@@ -181,6 +181,28 @@ void read_breakage(JsonChecker& c, const Json& root, SpeciesDef& out) {
     }
 }
 
+void read_look(JsonChecker& c, const Json& root, SpeciesDef& out) {
+    const bool hard = out.branch == BranchKind::hard;
+    out.stem_colour = hard ? glm::vec3(0.36f, 0.24f, 0.16f) : glm::vec3(0.28f, 0.5f, 0.18f);
+    out.petal_colour = {0.95f, 0.78f, 0.12f};
+    out.leaf_colour = {0.22f, 0.48f, 0.16f};
+    out.head_colour = {0.3f, 0.18f, 0.07f};
+    const Json* look = c.object(root, "", "look", false);
+    if (!look) return;
+    const std::string p = "/look";
+    c.no_unknown_keys(*look, p, {"stem", "petal", "leaf", "head"});
+    for (auto [key, target] : {std::pair{"stem", &out.stem_colour}, std::pair{"petal", &out.petal_colour}, std::pair{"leaf", &out.leaf_colour},
+                               std::pair{"head", &out.head_colour}}) {
+        const auto rgb = c.numbers(*look, p, key, {0, 1}, 3, false);
+        if (!rgb) continue;
+        if (rgb->size() != 3) {
+            c.problem(p + "/" + key, "expected [r, g, b], got " + std::to_string(rgb->size()) + " numbers");
+            continue;
+        }
+        *target = glm::vec3(static_cast<float>((*rgb)[0]), static_cast<float>((*rgb)[1]), static_cast<float>((*rgb)[2]));
+    }
+}
+
 } // namespace
 
 Result<SpeciesDef> parse_species(std::string_view text, const std::string& label) {
@@ -192,7 +214,7 @@ Result<SpeciesDef> parse_species(std::string_view text, const std::string& label
         return c.error();
     }
     c.no_unknown_keys(*root, "", {"format", "id", "name", "branch", "stem", "head", "parts", "resistance",
-                                  "deterioration", "breakage", "notes"});
+                                  "deterioration", "breakage", "look", "notes"});
     SpeciesDef out{};
     const auto format = c.string(*root, "", "format");
     if (format && *format != "ikebana-species/1") {
@@ -210,6 +232,7 @@ Result<SpeciesDef> parse_species(std::string_view text, const std::string& label
     read_resistance(c, *root, out);
     read_deterioration(c, *root, out);
     read_breakage(c, *root, out);
+    read_look(c, *root, out);
     if (!c.ok()) return c.error();
     return out;
 }

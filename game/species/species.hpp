@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+
+#include <glm/glm.hpp>
 #include <vector>
 
 #include "components/flower.hpp"
@@ -83,6 +85,11 @@ struct SpeciesDef {
     std::optional<SoftResistance> soft;
     DeteriorationDef deterioration;
     BreakageDef breakage;
+    // "look": colours the renderer draws with (linear RGB 0..1); defaults by branch kind.
+    glm::vec3 stem_colour;
+    glm::vec3 petal_colour;
+    glm::vec3 leaf_colour;
+    glm::vec3 head_colour;
 
     [[nodiscard]] double total_mass_kg() const noexcept { return stem_mass_kg + head_mass_kg; }
 };

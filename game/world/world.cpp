@@ -4,6 +4,7 @@
 
 #include <glm/gtc/constants.hpp>
 
+#include "components/appearance.hpp"
 #include "components/collision.hpp"
 #include "components/hand.hpp"
 #include "components/flower.hpp"
@@ -31,6 +32,7 @@
 #include "systems/insertion/scripted_insertion_system.hpp"
 #include "systems/insertion/stem_cutting_system.hpp"
 #include "systems/physics/spring_physics_system.hpp"
+#include "systems/presentation/draw_list_system.hpp"
 #include "systems/physics/stem_builder.hpp"
 #include "systems/physics/table_support_system.hpp"
 #include "systems/presentation/publish_frame_system.hpp"
@@ -74,7 +76,9 @@ Result<void> register_systems(World& w, const std::string& force_scheme) {
                       describe(systems::KenzanGripSystem{}, {std::string(InsertionResistanceSystem::name)}),
                       describe(systems::CollisionDetectionSystem{}, {std::string(systems::ColliderUpdateSystem::name)}),
                       describe(systems::SpringPhysicsSystem{}), describe(systems::TableSupportSystem{}),
-                      describe(systems::PublishFrameSystem{}), describe(systems::ReceiveFrameSystem{})}) {
+                      describe(systems::DrawListSystem{}),
+                      describe(systems::PublishFrameSystem{}, {std::string(systems::DrawListSystem::name)}),
+                      describe(systems::ReceiveFrameSystem{})}) {
         if (auto r = w.schedule.add(std::move(desc)); !r) return r;
     }
     if (force_scheme == "paper") {
@@ -91,6 +95,10 @@ Result<void> register_systems(World& w, const std::string& force_scheme) {
 }
 
 } // namespace
+
+components::FlowerLook look_of(const SpeciesDef& sp) {
+    return FlowerLook{sp.head_mesh, sp.stem_colour, sp.petal_colour, sp.leaf_colour, sp.head_colour};
+}
 
 components::PinResistance pin_resistance_of(const SpeciesDef& sp) {
     PinResistance m{};
@@ -138,6 +146,7 @@ ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPla
 
     const ecs::Entity flower = r.create();
     r.emplace<Flower>(flower, sp.id, sp.total_mass_kg());
+    r.emplace<FlowerLook>(flower, look_of(sp));
     // The kenzan grip engages this clamp when the stem stands released in the pins.
     r.emplace<StemClamp>(flower, StemClamp{false, spec.base_m, placement.direction, 0.0});
     r.emplace<PinResistance>(flower, pin_resistance_of(sp));

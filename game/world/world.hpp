@@ -10,6 +10,7 @@
 #include <vector>
 #include <array>
 
+#include "components/appearance.hpp"
 #include "components/insertion.hpp"
 #include "engine/devices/haptic_device.hpp"
 #include "engine/core/result.hpp"
@@ -55,6 +56,7 @@ private:
 };
 
 // The species' resistance, deterioration and breakage as the insertion systems use them.
+components::FlowerLook look_of(const SpeciesDef& species);
 components::PinResistance pin_resistance_of(const SpeciesDef& species);
 
 // Adds one flower of `species` to `registry`: the flower entity carries the stem physics, and owns one

@@ -1,6 +1,7 @@
 #include "systems/collision/collider_update_system.hpp"
 
 #include "engine/ecs/registry.hpp"
+#include "systems/physics/part_attachment.hpp"
 
 namespace ikebana::systems {
 
@@ -17,13 +18,7 @@ void ColliderUpdateSystem::operator()(sched::SystemContext& ctx) {
                 collider.a_m = x[i];
                 collider.b_m = x[i + 1];
             } else {
-                // Attached parts keep their offset in the frame of the stem's direction at that point.
-                const glm::dvec3 along = i + 1 < x.size() ? x[i + 1] - x[i] : x[i] - x[i - 1];
-                const glm::dvec3 up = glm::length(along) > 0.0 ? glm::normalize(along) : glm::dvec3{0, 0, 1};
-                const glm::dvec3 side = std::abs(up.x) < 0.9 ? glm::normalize(glm::cross(up, glm::dvec3{1, 0, 0}))
-                                                             : glm::normalize(glm::cross(up, glm::dvec3{0, 1, 0}));
-                const glm::dvec3 third = glm::cross(up, side);
-                collider.a_m = x[i] + part.offset_m.x * side + part.offset_m.y * third + part.offset_m.z * up;
+                collider.a_m = physics::attachment_frame(x, i).place(part.offset_m);
                 collider.b_m = collider.a_m;
             }
         };

@@ -23,6 +23,8 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
     });
     const auto* contacts = ctx.registry.resource<components::Contacts>();
     frame.contacts = contacts ? contacts->list.size() : 0;
+    const auto* list = ctx.registry.resource<render::DrawList>();
+    frame.draw_list = list ? *list : render::DrawList{};
     (*channel)->buffer.publish();
 }
 

@@ -1,0 +1,127 @@
+#include "game/cli/render_command.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <vector>
+
+#include <unistd.h>
+
+#include "engine/render/stereo_renderer.hpp"
+#include "engine/sched/clocks.hpp"
+#include "game/asset_paths.hpp"
+#include "game/scene/scene.hpp"
+#include "game/world/world.hpp"
+#include "systems/presentation/draw_list_system.hpp"
+
+namespace ikebana::game {
+
+namespace {
+
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)))];
+}
+
+} // namespace
+
+int run_render(const RenderOptions& o) {
+    auto mode = render::parse_stereo_mode(o.stereo);
+    if (!mode) {
+        std::cerr << "ikebana render: " << mode.error().message << "\n";
+        return 2;
+    }
+    auto scene = load_scene(o.scene);
+    if (!scene) {
+        std::cerr << "ikebana render: " << scene.error().message << "\n";
+        return 2;
+    }
+    auto world = World::create(*scene);
+    if (!world) {
+        std::cerr << "ikebana render: " << world.error().message << "\n";
+        return 2;
+    }
+    auto ctx = render::VulkanContext::create({.validation = o.validation, .require_validation = false, .instance_extensions = {}});
+    if (!ctx) {
+        std::cerr << "ikebana render: " << ctx.error().message << "\n";
+        return 3;
+    }
+    render::RendererOptions ro;
+    ro.eye_width = o.width;
+    ro.eye_height = o.height;
+    ro.mode = *mode;
+    ro.asset_dir = asset_dir();
+    auto renderer = render::StereoRenderer::create(**ctx, ro);
+    if (!renderer) {
+        std::cerr << "ikebana render: " << renderer.error().message << "\n";
+        return 3;
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(o.out, ec);
+    if (ec) {
+        std::cerr << "ikebana render: " << o.out << ": " << ec.message() << "\n";
+        return 2;
+    }
+    World& w = **world;
+    sched::DeterministicClock clock(w.schedule);
+    const double hz = w.schedule.rates().hz("render");
+    const auto frame_us = static_cast<std::int64_t>(std::llround(1e6 / hz));
+    render::StereoRig rig;
+    rig = render::orbited(rig, o.yaw_deg * M_PI / 180.0, o.pitch_deg * M_PI / 180.0);
+    const bool tty = isatty(fileno(stderr)) != 0;
+    std::vector<double> record, execute, readback;
+    for (std::uint32_t f = 1; f <= o.frames; ++f) {
+        // The first frame shows the scene as built; each next one a render period later.
+        if (f > 1) clock.run_for_us(frame_us);
+        const auto* list = w.sim.resource<render::DrawList>();
+        const render::DrawList drawn = list ? *list : systems::build_draw_list(w.sim);
+        auto frame = (*renderer)->render(drawn, rig, true);
+        if (!frame) {
+            std::cerr << "ikebana render: frame " << f << ": " << frame.error().message << "\n";
+            return 3;
+        }
+        for (const auto& warning : (*renderer)->take_warnings()) std::cerr << "ikebana render: warning: " << warning << "\n";
+        record.push_back(frame->timing.record_ms);
+        execute.push_back(frame->timing.execute_ms);
+        readback.push_back(frame->timing.readback_ms);
+        char name[64];
+        for (const auto& [suffix, image] : {std::pair{"left", &frame->left}, std::pair{"right", &frame->right}, std::pair{"composed", &frame->composed}}) {
+            std::snprintf(name, sizeof name, "frame_%04u_%s.png", f, suffix);
+            if (auto wr = render::write_png(std::filesystem::path(o.out) / name, *image); !wr) {
+                std::cerr << "ikebana render: " << wr.error().message << "\n";
+                return 1;
+            }
+        }
+        if (tty && !o.quiet) std::fprintf(stderr, "\r\033[Kframe %u / %u", f, o.frames);
+    }
+    if (tty && !o.quiet) std::fprintf(stderr, "\r\033[K");
+    const auto out_extent = (*renderer)->output_extent();
+    std::printf("rendered %u frame(s) of the scene on %s (%s, %s, %ux%u per eye, composed %ux%u) into %s\n", o.frames,
+                (*ctx)->device_name().c_str(), render::stereo_mode_name(*mode), (*renderer)->multiview() ? "multiview" : "one pass per eye",
+                o.width, o.height, out_extent.width, out_extent.height, o.out.c_str());
+    std::printf("frame time, ms (p50 / p95): record %.2f / %.2f, device %.2f / %.2f, readback %.2f / %.2f\n", percentile(record, 0.5),
+                percentile(record, 0.95), percentile(execute, 0.5), percentile(execute, 0.95), percentile(readback, 0.5), percentile(readback, 0.95));
+    if ((*ctx)->validation_enabled()) std::printf("validation: %u errors, %u warnings\n", (*ctx)->validation_errors(), (*ctx)->validation_warnings());
+    return (*ctx)->validation_errors() == 0 ? 0 : 4;
+}
+
+void add_render_command(CLI::App& app, int& exit_code) {
+    auto o = std::make_shared<RenderOptions>();
+    o->scene = (asset_dir() / "scenes" / "default.json").string();
+    auto* cmd = app.add_subcommand("render", "Render a scene offscreen (no window or display needed) to PNGs of each eye and the composed frame");
+    cmd->add_option("--scene", o->scene, "Scene file")->capture_default_str();
+    cmd->add_option("--frames", o->frames, "Frames to render, one per render period")->capture_default_str()->check(CLI::Range(1u, 100000u));
+    cmd->add_option("--stereo", o->stereo, "sbs, rows (polarized displays), anaglyph or mono")->capture_default_str();
+    cmd->add_option("--out", o->out, "Folder for the PNGs")->required();
+    cmd->add_option("--width", o->width, "Width of one eye's image")->capture_default_str()->check(CLI::Range(16u, 8192u));
+    cmd->add_option("--height", o->height, "Height of one eye's image")->capture_default_str()->check(CLI::Range(16u, 8192u));
+    cmd->add_option("--yaw", o->yaw_deg, "Orbit the camera about the arrangement, degrees")->capture_default_str();
+    cmd->add_option("--pitch", o->pitch_deg, "Raise the camera, degrees")->capture_default_str();
+    cmd->add_flag("--validation", o->validation, "Run with the Vulkan validation layer; any error fails the command");
+    cmd->callback([o, &exit_code] { exit_code = run_render(*o); });
+}
+
+} // namespace ikebana::game

@@ -1,0 +1,27 @@
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace ikebana::game {
+
+struct RenderOptions {
+    std::string scene;
+    std::uint32_t frames = 1;
+    std::string stereo = "sbs";
+    std::string out;
+    std::uint32_t width = 1280;  // per eye
+    std::uint32_t height = 720;
+    double yaw_deg = 0.0;        // orbit the camera about the arrangement
+    double pitch_deg = 0.0;
+    bool validation = false;
+    bool quiet = false;
+};
+
+// `ikebana render`: the scene on the deterministic clock, each frame at the render rate drawn offscreen
+// (no window, no display) into DIR as frame_NNNN_left.png, _right.png and _composed.png.
+void add_render_command(CLI::App& app, int& exit_code);
+int run_render(const RenderOptions& options);
+
+} // namespace ikebana::game
