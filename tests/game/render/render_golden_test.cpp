@@ -1,0 +1,80 @@
+// The default scene drawn offscreen against a stored image. Multiview and rasterisation may differ by a
+// few edge pixels between Vulkan implementations, so the comparison has a tolerance; a real change
+// (a missing flower, a wrong eye, a broken shadow) moves far more. IKEBANA_UPDATE_GOLDEN=1 rewrites the
+// stored image after a deliberate change (look at it before committing).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "engine/render/stereo_renderer.hpp"
+#include "game/asset_paths.hpp"
+#include "game/scene/scene.hpp"
+#include "game/world/world.hpp"
+#include "systems/presentation/draw_list_system.hpp"
+
+using namespace ikebana;
+
+namespace {
+
+const std::filesystem::path golden_dir = std::filesystem::path(IKEBANA_TEST_DATA_DIR) / "render" / "golden";
+
+struct Rendered {
+    render::RenderedFrame frame;
+    std::uint32_t validation_errors = 0;
+};
+
+std::optional<Rendered> render_default_scene(render::StereoMode mode) {
+    auto ctx = render::VulkanContext::create({.validation = true, .require_validation = false, .instance_extensions = {}});
+    if (!ctx) return std::nullopt;
+    auto scene = game::load_scene(game::asset_dir() / "scenes" / "default.json");
+    EXPECT_TRUE(scene);
+    auto world = game::World::create(*scene);
+    EXPECT_TRUE(world);
+    render::RendererOptions o;
+    o.eye_width = 320;
+    o.eye_height = 180;
+    o.mode = mode;
+    o.asset_dir = game::asset_dir();
+    auto renderer = render::StereoRenderer::create(**ctx, o);
+    EXPECT_TRUE(renderer) << (renderer ? "" : renderer.error().message);
+    if (!renderer) return std::nullopt;
+    auto frame = (*renderer)->render(systems::build_draw_list((*world)->sim), render::StereoRig{}, true);
+    EXPECT_TRUE(frame);
+    if (!frame) return std::nullopt;
+    EXPECT_TRUE((*renderer)->take_warnings().empty()) << "every shipped mesh loads";
+    return Rendered{std::move(frame).value(), (*ctx)->validation_errors()};
+}
+
+} // namespace
+
+TEST(RenderGolden, DefaultSceneSideBySideMatchesTheStoredImage) {
+    const auto r = render_default_scene(render::StereoMode::side_by_side);
+    if (!r) GTEST_SKIP() << "no Vulkan 1.3 device";
+    EXPECT_EQ(r->validation_errors, 0u);
+    const auto golden_path = golden_dir / "default_sbs_320x180.png";
+    if (const char* update = std::getenv("IKEBANA_UPDATE_GOLDEN"); update && *update == '1') {
+        ASSERT_TRUE(render::write_png(golden_path, r->frame.composed));
+        GTEST_SKIP() << "rewrote " << golden_path;
+    }
+    const auto golden = render::read_png(golden_path);
+    ASSERT_TRUE(golden) << golden.error().message;
+    const auto d = render::compare_images(r->frame.composed, *golden);
+    ASSERT_TRUE(d) << d.error().message;
+    EXPECT_LT(d->mean_abs, 2.0);
+    EXPECT_LT(d->share_over_threshold, 0.01) << "more than 1 % of the pixels moved";
+}
+
+TEST(RenderGolden, TheEyesSeeTheSceneFromDifferentPlaces) {
+    const auto r = render_default_scene(render::StereoMode::side_by_side);
+    if (!r) GTEST_SKIP() << "no Vulkan 1.3 device";
+    const auto d = render::compare_images(r->frame.left, r->frame.right);
+    ASSERT_TRUE(d);
+    EXPECT_GT(d->share_over_threshold, 0.005) << "two eyes, two pictures";
+    EXPECT_LT(d->share_over_threshold, 0.5) << "but of the same scene";
+    // Not a blank frame: the kenzan, flowers and table differ from the background.
+    std::size_t background = 0;
+    const auto& p = r->frame.left.pixels;
+    for (std::size_t i = 0; i < p.size(); i += 4) background += (p[i] == p[0] && p[i + 1] == p[1] && p[i + 2] == p[2]) ? 1 : 0;
+    EXPECT_LT(background, p.size() / 4 * 9 / 10);
+}
