@@ -1,7 +1,8 @@
 #pragma once
 // What the renderer draws in a frame: meshes by name, each with its instances. The renderer knows
 // meshes, not flowers; the presentation systems turn the world into this list.
-// Built-in meshes: "cube" (unit, centred), "cylinder" (radius 1, from z = 0 to 1), "plane"
+// Built-in meshes: "cube" (unit, centred), "cylinder" (radius 1, from z = 0 to 1; "cylinder_coarse" the
+// same with 6 sides instead of 12, for thin things by the hundred), "plane"
 // (unit square at z = 0, facing +z); any other name is a glTF file (a missing or broken one is drawn
 // as a placeholder, with a warning naming the file).
 #include <string>

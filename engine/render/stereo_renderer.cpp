@@ -431,7 +431,10 @@ Result<StereoRenderer::Mesh> StereoRenderer::upload(const assets::MeshData& data
 }
 
 Result<void> StereoRenderer::prepare_builtin_meshes() {
-    for (const auto& data : {cube_mesh(), cylinder_mesh(), plane_mesh(), assets::placeholder_mesh()}) {
+    // A coarse cylinder for the hundreds of thin kenzan pins: vertex work is what lavapipe spends on.
+    assets::MeshData coarse = cylinder_mesh(6);
+    coarse.name = "cylinder_coarse";
+    for (const auto& data : {cube_mesh(), cylinder_mesh(), coarse, plane_mesh(), assets::placeholder_mesh()}) {
         auto m = upload(data);
         if (!m) return std::move(m).error();
         meshes_[data.name == "placeholder" || data.name.empty() ? "placeholder" : data.name] = *m;

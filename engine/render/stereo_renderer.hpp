@@ -37,7 +37,7 @@ struct RendererOptions {
     std::filesystem::path shader_dir = default_shader_dir(); // the .spv files
     std::filesystem::path asset_dir;   // glTF mesh names are relative to it
     std::uint32_t frames_in_flight = 2;
-    std::uint32_t shadow_map_size = 2048;
+    std::uint32_t shadow_map_size = 1024;
     // Both eyes in one multiview pass, or one pass per eye. Automatic: multiview, except on lavapipe,
     // whose multiview (Mesa 22.3) loses triangles clipped at the frustum in the second view.
     enum class Multiview { automatic, on, off } multiview = Multiview::automatic;
