@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "game/app/trainee_app.hpp"
 #include "game/asset_paths.hpp"
 #include "game/cli/assets_command.hpp"
 #include "game/cli/devices_command.hpp"
@@ -26,6 +27,13 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--right", right_device, "Right hand's device for the app (as --left)")->capture_default_str();
     std::vector<std::string> environment;
+    ikebana::game::TraineeAppOptions app_options;
+    app.add_option("--stereo", app_options.stereo, "The app's stereo output: sbs, rows, anaglyph or mono")->capture_default_str();
+    app.add_option("--width", app_options.width, "The app's window width")->capture_default_str()->check(CLI::Range(64u, 8192u));
+    app.add_option("--height", app_options.height, "The app's window height")->capture_default_str()->check(CLI::Range(64u, 8192u));
+    app.add_option("--frames", app_options.frames, "Stop the app after this many frames (0: when the window closes)")->capture_default_str();
+    app.add_option("--screenshot", app_options.screenshot, "Write the app's last frame to this PNG");
+    app.add_flag("--validation", app_options.validation, "Run the app with the Vulkan validation layer");
     app.add_option("--env", environment, "Environment covariate for extended species in the app, name=value (repeatable)");
     ikebana::game::add_sim_command(app, exit_code);
     ikebana::game::add_species_command(app, exit_code);
@@ -42,19 +50,11 @@ int main(int argc, char** argv) {
         return app.exit(e);
     }
     if (app.get_subcommands().empty()) {
-        // The trainee app. The renderer is not built yet, so it runs the default scene headless and
-        // says so rather than pretending to open a window.
-        const char* display = std::getenv("DISPLAY");
-        std::printf("ikebana: %s; the window renderer is not part of this build yet, so the default scene runs "
-                    "headless for 10 s on the deterministic clock.\n",
-                    display && *display ? "a display is present" : "no display");
-        ikebana::game::SimOptions options;
-        options.scene = (ikebana::game::asset_dir() / "scenes" / "default.json").string();
-        options.seconds = 10.0;
-        options.left_device = left_device;
-        options.right_device = right_device;
-        options.env = environment;
-        return ikebana::game::run_sim(options);
+        app_options.scene = (ikebana::game::asset_dir() / "scenes" / "default.json").string();
+        app_options.left_device = left_device;
+        app_options.right_device = right_device;
+        app_options.env = environment;
+        return ikebana::game::run_trainee_app(app_options);
     }
     return exit_code;
 }

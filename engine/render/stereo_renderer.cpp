@@ -120,6 +120,11 @@ StereoRenderer::~StereoRenderer() {
         destroy_buffer(ctx_, f.readback);
         if (f.fence) vkDestroyFence(d, f.fence, nullptr);
     }
+    for (auto& [format, p] : window_composite_) vkDestroyPipeline(d, p, nullptr);
+    for (VkSemaphore sem : render_finished_) vkDestroySemaphore(d, sem, nullptr);
+    for (auto& f : frames_) {
+        if (f.image_available) vkDestroySemaphore(d, f.image_available, nullptr);
+    }
     for (VkPipeline p : {scene_pipeline_, per_eye_pipeline_, shadow_pipeline_, composite_pipeline_}) {
         if (p) vkDestroyPipeline(d, p, nullptr);
     }
@@ -286,9 +291,9 @@ Result<void> StereoRenderer::prepare_descriptors() {
 }
 
 Result<void> StereoRenderer::prepare_pipelines() {
-    VkShaderModule modules[5] = {};
-    const char* names[5] = {"mesh.vert.spv", "mesh.frag.spv", "shadow.vert.spv", "composite.vert.spv", "composite.frag.spv"};
-    for (int i = 0; i < 5; ++i) {
+    VkShaderModule modules[3] = {};
+    const char* names[3] = {"mesh.vert.spv", "mesh.frag.spv", "shadow.vert.spv"};
+    for (int i = 0; i < 3; ++i) {
         auto m = load_shader(ctx_, options_.shader_dir / names[i]);
         if (!m) {
             for (VkShaderModule done : modules) {
@@ -302,7 +307,7 @@ Result<void> StereoRenderer::prepare_pipelines() {
         VkDevice d;
         VkShaderModule* m;
         ~Cleanup() {
-            for (int i = 0; i < 5; ++i) vkDestroyShaderModule(d, m[i], nullptr);
+            for (int i = 0; i < 3; ++i) vkDestroyShaderModule(d, m[i], nullptr);
         }
     } cleanup{ctx_.device(), modules};
 
@@ -321,7 +326,6 @@ Result<void> StereoRenderer::prepare_pipelines() {
         {4, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 32},                      {5, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 48},
         {6, 1, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(MeshInstance, colour)}};
     VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO, nullptr, 0, 2, bindings, 7, attributes};
-    VkPipelineVertexInputStateCreateInfo no_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO, nullptr, 0,
                                                     VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, VK_FALSE};
     VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO, nullptr, 0, 1, nullptr, 1, nullptr};
@@ -336,7 +340,6 @@ Result<void> StereoRenderer::prepare_pipelines() {
     depth.depthTestEnable = VK_TRUE;
     depth.depthWriteEnable = VK_TRUE;
     depth.depthCompareOp = VK_COMPARE_OP_LESS;
-    VkPipelineDepthStencilStateCreateInfo no_depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     VkPipelineColorBlendAttachmentState blend_attachment{};
     blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
@@ -393,22 +396,64 @@ Result<void> StereoRenderer::prepare_pipelines() {
     info.pColorBlendState = &no_blend;
     IKEBANA_VK(vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &shadow_pipeline_));
 
-    // Composite: one triangle, the eyes to the output.
-    VkPipelineRenderingCreateInfo composite_rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    composite_rendering.colorAttachmentCount = 1;
-    composite_rendering.pColorAttachmentFormats = &colour_format;
-    const VkPipelineShaderStageCreateInfo composite_stages[2] = {stage(VK_SHADER_STAGE_VERTEX_BIT, modules[3]),
-                                                                 stage(VK_SHADER_STAGE_FRAGMENT_BIT, modules[4])};
-    info.pNext = &composite_rendering;
+    auto composite = make_composite_pipeline(colour_format);
+    if (!composite) return std::move(composite).error();
+    composite_pipeline_ = *composite;
+    return Ok{};
+}
+
+// Composite: one triangle, the eyes to an output of this format (offscreen, or the window's).
+Result<VkPipeline> StereoRenderer::make_composite_pipeline(VkFormat format) {
+    auto vert = load_shader(ctx_, options_.shader_dir / "composite.vert.spv");
+    if (!vert) return std::move(vert).error();
+    auto frag = load_shader(ctx_, options_.shader_dir / "composite.frag.spv");
+    if (!frag) {
+        vkDestroyShaderModule(ctx_.device(), *vert, nullptr);
+        return std::move(frag).error();
+    }
+    VkPipelineVertexInputStateCreateInfo no_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO, nullptr, 0,
+                                                    VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, VK_FALSE};
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO, nullptr, 0, 1, nullptr, 1, nullptr};
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE;
+    raster.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo no_depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    VkPipelineColorBlendAttachmentState blend_attachment{};
+    blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &blend_attachment;
+    const VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO, nullptr, 0, 2, dynamic_states};
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachmentFormats = &format;
+    const VkPipelineShaderStageCreateInfo stages[2] = {
+        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, *vert, "main", nullptr},
+        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, *frag, "main", nullptr}};
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    info.pNext = &rendering;
     info.stageCount = 2;
-    info.pStages = composite_stages;
+    info.pStages = stages;
     info.pVertexInputState = &no_input;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewport;
     info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
     info.pDepthStencilState = &no_depth;
     info.pColorBlendState = &blend;
+    info.pDynamicState = &dynamic;
     info.layout = composite_pipeline_layout_;
-    IKEBANA_VK(vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &composite_pipeline_));
-    return Ok{};
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    const VkResult r = vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
+    vkDestroyShaderModule(ctx_.device(), *vert, nullptr);
+    vkDestroyShaderModule(ctx_.device(), *frag, nullptr);
+    if (r != VK_SUCCESS) return vulkan_error("vkCreateGraphicsPipelines (composite)", r);
+    return pipeline;
 }
 
 Result<StereoRenderer::Mesh> StereoRenderer::upload(const assets::MeshData& data) {
@@ -458,20 +503,19 @@ Result<StereoRenderer::Mesh*> StereoRenderer::mesh(const std::string& name) {
 
 std::vector<std::string> StereoRenderer::take_warnings() { return std::exchange(warnings_, {}); }
 
-Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoRig& rig_in, bool with_eyes) {
+Result<StereoRenderer::Frame*> StereoRenderer::begin_frame(const DrawList& list, const StereoRig& rig_in) {
     Frame& frame = frames_[frame_index_];
     frame_index_ = (frame_index_ + 1) % frames_.size();
     IKEBANA_VK(vkWaitForFences(ctx_.device(), 1, &frame.fence, VK_TRUE, UINT64_MAX));
-    const auto started = std::chrono::steady_clock::now();
 
     // Instances of every batch in one buffer, each batch drawn from its offset.
     std::vector<MeshInstance> instances;
-    std::vector<std::pair<Mesh*, std::uint32_t>> draws;
+    draws_.clear();
     for (const auto& batch : list.batches) {
         if (batch.instances.empty()) continue;
         auto m = mesh(batch.mesh);
         if (!m) return std::move(m).error();
-        draws.emplace_back(*m, static_cast<std::uint32_t>(batch.instances.size()));
+        draws_.emplace_back(*m, static_cast<std::uint32_t>(batch.instances.size()));
         instances.insert(instances.end(), batch.instances.begin(), batch.instances.end());
     }
     const VkDeviceSize needed = std::max<VkDeviceSize>(1, instances.size()) * sizeof(MeshInstance);
@@ -493,12 +537,20 @@ Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoR
     u.light_direction = glm::vec4(glm::normalize(list.light_direction), 0.0f);
     std::memcpy(frame.uniforms.mapped, &u, sizeof u);
 
-    IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
     IKEBANA_VK(vkResetCommandBuffer(frame.cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO, nullptr, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, nullptr};
     IKEBANA_VK(vkBeginCommandBuffer(frame.cmd, &begin));
-    record(frame, list, draws, with_eyes);
+    return &frame;
+}
+
+Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoRig& rig, bool with_eyes) {
+    const auto started = std::chrono::steady_clock::now();
+    auto begun = begin_frame(list, rig);
+    if (!begun) return std::move(begun).error();
+    Frame& frame = **begun;
+    record(frame, list, draws_, {output_.image, output_.view, output_.extent, composite_pipeline_, true, with_eyes, false});
     IKEBANA_VK(vkEndCommandBuffer(frame.cmd));
+    IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
     RenderedFrame out;
     out.timing.record_ms = ms_since(started);
 
@@ -512,24 +564,108 @@ Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoR
     out.timing.execute_ms = ms_since(submitted);
 
     const auto copied = std::chrono::steady_clock::now();
-    const auto* bytes = static_cast<const std::uint8_t*>(frame.readback.mapped);
-    auto take = [&](RgbaImage& img, std::uint32_t w, std::uint32_t h, std::size_t offset) {
-        img.width = w;
-        img.height = h;
-        img.pixels.assign(bytes + offset, bytes + offset + 4ull * w * h);
-    };
     const VkExtent2D o = output_.extent;
-    take(out.composed, o.width, o.height, 0);
+    read_back(frame, out.composed, o, 0, false);
     if (with_eyes) {
         const std::size_t eye_bytes = 4ull * options_.eye_width * options_.eye_height;
-        take(out.left, options_.eye_width, options_.eye_height, 4ull * o.width * o.height);
-        take(out.right, options_.eye_width, options_.eye_height, 4ull * o.width * o.height + eye_bytes);
+        read_back(frame, out.left, eyes_.extent, 4ull * o.width * o.height, false);
+        read_back(frame, out.right, eyes_.extent, 4ull * o.width * o.height + eye_bytes, false);
     }
     out.timing.readback_ms = ms_since(copied);
     return out;
 }
 
-void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vector<std::pair<Mesh*, std::uint32_t>>& draws, bool with_eyes) {
+void StereoRenderer::read_back(const Frame& frame, RgbaImage& img, VkExtent2D extent, std::size_t offset, bool bgra) const {
+    const auto* bytes = static_cast<const std::uint8_t*>(frame.readback.mapped);
+    img.width = extent.width;
+    img.height = extent.height;
+    img.pixels.assign(bytes + offset, bytes + offset + 4ull * extent.width * extent.height);
+    if (bgra) {
+        for (std::size_t i = 0; i < img.pixels.size(); i += 4) std::swap(img.pixels[i], img.pixels[i + 2]);
+    }
+}
+
+Result<VkPipeline> StereoRenderer::composite_pipeline_for(VkFormat format) {
+    if (format == colour_format) return composite_pipeline_;
+    if (auto it = window_composite_.find(format); it != window_composite_.end()) return it->second;
+    auto made = make_composite_pipeline(format);
+    if (!made) return std::move(made).error();
+    window_composite_[format] = *made;
+    return *made;
+}
+
+Result<PresentedFrame> StereoRenderer::present(Swapchain& swapchain, const DrawList& list, const StereoRig& rig, bool screenshot) {
+    PresentedFrame result;
+    const VkExtent2D window = swapchain.extent();
+    const std::uint32_t eye_w = options_.mode == StereoMode::side_by_side ? std::max(1u, window.width / 2) : window.width;
+    if (eye_w != options_.eye_width || window.height != options_.eye_height || output_extent().width != window.width) {
+        // The eyes follow the window: only the size-dependent targets are rebuilt.
+        if (auto r = resize(eye_w, window.height); !r) return std::move(r).error();
+        if (output_extent().width != window.width) {
+            options_.eye_width = window.width / 2;
+            if (auto r = resize(options_.eye_width, window.height); !r) return std::move(r).error();
+        }
+    }
+    auto pipeline = composite_pipeline_for(swapchain.format());
+    if (!pipeline) return std::move(pipeline).error();
+    const auto started = std::chrono::steady_clock::now();
+    auto begun = begin_frame(list, rig);
+    if (!begun) return std::move(begun).error();
+    Frame& frame = **begun;
+    if (frame.image_available == VK_NULL_HANDLE) {
+        VkSemaphoreCreateInfo info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+        IKEBANA_VK(vkCreateSemaphore(ctx_.device(), &info, nullptr, &frame.image_available));
+    }
+    auto image = swapchain.acquire(frame.image_available);
+    if (!image) return std::move(image).error();
+    if (!*image) {
+        vkEndCommandBuffer(frame.cmd);
+        result.swapchain_stale = true;
+        return result;
+    }
+    const std::uint32_t index = **image;
+    while (render_finished_.size() < swapchain.image_count()) {
+        VkSemaphoreCreateInfo info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+        VkSemaphore s = VK_NULL_HANDLE;
+        IKEBANA_VK(vkCreateSemaphore(ctx_.device(), &info, nullptr, &s));
+        render_finished_.push_back(s);
+    }
+    const bool copy = screenshot && swapchain.can_copy_from();
+    record(frame, list, draws_, {swapchain.image(index), swapchain.view(index), window, *pipeline, copy, false, true});
+    IKEBANA_VK(vkEndCommandBuffer(frame.cmd));
+    IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
+    result.timing.record_ms = ms_since(started);
+    VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO, nullptr, frame.image_available, 0,
+                               VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, 0};
+    VkSemaphoreSubmitInfo signal{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO, nullptr, render_finished_[index], 0,
+                                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, 0};
+    VkCommandBufferSubmitInfo cmd_info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO, nullptr, frame.cmd, 0};
+    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+    submit.waitSemaphoreInfoCount = 1;
+    submit.pWaitSemaphoreInfos = &wait;
+    submit.commandBufferInfoCount = 1;
+    submit.pCommandBufferInfos = &cmd_info;
+    submit.signalSemaphoreInfoCount = 1;
+    submit.pSignalSemaphoreInfos = &signal;
+    const auto submitted = std::chrono::steady_clock::now();
+    IKEBANA_VK(vkQueueSubmit2(ctx_.queue(), 1, &submit, frame.fence));
+    auto presented = swapchain.present(index, render_finished_[index]);
+    if (!presented) return std::move(presented).error();
+    result.presented = true;
+    result.swapchain_stale = !*presented;
+    if (copy) {
+        IKEBANA_VK(vkWaitForFences(ctx_.device(), 1, &frame.fence, VK_TRUE, UINT64_MAX));
+        RgbaImage shot;
+        const bool bgra = swapchain.format() == VK_FORMAT_B8G8R8A8_UNORM || swapchain.format() == VK_FORMAT_B8G8R8A8_SRGB;
+        read_back(frame, shot, window, 0, bgra);
+        result.screenshot = std::move(shot);
+    }
+    result.timing.execute_ms = ms_since(submitted);
+    return result;
+}
+
+void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vector<std::pair<Mesh*, std::uint32_t>>& draws, const CompositeTarget& target) {
+    const bool with_eyes = target.with_eyes;
     VkCommandBuffer cmd = frame.cmd;
     auto draw_all = [&] {
         VkDeviceSize zero = 0;
@@ -623,42 +759,51 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
                VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
 
-    // 3. Composite to the display's format.
-    transition(cmd, output_.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, none, 0,
-               VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    // 3. Composite to the display's format, into the offscreen output or the window's image.
+    transition(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+               VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
     VkRenderingAttachmentInfo out = colour;
-    out.imageView = output_.view;
+    out.imageView = target.view;
     out.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
     VkRenderingInfo composite{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    composite.renderArea = {{0, 0}, output_.extent};
+    composite.renderArea = {{0, 0}, target.extent};
     composite.layerCount = 1;
     composite.colorAttachmentCount = 1;
     composite.pColorAttachments = &out;
     vkCmdBeginRendering(cmd, &composite);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, composite_pipeline_);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, target.pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, composite_pipeline_layout_, 0, 1, &composite_set_, 0, nullptr);
     const CompositeConstants constants{static_cast<std::int32_t>(options_.mode), static_cast<std::int32_t>(options_.eye_width),
                                        static_cast<std::int32_t>(options_.eye_height), 0};
     vkCmdPushConstants(cmd, composite_pipeline_layout_, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof constants, &constants);
-    set_viewport(output_.extent);
+    set_viewport(target.extent);
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRendering(cmd);
 
-    // 4. Read back.
-    transition(cmd, output_.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-               VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-               VK_ACCESS_2_TRANSFER_READ_BIT);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {output_.extent.width, output_.extent.height, 1};
-    vkCmdCopyImageToBuffer(cmd, output_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, frame.readback.buffer, 1, &region);
+    // 4. Read back (offscreen, or a screenshot of the window), then hand the window its image.
+    VkImageLayout layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    if (target.read_back) {
+        transition(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                   VK_ACCESS_2_TRANSFER_READ_BIT);
+        layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {target.extent.width, target.extent.height, 1};
+        vkCmdCopyImageToBuffer(cmd, target.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, frame.readback.buffer, 1, &region);
+    }
+    if (target.present) {
+        transition(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, layout, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                   VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_NONE, 0);
+    }
     if (with_eyes) {
         transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
                    VK_ACCESS_2_TRANSFER_READ_BIT);
         VkBufferImageCopy eyes[2] = {};
         for (std::uint32_t e = 0; e < 2; ++e) {
-            eyes[e].bufferOffset = 4ull * output_.extent.width * output_.extent.height + e * 4ull * eyes_.extent.width * eyes_.extent.height;
+            eyes[e].bufferOffset = 4ull * target.extent.width * target.extent.height + e * 4ull * eyes_.extent.width * eyes_.extent.height;
             eyes[e].imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, e, 1};
             eyes[e].imageExtent = {eyes_.extent.width, eyes_.extent.height, 1};
         }

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "engine/render/gpu_resources.hpp"
 #include "engine/render/png_image.hpp"
 #include "engine/render/stereo_camera.hpp"
+#include "engine/render/swapchain.hpp"
 #include "engine/render/vulkan_context.hpp"
 
 namespace ikebana::render {
@@ -49,6 +51,13 @@ struct FrameTiming {
     double readback_ms = 0.0; // copying pixels out
 };
 
+struct PresentedFrame {
+    bool presented = false;
+    bool swapchain_stale = false; // out of date or suboptimal: recreate it for the window's new size
+    std::optional<RgbaImage> screenshot;
+    FrameTiming timing;
+};
+
 struct RenderedFrame {
     RgbaImage composed;
     RgbaImage left, right; // when asked for
@@ -65,6 +74,9 @@ public:
     Result<void> resize(std::uint32_t eye_width, std::uint32_t eye_height);
     Result<void> set_mode(StereoMode mode); // the output size depends on it: recreates the targets
     Result<RenderedFrame> render(const DrawList& list, const StereoRig& rig, bool with_eyes);
+    // The same frame composed into the window's next image and presented; the eyes follow the
+    // window's size. A screenshot reads back what was presented.
+    Result<PresentedFrame> present(Swapchain& swapchain, const DrawList& list, const StereoRig& rig, bool screenshot = false);
     [[nodiscard]] VkExtent2D output_extent() const noexcept;
     [[nodiscard]] bool multiview() const noexcept { return multiview_; }
     // Placeholder meshes drawn since the last call, each naming its file and why.
@@ -80,6 +92,16 @@ private:
         VkFence fence = VK_NULL_HANDLE;
         GpuBuffer uniforms, instances, readback;
         VkDescriptorSet scene_set = VK_NULL_HANDLE;
+        VkSemaphore image_available = VK_NULL_HANDLE; // window only
+    };
+    struct CompositeTarget {
+        VkImage image;
+        VkImageView view;
+        VkExtent2D extent;
+        VkPipeline pipeline;
+        bool read_back;
+        bool with_eyes;
+        bool present;
     };
 
     StereoRenderer(VulkanContext& ctx, const RendererOptions& options) : ctx_(ctx), options_(options) {}
@@ -92,7 +114,11 @@ private:
     void destroy_targets();
     Result<Mesh*> mesh(const std::string& name);
     Result<Mesh> upload(const assets::MeshData& data);
-    void record(Frame& frame, const DrawList& list, const std::vector<std::pair<Mesh*, std::uint32_t>>& draws, bool with_eyes);
+    Result<Frame*> begin_frame(const DrawList& list, const StereoRig& rig);
+    void record(Frame& frame, const DrawList& list, const std::vector<std::pair<Mesh*, std::uint32_t>>& draws, const CompositeTarget& target);
+    void read_back(const Frame& frame, RgbaImage& image, VkExtent2D extent, std::size_t offset, bool bgra) const;
+    Result<VkPipeline> make_composite_pipeline(VkFormat format);
+    Result<VkPipeline> composite_pipeline_for(VkFormat format);
 
     VulkanContext& ctx_;
     RendererOptions options_;
@@ -109,6 +135,9 @@ private:
     VkPipelineLayout scene_pipeline_layout_ = VK_NULL_HANDLE, composite_pipeline_layout_ = VK_NULL_HANDLE;
     VkPipeline scene_pipeline_ = VK_NULL_HANDLE, per_eye_pipeline_ = VK_NULL_HANDLE, shadow_pipeline_ = VK_NULL_HANDLE, composite_pipeline_ = VK_NULL_HANDLE;
     std::map<std::string, Mesh> meshes_;
+    std::vector<std::pair<Mesh*, std::uint32_t>> draws_;
+    std::map<VkFormat, VkPipeline> window_composite_;
+    std::vector<VkSemaphore> render_finished_; // one per window image
     std::vector<std::string> warnings_;
 };
 

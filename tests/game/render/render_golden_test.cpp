@@ -4,10 +4,12 @@
 // stored image after a deliberate change (look at it before committing).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
 #include "engine/render/stereo_renderer.hpp"
+#include "game/app/trainee_app.hpp"
 #include "game/asset_paths.hpp"
 #include "game/scene/scene.hpp"
 #include "game/world/world.hpp"
@@ -77,4 +79,57 @@ TEST(RenderGolden, TheEyesSeeTheSceneFromDifferentPlaces) {
     const auto& p = r->frame.left.pixels;
     for (std::size_t i = 0; i < p.size(); i += 4) background += (p[i] == p[0] && p[i + 1] == p[1] && p[i + 2] == p[2]) ? 1 : 0;
     EXPECT_LT(background, p.size() / 4 * 9 / 10);
+}
+
+// The trainee app's real window (under Xvfb in ctest; skipped without a display): it presents frames,
+// and a screenshot of what it presented shows the scene the offscreen renderer draws.
+TEST(WindowApp, PresentsTheSceneInARealWindow) {
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !*display) GTEST_SKIP() << "no display (ctest runs this under xvfb-run)";
+    const auto shot = std::filesystem::temp_directory_path() / "ikebana_window_shot.png";
+    std::filesystem::remove(shot);
+    game::TraineeAppOptions o;
+    o.scene = (game::asset_dir() / "scenes" / "default.json").string();
+    o.left_device = o.right_device = "none";
+    o.width = 640;
+    o.height = 360;
+    o.frames = 12;
+    o.screenshot = shot.string();
+    o.validation = true;
+    ASSERT_EQ(game::run_trainee_app(o), 0);
+    const auto presented = render::read_png(shot);
+    ASSERT_TRUE(presented) << presented.error().message;
+    ASSERT_EQ(presented->width, 640u);
+    ASSERT_EQ(presented->height, 360u);
+    // The same scene offscreen at the same size: the window shows it (hands and settling aside).
+    auto ctx = render::VulkanContext::create({});
+    ASSERT_TRUE(ctx);
+    auto scene = game::load_scene(o.scene);
+    auto world = game::World::create(*scene);
+    ASSERT_TRUE(world);
+    render::RendererOptions ro;
+    ro.eye_width = 320;
+    ro.eye_height = 360;
+    ro.asset_dir = game::asset_dir();
+    auto renderer = render::StereoRenderer::create(**ctx, ro);
+    ASSERT_TRUE(renderer);
+    const auto offscreen = (*renderer)->render(systems::build_draw_list((*world)->sim), render::StereoRig{}, false);
+    ASSERT_TRUE(offscreen);
+    // The sim ran on while the window was open (stems settle, the mouse placed the hands), so the
+    // pictures are compared by their colours: table, background, kenzan, stems, in like amounts.
+    auto histogram = [](const render::RgbaImage& img) {
+        std::vector<double> h(64, 0.0);
+        for (std::size_t i = 0; i < img.pixels.size(); i += 4) h[(img.pixels[i] / 64) * 16 + (img.pixels[i + 1] / 64) * 4 + img.pixels[i + 2] / 64] += 1.0;
+        for (auto& v : h) v /= static_cast<double>(img.pixels.size() / 4);
+        return h;
+    };
+    const auto a = histogram(*presented), b = histogram(offscreen->composed);
+    double l1 = 0.0;
+    for (std::size_t k = 0; k < a.size(); ++k) l1 += std::abs(a[k] - b[k]);
+    std::printf("window against offscreen: colour histograms differ by %.3f (L1, 0..2)\n", l1);
+    EXPECT_LT(l1, 0.2);
+    const auto black = histogram(render::RgbaImage{640, 360, std::vector<std::uint8_t>(640 * 360 * 4, 0)});
+    double from_black = 0.0;
+    for (std::size_t k = 0; k < a.size(); ++k) from_black += std::abs(a[k] - black[k]);
+    EXPECT_GT(from_black, 1.5) << "not a black window";
 }

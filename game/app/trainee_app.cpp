@@ -1,0 +1,236 @@
+#include "game/app/trainee_app.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include <GLFW/glfw3.h>
+
+#include "components/hand.hpp"
+#include "components/insertion.hpp"
+#include "engine/devices/mouse_keyboard_device.hpp"
+#include "engine/platform/pointer_input.hpp"
+#include "engine/platform/window.hpp"
+#include "engine/render/stereo_renderer.hpp"
+#include "engine/render/swapchain.hpp"
+#include "engine/sched/clocks.hpp"
+#include "game/asset_paths.hpp"
+#include "game/cli/render_command.hpp"
+#include "game/devices/hand_device_selection.hpp"
+#include "game/scene/scene.hpp"
+#include "game/world/world.hpp"
+#include "systems/presentation/draw_list_system.hpp"
+
+namespace ikebana::game {
+
+namespace {
+
+// The window has no room for a heads-up display yet: its title carries the state.
+std::string status_line(World& w) {
+    std::string s = "Ikebana";
+    std::size_t i = 0;
+    w.sim.view<components::InsertionHistory, components::KenzanGrip>().each(
+        [&](ecs::Entity, components::InsertionHistory& h, components::KenzanGrip& grip) {
+            char part[96];
+            std::snprintf(part, sizeof part, " | %s: %u insertions%s%s", i < w.flowers.size() ? w.flowers[i].species.c_str() : "flower",
+                          h.insertions_total, h.bottom_broken ? ", split" : "", grip.fallen ? ", fell" : "");
+            s += part;
+            ++i;
+        });
+    return s;
+}
+
+int offscreen_instead(const TraineeAppOptions& o, const std::string& why) {
+    const auto out = (std::filesystem::temp_directory_path() / "ikebana-frames").string();
+    std::printf("ikebana: %s; rendering the scene offscreen instead\n", why.c_str());
+    RenderOptions r;
+    r.scene = o.scene;
+    r.frames = o.frames > 0 ? o.frames : 30;
+    r.stereo = o.stereo;
+    r.out = out;
+    r.width = o.stereo == "sbs" ? std::max(16u, o.width / 2) : o.width;
+    r.height = o.height;
+    r.validation = o.validation;
+    const int code = run_render(r);
+    if (code == 0) std::printf("ikebana: the images are in %s\n", out.c_str());
+    return code;
+}
+
+} // namespace
+
+int run_trainee_app(const TraineeAppOptions& o) {
+    auto scene = load_scene(o.scene);
+    if (!scene) {
+        std::cerr << "ikebana: " << scene.error().message << "\n";
+        return 2;
+    }
+    if (auto env = apply_environment_overrides(scene->environment, o.env); !env) {
+        std::cerr << "ikebana: " << env.error().message << "\n";
+        return 2;
+    }
+    // Devices first: what the trainee holds decides how the hands move.
+    std::array<std::unique_ptr<devices::HapticDevice>, 2> picked;
+    const std::string* specs[2] = {&o.left_device, &o.right_device};
+    for (std::uint8_t hand = 0; hand < 2; ++hand) {
+        auto opened = open_hand_device(*specs[hand], hand);
+        if (!opened) {
+            std::cerr << "ikebana: " << (hand ? "--right: " : "--left: ") << opened.error().message << "\n";
+            return 2;
+        }
+        std::printf("%s hand: %s%s\n", hand ? "right" : "left", opened->description.c_str(), opened->device ? "" : " (mouse and keyboard in the window)");
+        picked[hand] = std::move(opened->device);
+    }
+    auto window = platform::Window::create("Ikebana", o.width, o.height);
+    if (!window) return offscreen_instead(o, window.error().message);
+
+    auto render_mode = render::parse_stereo_mode(o.stereo);
+    if (!render_mode) {
+        std::cerr << "ikebana: " << render_mode.error().message << "\n";
+        return 2;
+    }
+    auto ctx = render::VulkanContext::create(
+        {.validation = o.validation, .require_validation = false, .instance_extensions = platform::Window::required_instance_extensions()});
+    if (!ctx) {
+        std::cerr << "ikebana: " << ctx.error().message << "\n";
+        return 3;
+    }
+    auto surface = (*window)->create_surface((*ctx)->instance());
+    if (!surface) {
+        std::cerr << "ikebana: " << surface.error().message << "\n";
+        return 3;
+    }
+    struct SurfaceGuard {
+        VkInstance instance;
+        VkSurfaceKHR surface;
+        ~SurfaceGuard() { vkDestroySurfaceKHR(instance, surface, nullptr); }
+    };
+    int code = 0;
+    {
+        // Everything drawn into the surface is gone before the surface itself.
+        SurfaceGuard guard{(*ctx)->instance(), *surface};
+        auto swapchain = render::Swapchain::create(**ctx, *surface, (*window)->framebuffer());
+        if (!swapchain) {
+            std::cerr << "ikebana: " << swapchain.error().message << "\n";
+            return 3;
+        }
+        render::RendererOptions ro;
+        ro.mode = *render_mode;
+        ro.asset_dir = asset_dir();
+        ro.eye_width = std::max(1u, *render_mode == render::StereoMode::side_by_side ? o.width / 2 : o.width);
+        ro.eye_height = std::max(1u, o.height);
+        auto renderer = render::StereoRenderer::create(**ctx, ro);
+        if (!renderer) {
+            std::cerr << "ikebana: " << renderer.error().message << "\n";
+            return 3;
+        }
+        auto world = World::create(*scene);
+        if (!world) {
+            std::cerr << "ikebana: " << world.error().message << "\n";
+            return 2;
+        }
+        World& w = **world;
+        platform::GlfwPointerSource pointer((*window)->glfw());
+        devices::MouseKeyboardHands mouse(pointer);
+        for (std::uint8_t hand = 0; hand < 2; ++hand) w.attach_device(hand, picked[hand] ? std::move(picked[hand]) : mouse.hand(hand));
+        std::printf("ikebana: %s on %s (%s); arrows or right-drag orbit the camera, Tab switches hands, Esc ends\n",
+                    render::stereo_mode_name(*render_mode), (*ctx)->device_name().c_str(), (*renderer)->multiview() ? "multiview" : "one pass per eye");
+
+        // The simulation keeps wall-clock time on a fixed timeline; a slow frame is caught up at most
+        // 0.1 s at once (the rest is dropped, never run as one big step).
+        sched::DeterministicClock clock(w.schedule);
+        render::StereoRig base_rig;
+        double yaw = 0.0, pitch = 0.0;
+        auto last = std::chrono::steady_clock::now();
+        std::pair<double, double> drag_from{0.0, 0.0};
+        bool dragging = false;
+        std::uint32_t presented = 0;
+        std::optional<render::RgbaImage> last_shot;
+        while (!(*window)->should_close()) {
+            (*window)->poll_events();
+            if ((*window)->key_down(GLFW_KEY_ESCAPE)) (*window)->request_close();
+            const auto now = std::chrono::steady_clock::now();
+            const double dt = std::min(0.1, std::chrono::duration<double>(now - last).count());
+            last = now;
+            // Camera: during training, not only after it (the paper's future work).
+            const double turn = 1.2 * dt;
+            if ((*window)->key_down(GLFW_KEY_LEFT)) yaw -= turn;
+            if ((*window)->key_down(GLFW_KEY_RIGHT)) yaw += turn;
+            if ((*window)->key_down(GLFW_KEY_UP)) pitch += turn;
+            if ((*window)->key_down(GLFW_KEY_DOWN)) pitch -= turn;
+            const auto cursor = (*window)->cursor();
+            if ((*window)->mouse_down(GLFW_MOUSE_BUTTON_RIGHT)) {
+                if (dragging) {
+                    yaw += 0.005 * (cursor.first - drag_from.first);
+                    pitch += 0.005 * (cursor.second - drag_from.second);
+                }
+                dragging = true;
+                drag_from = cursor;
+            } else {
+                dragging = false;
+            }
+            pitch = std::clamp(pitch, -0.5, 1.0);
+            // "Forward" on the device stays "away from the viewer".
+            w.sim.view<components::WorkspaceMapping>().each([&](ecs::Entity, components::WorkspaceMapping& m) { m.yaw_rad = yaw; });
+            clock.run_for_us(static_cast<std::int64_t>(dt * 1e6));
+
+            const VkExtent2D size = (*window)->framebuffer();
+            if (size.width == 0 || size.height == 0) {
+                (*window)->wait_events(); // minimised: nothing to draw
+                continue;
+            }
+            if (size.width != (*swapchain)->extent().width || size.height != (*swapchain)->extent().height) {
+                if (auto r = (*swapchain)->recreate(size); !r) {
+                    std::cerr << "ikebana: " << r.error().message << "\n";
+                    code = 3;
+                    break;
+                }
+            }
+            const auto* list = w.sim.resource<render::DrawList>();
+            const render::DrawList drawn = list ? *list : systems::build_draw_list(w.sim);
+            const bool want_shot = !o.screenshot.empty() && o.frames > 0 && presented + 1 >= o.frames;
+            auto frame = (*renderer)->present(**swapchain, drawn, render::orbited(base_rig, yaw, pitch), want_shot);
+            if (!frame) {
+                std::cerr << "ikebana: " << frame.error().message << "\n";
+                code = 3;
+                break;
+            }
+            for (const auto& warning : (*renderer)->take_warnings()) std::cerr << "ikebana: warning: " << warning << "\n";
+            if (frame->swapchain_stale) {
+                if (auto r = (*swapchain)->recreate((*window)->framebuffer()); !r && (*window)->framebuffer().width > 0) {
+                    std::cerr << "ikebana: " << r.error().message << "\n";
+                    code = 3;
+                    break;
+                }
+            }
+            if (!frame->presented) continue;
+            ++presented;
+            if (frame->screenshot) last_shot = std::move(frame->screenshot);
+            if (presented % 15 == 0) glfwSetWindowTitle((*window)->glfw(), status_line(w).c_str());
+            if (o.frames > 0 && presented >= o.frames) break;
+        }
+        if (!o.screenshot.empty()) {
+            if (!last_shot) {
+                std::cerr << "ikebana: no screenshot: the window's images cannot be copied from on this device\n";
+                code = code ? code : 1;
+            } else if (auto wr = render::write_png(o.screenshot, *last_shot); !wr) {
+                std::cerr << "ikebana: " << wr.error().message << "\n";
+                code = code ? code : 1;
+            } else {
+                std::printf("ikebana: screenshot in %s\n", o.screenshot.c_str());
+            }
+        }
+        std::printf("ikebana: %u frames presented; %s\n", presented, status_line(w).c_str());
+        if ((*ctx)->validation_enabled()) {
+            std::printf("validation: %u errors, %u warnings\n", (*ctx)->validation_errors(), (*ctx)->validation_warnings());
+            if ((*ctx)->validation_errors() > 0 && code == 0) code = 4;
+        }
+        vkDeviceWaitIdle((*ctx)->device());
+    }
+    return code;
+}
+
+} // namespace ikebana::game

@@ -1,0 +1,29 @@
+#pragma once
+// The trainee app (`ikebana` with no subcommand): the default scene in a stereo window. Haptic devices
+// if present, else the window's mouse and keyboard as both hands (Tab switches, left button grabs,
+// Shift or the wheel for depth). The arrow keys or a right-button drag orbit the camera during
+// training, and the hands' workspace turns with it so that "forward" stays away from the viewer.
+// Escape or closing the window ends the session. With no display it renders offscreen instead and
+// says where the images went.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ikebana::game {
+
+struct TraineeAppOptions {
+    std::string scene;
+    std::string left_device = "auto";
+    std::string right_device = "auto";
+    std::vector<std::string> env;
+    std::string stereo = "sbs";
+    std::uint32_t width = 1280; // the window
+    std::uint32_t height = 720;
+    std::uint32_t frames = 0;   // stop after this many presented frames (0: until closed)
+    std::string screenshot;     // write the last presented frame here (PNG)
+    bool validation = false;
+};
+
+int run_trainee_app(const TraineeAppOptions& options);
+
+} // namespace ikebana::game
