@@ -150,6 +150,7 @@ int run_trainee_app(const TraineeAppOptions& o) {
         std::uint32_t presented = 0;
         std::optional<render::RgbaImage> last_shot;
         while (!(*window)->should_close()) {
+            if (o.each_frame) o.each_frame(presented, (*window)->glfw());
             (*window)->poll_events();
             if ((*window)->key_down(GLFW_KEY_ESCAPE)) (*window)->request_close();
             const auto now = std::chrono::steady_clock::now();

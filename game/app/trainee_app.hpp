@@ -6,8 +6,11 @@
 // Escape or closing the window ends the session. With no display it renders offscreen instead and
 // says where the images went.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
+
+struct GLFWwindow;
 
 namespace ikebana::game {
 
@@ -22,6 +25,9 @@ struct TraineeAppOptions {
     std::uint32_t frames = 0;   // stop after this many presented frames (0: until closed)
     std::string screenshot;     // write the last presented frame here (PNG)
     bool validation = false;
+    // Called before each frame with the frames presented so far (tests drive the window with it:
+    // resize it, minimise it). Nothing when empty.
+    std::function<void(std::uint32_t presented, GLFWwindow* window)> each_frame;
 };
 
 int run_trainee_app(const TraineeAppOptions& options);

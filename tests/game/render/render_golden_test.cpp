@@ -4,6 +4,8 @@
 // stored image after a deliberate change (look at it before committing).
 #include <gtest/gtest.h>
 
+#include <GLFW/glfw3.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -132,4 +134,30 @@ TEST(WindowApp, PresentsTheSceneInARealWindow) {
     double from_black = 0.0;
     for (std::size_t k = 0; k < a.size(); ++k) from_black += std::abs(a[k] - black[k]);
     EXPECT_GT(from_black, 1.5) << "not a black window";
+}
+
+TEST(WindowApp, ResizeAndMinimiseAreSurvived) {
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !*display) GTEST_SKIP() << "no display (ctest runs this under xvfb-run)";
+    const auto shot = std::filesystem::temp_directory_path() / "ikebana_window_resized.png";
+    std::filesystem::remove(shot);
+    game::TraineeAppOptions o;
+    o.scene = (game::asset_dir() / "scenes" / "default.json").string();
+    o.left_device = o.right_device = "none";
+    o.width = 480;
+    o.height = 270;
+    o.frames = 14;
+    o.screenshot = shot.string();
+    o.validation = true;
+    o.stereo = "rows";
+    o.each_frame = [](std::uint32_t presented, GLFWwindow* window) {
+        if (presented == 3) glfwSetWindowSize(window, 720, 400);
+        if (presented == 6) glfwIconifyWindow(window);
+        if (presented == 6) glfwRestoreWindow(window);
+    };
+    ASSERT_EQ(game::run_trainee_app(o), 0) << "no error, and the validation layer saw none";
+    const auto presented = render::read_png(shot);
+    ASSERT_TRUE(presented) << presented.error().message;
+    EXPECT_EQ(presented->width, 720u) << "the last frame has the window's new size";
+    EXPECT_EQ(presented->height, 400u);
 }
