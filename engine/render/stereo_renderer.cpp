@@ -25,6 +25,12 @@ struct Vertex {
     glm::vec3 normal;
 };
 
+struct OverlayConstants {
+    float target_width, target_height;
+    float offset_x, offset_y;
+    float scale;
+};
+
 struct CompositeConstants {
     std::int32_t mode;
     std::int32_t eye_width;
@@ -121,6 +127,9 @@ StereoRenderer::~StereoRenderer() {
         if (f.fence) vkDestroyFence(d, f.fence, nullptr);
     }
     for (auto& [format, p] : window_composite_) vkDestroyPipeline(d, p, nullptr);
+    for (auto& [format, p] : overlay_pipelines_) vkDestroyPipeline(d, p, nullptr);
+    if (overlay_layout_) vkDestroyPipelineLayout(d, overlay_layout_, nullptr);
+    for (auto& f : frames_) destroy_buffer(ctx_, f.overlay);
     for (VkSemaphore sem : render_finished_) vkDestroySemaphore(d, sem, nullptr);
     for (auto& f : frames_) {
         if (f.image_available) vkDestroySemaphore(d, f.image_available, nullptr);
@@ -456,6 +465,102 @@ Result<VkPipeline> StereoRenderer::make_composite_pipeline(VkFormat format) {
     return pipeline;
 }
 
+// Heads-up panels: pixel-space triangles with their own colours, alpha-blended over the frame.
+Result<VkPipeline> StereoRenderer::make_overlay_pipeline(VkFormat format) {
+    if (!overlay_layout_) {
+        const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(OverlayConstants)};
+        VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, nullptr, 0, 0, nullptr, 1, &push};
+        IKEBANA_VK(vkCreatePipelineLayout(ctx_.device(), &layout, nullptr, &overlay_layout_));
+    }
+    auto vert = load_shader(ctx_, options_.shader_dir / "overlay.vert.spv");
+    if (!vert) return std::move(vert).error();
+    auto frag = load_shader(ctx_, options_.shader_dir / "overlay.frag.spv");
+    if (!frag) {
+        vkDestroyShaderModule(ctx_.device(), *vert, nullptr);
+        return std::move(frag).error();
+    }
+    const VkVertexInputBindingDescription binding{0, sizeof(OverlayVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+    const VkVertexInputAttributeDescription attributes[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+                                                             {1, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(OverlayVertex, colour)}};
+    VkPipelineVertexInputStateCreateInfo input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO, nullptr, 0, 1, &binding, 2, attributes};
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO, nullptr, 0,
+                                                    VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, VK_FALSE};
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO, nullptr, 0, 1, nullptr, 1, nullptr};
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE;
+    raster.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo no_depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    VkPipelineColorBlendAttachmentState blend_attachment{};
+    blend_attachment.blendEnable = VK_TRUE;
+    blend_attachment.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+    blend_attachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    blend_attachment.colorBlendOp = VK_BLEND_OP_ADD;
+    blend_attachment.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+    blend_attachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    blend_attachment.alphaBlendOp = VK_BLEND_OP_ADD;
+    blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &blend_attachment;
+    const VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO, nullptr, 0, 2, dynamic_states};
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachmentFormats = &format;
+    const VkPipelineShaderStageCreateInfo stages[2] = {
+        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, *vert, "main", nullptr},
+        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, *frag, "main", nullptr}};
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    info.pNext = &rendering;
+    info.stageCount = 2;
+    info.pStages = stages;
+    info.pVertexInputState = &input;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &no_depth;
+    info.pColorBlendState = &blend;
+    info.pDynamicState = &dynamic;
+    info.layout = overlay_layout_;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    const VkResult r = vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
+    vkDestroyShaderModule(ctx_.device(), *vert, nullptr);
+    vkDestroyShaderModule(ctx_.device(), *frag, nullptr);
+    if (r != VK_SUCCESS) return vulkan_error("vkCreateGraphicsPipelines (overlay)", r);
+    return pipeline;
+}
+
+Result<VkPipeline> StereoRenderer::overlay_pipeline_for(VkFormat format) {
+    if (auto it = overlay_pipelines_.find(format); it != overlay_pipelines_.end()) return it->second;
+    auto made = make_overlay_pipeline(format);
+    if (!made) return std::move(made).error();
+    overlay_pipelines_[format] = *made;
+    return *made;
+}
+
+Result<void> StereoRenderer::fill_overlay(Frame& frame) {
+    frame.overlay_ranges.clear();
+    std::vector<OverlayVertex> vertices;
+    for (const auto& panel : overlay_) {
+        const auto tris = overlay_triangles(panel);
+        frame.overlay_ranges.emplace_back(static_cast<std::uint32_t>(vertices.size()), static_cast<std::uint32_t>(tris.size()));
+        vertices.insert(vertices.end(), tris.begin(), tris.end());
+    }
+    const VkDeviceSize needed = std::max<std::size_t>(1, vertices.size()) * sizeof(OverlayVertex);
+    if (frame.overlay.size < needed) {
+        destroy_buffer(ctx_, frame.overlay);
+        auto buffer = create_buffer(ctx_, needed * 2, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+        if (!buffer) return std::move(buffer).error();
+        frame.overlay = *buffer;
+    }
+    std::memcpy(frame.overlay.mapped, vertices.data(), vertices.size() * sizeof(OverlayVertex));
+    return Ok{};
+}
+
 Result<StereoRenderer::Mesh> StereoRenderer::upload(const assets::MeshData& data) {
     Mesh m;
     std::vector<Vertex> vertices(data.positions.size());
@@ -537,6 +642,7 @@ Result<StereoRenderer::Frame*> StereoRenderer::begin_frame(const DrawList& list,
     u.light_direction = glm::vec4(glm::normalize(list.light_direction), 0.0f);
     std::memcpy(frame.uniforms.mapped, &u, sizeof u);
 
+    if (auto o = fill_overlay(frame); !o) return std::move(o).error();
     IKEBANA_VK(vkResetCommandBuffer(frame.cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO, nullptr, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, nullptr};
     IKEBANA_VK(vkBeginCommandBuffer(frame.cmd, &begin));
@@ -548,7 +654,13 @@ Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoR
     auto begun = begin_frame(list, rig);
     if (!begun) return std::move(begun).error();
     Frame& frame = **begun;
-    record(frame, list, draws_, {output_.image, output_.view, output_.extent, composite_pipeline_, true, with_eyes, false});
+    VkPipeline overlay = VK_NULL_HANDLE;
+    if (!overlay_.empty()) {
+        auto made = overlay_pipeline_for(colour_format);
+        if (!made) return std::move(made).error();
+        overlay = *made;
+    }
+    record(frame, list, draws_, {output_.image, output_.view, output_.extent, composite_pipeline_, overlay, true, with_eyes, false});
     IKEBANA_VK(vkEndCommandBuffer(frame.cmd));
     IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
     RenderedFrame out;
@@ -631,7 +743,13 @@ Result<PresentedFrame> StereoRenderer::present(Swapchain& swapchain, const DrawL
         render_finished_.push_back(s);
     }
     const bool copy = screenshot && swapchain.can_copy_from();
-    record(frame, list, draws_, {swapchain.image(index), swapchain.view(index), window, *pipeline, copy, false, true});
+    VkPipeline overlay = VK_NULL_HANDLE;
+    if (!overlay_.empty()) {
+        auto made = overlay_pipeline_for(swapchain.format());
+        if (!made) return std::move(made).error();
+        overlay = *made;
+    }
+    record(frame, list, draws_, {swapchain.image(index), swapchain.view(index), window, *pipeline, overlay, copy, false, true});
     IKEBANA_VK(vkEndCommandBuffer(frame.cmd));
     IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
     result.timing.record_ms = ms_since(started);
@@ -778,6 +896,24 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
     vkCmdPushConstants(cmd, composite_pipeline_layout_, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof constants, &constants);
     set_viewport(target.extent);
     vkCmdDraw(cmd, 3, 1, 0, 0);
+    if (!frame.overlay_ranges.empty() && target.overlay_pipeline) {
+        // Once per eye's area in side-by-side (at screen depth for both eyes), once otherwise.
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, target.overlay_pipeline);
+        const VkDeviceSize zero = 0;
+        vkCmdBindVertexBuffers(cmd, 0, 1, &frame.overlay.buffer, &zero);
+        const int areas = options_.mode == StereoMode::side_by_side ? 2 : 1;
+        for (int area = 0; area < areas; ++area) {
+            for (std::size_t k = 0; k < overlay_.size() && k < frame.overlay_ranges.size(); ++k) {
+                const auto [first, count] = frame.overlay_ranges[k];
+                if (count == 0) continue;
+                const OverlayConstants c{static_cast<float>(target.extent.width), static_cast<float>(target.extent.height),
+                                         overlay_[k].origin_px.x + static_cast<float>(area) * static_cast<float>(options_.eye_width),
+                                         overlay_[k].origin_px.y, overlay_[k].scale};
+                vkCmdPushConstants(cmd, overlay_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof c, &c);
+                vkCmdDraw(cmd, count, 1, first, 0);
+            }
+        }
+    }
     vkCmdEndRendering(cmd);
 
     // 4. Read back (offscreen, or a screenshot of the window), then hand the window its image.

@@ -21,6 +21,7 @@
 #include "engine/render/png_image.hpp"
 #include "engine/render/stereo_camera.hpp"
 #include "engine/render/swapchain.hpp"
+#include "engine/render/text_overlay.hpp"
 #include "engine/render/vulkan_context.hpp"
 
 namespace ikebana::render {
@@ -77,6 +78,8 @@ public:
     // The same frame composed into the window's next image and presented; the eyes follow the
     // window's size. A screenshot reads back what was presented.
     Result<PresentedFrame> present(Swapchain& swapchain, const DrawList& list, const StereoRig& rig, bool screenshot = false);
+    // Heads-up panels drawn over every following frame (in each eye's area) until replaced.
+    void set_overlay(std::vector<OverlayPanel> panels) { overlay_ = std::move(panels); }
     [[nodiscard]] VkExtent2D output_extent() const noexcept;
     [[nodiscard]] bool multiview() const noexcept { return multiview_; }
     // Placeholder meshes drawn since the last call, each naming its file and why.
@@ -93,12 +96,15 @@ private:
         GpuBuffer uniforms, instances, readback;
         VkDescriptorSet scene_set = VK_NULL_HANDLE;
         VkSemaphore image_available = VK_NULL_HANDLE; // window only
+        GpuBuffer overlay;                             // the heads-up panels' triangles
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> overlay_ranges; // first vertex, count per panel
     };
     struct CompositeTarget {
         VkImage image;
         VkImageView view;
         VkExtent2D extent;
         VkPipeline pipeline;
+        VkPipeline overlay_pipeline;
         bool read_back;
         bool with_eyes;
         bool present;
@@ -118,6 +124,9 @@ private:
     void record(Frame& frame, const DrawList& list, const std::vector<std::pair<Mesh*, std::uint32_t>>& draws, const CompositeTarget& target);
     void read_back(const Frame& frame, RgbaImage& image, VkExtent2D extent, std::size_t offset, bool bgra) const;
     Result<VkPipeline> make_composite_pipeline(VkFormat format);
+    Result<VkPipeline> make_overlay_pipeline(VkFormat format);
+    Result<VkPipeline> overlay_pipeline_for(VkFormat format);
+    Result<void> fill_overlay(Frame& frame);
     Result<VkPipeline> composite_pipeline_for(VkFormat format);
 
     VulkanContext& ctx_;
@@ -137,6 +146,9 @@ private:
     std::map<std::string, Mesh> meshes_;
     std::vector<std::pair<Mesh*, std::uint32_t>> draws_;
     std::map<VkFormat, VkPipeline> window_composite_;
+    std::map<VkFormat, VkPipeline> overlay_pipelines_;
+    VkPipelineLayout overlay_layout_ = VK_NULL_HANDLE;
+    std::vector<OverlayPanel> overlay_;
     std::vector<VkSemaphore> render_finished_; // one per window image
     std::vector<std::string> warnings_;
 };

@@ -20,6 +20,7 @@
 #include "engine/sched/clocks.hpp"
 #include "game/asset_paths.hpp"
 #include "game/cli/render_command.hpp"
+#include "game/app/hud.hpp"
 #include "game/devices/hand_device_selection.hpp"
 #include "game/scene/scene.hpp"
 #include "game/world/world.hpp"
@@ -74,6 +75,7 @@ int run_trainee_app(const TraineeAppOptions& o) {
     }
     // Devices first: what the trainee holds decides how the hands move.
     std::array<std::unique_ptr<devices::HapticDevice>, 2> picked;
+    HudInfo hud;
     const std::string* specs[2] = {&o.left_device, &o.right_device};
     for (std::uint8_t hand = 0; hand < 2; ++hand) {
         auto opened = open_hand_device(*specs[hand], hand);
@@ -83,6 +85,7 @@ int run_trainee_app(const TraineeAppOptions& o) {
         }
         std::printf("%s hand: %s%s\n", hand ? "right" : "left", opened->description.c_str(), opened->device ? "" : " (mouse and keyboard in the window)");
         picked[hand] = std::move(opened->device);
+        hud.device[hand] = picked[hand] ? opened->description : "mouse and keyboard";
     }
     auto window = platform::Window::create("Ikebana", o.width, o.height);
     if (!window) return offscreen_instead(o, window.error().message);
@@ -192,6 +195,8 @@ int run_trainee_app(const TraineeAppOptions& o) {
             }
             const auto* list = w.sim.resource<render::DrawList>();
             const render::DrawList drawn = list ? *list : systems::build_draw_list(w.sim);
+            hud.time_s = static_cast<double>(clock.now_us()) * 1e-6;
+            (*renderer)->set_overlay(hud_panels(w, hud));
             const bool want_shot = !o.screenshot.empty() && o.frames > 0 && presented + 1 >= o.frames;
             auto frame = (*renderer)->present(**swapchain, drawn, render::orbited(base_rig, yaw, pitch), want_shot);
             if (!frame) {
