@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
     app.add_option("--frames", app_options.frames, "Stop the app after this many frames (0: when the window closes)")->capture_default_str();
     app.add_option("--screenshot", app_options.screenshot, "Write the app's last frame to this PNG");
     app.add_flag("--validation", app_options.validation, "Run the app with the Vulkan validation layer");
+    app.add_option("--finish-at-frame", app_options.finish_at_frame, "Finish the training at this frame, as Enter does (demos, tests)");
     app.add_option("--env", environment, "Environment covariate for extended species in the app, name=value (repeatable)");
     ikebana::game::add_sim_command(app, exit_code);
     ikebana::game::add_species_command(app, exit_code);

@@ -21,6 +21,8 @@
 #include "game/asset_paths.hpp"
 #include "game/cli/render_command.hpp"
 #include "game/app/hud.hpp"
+#include "game/training/arrangement_score.hpp"
+#include "game/training/sample_arrangement.hpp"
 #include "game/devices/hand_device_selection.hpp"
 #include "game/scene/scene.hpp"
 #include "game/world/world.hpp"
@@ -151,6 +153,8 @@ int run_trainee_app(const TraineeAppOptions& o) {
         std::pair<double, double> drag_from{0.0, 0.0};
         bool dragging = false;
         std::uint32_t presented = 0;
+        bool enter_was_down = false;
+        std::optional<ArrangementScore> last_result;
         std::optional<render::RgbaImage> last_shot;
         while (!(*window)->should_close()) {
             if (o.each_frame) o.each_frame(presented, (*window)->glfw());
@@ -193,8 +197,18 @@ int run_trainee_app(const TraineeAppOptions& o) {
                     break;
                 }
             }
+            // Enter: the trainee is done; the result stays on screen and the session goes on.
+            const bool enter = (*window)->key_down(GLFW_KEY_ENTER) || (*window)->key_down(GLFW_KEY_KP_ENTER);
+            if ((enter && !enter_was_down) || (o.finish_at_frame > 0 && presented + 1 == o.finish_at_frame)) {
+                const auto result = score_arrangement(arranged_stems(w), scene->sample, kenzan_origin(w));
+                hud.result = scene->sample.empty() ? std::vector<std::string>{"RESULT: free practice (this scene has no sample)"} : result.lines();
+                for (const auto& line : hud.result) std::printf("%s\n", line.c_str());
+                last_result = result;
+            }
+            enter_was_down = enter;
             const auto* list = w.sim.resource<render::DrawList>();
-            const render::DrawList drawn = list ? *list : systems::build_draw_list(w.sim);
+            render::DrawList drawn = list ? *list : systems::build_draw_list(w.sim);
+            add_sample_to_draw_list(drawn, w, scene->sample);
             hud.time_s = static_cast<double>(clock.now_us()) * 1e-6;
             (*renderer)->set_overlay(hud_panels(w, hud));
             const bool want_shot = !o.screenshot.empty() && o.frames > 0 && presented + 1 >= o.frames;

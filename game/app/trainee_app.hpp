@@ -25,6 +25,7 @@ struct TraineeAppOptions {
     std::uint32_t frames = 0;   // stop after this many presented frames (0: until closed)
     std::string screenshot;     // write the last presented frame here (PNG)
     bool validation = false;
+    std::uint32_t finish_at_frame = 0; // as if Enter were pressed then (tests, demos)
     // Called before each frame with the frames presented so far (tests drive the window with it:
     // resize it, minimise it). Nothing when empty.
     std::function<void(std::uint32_t presented, GLFWwindow* window)> each_frame;

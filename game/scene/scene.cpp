@@ -32,7 +32,7 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
         return c.error();
     }
     c.no_unknown_keys(*root, "", {"format", "name", "seed", "rates_hz", "gravity_m_s2", "table_height_mm", "kenzan",
-                                  "flowers", "hands", "environment", "force_scheme", "notes"});
+                                  "flowers", "hands", "environment", "force_scheme", "sample", "notes"});
     const auto format = c.string(*root, "", "format");
     if (format && *format != "ikebana-scene/1") c.problem("/format", "expected \"ikebana-scene/1\", got \"" + *format + "\"");
     SceneDef s{};
@@ -50,6 +50,26 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
             if (value.is_number()) s.environment.numeric[name] = value.get<double>();
             else if (value.is_string()) s.environment.category[name] = value.get<std::string>();
             else c.problem("/environment/" + name, "expected a number or a string, got " + JsonChecker::describe(value));
+        }
+    }
+    if (const auto* sample = c.array(*root, "", "sample", false)) {
+        for (std::size_t i = 0; i < sample->size(); ++i) {
+            const std::string p = "/sample/" + std::to_string(i);
+            const Json& st = (*sample)[i];
+            if (!st.is_object()) {
+                c.problem(p, "expected an object, got " + JsonChecker::describe(st));
+                continue;
+            }
+            c.no_unknown_keys(st, p, {"species", "base_mm", "angle_deg", "azimuth_deg", "height_mm"});
+            SampleStem stem{};
+            stem.species = c.string(st, p, "species").value_or("");
+            const auto base = c.numbers(st, p, "base_mm", {-500, 500}, 2);
+            if (base && base->size() != 2) c.problem(p + "/base_mm", "expected [x, y]");
+            else if (base) stem.base_m = glm::dvec2{(*base)[0], (*base)[1]} * 1e-3;
+            stem.angle_rad = c.number(st, p, "angle_deg", {0, 90}).value_or(0) * std::acos(-1.0) / 180.0;
+            stem.azimuth_rad = c.number(st, p, "azimuth_deg", {-360, 360}, false).value_or(0) * std::acos(-1.0) / 180.0;
+            stem.height_m = c.number(st, p, "height_mm", {1, 2000}).value_or(100) * 1e-3;
+            s.sample.push_back(stem);
         }
     }
     if (const auto* k = c.object(*root, "", "kenzan")) {

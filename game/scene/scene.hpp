@@ -34,6 +34,16 @@ struct HandPlacement {
     std::string trajectory; // a scripted device for this hand (CSV, relative to assets/), or empty
 };
 
+// One stem of the sample arrangement the trainee copies (the paper's Figure 2): where it enters the
+// kenzan, how it leans, how high its top stands.
+struct SampleStem {
+    std::string species;
+    glm::dvec2 base_m;     // from the kenzan's centre
+    double angle_rad;      // lean from the vertical
+    double azimuth_rad;    // which way it leans, from +x towards +y
+    double height_m;       // its top above the kenzan's base plate
+};
+
 struct SceneDef {
     std::filesystem::path file;
     std::uint64_t seed;
@@ -50,6 +60,7 @@ struct SceneDef {
     // "full_rate": hand forces every 1 kHz tick; "paper": the paper's 16 Hz check, 100 Hz estimate,
     // each force sent ten times.
     std::string force_scheme = "full_rate";
+    std::vector<SampleStem> sample; // the arrangement to copy (empty: free practice)
 };
 
 Result<SceneDef> parse_scene(std::string_view text, const std::string& label);

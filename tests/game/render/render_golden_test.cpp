@@ -14,6 +14,7 @@
 #include "game/app/trainee_app.hpp"
 #include "game/asset_paths.hpp"
 #include "game/scene/scene.hpp"
+#include "game/training/sample_arrangement.hpp"
 #include "game/world/world.hpp"
 #include "systems/presentation/draw_list_system.hpp"
 
@@ -96,6 +97,7 @@ TEST(WindowApp, PresentsTheSceneInARealWindow) {
     o.width = 640;
     o.height = 360;
     o.frames = 12;
+    o.finish_at_frame = 6; // the result panel on top, the sample beside
     o.screenshot = shot.string();
     o.validation = true;
     ASSERT_EQ(game::run_trainee_app(o), 0);
@@ -115,14 +117,18 @@ TEST(WindowApp, PresentsTheSceneInARealWindow) {
     ro.asset_dir = game::asset_dir();
     auto renderer = render::StereoRenderer::create(**ctx, ro);
     ASSERT_TRUE(renderer);
-    const auto offscreen = (*renderer)->render(systems::build_draw_list((*world)->sim), render::StereoRig{}, false);
+    auto list = systems::build_draw_list((*world)->sim);
+    game::add_sample_to_draw_list(list, **world, scene->sample);
+    const auto offscreen = (*renderer)->render(list, render::StereoRig{}, false);
     ASSERT_TRUE(offscreen);
     // The sim ran on while the window was open (stems settle, the mouse placed the hands), so the
-    // pictures are compared by their colours: table, background, kenzan, stems, in like amounts.
+    // pictures are compared by their colours: table, background, kenzan, stems, in like amounts. The
+    // heads-up panel (top rows) is the window's own.
     auto histogram = [](const render::RgbaImage& img) {
         std::vector<double> h(64, 0.0);
-        for (std::size_t i = 0; i < img.pixels.size(); i += 4) h[(img.pixels[i] / 64) * 16 + (img.pixels[i + 1] / 64) * 4 + img.pixels[i + 2] / 64] += 1.0;
-        for (auto& v : h) v /= static_cast<double>(img.pixels.size() / 4);
+        const std::size_t first = 4ull * img.width * (img.height / 2);
+        for (std::size_t i = first; i < img.pixels.size(); i += 4) h[(img.pixels[i] / 64) * 16 + (img.pixels[i + 1] / 64) * 4 + img.pixels[i + 2] / 64] += 1.0;
+        for (auto& v : h) v /= static_cast<double>((img.pixels.size() - first) / 4);
         return h;
     };
     const auto a = histogram(*presented), b = histogram(offscreen->composed);
