@@ -129,7 +129,10 @@ StereoRenderer::~StereoRenderer() {
     for (auto& [format, p] : window_composite_) vkDestroyPipeline(d, p, nullptr);
     for (auto& [format, p] : overlay_pipelines_) vkDestroyPipeline(d, p, nullptr);
     if (overlay_layout_) vkDestroyPipelineLayout(d, overlay_layout_, nullptr);
-    for (auto& f : frames_) destroy_buffer(ctx_, f.overlay);
+    for (auto& f : frames_) {
+        destroy_buffer(ctx_, f.overlay);
+        if (f.timestamps) vkDestroyQueryPool(d, f.timestamps, nullptr);
+    }
     for (VkSemaphore sem : render_finished_) vkDestroySemaphore(d, sem, nullptr);
     for (auto& f : frames_) {
         if (f.image_available) vkDestroySemaphore(d, f.image_available, nullptr);
@@ -151,6 +154,14 @@ StereoRenderer::~StereoRenderer() {
 }
 
 Result<void> StereoRenderer::prepare_frames() {
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(ctx_.physical_device(), &props);
+    std::uint32_t families = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx_.physical_device(), &families, nullptr);
+    std::vector<VkQueueFamilyProperties> family(families);
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx_.physical_device(), &families, family.data());
+    const bool can_time = props.limits.timestampComputeAndGraphics || family[ctx_.queue_family()].timestampValidBits > 0;
+    timestamp_period_ns_ = can_time ? static_cast<double>(props.limits.timestampPeriod) : 0.0;
     VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO, nullptr, VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT, ctx_.queue_family()};
     IKEBANA_VK(vkCreateCommandPool(ctx_.device(), &pool, nullptr, &pool_));
     frames_.resize(options_.frames_in_flight);
@@ -159,6 +170,12 @@ Result<void> StereoRenderer::prepare_frames() {
         IKEBANA_VK(vkAllocateCommandBuffers(ctx_.device(), &alloc, &f.cmd));
         VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO, nullptr, VK_FENCE_CREATE_SIGNALED_BIT};
         IKEBANA_VK(vkCreateFence(ctx_.device(), &fence, nullptr, &f.fence));
+        if (timestamp_period_ns_ > 0.0) {
+            VkQueryPoolCreateInfo q{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+            q.queryType = VK_QUERY_TYPE_TIMESTAMP;
+            q.queryCount = 4;
+            IKEBANA_VK(vkCreateQueryPool(ctx_.device(), &q, nullptr, &f.timestamps));
+        }
         auto uniforms = create_buffer(ctx_, sizeof(FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
         if (!uniforms) return std::move(uniforms).error();
         f.uniforms = *uniforms;
@@ -674,6 +691,7 @@ Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoR
     IKEBANA_VK(vkQueueSubmit2(ctx_.queue(), 1, &submit, frame.fence));
     IKEBANA_VK(vkWaitForFences(ctx_.device(), 1, &frame.fence, VK_TRUE, UINT64_MAX));
     out.timing.execute_ms = ms_since(submitted);
+    read_timestamps(frame, out.timing);
 
     const auto copied = std::chrono::steady_clock::now();
     const VkExtent2D o = output_.extent;
@@ -685,6 +703,16 @@ Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoR
     }
     out.timing.readback_ms = ms_since(copied);
     return out;
+}
+
+void StereoRenderer::read_timestamps(Frame& frame, FrameTiming& timing) const {
+    if (!frame.timestamps || !frame.timestamps_written) return;
+    std::uint64_t t[4] = {};
+    if (vkGetQueryPoolResults(ctx_.device(), frame.timestamps, 0, 4, sizeof t, t, sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT) != VK_SUCCESS) return;
+    const double ms = timestamp_period_ns_ * 1e-6;
+    timing.shadow_ms = static_cast<double>(t[1] - t[0]) * ms;
+    timing.scene_ms = static_cast<double>(t[2] - t[1]) * ms;
+    timing.composite_ms = static_cast<double>(t[3] - t[2]) * ms;
 }
 
 void StereoRenderer::read_back(const Frame& frame, RgbaImage& img, VkExtent2D extent, std::size_t offset, bool bgra) const {
@@ -724,6 +752,7 @@ Result<PresentedFrame> StereoRenderer::present(Swapchain& swapchain, const DrawL
     auto begun = begin_frame(list, rig);
     if (!begun) return std::move(begun).error();
     Frame& frame = **begun;
+    read_timestamps(frame, result.timing); // this slot's previous frame: its fence has been waited for
     if (frame.image_available == VK_NULL_HANDLE) {
         VkSemaphoreCreateInfo info{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
         IKEBANA_VK(vkCreateSemaphore(ctx_.device(), &info, nullptr, &frame.image_available));
@@ -767,7 +796,9 @@ Result<PresentedFrame> StereoRenderer::present(Swapchain& swapchain, const DrawL
     submit.pSignalSemaphoreInfos = &signal;
     const auto submitted = std::chrono::steady_clock::now();
     IKEBANA_VK(vkQueueSubmit2(ctx_.queue(), 1, &submit, frame.fence));
+    const auto presenting = std::chrono::steady_clock::now();
     auto presented = swapchain.present(index, render_finished_[index]);
+    result.timing.present_ms = ms_since(presenting);
     if (!presented) return std::move(presented).error();
     result.presented = true;
     result.swapchain_stale = !*presented;
@@ -805,6 +836,10 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
         vkCmdSetScissor(cmd, 0, 1, &s);
     };
     constexpr auto none = VK_PIPELINE_STAGE_2_NONE;
+    if (frame.timestamps) {
+        vkCmdResetQueryPool(cmd, frame.timestamps, 0, 4);
+        vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, frame.timestamps, 0);
+    }
     // 1. Shadow map.
     transition(cmd, shadow_.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, 0, VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
@@ -831,6 +866,7 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
                VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
 
+    if (frame.timestamps) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT, frame.timestamps, 1);
     // 2. Both eyes, one pass.
     transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, none, 0,
                VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
@@ -877,6 +913,7 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
                VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
                VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
 
+    if (frame.timestamps) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT, frame.timestamps, 2);
     // 3. Composite to the display's format, into the offscreen output or the window's image.
     transition(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
@@ -916,6 +953,10 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
     }
     vkCmdEndRendering(cmd);
 
+    if (frame.timestamps) {
+        vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT, frame.timestamps, 3);
+        frame.timestamps_written = true;
+    }
     // 4. Read back (offscreen, or a screenshot of the window), then hand the window its image.
     VkImageLayout layout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
     if (target.read_back) {

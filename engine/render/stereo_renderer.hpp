@@ -50,6 +50,12 @@ struct FrameTiming {
     double record_ms = 0.0;   // CPU: filling instances and recording commands
     double execute_ms = 0.0;  // submit to fence: the device's work (lavapipe: CPU threads)
     double readback_ms = 0.0; // copying pixels out
+    // From device timestamps, where the device's time goes (of this frame offscreen; of the frame
+    // that last used this slot in a window, since presenting does not wait). Zero when unsupported.
+    double shadow_ms = 0.0;
+    double scene_ms = 0.0;     // both eyes
+    double composite_ms = 0.0; // composite and heads-up display
+    double present_ms = 0.0;   // window: acquiring the image and queueing it for presentation (CPU)
 };
 
 struct PresentedFrame {
@@ -97,6 +103,8 @@ private:
         VkDescriptorSet scene_set = VK_NULL_HANDLE;
         VkSemaphore image_available = VK_NULL_HANDLE; // window only
         GpuBuffer overlay;                             // the heads-up panels' triangles
+        VkQueryPool timestamps = VK_NULL_HANDLE;       // start, after shadow, after scene, after composite
+        bool timestamps_written = false;
         std::vector<std::pair<std::uint32_t, std::uint32_t>> overlay_ranges; // first vertex, count per panel
     };
     struct CompositeTarget {
@@ -127,6 +135,7 @@ private:
     Result<VkPipeline> make_overlay_pipeline(VkFormat format);
     Result<VkPipeline> overlay_pipeline_for(VkFormat format);
     Result<void> fill_overlay(Frame& frame);
+    void read_timestamps(Frame& frame, FrameTiming& timing) const;
     Result<VkPipeline> composite_pipeline_for(VkFormat format);
 
     VulkanContext& ctx_;
@@ -137,6 +146,7 @@ private:
     GpuImage eyes_, depth_, output_, shadow_;
     VkImageView eye_layer_[2] = {}, depth_layer_[2] = {}; // single-layer views for one pass per eye
     bool multiview_ = true;
+    double timestamp_period_ns_ = 0.0; // 0: the queue cannot time itself
     VkSampler shadow_sampler_ = VK_NULL_HANDLE, eye_sampler_ = VK_NULL_HANDLE;
     VkDescriptorSetLayout scene_layout_ = VK_NULL_HANDLE, composite_layout_ = VK_NULL_HANDLE;
     VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;

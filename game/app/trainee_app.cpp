@@ -47,6 +47,12 @@ std::string status_line(World& w) {
     return s;
 }
 
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)))];
+}
+
 int offscreen_instead(const TraineeAppOptions& o, const std::string& why) {
     const auto out = (std::filesystem::temp_directory_path() / "ikebana-frames").string();
     std::printf("ikebana: %s; rendering the scene offscreen instead\n", why.c_str());
@@ -154,6 +160,8 @@ int run_trainee_app(const TraineeAppOptions& o) {
         bool dragging = false;
         std::uint32_t presented = 0;
         bool enter_was_down = false;
+        std::vector<double> frame_ms, record_ms, shadow_ms, eyes_ms, composite_ms, present_ms;
+        auto previous_frame = std::chrono::steady_clock::now();
         std::optional<ArrangementScore> last_result;
         std::optional<render::RgbaImage> last_shot;
         while (!(*window)->should_close()) {
@@ -228,6 +236,14 @@ int run_trainee_app(const TraineeAppOptions& o) {
             }
             if (!frame->presented) continue;
             ++presented;
+            const auto frame_end = std::chrono::steady_clock::now();
+            frame_ms.push_back(std::chrono::duration<double, std::milli>(frame_end - previous_frame).count());
+            previous_frame = frame_end;
+            record_ms.push_back(frame->timing.record_ms);
+            shadow_ms.push_back(frame->timing.shadow_ms);
+            eyes_ms.push_back(frame->timing.scene_ms);
+            composite_ms.push_back(frame->timing.composite_ms);
+            present_ms.push_back(frame->timing.present_ms);
             if (frame->screenshot) last_shot = std::move(frame->screenshot);
             if (presented % 15 == 0) glfwSetWindowTitle((*window)->glfw(), status_line(w).c_str());
             if (o.frames > 0 && presented >= o.frames) break;
@@ -244,6 +260,14 @@ int run_trainee_app(const TraineeAppOptions& o) {
             }
         }
         std::printf("ikebana: %u frames presented; %s\n", presented, status_line(w).c_str());
+        if (frame_ms.size() > 2) {
+            frame_ms.erase(frame_ms.begin()); // the first frame includes start-up
+            std::printf("frame time, ms (p50 / p95): whole frame %.1f / %.1f; record %.2f / %.2f; device: shadow %.1f / %.1f, both eyes %.1f / %.1f, "
+                        "composite and HUD %.1f / %.1f; present %.2f / %.2f\n",
+                        percentile(frame_ms, 0.5), percentile(frame_ms, 0.95), percentile(record_ms, 0.5), percentile(record_ms, 0.95),
+                        percentile(shadow_ms, 0.5), percentile(shadow_ms, 0.95), percentile(eyes_ms, 0.5), percentile(eyes_ms, 0.95),
+                        percentile(composite_ms, 0.5), percentile(composite_ms, 0.95), percentile(present_ms, 0.5), percentile(present_ms, 0.95));
+        }
         if ((*ctx)->validation_enabled()) {
             std::printf("validation: %u errors, %u warnings\n", (*ctx)->validation_errors(), (*ctx)->validation_warnings());
             if ((*ctx)->validation_errors() > 0 && code == 0) code = 4;

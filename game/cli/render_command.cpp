@@ -72,7 +72,7 @@ int run_render(const RenderOptions& o) {
     render::StereoRig rig;
     rig = render::orbited(rig, o.yaw_deg * M_PI / 180.0, o.pitch_deg * M_PI / 180.0);
     const bool tty = isatty(fileno(stderr)) != 0;
-    std::vector<double> record, execute, readback;
+    std::vector<double> record, execute, readback, shadow, scene_pass, composite;
     for (std::uint32_t f = 1; f <= o.frames; ++f) {
         // The first frame shows the scene as built; each next one a render period later.
         if (f > 1) clock.run_for_us(frame_us);
@@ -87,6 +87,9 @@ int run_render(const RenderOptions& o) {
         record.push_back(frame->timing.record_ms);
         execute.push_back(frame->timing.execute_ms);
         readback.push_back(frame->timing.readback_ms);
+        shadow.push_back(frame->timing.shadow_ms);
+        scene_pass.push_back(frame->timing.scene_ms);
+        composite.push_back(frame->timing.composite_ms);
         char name[64];
         for (const auto& [suffix, image] : {std::pair{"left", &frame->left}, std::pair{"right", &frame->right}, std::pair{"composed", &frame->composed}}) {
             std::snprintf(name, sizeof name, "frame_%04u_%s.png", f, suffix);
@@ -104,6 +107,9 @@ int run_render(const RenderOptions& o) {
                 o.width, o.height, out_extent.width, out_extent.height, o.out.c_str());
     std::printf("frame time, ms (p50 / p95): record %.2f / %.2f, device %.2f / %.2f, readback %.2f / %.2f\n", percentile(record, 0.5),
                 percentile(record, 0.95), percentile(execute, 0.5), percentile(execute, 0.95), percentile(readback, 0.5), percentile(readback, 0.95));
+    std::printf("device time by pass, ms (p50 / p95): shadow %.2f / %.2f, both eyes %.2f / %.2f, composite and HUD %.2f / %.2f\n",
+                percentile(shadow, 0.5), percentile(shadow, 0.95), percentile(scene_pass, 0.5), percentile(scene_pass, 0.95),
+                percentile(composite, 0.5), percentile(composite, 0.95));
     if ((*ctx)->validation_enabled()) std::printf("validation: %u errors, %u warnings\n", (*ctx)->validation_errors(), (*ctx)->validation_warnings());
     return (*ctx)->validation_errors() == 0 ? 0 : 4;
 }
