@@ -574,7 +574,7 @@ Result<void> StereoRenderer::fill_overlay(Frame& frame) {
         if (!buffer) return std::move(buffer).error();
         frame.overlay = *buffer;
     }
-    std::memcpy(frame.overlay.mapped, vertices.data(), vertices.size() * sizeof(OverlayVertex));
+    if (!vertices.empty()) std::memcpy(frame.overlay.mapped, vertices.data(), vertices.size() * sizeof(OverlayVertex));
     return Ok{};
 }
 
@@ -585,14 +585,14 @@ Result<StereoRenderer::Mesh> StereoRenderer::upload(const assets::MeshData& data
     auto vb = create_buffer(ctx_, std::max<VkDeviceSize>(1, vertices.size() * sizeof(Vertex)), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
     if (!vb) return std::move(vb).error();
     m.vertices = *vb;
-    std::memcpy(m.vertices.mapped, vertices.data(), vertices.size() * sizeof(Vertex));
+    if (!vertices.empty()) std::memcpy(m.vertices.mapped, vertices.data(), vertices.size() * sizeof(Vertex));
     auto ib = create_buffer(ctx_, std::max<VkDeviceSize>(1, data.indices.size() * sizeof(std::uint32_t)), VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
     if (!ib) {
         destroy_buffer(ctx_, m.vertices);
         return std::move(ib).error();
     }
     m.indices = *ib;
-    std::memcpy(m.indices.mapped, data.indices.data(), data.indices.size() * sizeof(std::uint32_t));
+    if (!data.indices.empty()) std::memcpy(m.indices.mapped, data.indices.data(), data.indices.size() * sizeof(std::uint32_t));
     m.index_count = static_cast<std::uint32_t>(data.indices.size());
     return m;
 }
@@ -647,7 +647,7 @@ Result<StereoRenderer::Frame*> StereoRenderer::begin_frame(const DrawList& list,
         if (!buffer) return std::move(buffer).error();
         frame.instances = *buffer;
     }
-    std::memcpy(frame.instances.mapped, instances.data(), instances.size() * sizeof(MeshInstance));
+    if (!instances.empty()) std::memcpy(frame.instances.mapped, instances.data(), instances.size() * sizeof(MeshInstance));
 
     StereoRig rig = rig_in;
     rig.aspect = static_cast<double>(options_.eye_width) / static_cast<double>(options_.eye_height);
