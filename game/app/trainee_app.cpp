@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <thread>
 
 #include <GLFW/glfw3.h>
 
@@ -144,8 +145,8 @@ int run_trainee_app(const TraineeAppOptions& o) {
             return 2;
         }
         World& w = **world;
-        platform::GlfwPointerSource pointer((*window)->glfw());
-        devices::MouseKeyboardHands mouse(pointer);
+        platform::GlfwPointerSource window_pointer((*window)->glfw());
+        devices::MouseKeyboardHands mouse(o.pointer ? *o.pointer : static_cast<platform::PointerSource&>(window_pointer));
         for (std::uint8_t hand = 0; hand < 2; ++hand) w.attach_device(hand, picked[hand] ? std::move(picked[hand]) : mouse.hand(hand));
         std::printf("ikebana: %s on %s (%s); arrows or right-drag orbit the camera, Tab switches hands, Esc ends\n",
                     render::stereo_mode_name(*render_mode), (*ctx)->device_name().c_str(), (*renderer)->multiview() ? "multiview" : "one pass per eye");
@@ -153,6 +154,7 @@ int run_trainee_app(const TraineeAppOptions& o) {
         // The simulation keeps wall-clock time on a fixed timeline; a slow frame is caught up at most
         // 0.1 s at once (the rest is dropped, never run as one big step).
         sched::DeterministicClock clock(w.schedule);
+        const double render_hz = w.schedule.rates().hz("render");
         render::StereoRig base_rig;
         double yaw = 0.0, pitch = 0.0;
         auto last = std::chrono::steady_clock::now();
@@ -247,6 +249,10 @@ int run_trainee_app(const TraineeAppOptions& o) {
             if (frame->screenshot) last_shot = std::move(frame->screenshot);
             if (presented % 15 == 0) glfwSetWindowTitle((*window)->glfw(), status_line(w).c_str());
             if (o.frames > 0 && presented >= o.frames) break;
+            // Frames at the scheduler's render rate (30 Hz by default), not as fast as presenting allows.
+            const auto period = std::chrono::duration<double>(1.0 / render_hz);
+            const auto spent = std::chrono::steady_clock::now() - now;
+            if (spent < period) std::this_thread::sleep_for(period - spent);
         }
         if (!o.screenshot.empty()) {
             if (!last_shot) {

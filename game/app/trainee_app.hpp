@@ -12,6 +12,10 @@
 
 struct GLFWwindow;
 
+namespace ikebana::platform {
+class PointerSource;
+}
+
 namespace ikebana::game {
 
 struct TraineeAppOptions {
@@ -29,6 +33,9 @@ struct TraineeAppOptions {
     // Called before each frame with the frames presented so far (tests drive the window with it:
     // resize it, minimise it). Nothing when empty.
     std::function<void(std::uint32_t presented, GLFWwindow* window)> each_frame;
+    // The mouse and keyboard the hands follow when no device drives them: the window's own when null
+    // (tests and replays put a scripted pointer here).
+    platform::PointerSource* pointer = nullptr;
 };
 
 int run_trainee_app(const TraineeAppOptions& options);

@@ -11,6 +11,7 @@
 #include <filesystem>
 
 #include "engine/render/stereo_renderer.hpp"
+#include "engine/platform/pointer_input.hpp"
 #include "game/app/trainee_app.hpp"
 #include "game/asset_paths.hpp"
 #include "game/scene/scene.hpp"
@@ -166,4 +167,52 @@ TEST(WindowApp, ResizeAndMinimiseAreSurvived) {
     ASSERT_TRUE(presented) << presented.error().message;
     EXPECT_EQ(presented->width, 720u) << "the last frame has the window's new size";
     EXPECT_EQ(presented->height, 400u);
+}
+
+namespace {
+// A mouse the test moves: one state per frame, read by the hands at every simulation tick.
+class ScriptedPointer final : public platform::PointerSource {
+public:
+    platform::PointerState state{{320.0, 180.0}, {640.0, 360.0}, false, false, false, 0.0};
+    platform::PointerState read() override { return state; }
+};
+} // namespace
+
+// End to end with the mouse: the right hand starts beside the standing sunflower's stem, grabs it,
+// pulls it up out of the pins; the heads-up display says it holds a stem, and the result, taken once
+// the flower is out, finds no sunflower in the kenzan.
+TEST(WindowApp, TheMouseGrabsAStemAndPullsItOutOfTheKenzan) {
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !*display) GTEST_SKIP() << "no display (ctest runs this under xvfb-run)";
+    ScriptedPointer mouse;
+    game::TraineeAppOptions o;
+    o.scene = (game::asset_dir() / "scenes" / "default.json").string();
+    o.left_device = o.right_device = "none";
+    o.width = 640;
+    o.height = 360;
+    o.frames = 40;
+    o.finish_at_frame = 38;
+    o.pointer = &mouse;
+    o.each_frame = [&mouse](std::uint32_t presented, GLFWwindow*) {
+        if (presented >= 3) mouse.state.grab_button = true;
+        // Up by 18 px a frame (1.25 cm of workspace) for 10 frames: 12.5 cm in all.
+        if (presented >= 6 && presented < 16) mouse.state.cursor_px.y -= 18.0;
+    };
+    testing::internal::CaptureStdout();
+    const int code = game::run_trainee_app(o);
+    const std::string out = testing::internal::GetCapturedStdout();
+    ASSERT_EQ(code, 0) << out;
+    EXPECT_NE(out.find("sunflower      missing"), std::string::npos) << "pulled out of the pins:\n" << out;
+
+    // The same session without the grab: the sunflower is still in the kenzan and scored.
+    ScriptedPointer still;
+    o.pointer = &still;
+    o.each_frame = [&still](std::uint32_t presented, GLFWwindow*) {
+        if (presented >= 6 && presented < 16) still.state.cursor_px.y -= 18.0;
+    };
+    testing::internal::CaptureStdout();
+    ASSERT_EQ(game::run_trainee_app(o), 0);
+    const std::string control = testing::internal::GetCapturedStdout();
+    EXPECT_EQ(control.find("sunflower      missing"), std::string::npos) << control;
+    EXPECT_NE(control.find("sunflower      "), std::string::npos) << control;
 }
