@@ -52,6 +52,17 @@ std::optional<Rendered> render_default_scene(render::StereoMode mode) {
     return Rendered{std::move(frame).value(), (*ctx)->validation_errors()};
 }
 
+// The app on the default scene in a small window, driven by no device.
+game::TraineeAppOptions small_app(std::uint32_t width, std::uint32_t height, std::uint32_t frames) {
+    game::TraineeAppOptions o;
+    o.scene = (game::asset_dir() / "scenes" / "default.json").string();
+    o.left_device = o.right_device = "none";
+    o.width = width;
+    o.height = height;
+    o.frames = frames;
+    return o;
+}
+
 } // namespace
 
 TEST(RenderGolden, DefaultSceneSideBySideMatchesTheStoredImage) {
@@ -92,12 +103,7 @@ TEST(WindowApp, PresentsTheSceneInARealWindow) {
     if (!display || !*display) GTEST_SKIP() << "no display (ctest runs this under xvfb-run)";
     const auto shot = std::filesystem::temp_directory_path() / "ikebana_window_shot.png";
     std::filesystem::remove(shot);
-    game::TraineeAppOptions o;
-    o.scene = (game::asset_dir() / "scenes" / "default.json").string();
-    o.left_device = o.right_device = "none";
-    o.width = 640;
-    o.height = 360;
-    o.frames = 12;
+    auto o = small_app(640, 360, 12);
     o.finish_at_frame = 6; // the result panel on top, the sample beside
     o.screenshot = shot.string();
     o.validation = true;
@@ -148,12 +154,7 @@ TEST(WindowApp, ResizeAndMinimiseAreSurvived) {
     if (!display || !*display) GTEST_SKIP() << "no display (ctest runs this under xvfb-run)";
     const auto shot = std::filesystem::temp_directory_path() / "ikebana_window_resized.png";
     std::filesystem::remove(shot);
-    game::TraineeAppOptions o;
-    o.scene = (game::asset_dir() / "scenes" / "default.json").string();
-    o.left_device = o.right_device = "none";
-    o.width = 480;
-    o.height = 270;
-    o.frames = 14;
+    auto o = small_app(480, 270, 14);
     o.screenshot = shot.string();
     o.validation = true;
     o.stereo = "rows";
@@ -185,12 +186,7 @@ TEST(WindowApp, TheMouseGrabsAStemAndPullsItOutOfTheKenzan) {
     const char* display = std::getenv("DISPLAY");
     if (!display || !*display) GTEST_SKIP() << "no display (ctest runs this under xvfb-run)";
     ScriptedPointer mouse;
-    game::TraineeAppOptions o;
-    o.scene = (game::asset_dir() / "scenes" / "default.json").string();
-    o.left_device = o.right_device = "none";
-    o.width = 640;
-    o.height = 360;
-    o.frames = 40;
+    auto o = small_app(640, 360, 40);
     o.finish_at_frame = 38;
     o.pointer = &mouse;
     o.each_frame = [&mouse](std::uint32_t presented, GLFWwindow*) {
