@@ -11,19 +11,13 @@ layout(set = 0, binding = 0) uniform Frame {
 } frame;
 layout(set = 0, binding = 1) uniform sampler2DShadow shadow_map;
 
-// 2x2 percentage-closer filtering: soft enough edges at 2048 texels over the scene.
+// One comparison tap: the sampler's linear filter blends the four nearest comparisons (hardware
+// percentage-closer filtering), as soft as four taps at a quarter of the fragment work.
 float lit_fraction() {
     vec3 p = in_light_space.xyz / in_light_space.w;
     vec2 uv = p.xy * 0.5 + 0.5;
     if (uv.x < 0.0 || uv.x > 1.0 || uv.y < 0.0 || uv.y > 1.0 || p.z > 1.0) return 1.0;
-    vec2 texel = 1.0 / vec2(textureSize(shadow_map, 0));
-    float sum = 0.0;
-    for (int i = 0; i < 2; ++i) {
-        for (int j = 0; j < 2; ++j) {
-            sum += texture(shadow_map, vec3(uv + (vec2(i, j) - 0.5) * texel, p.z - 0.002));
-        }
-    }
-    return sum * 0.25;
+    return texture(shadow_map, vec3(uv, p.z - 0.002));
 }
 
 void main() {
