@@ -242,7 +242,8 @@ Result<void> StereoRenderer::prepare_targets() {
         view.subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, e, 1};
         IKEBANA_VK(vkCreateImageView(ctx_.device(), &view, nullptr, &depth_layer_[e]));
     }
-    auto output = create_image(ctx_, colour_format, output_extent(), 1, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+    auto output = create_image(ctx_, colour_format, output_extent(), 1,
+                               VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                                VK_IMAGE_ASPECT_COLOR_BIT);
     if (!output) return std::move(output).error();
     output_ = *output;
@@ -677,7 +678,7 @@ Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoR
         if (!made) return std::move(made).error();
         overlay = *made;
     }
-    record(frame, list, draws_, {output_.image, output_.view, output_.extent, composite_pipeline_, overlay, true, with_eyes, false});
+    record(frame, list, draws_, {output_.image, output_.view, output_.extent, composite_pipeline_, overlay, true, with_eyes, false, true});
     IKEBANA_VK(vkEndCommandBuffer(frame.cmd));
     IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
     RenderedFrame out;
@@ -778,7 +779,7 @@ Result<PresentedFrame> StereoRenderer::present(Swapchain& swapchain, const DrawL
         if (!made) return std::move(made).error();
         overlay = *made;
     }
-    record(frame, list, draws_, {swapchain.image(index), swapchain.view(index), window, *pipeline, overlay, copy, false, true});
+    record(frame, list, draws_, {swapchain.image(index), swapchain.view(index), window, *pipeline, overlay, copy, false, true, swapchain.can_copy_to()});
     IKEBANA_VK(vkEndCommandBuffer(frame.cmd));
     IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
     result.timing.record_ms = ms_since(started);
@@ -914,25 +915,57 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
                VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
 
     if (frame.timestamps) vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_GRAPHICS_BIT, frame.timestamps, 2);
-    // 3. Composite to the display's format, into the offscreen output or the window's image.
-    transition(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-               VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    // 3. Composite to the display's format, into the offscreen output or the window's image. Side by
+    // side and mono are plain copies of the eyes: a blit (on lavapipe far cheaper than a full-screen
+    // fragment pass); interleaved rows and anaglyph need the composite shader.
+    const bool blit = target.blit && (options_.mode == StereoMode::side_by_side || options_.mode == StereoMode::mono);
+    VkImageLayout eyes_layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+    if (blit) {
+        transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, eyes_layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_BLIT_BIT,
+                   VK_ACCESS_2_TRANSFER_READ_BIT);
+        eyes_layout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        transition(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, 0, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+        const auto w = static_cast<std::int32_t>(eyes_.extent.width), h = static_cast<std::int32_t>(eyes_.extent.height);
+        VkImageBlit regions[2] = {};
+        const std::uint32_t count = options_.mode == StereoMode::side_by_side ? 2u : 1u;
+        for (std::uint32_t e = 0; e < count; ++e) {
+            const auto x = static_cast<std::int32_t>(e) * w;
+            regions[e].srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, e, 1};
+            regions[e].srcOffsets[1] = {w, h, 1};
+            regions[e].dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+            regions[e].dstOffsets[0] = {x, 0, 0};
+            regions[e].dstOffsets[1] = {x + w, h, 1};
+        }
+        vkCmdBlitImage(cmd, eyes_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, count, regions,
+                       VK_FILTER_NEAREST);
+        transition(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                   VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    } else {
+        transition(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                   VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    }
     VkRenderingAttachmentInfo out = colour;
     out.imageView = target.view;
-    out.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    out.loadOp = blit ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_DONT_CARE;
     VkRenderingInfo composite{VK_STRUCTURE_TYPE_RENDERING_INFO};
     composite.renderArea = {{0, 0}, target.extent};
     composite.layerCount = 1;
     composite.colorAttachmentCount = 1;
     composite.pColorAttachments = &out;
     vkCmdBeginRendering(cmd, &composite);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, target.pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, composite_pipeline_layout_, 0, 1, &composite_set_, 0, nullptr);
-    const CompositeConstants constants{static_cast<std::int32_t>(options_.mode), static_cast<std::int32_t>(options_.eye_width),
-                                       static_cast<std::int32_t>(options_.eye_height), 0};
-    vkCmdPushConstants(cmd, composite_pipeline_layout_, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof constants, &constants);
     set_viewport(target.extent);
-    vkCmdDraw(cmd, 3, 1, 0, 0);
+    if (!blit) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, target.pipeline);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, composite_pipeline_layout_, 0, 1, &composite_set_, 0, nullptr);
+        const CompositeConstants constants{static_cast<std::int32_t>(options_.mode), static_cast<std::int32_t>(options_.eye_width),
+                                           static_cast<std::int32_t>(options_.eye_height), 0};
+        vkCmdPushConstants(cmd, composite_pipeline_layout_, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof constants, &constants);
+        vkCmdDraw(cmd, 3, 1, 0, 0);
+    }
     if (!frame.overlay_ranges.empty() && target.overlay_pipeline) {
         // Once per eye's area in side-by-side (at screen depth for both eyes), once otherwise.
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, target.overlay_pipeline);
@@ -975,9 +1008,11 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
                    VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_NONE, 0);
     }
     if (with_eyes) {
-        transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                   VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                   VK_ACCESS_2_TRANSFER_READ_BIT);
+        if (eyes_layout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL) {
+            transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, eyes_layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                       VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                       VK_ACCESS_2_TRANSFER_READ_BIT);
+        }
         VkBufferImageCopy eyes[2] = {};
         for (std::uint32_t e = 0; e < 2; ++e) {
             eyes[e].bufferOffset = 4ull * target.extent.width * target.extent.height + e * 4ull * eyes_.extent.width * eyes_.extent.height;

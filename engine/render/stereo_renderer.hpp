@@ -116,6 +116,7 @@ private:
         bool read_back;
         bool with_eyes;
         bool present;
+        bool blit; // the target takes transfers: side by side and mono are copied, not shaded
     };
 
     StereoRenderer(VulkanContext& ctx, const RendererOptions& options) : ctx_(ctx), options_(options) {}

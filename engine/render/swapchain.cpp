@@ -49,6 +49,7 @@ Result<void> Swapchain::build(VkExtent2D wanted) {
     std::uint32_t images = std::max(caps.minImageCount + 1, 2u);
     if (caps.maxImageCount > 0) images = std::min(images, caps.maxImageCount);
     transfer_src_ = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT) != 0;
+    transfer_dst_ = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT) != 0;
     VkSwapchainCreateInfoKHR info{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
     info.surface = surface_;
     info.minImageCount = images;
@@ -56,7 +57,9 @@ Result<void> Swapchain::build(VkExtent2D wanted) {
     info.imageColorSpace = chosen.colorSpace;
     info.imageExtent = extent;
     info.imageArrayLayers = 1;
-    info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | (transfer_src_ ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0);
+    info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+    if (transfer_src_) info.imageUsage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    if (transfer_dst_) info.imageUsage |= VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
     info.preTransform = caps.currentTransform;
     info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;

@@ -33,6 +33,7 @@ public:
     [[nodiscard]] VkImageView view(std::uint32_t i) const { return views_[i]; }
     [[nodiscard]] std::uint32_t image_count() const noexcept { return static_cast<std::uint32_t>(images_.size()); }
     [[nodiscard]] bool can_copy_from() const noexcept { return transfer_src_; }
+    [[nodiscard]] bool can_copy_to() const noexcept { return transfer_dst_; }
 
 private:
     Swapchain(VulkanContext& ctx, VkSurfaceKHR surface) : ctx_(ctx), surface_(surface) {}
@@ -47,6 +48,7 @@ private:
     std::vector<VkImage> images_;
     std::vector<VkImageView> views_;
     bool transfer_src_ = false;
+    bool transfer_dst_ = false;
 };
 
 } // namespace ikebana::render
