@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
     app.add_option("--right", right_device, "Right hand's device for the app (as --left)")->capture_default_str();
     std::vector<std::string> environment;
     ikebana::game::TraineeAppOptions app_options;
-    app.add_option("--stereo", app_options.stereo, "The app's stereo output: sbs, rows, anaglyph or mono")->capture_default_str();
+    app.add_option("--stereo", app_options.stereo, "The app's stereo output: sbs, rows, anaglyph or mono (default: the scene's display)");
     app.add_option("--width", app_options.width, "The app's window width")->capture_default_str()->check(CLI::Range(64u, 8192u));
     app.add_option("--height", app_options.height, "The app's window height")->capture_default_str()->check(CLI::Range(64u, 8192u));
     app.add_option("--frames", app_options.frames, "Stop the app after this many frames (0: when the window closes)")->capture_default_str();

@@ -96,10 +96,15 @@ int run_trainee_app(const TraineeAppOptions& o) {
         picked[hand] = std::move(opened->device);
         hud.device[hand] = picked[hand] ? opened->description : "mouse and keyboard";
     }
+    const std::string stereo = o.stereo.empty() ? scene->display.stereo : o.stereo;
     auto window = platform::Window::create("Ikebana", o.width, o.height);
-    if (!window) return offscreen_instead(o, window.error().message);
+    if (!window) {
+        TraineeAppOptions fallback = o;
+        fallback.stereo = stereo;
+        return offscreen_instead(fallback, window.error().message);
+    }
 
-    auto render_mode = render::parse_stereo_mode(o.stereo);
+    auto render_mode = render::parse_stereo_mode(stereo);
     if (!render_mode) {
         std::cerr << "ikebana: " << render_mode.error().message << "\n";
         return 2;
@@ -156,6 +161,9 @@ int run_trainee_app(const TraineeAppOptions& o) {
         sched::DeterministicClock clock(w.schedule);
         const double render_hz = w.schedule.rates().hz("render");
         render::StereoRig base_rig;
+        base_rig.eye_separation_m = scene->display.eye_separation_m;
+        base_rig.screen_distance_m = scene->display.screen_distance_m;
+        base_rig.vertical_fov_rad = scene->display.vertical_fov_rad;
         double yaw = 0.0, pitch = 0.0;
         auto last = std::chrono::steady_clock::now();
         std::pair<double, double> drag_from{0.0, 0.0};

@@ -23,12 +23,16 @@ struct TraineeAppOptions {
     std::string left_device = "auto";
     std::string right_device = "auto";
     std::vector<std::string> env;
-    std::string stereo = "sbs";
+    std::string stereo;         // empty: the scene's "display"
     std::uint32_t width = 1280; // the window
     std::uint32_t height = 720;
     std::uint32_t frames = 0;   // stop after this many presented frames (0: until closed)
     std::string screenshot;     // write the last presented frame here (PNG)
+#ifdef NDEBUG
     bool validation = false;
+#else
+    bool validation = true; // the validation layer is always on in debug builds
+#endif
     std::uint32_t finish_at_frame = 0; // as if Enter were pressed then (tests, demos)
     // Called before each frame with the frames presented so far (tests drive the window with it:
     // resize it, minimise it). Nothing when empty.

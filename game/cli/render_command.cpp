@@ -29,14 +29,14 @@ double percentile(std::vector<double> v, double q) {
 } // namespace
 
 int run_render(const RenderOptions& o) {
-    auto mode = render::parse_stereo_mode(o.stereo);
-    if (!mode) {
-        std::cerr << "ikebana render: " << mode.error().message << "\n";
-        return 2;
-    }
     auto scene = load_scene(o.scene);
     if (!scene) {
         std::cerr << "ikebana render: " << scene.error().message << "\n";
+        return 2;
+    }
+    auto mode = render::parse_stereo_mode(o.stereo.empty() ? scene->display.stereo : o.stereo);
+    if (!mode) {
+        std::cerr << "ikebana render: " << mode.error().message << "\n";
         return 2;
     }
     auto world = World::create(*scene);
@@ -70,6 +70,9 @@ int run_render(const RenderOptions& o) {
     const double hz = w.schedule.rates().hz("render");
     const auto frame_us = static_cast<std::int64_t>(std::llround(1e6 / hz));
     render::StereoRig rig;
+    rig.eye_separation_m = scene->display.eye_separation_m;
+    rig.screen_distance_m = scene->display.screen_distance_m;
+    rig.vertical_fov_rad = scene->display.vertical_fov_rad;
     rig = render::orbited(rig, o.yaw_deg * M_PI / 180.0, o.pitch_deg * M_PI / 180.0);
     const bool tty = isatty(fileno(stderr)) != 0;
     std::vector<double> record, execute, readback, shadow, scene_pass, composite;
@@ -120,7 +123,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     auto* cmd = app.add_subcommand("render", "Render a scene offscreen (no window or display needed) to PNGs of each eye and the composed frame");
     cmd->add_option("--scene", o->scene, "Scene file")->capture_default_str();
     cmd->add_option("--frames", o->frames, "Frames to render, one per render period")->capture_default_str()->check(CLI::Range(1u, 100000u));
-    cmd->add_option("--stereo", o->stereo, "sbs, rows (polarized displays), anaglyph or mono")->capture_default_str();
+    cmd->add_option("--stereo", o->stereo, "sbs, rows (polarized displays), anaglyph or mono (default: the scene's display)");
     cmd->add_option("--out", o->out, "Folder for the PNGs")->required();
     cmd->add_option("--width", o->width, "Width of one eye's image")->capture_default_str()->check(CLI::Range(16u, 8192u));
     cmd->add_option("--height", o->height, "Height of one eye's image")->capture_default_str()->check(CLI::Range(16u, 8192u));

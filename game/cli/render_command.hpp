@@ -9,13 +9,18 @@ namespace ikebana::game {
 struct RenderOptions {
     std::string scene;
     std::uint32_t frames = 1;
-    std::string stereo = "sbs";
+    std::string stereo; // empty: the scene's "display"
     std::string out;
     std::uint32_t width = 1280;  // per eye
     std::uint32_t height = 720;
     double yaw_deg = 0.0;        // orbit the camera about the arrangement
     double pitch_deg = 0.0;
+    // The validation layer: on by request, and always in debug builds.
+#ifdef NDEBUG
     bool validation = false;
+#else
+    bool validation = true;
+#endif
     bool quiet = false;
 };
 

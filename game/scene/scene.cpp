@@ -32,7 +32,7 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
         return c.error();
     }
     c.no_unknown_keys(*root, "", {"format", "name", "seed", "rates_hz", "gravity_m_s2", "table_height_mm", "kenzan",
-                                  "flowers", "hands", "environment", "force_scheme", "sample", "notes"});
+                                  "flowers", "hands", "environment", "force_scheme", "sample", "display", "notes"});
     const auto format = c.string(*root, "", "format");
     if (format && *format != "ikebana-scene/1") c.problem("/format", "expected \"ikebana-scene/1\", got \"" + *format + "\"");
     SceneDef s{};
@@ -51,6 +51,14 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
             else if (value.is_string()) s.environment.category[name] = value.get<std::string>();
             else c.problem("/environment/" + name, "expected a number or a string, got " + JsonChecker::describe(value));
         }
+    }
+    if (const auto* display = c.object(*root, "", "display", false)) {
+        const std::string p = "/display";
+        c.no_unknown_keys(*display, p, {"stereo", "eye_separation_mm", "screen_distance_mm", "vertical_fov_deg"});
+        s.display.stereo = c.choice(*display, p, "stereo", {"sbs", "rows", "anaglyph", "mono"}, false).value_or("sbs");
+        s.display.eye_separation_m = c.number(*display, p, "eye_separation_mm", {0, 200}, false).value_or(65) * 1e-3;
+        s.display.screen_distance_m = c.number(*display, p, "screen_distance_mm", {50, 5000}, false).value_or(460) * 1e-3;
+        s.display.vertical_fov_rad = c.number(*display, p, "vertical_fov_deg", {5, 150}, false).value_or(40.1) * std::acos(-1.0) / 180.0;
     }
     if (const auto* sample = c.array(*root, "", "sample", false)) {
         for (std::size_t i = 0; i < sample->size(); ++i) {

@@ -44,6 +44,15 @@ struct SampleStem {
     double height_m;       // its top above the kenzan's base plate
 };
 
+// How the scene is shown (the display the trainee sits at): the stereo output and the rig. The command
+// line's --stereo overrides the mode.
+struct DisplayDef {
+    std::string stereo = "sbs";      // sbs, rows (polarized, as in the paper), anaglyph, mono
+    double eye_separation_m = 0.065;
+    double screen_distance_m = 0.46; // the zero-parallax plane
+    double vertical_fov_rad = 0.7;
+};
+
 struct SceneDef {
     std::filesystem::path file;
     std::uint64_t seed;
@@ -61,6 +70,7 @@ struct SceneDef {
     // each force sent ten times.
     std::string force_scheme = "full_rate";
     std::vector<SampleStem> sample; // the arrangement to copy (empty: free practice)
+    DisplayDef display;
 };
 
 Result<SceneDef> parse_scene(std::string_view text, const std::string& label);

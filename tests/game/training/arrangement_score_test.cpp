@@ -75,3 +75,15 @@ TEST(Scene, SampleArrangementIsReadAndCheckedByPath) {
     ASSERT_FALSE(bad);
     EXPECT_NE(bad.error().message.find("/sample/0/angle_deg"), std::string::npos) << bad.error().message;
 }
+
+TEST(Scene, DisplaySetsTheStereoModeAndTheRig) {
+    const auto ok = parse_scene(R"({"format": "ikebana-scene/1", "kenzan": {"layout": "standard"},
+        "display": {"stereo": "rows", "eye_separation_mm": 60, "screen_distance_mm": 500}})", "s.json");
+    ASSERT_TRUE(ok) << ok.error().message;
+    EXPECT_EQ(ok->display.stereo, "rows");
+    EXPECT_NEAR(ok->display.eye_separation_m, 0.06, 1e-12);
+    EXPECT_NEAR(ok->display.screen_distance_m, 0.5, 1e-12);
+    const auto bad = parse_scene(R"({"format": "ikebana-scene/1", "kenzan": {"layout": "standard"}, "display": {"stereo": "hologram"}})", "s.json");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("/display/stereo"), std::string::npos) << bad.error().message;
+}
