@@ -429,16 +429,17 @@ Result<void> StereoRenderer::prepare_pipelines() {
     return Ok{};
 }
 
-// Composite: one triangle, the eyes to an output of this format (offscreen, or the window's).
-Result<VkPipeline> StereoRenderer::make_composite_pipeline(VkFormat format) {
-    auto vert = load_shader(ctx_, options_.shader_dir / "composite.vert.spv");
+// A screen-space pipeline (no depth, no culling) drawing into one colour target of this format: the
+// composite and the heads-up display differ only in their shaders, vertex input, blending and layout.
+Result<VkPipeline> StereoRenderer::make_screen_pipeline(VkFormat format, const char* shader, const VkPipelineVertexInputStateCreateInfo& input,
+                                                        const VkPipelineColorBlendAttachmentState& blend_attachment, VkPipelineLayout layout) {
+    auto vert = load_shader(ctx_, options_.shader_dir / (std::string(shader) + ".vert.spv"));
     if (!vert) return std::move(vert).error();
-    auto frag = load_shader(ctx_, options_.shader_dir / "composite.frag.spv");
+    auto frag = load_shader(ctx_, options_.shader_dir / (std::string(shader) + ".frag.spv"));
     if (!frag) {
         vkDestroyShaderModule(ctx_.device(), *vert, nullptr);
         return std::move(frag).error();
     }
-    VkPipelineVertexInputStateCreateInfo no_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO, nullptr, 0,
                                                     VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, VK_FALSE};
     VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO, nullptr, 0, 1, nullptr, 1, nullptr};
@@ -449,77 +450,6 @@ Result<VkPipeline> StereoRenderer::make_composite_pipeline(VkFormat format) {
     VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
     multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
     VkPipelineDepthStencilStateCreateInfo no_depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    VkPipelineColorBlendAttachmentState blend_attachment{};
-    blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    blend.attachmentCount = 1;
-    blend.pAttachments = &blend_attachment;
-    const VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO, nullptr, 0, 2, dynamic_states};
-    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachmentFormats = &format;
-    const VkPipelineShaderStageCreateInfo stages[2] = {
-        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, *vert, "main", nullptr},
-        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, *frag, "main", nullptr}};
-    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-    info.pNext = &rendering;
-    info.stageCount = 2;
-    info.pStages = stages;
-    info.pVertexInputState = &no_input;
-    info.pInputAssemblyState = &assembly;
-    info.pViewportState = &viewport;
-    info.pRasterizationState = &raster;
-    info.pMultisampleState = &multisample;
-    info.pDepthStencilState = &no_depth;
-    info.pColorBlendState = &blend;
-    info.pDynamicState = &dynamic;
-    info.layout = composite_pipeline_layout_;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    const VkResult r = vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
-    vkDestroyShaderModule(ctx_.device(), *vert, nullptr);
-    vkDestroyShaderModule(ctx_.device(), *frag, nullptr);
-    if (r != VK_SUCCESS) return vulkan_error("vkCreateGraphicsPipelines (composite)", r);
-    return pipeline;
-}
-
-// Heads-up panels: pixel-space triangles with their own colours, alpha-blended over the frame.
-Result<VkPipeline> StereoRenderer::make_overlay_pipeline(VkFormat format) {
-    if (!overlay_layout_) {
-        const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(OverlayConstants)};
-        VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, nullptr, 0, 0, nullptr, 1, &push};
-        IKEBANA_VK(vkCreatePipelineLayout(ctx_.device(), &layout, nullptr, &overlay_layout_));
-    }
-    auto vert = load_shader(ctx_, options_.shader_dir / "overlay.vert.spv");
-    if (!vert) return std::move(vert).error();
-    auto frag = load_shader(ctx_, options_.shader_dir / "overlay.frag.spv");
-    if (!frag) {
-        vkDestroyShaderModule(ctx_.device(), *vert, nullptr);
-        return std::move(frag).error();
-    }
-    const VkVertexInputBindingDescription binding{0, sizeof(OverlayVertex), VK_VERTEX_INPUT_RATE_VERTEX};
-    const VkVertexInputAttributeDescription attributes[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-                                                             {1, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(OverlayVertex, colour)}};
-    VkPipelineVertexInputStateCreateInfo input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO, nullptr, 0, 1, &binding, 2, attributes};
-    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO, nullptr, 0,
-                                                    VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST, VK_FALSE};
-    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO, nullptr, 0, 1, nullptr, 1, nullptr};
-    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    raster.polygonMode = VK_POLYGON_MODE_FILL;
-    raster.cullMode = VK_CULL_MODE_NONE;
-    raster.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo no_depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    VkPipelineColorBlendAttachmentState blend_attachment{};
-    blend_attachment.blendEnable = VK_TRUE;
-    blend_attachment.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
-    blend_attachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-    blend_attachment.colorBlendOp = VK_BLEND_OP_ADD;
-    blend_attachment.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
-    blend_attachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-    blend_attachment.alphaBlendOp = VK_BLEND_OP_ADD;
-    blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     blend.attachmentCount = 1;
     blend.pAttachments = &blend_attachment;
@@ -543,20 +473,59 @@ Result<VkPipeline> StereoRenderer::make_overlay_pipeline(VkFormat format) {
     info.pDepthStencilState = &no_depth;
     info.pColorBlendState = &blend;
     info.pDynamicState = &dynamic;
-    info.layout = overlay_layout_;
+    info.layout = layout;
     VkPipeline pipeline = VK_NULL_HANDLE;
     const VkResult r = vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
     vkDestroyShaderModule(ctx_.device(), *vert, nullptr);
     vkDestroyShaderModule(ctx_.device(), *frag, nullptr);
-    if (r != VK_SUCCESS) return vulkan_error("vkCreateGraphicsPipelines (overlay)", r);
+    if (r != VK_SUCCESS) return vulkan_error((std::string("vkCreateGraphicsPipelines (") + shader + ")").c_str(), r);
     return pipeline;
 }
 
+// Composite: one triangle, the eyes to an output of this format (offscreen, or the window's).
+Result<VkPipeline> StereoRenderer::make_composite_pipeline(VkFormat format) {
+    const VkPipelineVertexInputStateCreateInfo no_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineColorBlendAttachmentState opaque{};
+    opaque.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    return make_screen_pipeline(format, "composite", no_input, opaque, composite_pipeline_layout_);
+}
+
+// Heads-up panels: pixel-space triangles with their own colours, alpha-blended over the frame.
+Result<VkPipeline> StereoRenderer::make_overlay_pipeline(VkFormat format) {
+    if (!overlay_layout_) {
+        const VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(OverlayConstants)};
+        VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, nullptr, 0, 0, nullptr, 1, &push};
+        IKEBANA_VK(vkCreatePipelineLayout(ctx_.device(), &layout, nullptr, &overlay_layout_));
+    }
+    const VkVertexInputBindingDescription binding{0, sizeof(OverlayVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+    const VkVertexInputAttributeDescription attributes[2] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+                                                             {1, 0, VK_FORMAT_R8G8B8A8_UNORM, offsetof(OverlayVertex, colour)}};
+    const VkPipelineVertexInputStateCreateInfo input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO, nullptr, 0, 1, &binding, 2, attributes};
+    VkPipelineColorBlendAttachmentState alpha{};
+    alpha.blendEnable = VK_TRUE;
+    alpha.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+    alpha.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    alpha.colorBlendOp = VK_BLEND_OP_ADD;
+    alpha.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+    alpha.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    alpha.alphaBlendOp = VK_BLEND_OP_ADD;
+    alpha.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    return make_screen_pipeline(format, "overlay", input, alpha, overlay_layout_);
+}
+
+// No panels: no pipeline (and nothing drawn).
 Result<VkPipeline> StereoRenderer::overlay_pipeline_for(VkFormat format) {
-    if (auto it = overlay_pipelines_.find(format); it != overlay_pipelines_.end()) return it->second;
-    auto made = make_overlay_pipeline(format);
+    if (overlay_.empty()) return VkPipeline{VK_NULL_HANDLE};
+    return cached_pipeline(overlay_pipelines_, format, &StereoRenderer::make_overlay_pipeline);
+}
+
+// One pipeline per output format, made on first use.
+Result<VkPipeline> StereoRenderer::cached_pipeline(std::map<VkFormat, VkPipeline>& cache, VkFormat format,
+                                                   Result<VkPipeline> (StereoRenderer::*make)(VkFormat)) {
+    if (auto it = cache.find(format); it != cache.end()) return it->second;
+    auto made = (this->*make)(format);
     if (!made) return std::move(made).error();
-    overlay_pipelines_[format] = *made;
+    cache[format] = *made;
     return *made;
 }
 
@@ -672,13 +641,9 @@ Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoR
     auto begun = begin_frame(list, rig);
     if (!begun) return std::move(begun).error();
     Frame& frame = **begun;
-    VkPipeline overlay = VK_NULL_HANDLE;
-    if (!overlay_.empty()) {
-        auto made = overlay_pipeline_for(colour_format);
-        if (!made) return std::move(made).error();
-        overlay = *made;
-    }
-    record(frame, list, draws_, {output_.image, output_.view, output_.extent, composite_pipeline_, overlay, true, with_eyes, false, true});
+    auto overlay = overlay_pipeline_for(colour_format);
+    if (!overlay) return std::move(overlay).error();
+    record(frame, list, draws_, {output_.image, output_.view, output_.extent, composite_pipeline_, *overlay, true, with_eyes, false, true});
     IKEBANA_VK(vkEndCommandBuffer(frame.cmd));
     IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
     RenderedFrame out;
@@ -728,11 +693,7 @@ void StereoRenderer::read_back(const Frame& frame, RgbaImage& img, VkExtent2D ex
 
 Result<VkPipeline> StereoRenderer::composite_pipeline_for(VkFormat format) {
     if (format == colour_format) return composite_pipeline_;
-    if (auto it = window_composite_.find(format); it != window_composite_.end()) return it->second;
-    auto made = make_composite_pipeline(format);
-    if (!made) return std::move(made).error();
-    window_composite_[format] = *made;
-    return *made;
+    return cached_pipeline(window_composite_, format, &StereoRenderer::make_composite_pipeline);
 }
 
 Result<PresentedFrame> StereoRenderer::present(Swapchain& swapchain, const DrawList& list, const StereoRig& rig, bool screenshot) {
@@ -773,13 +734,9 @@ Result<PresentedFrame> StereoRenderer::present(Swapchain& swapchain, const DrawL
         render_finished_.push_back(s);
     }
     const bool copy = screenshot && swapchain.can_copy_from();
-    VkPipeline overlay = VK_NULL_HANDLE;
-    if (!overlay_.empty()) {
-        auto made = overlay_pipeline_for(swapchain.format());
-        if (!made) return std::move(made).error();
-        overlay = *made;
-    }
-    record(frame, list, draws_, {swapchain.image(index), swapchain.view(index), window, *pipeline, overlay, copy, false, true, swapchain.can_copy_to()});
+    auto overlay = overlay_pipeline_for(swapchain.format());
+    if (!overlay) return std::move(overlay).error();
+    record(frame, list, draws_, {swapchain.image(index), swapchain.view(index), window, *pipeline, *overlay, copy, false, true, swapchain.can_copy_to()});
     IKEBANA_VK(vkEndCommandBuffer(frame.cmd));
     IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
     result.timing.record_ms = ms_since(started);

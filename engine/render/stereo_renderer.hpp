@@ -132,6 +132,9 @@ private:
     Result<Frame*> begin_frame(const DrawList& list, const StereoRig& rig);
     void record(Frame& frame, const DrawList& list, const std::vector<std::pair<Mesh*, std::uint32_t>>& draws, const CompositeTarget& target);
     void read_back(const Frame& frame, RgbaImage& image, VkExtent2D extent, std::size_t offset, bool bgra) const;
+    Result<VkPipeline> make_screen_pipeline(VkFormat format, const char* shader, const VkPipelineVertexInputStateCreateInfo& input,
+                                            const VkPipelineColorBlendAttachmentState& blend, VkPipelineLayout layout);
+    Result<VkPipeline> cached_pipeline(std::map<VkFormat, VkPipeline>& cache, VkFormat format, Result<VkPipeline> (StereoRenderer::*make)(VkFormat));
     Result<VkPipeline> make_composite_pipeline(VkFormat format);
     Result<VkPipeline> make_overlay_pipeline(VkFormat format);
     Result<VkPipeline> overlay_pipeline_for(VkFormat format);
