@@ -10,17 +10,11 @@
 
 #include "engine/assets/json_checker.hpp"
 #include "game/analysis/cause_explanations.hpp"
-#include "game/asset_paths.hpp"
 #include "game/species/species.hpp"
 
 namespace ikebana::game {
 
 namespace {
-
-std::filesystem::path species_path(const std::string& id_or_path) {
-    if (id_or_path.find('/') != std::string::npos || id_or_path.ends_with(".json")) return id_or_path;
-    return asset_path(std::filesystem::path("species") / (id_or_path + ".json"));
-}
 
 std::optional<double> outcome_accuracy(const MeasuredData& data, const std::vector<double>& fall_probability, std::size_t* rows) {
     std::size_t n = 0, right = 0;
@@ -39,7 +33,11 @@ std::optional<double> outcome_accuracy(const MeasuredData& data, const std::vect
 
 Result<std::string> extended_species_json(const std::string& species, const std::vector<components::DeteriorationTerm>& terms,
                                           const std::string& measured_file) {
-    const auto path = species_path(species);
+    // The species file itself (resolved as every command resolves ids and paths), edited as JSON so
+    // that everything the extension does not touch stays as the designer wrote it.
+    auto def = load_species(species);
+    if (!def) return std::move(def).error();
+    const auto path = def->file;
     auto text = assets::read_text_file(path);
     if (!text) return std::move(text).error();
     nlohmann::json root = nlohmann::json::parse(*text, nullptr, false);
