@@ -1,11 +1,11 @@
 #include "game/cli/experiment_command.hpp"
 
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 
 #include <unistd.h>
 
+#include "engine/assets/json_checker.hpp"
 #include "game/asset_paths.hpp"
 #include "game/experiment/force_scheme_comparison.hpp"
 #include "game/experiment/insertion_experiment.hpp"
@@ -14,15 +14,7 @@
 namespace ikebana::game {
 
 namespace {
-bool write_file(const std::string& path, const std::string& text) {
-    const std::string temporary = path + ".tmp";
-    {
-        std::ofstream out(temporary, std::ios::trunc);
-        out << text;
-        if (!out) return false;
-    }
-    return std::rename(temporary.c_str(), path.c_str()) == 0;
-}
+bool write_file(const std::string& path, const std::string& text) { return assets::write_text_file(path, text).ok(); }
 } // namespace
 
 void add_experiment_command(CLI::App& app, int& exit_code) {

@@ -1,8 +1,6 @@
 #include "game/cli/predict_command.hpp"
 
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -63,19 +61,8 @@ int run_predict(const std::string& input, const std::string& species_override, c
         out << line << (cr ? "\r\n" : "\n");
     }
     // Written beside the target and renamed: no half-written output.
-    const std::string temporary = output + ".tmp";
-    {
-        std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-        file << out.str();
-        if (!file) {
-            std::cerr << "ikebana predict: cannot write " << output << "\n";
-            return 2;
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(temporary, output, ec);
-    if (ec) {
-        std::cerr << "ikebana predict: " << output << ": " << ec.message() << "\n";
+    if (auto w = assets::write_text_file(output, out.str()); !w) {
+        std::cerr << "ikebana predict: " << w.error().message << "\n";
         return 2;
     }
     std::printf("wrote %zu predictions to %s (%zu distinct conditions simulated)\n", data->trials.size(), output.c_str(), predictor.simulated());
