@@ -37,6 +37,13 @@ struct HandState {
     ecs::Entity held;           // the flower it holds, or null
     std::uint32_t held_point;   // which of its stem's mass points
     glm::dvec3 held_offset_m;   // where that point was relative to the cube when grabbed
+    // A hand that holds a flower alone also holds its neighbouring point: a grip spans a length of stem,
+    // so it keeps the stem's direction (a single held point would let a heavy head swing the stem
+    // round like a pendulum). With two hands on one flower each holds one point, and the line between
+    // the hands gives the direction.
+    bool holds_direction;
+    std::uint32_t second_point;
+    glm::dvec3 second_offset_m;
     std::uint64_t disconnects;  // times the device went away
 };
 

@@ -20,8 +20,10 @@ void BendingSystem::operator()(sched::SystemContext& ctx) {
     r.view<Bending, StemPoints>().each([&](ecs::Entity flower, Bending& b, StemPoints& pts) {
         if (b.active) {
             for (std::uint32_t i = b.support_a; i <= b.support_b && i < pts.pinned.size(); ++i) {
-                const bool held = (hands[0] && hands[0]->held == flower && hands[0]->held_point == i) ||
-                                  (hands[1] && hands[1]->held == flower && hands[1]->held_point == i);
+                auto holds = [&](const HandState* h) {
+                    return h && h->held == flower && (h->held_point == i || (h->holds_direction && h->second_point == i));
+                };
+                const bool held = holds(hands[0]) || holds(hands[1]);
                 if (!held) pts.pinned[i] = 0;
             }
         }

@@ -50,11 +50,29 @@ void GrabSystem::operator()(sched::SystemContext& ctx) {
             hand.held = ecs::null_entity; // the flower is gone
             return;
         }
-        auto& x = points->position_m[hand.held_point];
-        const glm::dvec3 target = hand.proxy_m + hand.held_offset_m;
-        points->velocity_m_s[hand.held_point] = ctx.dt_s > 0.0 ? (target - x) / ctx.dt_s : glm::dvec3{0.0};
-        x = target;
-        points->pinned[hand.held_point] = 1;
+        auto pin = [&](std::uint32_t i, glm::dvec3 offset) {
+            auto& x = points->position_m[i];
+            const glm::dvec3 target = hand.proxy_m + offset;
+            points->velocity_m_s[i] = ctx.dt_s > 0.0 ? (target - x) / ctx.dt_s : glm::dvec3{0.0};
+            x = target;
+            points->pinned[i] = 1;
+        };
+        const auto* grasp = r.try_get<Grasp>(hand.held);
+        const bool alone = !grasp || grasp->hands <= 1;
+        if (!alone) let_go_of_direction(r, hand);
+        if (alone && !hand.holds_direction && points->position_m.size() >= 2) {
+            // The neighbour nearer the hand: the grip spans the stem inside the fist. Taken where it is
+            // now, so that a second hand letting go leaves the stem in the direction the two gave it.
+            const std::uint32_t last = static_cast<std::uint32_t>(points->position_m.size() - 1);
+            const std::uint32_t below = hand.held_point > 0 ? hand.held_point - 1 : hand.held_point + 1;
+            const std::uint32_t above = hand.held_point < last ? hand.held_point + 1 : hand.held_point - 1;
+            const auto& x = points->position_m;
+            hand.second_point = glm::length(x[below] - hand.proxy_m) <= glm::length(x[above] - hand.proxy_m) ? below : above;
+            hand.second_offset_m = x[hand.second_point] - hand.proxy_m;
+            hand.holds_direction = true;
+        }
+        pin(hand.held_point, hand.held_offset_m);
+        if (hand.holds_direction && hand.second_point < points->position_m.size()) pin(hand.second_point, hand.second_offset_m);
     });
 }
 

@@ -33,6 +33,7 @@ glm::dvec3 hand_feels(ecs::Registry& r, const HandState& hand, std::vector<glm::
         if (points && rest && springs && hand.held_point < points->position_m.size()) {
             physics::stem_forces(*points, *rest, *springs, r.try_get<StemClamp>(hand.held), g, scratch);
             force += scratch[hand.held_point];
+            if (hand.holds_direction && hand.second_point < scratch.size()) force += scratch[hand.second_point];
         }
         // Bending: the thumbs push the middle with F^b (Eq. 5); each hand takes half of it back.
         if (const auto* bend = r.try_get<Bending>(hand.held); bend && bend->active) force -= 0.5 * bend->force_n * bend->push_direction;

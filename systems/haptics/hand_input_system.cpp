@@ -11,15 +11,29 @@ namespace ikebana::systems {
 
 using namespace components;
 
+bool held_by_another_hand(ecs::Registry& r, const HandState& hand, std::uint32_t point) {
+    bool other = false;
+    r.view<HandState>().each([&](ecs::Entity, HandState& h) {
+        if (&h == &hand || h.held != hand.held) return;
+        other = other || h.held_point == point || (h.holds_direction && h.second_point == point);
+    });
+    return other;
+}
+
+void let_go_of_direction(ecs::Registry& r, HandState& hand) {
+    if (!hand.holds_direction) return;
+    hand.holds_direction = false;
+    auto* points = r.try_get<StemPoints>(hand.held);
+    if (points && hand.second_point < points->pinned.size() && hand.second_point != hand.held_point &&
+        !held_by_another_hand(r, hand, hand.second_point))
+        points->pinned[hand.second_point] = 0;
+}
+
 void release_hold(ecs::Registry& r, HandState& hand) {
     if (hand.held.is_null()) return;
+    let_go_of_direction(r, hand);
     if (auto* points = r.try_get<StemPoints>(hand.held); points && hand.held_point < points->pinned.size()) {
-        // Unpin only if no other hand holds the same point.
-        bool other = false;
-        r.view<HandState>().each([&](ecs::Entity, HandState& h) {
-            other = other || (&h != &hand && h.held == hand.held && h.held_point == hand.held_point);
-        });
-        if (!other) points->pinned[hand.held_point] = 0;
+        if (!held_by_another_hand(r, hand, hand.held_point)) points->pinned[hand.held_point] = 0;
     }
     if (auto* grasp = r.try_get<Grasp>(hand.held); grasp && grasp->hands > 0) --grasp->hands;
     hand.held = ecs::null_entity;

@@ -27,4 +27,8 @@ struct HandInputSystem {
 // Lets go of whatever `hand` holds (used on release and on disconnect).
 void release_hold(ecs::Registry& registry, components::HandState& hand);
 
+// Lets go of the second point of a one-hand grip (a second hand took the flower, or the hand lets go);
+// the held point stays held.
+void let_go_of_direction(ecs::Registry& registry, components::HandState& hand);
+
 } // namespace ikebana::systems

@@ -5,15 +5,16 @@
 using namespace ikebana::game;
 
 // The paper's multi-rate scheme (16 Hz check, 100 Hz estimate, each force sent ten times) against
-// forces computed every tick, on the same scripted session: the held force arrives late and in steps.
-TEST(ForceSchemes, FullRateIsSmootherAndHasNoLag) {
+// forces computed every tick, on the same scripted session: the held force arrives late, in steps, and
+// off by a good part of itself.
+TEST(ForceSchemes, FullRateHasNoLagAndThePaperSchemeErrs) {
     const auto result = compare_force_schemes(std::string(IKEBANA_ASSET_DIR) + "/scenes/arrangement.json", 6.0);
     ASSERT_TRUE(result) << result.error().message;
     ASSERT_FALSE(result->empty()) << "some hand felt something";
     for (const auto& c : *result) {
-        EXPECT_GT(c.paper.p99_jump_n, 2.0 * c.full_rate.p99_jump_n) << "hand " << c.hand;
-        EXPECT_GT(c.paper.max_jump_n, c.full_rate.max_jump_n);
-        EXPECT_GE(c.paper_lag_ms, 20.0) << "a 16 Hz check trails by tens of milliseconds";
-        EXPECT_GT(c.paper.rms_error_n, 0.0);
+        EXPECT_GT(c.paper.max_jump_n, c.full_rate.max_jump_n) << "hand " << c.hand;
+        EXPECT_GE(c.paper_lag_ms, 10.0) << "a 16 Hz check trails by more than ten 1 kHz ticks";
+        EXPECT_GT(c.paper.rms_error_n, 0.1 * c.mean_force_n) << "the paper scheme is off by over a tenth of the force";
+        EXPECT_EQ(c.full_rate.rms_error_n, 0.0) << "the reference against itself";
     }
 }

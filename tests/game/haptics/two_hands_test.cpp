@@ -1,6 +1,5 @@
 #include <gtest/gtest.h>
 
-#include <sstream>
 
 #include "components/hand.hpp"
 #include "components/insertion.hpp"
@@ -8,27 +7,16 @@
 #include "engine/devices/scripted_device.hpp"
 #include "engine/sched/clocks.hpp"
 #include "game/world/world.hpp"
+#include "scripted_hands.hpp"
 #include "systems/haptics/hand_devices.hpp"
 #include "systems/presentation/frame_channel.hpp"
 
 using namespace ikebana;
 using namespace ikebana::game;
 using namespace ikebana::components;
+using ikebana::test::script;
 
 namespace {
-// Keyframes as (t, x, y, z, buttons); positions in metres, world frame.
-struct Key {
-    double t, x, y, z;
-    int buttons;
-};
-std::unique_ptr<devices::ScriptedDevice> script(const std::vector<Key>& keys) {
-    std::ostringstream csv;
-    csv << "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n";
-    for (const auto& k : keys) csv << k.t << "," << k.x << "," << k.y << "," << k.z << ",0,0,0," << k.buttons << "\n";
-    auto parsed = devices::parse_trajectory(csv.str(), "test");
-    EXPECT_TRUE(parsed) << (parsed ? "" : parsed.error().message);
-    return std::make_unique<devices::ScriptedDevice>(std::move(parsed).value(), devices::ScriptedDevice::Mode::interpolate);
-}
 
 // A sunflower lying along +x on the table (points every 11.5 mm from x = 0.1), two hands, no gravity
 // tricks: the real world setup.
@@ -278,4 +266,34 @@ TEST(TwoHands, UnpluggingIsAnnouncedWhenItHappens) {
     clock.run_for_us(200'000);
     ASSERT_EQ(heard.size(), 2u);
     EXPECT_NE(heard[1].find("left hand: device back"), std::string::npos);
+}
+
+// One hand on a flower holds its direction (two points); a second hand on it makes each hold one
+// point; when one lets go, the other takes the direction the two left it in.
+TEST(TwoHands, AGripHoldsTheDirectionOnlyWhileItIsAlone) {
+    auto w = lying_flower();
+    const glm::dvec3 a = point(*w, 5);
+    w->attach_device(0, script({{0.0, a.x, a.y, a.z, 1}, {0.5, a.x, a.y, 0.06, 1}, {3.0, a.x, a.y, 0.06, 1}}));
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(600'000);
+    ASSERT_EQ(hand(*w, 0).held, w->flowers[0].entity);
+    EXPECT_TRUE(hand(*w, 0).holds_direction);
+    const auto second = hand(*w, 0).second_point;
+    EXPECT_TRUE(second == 4 || second == 6) << "a neighbour of the held point " << second;
+    EXPECT_EQ(w->sim.get<StemPoints>(w->flowers[0].entity).pinned[second], 1);
+
+    // The right hand reaches the stem where it now is, and grabs it.
+    const glm::dvec3 b_now = point(*w, 15);
+    w->attach_device(1, script({{0.6, b_now.x, b_now.y, b_now.z, 0}, {0.7, b_now.x, b_now.y, b_now.z, 1}, {1.5, b_now.x, b_now.y, b_now.z, 1},
+                                {1.6, b_now.x, b_now.y, b_now.z, 0}, {3.0, b_now.x, b_now.y + 0.1, b_now.z, 0}}));
+    clock.run_for_us(400'000);
+    ASSERT_EQ(hand(*w, 1).held, w->flowers[0].entity);
+    EXPECT_FALSE(hand(*w, 0).holds_direction) << "two hands: one point each";
+    EXPECT_FALSE(hand(*w, 1).holds_direction);
+    EXPECT_EQ(w->sim.get<StemPoints>(w->flowers[0].entity).pinned[second], 0) << "the second point is let go";
+
+    clock.run_for_us(1'000'000); // the right hand lets go
+    EXPECT_TRUE(hand(*w, 1).held.is_null());
+    EXPECT_TRUE(hand(*w, 0).holds_direction) << "alone again: the left hand holds the direction";
+    EXPECT_GT(point(*w, 20).z, 0.03) << "and the far end stays up instead of hanging";
 }
