@@ -52,6 +52,8 @@ struct InsertionHistory {
     std::int64_t cut_at_us;          // simulation time of the last cut (or of the flower's creation)
     std::vector<InsertionRecord> records;
     std::vector<glm::dvec2> holes;   // where the current end entered the kenzan (x, y)
+    bool left_pins;                  // the end has come out of the pins (at left_pins_us)
+    std::int64_t left_pins_us;
 };
 
 enum class ResistanceKind : std::uint8_t { soft_table, hard_eq6 };

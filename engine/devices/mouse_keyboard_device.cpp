@@ -35,7 +35,8 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
     const platform::PointerState now = source_.read();
     if (now.switch_hand && !tab_was_down_) active_ ^= 1u;
     tab_was_down_ = now.switch_hand;
-    if (started_) {
+    // A right-button drag turns the camera; the hand stays where it is meanwhile.
+    if (started_ && !now.orbit_button) {
         const glm::dvec2 moved = now.cursor_px - last_.cursor_px;
         const double mx = moved.x / now.window_px.x * config_.workspace_width_m;
         const double my = -moved.y / now.window_px.y * config_.workspace_height_m; // screen y grows downwards

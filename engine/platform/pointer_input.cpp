@@ -27,7 +27,22 @@ PointerState GlfwPointerSource::read() {
     s.depth_modifier = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
     s.switch_hand = glfwGetKey(window_, GLFW_KEY_TAB) == GLFW_PRESS;
     s.scroll = scroll_;
+    auto key = [&](int k) { return glfwGetKey(window_, k) == GLFW_PRESS ? 1.0 : 0.0; };
+    s.orbit_button = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+    s.arrows = {key(GLFW_KEY_RIGHT) - key(GLFW_KEY_LEFT), key(GLFW_KEY_UP) - key(GLFW_KEY_DOWN)};
+    s.finish_key = key(GLFW_KEY_ENTER) > 0.0 || key(GLFW_KEY_KP_ENTER) > 0.0;
+    s.quit_key = key(GLFW_KEY_ESCAPE) > 0.0;
     return s;
+}
+
+void SharedPointerSource::store(const PointerState& state) {
+    const std::lock_guard lock(mutex_);
+    state_ = state;
+}
+
+PointerState SharedPointerSource::read() {
+    const std::lock_guard lock(mutex_);
+    return state_;
 }
 
 } // namespace ikebana::platform

@@ -2,6 +2,7 @@
 // The mouse and keyboard as the window sees them, read once per tick. The GLFW reader is the only
 // part that needs a window; everything that turns it into hands takes a PointerSource.
 #include <cstdint>
+#include <mutex>
 
 #include <glm/glm.hpp>
 
@@ -16,6 +17,12 @@ struct PointerState {
     bool depth_modifier = false; // Shift: vertical mouse motion moves the hand in depth
     bool switch_hand = false;   // Tab is down
     double scroll = 0.0;        // accumulated wheel clicks (depth)
+    // The view, not the hands: the right button drags the camera round, the arrows turn it, Enter ends
+    // the training. Read with the rest so that a scripted pointer can drive a whole session.
+    bool orbit_button = false;  // right mouse button
+    glm::dvec2 arrows{0.0};     // x: right minus left, y: up minus down (each -1, 0 or 1)
+    bool finish_key = false;    // Enter
+    bool quit_key = false;      // Escape
 };
 
 class PointerSource {
@@ -36,6 +43,19 @@ public:
 private:
     GLFWwindow* window_;
     double scroll_ = 0.0;
+};
+
+// The pointer handed across threads: GLFW may only be read on the main thread, but the hands are read
+// by the simulation's own 1 kHz thread. The main thread stores what it read each frame; the hands read
+// the latest (the cursor moves in frame-sized steps, as it did when the window read it).
+class SharedPointerSource final : public PointerSource {
+public:
+    void store(const PointerState& state);
+    [[nodiscard]] PointerState read() override;
+
+private:
+    std::mutex mutex_;
+    PointerState state_{};
 };
 
 } // namespace ikebana::platform

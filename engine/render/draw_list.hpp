@@ -35,6 +35,14 @@ struct DrawList {
         }
         return batches.emplace_back(DrawBatch{mesh, {}});
     }
+
+    // Adds another list's instances (its lighting and background are not taken).
+    void append(const DrawList& other) {
+        for (const auto& b : other.batches) {
+            auto& mine = batch(b.mesh);
+            mine.instances.insert(mine.instances.end(), b.instances.begin(), b.instances.end());
+        }
+    }
 };
 
 } // namespace ikebana::render

@@ -2,50 +2,44 @@
 
 #include <cstdio>
 
-#include "components/hand.hpp"
-#include "components/insertion.hpp"
-#include "game/world/world.hpp"
-
 namespace ikebana::game {
 
-std::vector<std::string> hud_lines(World& w, const HudInfo& info) {
+std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const HudInfo& info) {
     std::vector<std::string> lines;
     char text[160];
-    std::snprintf(text, sizeof text, "IKEBANA  %.1f s   Enter: finish   arrows/right-drag: look around   Tab: other hand   Esc: quit", info.time_s);
+    std::snprintf(text, sizeof text, "IKEBANA  %.1f s   Enter: finish   arrows/right-drag: look around   Tab: other hand   Esc: quit",
+                  static_cast<double>(frame.sim_time_us) * 1e-6);
     lines.emplace_back(text);
-    for (const auto& f : w.flowers) {
-        const auto* h = w.sim.try_get<components::InsertionHistory>(f.entity);
-        const auto* e = w.sim.try_get<components::PinEngagement>(f.entity);
-        const auto* grip = w.sim.try_get<components::KenzanGrip>(f.entity);
-        if (!h || !e || !grip) continue;
+    for (const auto& f : frame.flowers) {
         std::string state;
-        if (grip->fallen) {
+        if (f.fallen) {
             state = "FELL";
-        } else if (e->in_kenzan && e->gravity_moment_nm > 0.0) {
-            std::snprintf(text, sizeof text, "stands, holding %.1fx its weight's moment", e->holding_moment_nm / e->gravity_moment_nm);
+        } else if (f.in_kenzan && f.gravity_moment_nm > 0.0) {
+            std::snprintf(text, sizeof text, "stands, holding %.1fx its weight's moment", f.holding_moment_nm / f.gravity_moment_nm);
             state = text;
-        } else if (e->in_kenzan) {
+        } else if (f.in_kenzan) {
             state = "stands upright";
         } else {
             state = "not in the kenzan";
         }
-        std::snprintf(text, sizeof text, "%-14s insertions %u%s   %s", f.species.c_str(), h->insertions_total, h->bottom_broken ? " (bottom split)" : "",
+        std::snprintf(text, sizeof text, "%-14s insertions %u%s   %s", f.species.c_str(), f.insertions, f.bottom_broken ? " (bottom split)" : "",
                       state.c_str());
         lines.emplace_back(text);
     }
-    w.sim.view<components::HandState>().each([&](ecs::Entity, components::HandState& hand) {
-        if (hand.hand > 1) return;
-        std::snprintf(text, sizeof text, "%s hand: %s%s   feels %.2f N%s", hand.hand ? "right" : "left", info.device[hand.hand].c_str(),
-                      hand.connected ? "" : " (disconnected)", glm::length(hand.force_n), !hand.held.is_null() ? "   holding a stem" : "");
+    for (std::size_t h = 0; h < 2; ++h) {
+        const auto& hand = frame.hands[h];
+        if (!hand.present) continue;
+        std::snprintf(text, sizeof text, "%s hand: %s%s   feels %.2f N%s", h ? "right" : "left", info.device[h].c_str(),
+                      hand.connected ? "" : " (disconnected)", glm::length(hand.force_n), hand.holding ? "   holding a stem" : "");
         lines.emplace_back(text);
-    });
+    }
     for (const auto& r : info.result) lines.push_back(r);
     return lines;
 }
 
-std::vector<render::OverlayPanel> hud_panels(World& w, const HudInfo& info) {
+std::vector<render::OverlayPanel> hud_panels(const components::FrameSnapshot& frame, const HudInfo& info) {
     render::OverlayPanel panel;
-    panel.lines = hud_lines(w, info);
+    panel.lines = hud_lines(frame, info);
     panel.scale = 1.5f;
     return {panel};
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <atomic>
 #include <iostream>
 #include <memory>
 #include <thread>
@@ -26,25 +27,25 @@
 #include "game/training/sample_arrangement.hpp"
 #include "game/devices/hand_device_selection.hpp"
 #include "game/scene/scene.hpp"
+#include "game/world/summary.hpp"
 #include "game/world/world.hpp"
+#include "game/devices/force_watchdogs.hpp"
+#include "systems/presentation/receive_frame_system.hpp"
 #include "systems/presentation/draw_list_system.hpp"
 
 namespace ikebana::game {
 
 namespace {
 
-// The window has no room for a heads-up display yet: its title carries the state.
-std::string status_line(World& w) {
+// The window's title: the flowers' state, for the task bar.
+std::string status_line(const components::FrameSnapshot& frame) {
     std::string s = "Ikebana";
-    std::size_t i = 0;
-    w.sim.view<components::InsertionHistory, components::KenzanGrip>().each(
-        [&](ecs::Entity, components::InsertionHistory& h, components::KenzanGrip& grip) {
-            char part[96];
-            std::snprintf(part, sizeof part, " | %s: %u insertions%s%s", i < w.flowers.size() ? w.flowers[i].species.c_str() : "flower",
-                          h.insertions_total, h.bottom_broken ? ", split" : "", grip.fallen ? ", fell" : "");
-            s += part;
-            ++i;
-        });
+    for (const auto& f : frame.flowers) {
+        char part[96];
+        std::snprintf(part, sizeof part, " | %s: %u insertions%s%s", f.species.c_str(), f.insertions, f.bottom_broken ? ", split" : "",
+                      f.fallen ? ", fell" : "");
+        s += part;
+    }
     return s;
 }
 
@@ -144,107 +145,104 @@ int run_trainee_app(const TraineeAppOptions& o) {
             std::cerr << "ikebana: " << renderer.error().message << "\n";
             return 3;
         }
-        auto world = World::create(*scene);
-        if (!world) {
-            std::cerr << "ikebana: " << world.error().message << "\n";
-            return 2;
-        }
-        World& w = **world;
+        // The session: the simulation on its own thread at 1 kHz (devices read and forces sent there,
+        // with a watchdog), this thread drawing at the render rate from the snapshots it publishes.
+        // The trainee_frame system below is this thread's whole job, run by the real-time clock.
         platform::GlfwPointerSource window_pointer((*window)->glfw());
-        devices::MouseKeyboardHands mouse(o.pointer ? *o.pointer : static_cast<platform::PointerSource&>(window_pointer));
-        for (std::uint8_t hand = 0; hand < 2; ++hand) w.attach_device(hand, picked[hand] ? std::move(picked[hand]) : mouse.hand(hand));
-        std::printf("ikebana: %s on %s (%s); arrows or right-drag orbit the camera, Tab switches hands, Esc ends\n",
-                    render::stereo_mode_name(*render_mode), (*ctx)->device_name().c_str(), (*renderer)->multiview() ? "multiview" : "one pass per eye");
-
-        // The simulation keeps wall-clock time on a fixed timeline; a slow frame is caught up at most
-        // 0.1 s at once (the rest is dropped, never run as one big step).
-        sched::DeterministicClock clock(w.schedule);
-        const double render_hz = w.schedule.rates().hz("render");
+        platform::PointerSource& pointer = o.pointer ? *o.pointer : static_cast<platform::PointerSource&>(window_pointer);
+        platform::SharedPointerSource shared_pointer; // GLFW is read here, the hands read it there
+        devices::MouseKeyboardHands mouse(shared_pointer);
+        World* world_ptr = nullptr;
+        render::DrawList sample_list;
+        glm::dvec3 kenzan_at{0.0};
         render::StereoRig base_rig;
         base_rig.eye_separation_m = scene->display.eye_separation_m;
         base_rig.screen_distance_m = scene->display.screen_distance_m;
         base_rig.vertical_fov_rad = scene->display.vertical_fov_rad;
         double yaw = 0.0, pitch = 0.0;
         auto last = std::chrono::steady_clock::now();
-        std::pair<double, double> drag_from{0.0, 0.0};
+        glm::dvec2 drag_from{0.0};
         bool dragging = false;
         std::uint32_t presented = 0;
         bool enter_was_down = false;
         std::vector<double> frame_ms, record_ms, shadow_ms, eyes_ms, composite_ms, present_ms;
         auto previous_frame = std::chrono::steady_clock::now();
-        std::optional<ArrangementScore> last_result;
         std::optional<render::RgbaImage> last_shot;
-        while (!(*window)->should_close()) {
+        std::atomic<bool> stop{false};
+
+        auto frame_fn = [&](sched::SystemContext& main_lane) {
+            if (stop.load()) return;
+            World& w = *world_ptr;
             if (o.each_frame) o.each_frame(presented, (*window)->glfw());
             (*window)->poll_events();
-            if ((*window)->key_down(GLFW_KEY_ESCAPE)) (*window)->request_close();
+            const platform::PointerState input = pointer.read();
+            shared_pointer.store(input);
+            if (input.quit_key) (*window)->request_close();
+            if ((*window)->should_close()) {
+                stop.store(true);
+                return;
+            }
             const auto now = std::chrono::steady_clock::now();
             const double dt = std::min(0.1, std::chrono::duration<double>(now - last).count());
             last = now;
             // Camera: during training, not only after it (the paper's future work).
-            const double turn = 1.2 * dt;
-            if ((*window)->key_down(GLFW_KEY_LEFT)) yaw -= turn;
-            if ((*window)->key_down(GLFW_KEY_RIGHT)) yaw += turn;
-            if ((*window)->key_down(GLFW_KEY_UP)) pitch += turn;
-            if ((*window)->key_down(GLFW_KEY_DOWN)) pitch -= turn;
-            const auto cursor = (*window)->cursor();
-            if ((*window)->mouse_down(GLFW_MOUSE_BUTTON_RIGHT)) {
+            yaw += 1.2 * dt * input.arrows.x;
+            pitch += 1.2 * dt * input.arrows.y;
+            if (input.orbit_button) {
                 if (dragging) {
-                    yaw += 0.005 * (cursor.first - drag_from.first);
-                    pitch += 0.005 * (cursor.second - drag_from.second);
+                    yaw += 0.005 * (input.cursor_px.x - drag_from.x);
+                    pitch += 0.005 * (input.cursor_px.y - drag_from.y);
                 }
                 dragging = true;
-                drag_from = cursor;
+                drag_from = input.cursor_px;
             } else {
                 dragging = false;
             }
             pitch = std::clamp(pitch, -0.5, 1.0);
             // "Forward" on the device stays "away from the viewer".
-            w.sim.view<components::WorkspaceMapping>().each([&](ecs::Entity, components::WorkspaceMapping& m) { m.yaw_rad = yaw; });
-            clock.run_for_us(static_cast<std::int64_t>(dt * 1e6));
+            w.view.yaw_rad.store(yaw, std::memory_order_relaxed);
 
             const VkExtent2D size = (*window)->framebuffer();
-            if (size.width == 0 || size.height == 0) {
-                (*window)->wait_events(); // minimised: nothing to draw
-                continue;
-            }
+            if (size.width == 0 || size.height == 0) return; // minimised: nothing to draw, the simulation runs on
             if (size.width != (*swapchain)->extent().width || size.height != (*swapchain)->extent().height) {
                 if (auto r = (*swapchain)->recreate(size); !r) {
                     std::cerr << "ikebana: " << r.error().message << "\n";
                     code = 3;
-                    break;
+                    stop.store(true);
+                    return;
                 }
             }
+            const auto* received = main_lane.registry.resource<systems::ReceivedFrames>();
+            const components::FrameSnapshot& latest = received->latest;
             // Enter: the trainee is done; the result stays on screen and the session goes on.
-            const bool enter = (*window)->key_down(GLFW_KEY_ENTER) || (*window)->key_down(GLFW_KEY_KP_ENTER);
+            const bool enter = input.finish_key;
             if ((enter && !enter_was_down) || (o.finish_at_frame > 0 && presented + 1 == o.finish_at_frame)) {
-                const auto result = score_arrangement(arranged_stems(w), scene->sample, kenzan_origin(w));
+                const auto result = score_arrangement(arranged_stems(latest), scene->sample, kenzan_at);
                 hud.result = scene->sample.empty() ? std::vector<std::string>{"RESULT: free practice (this scene has no sample)"} : result.lines();
                 for (const auto& line : hud.result) std::printf("%s\n", line.c_str());
-                last_result = result;
             }
             enter_was_down = enter;
-            const auto* list = w.sim.resource<render::DrawList>();
-            render::DrawList drawn = list ? *list : systems::build_draw_list(w.sim);
-            add_sample_to_draw_list(drawn, w, scene->sample);
-            hud.time_s = static_cast<double>(clock.now_us()) * 1e-6;
-            (*renderer)->set_overlay(hud_panels(w, hud));
+            render::DrawList drawn = latest.draw_list;
+            drawn.append(sample_list);
+            (*renderer)->set_overlay(hud_panels(latest, hud));
             const bool want_shot = !o.screenshot.empty() && o.frames > 0 && presented + 1 >= o.frames;
             auto frame = (*renderer)->present(**swapchain, drawn, render::orbited(base_rig, yaw, pitch), want_shot);
             if (!frame) {
                 std::cerr << "ikebana: " << frame.error().message << "\n";
                 code = 3;
-                break;
+                stop.store(true);
+                return;
             }
             for (const auto& warning : (*renderer)->take_warnings()) std::cerr << "ikebana: warning: " << warning << "\n";
             if (frame->swapchain_stale) {
                 if (auto r = (*swapchain)->recreate((*window)->framebuffer()); !r && (*window)->framebuffer().width > 0) {
                     std::cerr << "ikebana: " << r.error().message << "\n";
                     code = 3;
-                    break;
+                    stop.store(true);
+                    return;
                 }
             }
-            if (!frame->presented) continue;
+            if (!frame->presented) return;
             ++presented;
             const auto frame_end = std::chrono::steady_clock::now();
             frame_ms.push_back(std::chrono::duration<double, std::milli>(frame_end - previous_frame).count());
@@ -255,12 +253,49 @@ int run_trainee_app(const TraineeAppOptions& o) {
             composite_ms.push_back(frame->timing.composite_ms);
             present_ms.push_back(frame->timing.present_ms);
             if (frame->screenshot) last_shot = std::move(frame->screenshot);
-            if (presented % 15 == 0) glfwSetWindowTitle((*window)->glfw(), status_line(w).c_str());
-            if (o.frames > 0 && presented >= o.frames) break;
-            // Frames at the scheduler's render rate (30 Hz by default), not as fast as presenting allows.
-            const auto period = std::chrono::duration<double>(1.0 / render_hz);
-            const auto spent = std::chrono::steady_clock::now() - now;
-            if (spent < period) std::this_thread::sleep_for(period - spent);
+            if (presented % 15 == 0) glfwSetWindowTitle((*window)->glfw(), status_line(latest).c_str());
+            if (o.frames > 0 && presented >= o.frames) stop.store(true);
+        };
+        sched::SystemDesc trainee_frame;
+        trainee_frame.name = "trainee_frame";
+        trainee_frame.lane = "main";
+        trainee_frame.phase = "frame";
+        trainee_frame.rate = "render"; // frames at the scheduler's render rate (30 Hz by default)
+        trainee_frame.reads = sched::components<systems::ReceivedFrames>();
+        trainee_frame.after = {std::string(systems::ReceiveFrameSystem::name)};
+        trainee_frame.run = frame_fn;
+
+        auto world = World::create(*scene, WorldOptions{.rate_overrides = {}, .force_scheme = {}, .main_lane_systems = {trainee_frame}});
+        if (!world) {
+            std::cerr << "ikebana: " << world.error().message << "\n";
+            return 2;
+        }
+        World& w = **world;
+        world_ptr = &w;
+        for (std::uint8_t hand = 0; hand < 2; ++hand) w.attach_device(hand, picked[hand] ? std::move(picked[hand]) : mouse.hand(hand));
+        add_sample_to_draw_list(sample_list, w, scene->sample);
+        kenzan_at = kenzan_origin(w);
+        std::printf("ikebana: %s on %s (%s); arrows or right-drag orbit the camera, Tab switches hands, Esc ends\n",
+                    render::stereo_mode_name(*render_mode), (*ctx)->device_name().c_str(), (*renderer)->multiview() ? "multiview" : "one pass per eye");
+        std::fflush(stdout);
+        // The hands' first reading is the pointer as it is now, not an empty state (that would look like
+        // a jump of the cursor from the corner).
+        shared_pointer.store(pointer.read());
+        std::vector<sched::LaneReport> lanes;
+        {
+            const HandForceWatchdogs watchdogs(w);
+            sched::RealtimeClock clock(w.schedule);
+            // Until the window closes or the frames asked for are presented.
+            lanes = clock.run_for(1e9, &stop);
+            std::printf("%s", format_realtime_report(w, lanes).c_str());
+            for (std::size_t hand = 0; hand < 2; ++hand) {
+                if (watchdogs.trips(hand) > 0)
+                    std::printf("%s hand force watchdog: tripped %llu time(s)\n", hand ? "right" : "left",
+                                static_cast<unsigned long long>(watchdogs.trips(hand)));
+            }
+        }
+        for (std::size_t hand = 0; hand < 2; ++hand) {
+            if (w.hand_devices[hand]) (void)w.hand_devices[hand]->send_force(glm::dvec3{0.0}); // nothing pushes after the session
         }
         if (!o.screenshot.empty()) {
             if (!last_shot) {
@@ -273,7 +308,8 @@ int run_trainee_app(const TraineeAppOptions& o) {
                 std::printf("ikebana: screenshot in %s\n", o.screenshot.c_str());
             }
         }
-        std::printf("ikebana: %u frames presented; %s\n", presented, status_line(w).c_str());
+        std::printf("ikebana: camera turned %.0f deg round, tilted %.0f deg\n", yaw * 180.0 / M_PI, pitch * 180.0 / M_PI);
+        std::printf("ikebana: %u frames presented; %s\n", presented, status_line(w.main.resource<systems::ReceivedFrames>()->latest).c_str());
         if (frame_ms.size() > 2) {
             frame_ms.erase(frame_ms.begin()); // the first frame includes start-up
             std::printf("frame time, ms (p50 / p95): whole frame %.1f / %.1f; record %.2f / %.2f; device: shadow %.1f / %.1f, both eyes %.1f / %.1f, "

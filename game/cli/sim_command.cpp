@@ -13,41 +13,13 @@
 #include "components/hand.hpp"
 #include "engine/devices/scripted_device.hpp"
 #include "game/asset_paths.hpp"
+#include "game/devices/force_watchdogs.hpp"
 #include "game/devices/hand_device_selection.hpp"
 #include "systems/haptics/hand_devices.hpp"
 #include "game/world/summary.hpp"
 #include "game/world/world.hpp"
 
 namespace ikebana::game {
-
-namespace {
-
-void print_realtime_report(const World& world, const std::vector<sched::LaneReport>& reports) {
-    const auto& lanes = world.schedule.lanes();
-    for (std::size_t i = 0; i < reports.size(); ++i) {
-        const auto& w = reports[i].wake_lateness_ns;
-        std::printf("lane %-5s wake lateness: p50 %.1f us, p99 %.1f us, max %.1f us over %" PRIu64
-                    " wake-ups; %" PRIu64 " catch-up clamps, %" PRIu64 " firings skipped\n",
-                    lanes[i].name.c_str(), static_cast<double>(w.percentile(0.5)) / 1e3,
-                    static_cast<double>(w.percentile(0.99)) / 1e3, static_cast<double>(w.max()) / 1e3, w.count(),
-                    reports[i].clamp_events, reports[i].skipped_firings);
-        const auto& t = reports[i].tick_ns;
-        std::printf("lane %-5s tick: p50 %.1f us, p99 %.1f us, max %.1f us; wake-ups later than 200 us: %.3f%%\n",
-                    lanes[i].name.c_str(), static_cast<double>(t.percentile(0.5)) / 1e3, static_cast<double>(t.percentile(0.99)) / 1e3,
-                    static_cast<double>(t.max()) / 1e3, 100.0 * w.fraction_above(200'000));
-    }
-    // The 1 kHz loop's own figure: the haptic-rate systems' lateness and missed deadlines.
-    for (const auto& s : world.schedule.systems()) {
-        if (s.desc.rate != "haptic") continue;
-        const auto& l = s.stats.lateness_ns;
-        std::printf("1 kHz %-20s lateness: p50 %.1f us, p99 %.1f us, max %.1f us; missed %" PRIu64 " of %" PRIu64 "\n",
-                    s.desc.name.c_str(), static_cast<double>(l.percentile(0.5)) / 1e3,
-                    static_cast<double>(l.percentile(0.99)) / 1e3, static_cast<double>(l.max()) / 1e3,
-                    s.stats.missed_deadlines, s.stats.calls);
-    }
-}
-
-} // namespace
 
 int run_sim(const SimOptions& options) {
     auto scene = load_scene(options.scene);
@@ -59,7 +31,7 @@ int run_sim(const SimOptions& options) {
         std::cerr << "ikebana sim: " << env.error().message << "\n";
         return 2;
     }
-    auto world = World::create(*scene, WorldOptions{.rate_overrides = options.rates, .force_scheme = options.force_scheme});
+    auto world = World::create(*scene, WorldOptions{.rate_overrides = options.rates, .force_scheme = options.force_scheme, .main_lane_systems = {}});
     if (!world) {
         std::cerr << "ikebana sim: " << world.error().message << "\n";
         return 2;
@@ -105,24 +77,15 @@ int run_sim(const SimOptions& options) {
     if (options.realtime) {
         std::printf("running %.1f s in real time (simulation lane on its own thread)...\n", options.seconds);
         std::fflush(stdout);
-        // Devices that push get a watchdog: if the haptic loop falls silent for 2 ms, zero force.
-        std::unique_ptr<devices::ForceWatchdog> watchdogs[2];
-        auto* slots = w.sim.resource<systems::HandDevices>();
-        for (std::size_t hand = 0; hand < 2; ++hand) {
-            auto* device = w.hand_devices[hand].get();
-            if (!device || !device->capabilities().has_force_output) continue;
-            watchdogs[hand] = std::make_unique<devices::ForceWatchdog>([device] { (void)device->zero_force(); });
-            slots->watchdog[hand] = watchdogs[hand].get();
-        }
+        const HandForceWatchdogs watchdogs(w);
         sched::RealtimeClock clock(w.schedule);
         const auto reports = clock.run_for(options.seconds);
         for (std::size_t hand = 0; hand < 2; ++hand) {
-            if (!watchdogs[hand]) continue;
-            slots->watchdog[hand] = nullptr;
+            if (!watchdogs.armed(hand)) continue;
             std::printf("%s hand force watchdog: tripped %llu time(s)\n", hand ? "right" : "left",
-                        static_cast<unsigned long long>(watchdogs[hand]->trips()));
+                        static_cast<unsigned long long>(watchdogs.trips(hand)));
         }
-        print_realtime_report(w, reports);
+        std::printf("%s", format_realtime_report(w, reports).c_str());
     } else {
         sched::DeterministicClock clock(w.schedule);
         const auto print_ticks = [&] {

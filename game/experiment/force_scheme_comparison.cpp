@@ -15,7 +15,7 @@ namespace ikebana::game {
 namespace {
 
 Result<std::array<std::vector<glm::dvec3>, 2>> run(const SceneDef& scene, const std::string& scheme, double seconds) {
-    auto world = World::create(scene, WorldOptions{.rate_overrides = {}, .force_scheme = scheme});
+    auto world = World::create(scene, WorldOptions{.rate_overrides = {}, .force_scheme = scheme, .main_lane_systems = {}});
     if (!world) return std::move(world).error();
     auto* log = (*world)->sim.resource<components::SentForceLog>();
     log->enabled = true;

@@ -9,14 +9,11 @@
 
 namespace ikebana::game {
 
-std::vector<ArrangedStem> arranged_stems(World& w) {
+std::vector<ArrangedStem> arranged_stems(const components::FrameSnapshot& frame) {
     std::vector<ArrangedStem> out;
-    for (const auto& f : w.flowers) {
-        const auto* points = w.sim.try_get<components::StemPoints>(f.entity);
-        const auto* e = w.sim.try_get<components::PinEngagement>(f.entity);
-        const auto* grip = w.sim.try_get<components::KenzanGrip>(f.entity);
-        if (!points || points->position_m.size() < 2) continue;
-        out.push_back({f.species, points->position_m.front(), points->position_m.back(), e && e->in_kenzan, grip && grip->fallen});
+    for (const auto& f : frame.flowers) {
+        if (f.points_m.size() < 2) continue;
+        out.push_back({f.species, f.points_m.front(), f.points_m.back(), f.in_kenzan, f.fallen});
     }
     return out;
 }

@@ -5,6 +5,7 @@
 
 #include <glm/glm.hpp>
 
+#include "components/snapshot.hpp"
 #include "engine/render/draw_list.hpp"
 #include "game/training/arrangement_score.hpp"
 
@@ -15,7 +16,8 @@ class World;
 // Where the sample stands: beside the kenzan, to the trainee's right.
 inline constexpr glm::dvec3 sample_offset_m{0.16, 0.0, 0.0};
 
-std::vector<ArrangedStem> arranged_stems(World& world);
+// The trainee's stems as the simulation last published them.
+std::vector<ArrangedStem> arranged_stems(const components::FrameSnapshot& frame);
 glm::dvec3 kenzan_origin(World& world);
 void add_sample_to_draw_list(render::DrawList& list, World& world, const std::vector<SampleStem>& sample);
 

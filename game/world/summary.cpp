@@ -1,5 +1,6 @@
 #include "game/world/summary.hpp"
 
+#include <cinttypes>
 #include <cstdio>
 
 #include "components/collision.hpp"
@@ -83,6 +84,37 @@ std::string format_summary(const WorldSummary& s, double seconds) {
             std::snprintf(line, sizeof line, "  %-14s not in the kenzan, insertions %u%s%s\n", f.species.c_str(), f.insertions,
                           f.broken ? ", bottom broken" : "", f.fallen ? ", fell" : "");
         }
+        out += line;
+    }
+    return out;
+}
+
+std::string format_realtime_report(const World& world, const std::vector<sched::LaneReport>& reports) {
+    std::string out;
+    char line[256];
+    const auto& lanes = world.schedule.lanes();
+    for (std::size_t i = 0; i < reports.size(); ++i) {
+        const auto& w = reports[i].wake_lateness_ns;
+        std::snprintf(line, sizeof line, "lane %-5s wake lateness: p50 %.1f us, p99 %.1f us, max %.1f us over %" PRIu64
+                    " wake-ups; %" PRIu64 " catch-up clamps, %" PRIu64 " firings skipped\n",
+                    lanes[i].name.c_str(), static_cast<double>(w.percentile(0.5)) / 1e3,
+                    static_cast<double>(w.percentile(0.99)) / 1e3, static_cast<double>(w.max()) / 1e3, w.count(),
+                    reports[i].clamp_events, reports[i].skipped_firings);
+        out += line;
+        const auto& t = reports[i].tick_ns;
+        std::snprintf(line, sizeof line, "lane %-5s tick: p50 %.1f us, p99 %.1f us, max %.1f us; wake-ups later than 200 us: %.3f%%\n",
+                    lanes[i].name.c_str(), static_cast<double>(t.percentile(0.5)) / 1e3, static_cast<double>(t.percentile(0.99)) / 1e3,
+                    static_cast<double>(t.max()) / 1e3, 100.0 * w.fraction_above(200'000));
+        out += line;
+    }
+    // The 1 kHz loop's own figure: the haptic-rate systems' lateness and missed deadlines.
+    for (const auto& s : world.schedule.systems()) {
+        if (s.desc.rate != "haptic") continue;
+        const auto& l = s.stats.lateness_ns;
+        std::snprintf(line, sizeof line, "1 kHz %-20s lateness: p50 %.1f us, p99 %.1f us, max %.1f us; missed %" PRIu64 " of %" PRIu64 "\n",
+                    s.desc.name.c_str(), static_cast<double>(l.percentile(0.5)) / 1e3,
+                    static_cast<double>(l.percentile(0.99)) / 1e3, static_cast<double>(l.max()) / 1e3,
+                    s.stats.missed_deadlines, s.stats.calls);
         out += line;
     }
     return out;

@@ -1,6 +1,7 @@
 #pragma once
 #include <string>
 
+#include "engine/sched/clocks.hpp"
 #include "game/world/world.hpp"
 
 namespace ikebana::game {
@@ -36,5 +37,8 @@ struct WorldSummary {
 
 [[nodiscard]] WorldSummary summarize(World& world);
 [[nodiscard]] std::string format_summary(const WorldSummary& s, double seconds);
+// After a real-time run: each lane's wake-up lateness and tick time, and the 1 kHz systems' lateness
+// and missed deadlines.
+[[nodiscard]] std::string format_realtime_report(const World& world, const std::vector<sched::LaneReport>& reports);
 
 } // namespace ikebana::game

@@ -25,6 +25,7 @@
 #include "systems/haptics/hand_devices.hpp"
 #include "systems/haptics/hand_force_system.hpp"
 #include "systems/haptics/hand_input_system.hpp"
+#include "systems/haptics/workspace_view_system.hpp"
 #include "systems/insertion/deterioration.hpp"
 #include "systems/insertion/insertion_resistance_system.hpp"
 #include "systems/insertion/insertion_tracking_system.hpp"
@@ -52,7 +53,7 @@ void add_collision_tag(ecs::Registry& r, ecs::Entity e, CollisionClass c) {
     }
 }
 
-Result<void> register_systems(World& w, const std::string& force_scheme) {
+Result<void> register_systems(World& w, const std::string& force_scheme, const std::vector<sched::SystemDesc>& main_lane_systems) {
     using sched::describe;
     // The lanes' phases, in execution order at equal timestamps.
     if (auto r = w.schedule.add_lane({"sim", &w.sim, sched::LaneThread::own,
@@ -66,7 +67,9 @@ Result<void> register_systems(World& w, const std::string& force_scheme) {
     // The input phase's writers of stem points run in this order: cut, scripted hand, device hands, grab.
     for (auto desc : {describe(systems::StemCuttingSystem{}),
                       describe(systems::ScriptedInsertionSystem{}, {std::string(systems::StemCuttingSystem::name)}),
-                      describe(systems::HandInputSystem{}, {std::string(systems::ScriptedInsertionSystem::name)}),
+                      describe(systems::WorkspaceViewSystem{}),
+                      describe(systems::HandInputSystem{},
+                               {std::string(systems::ScriptedInsertionSystem::name), std::string(systems::WorkspaceViewSystem::name)}),
                       describe(systems::GrabSystem{}, {std::string(systems::HandInputSystem::name)}),
                       describe(systems::BendingSystem{}, {std::string(systems::GrabSystem::name)}),
 
@@ -90,6 +93,9 @@ Result<void> register_systems(World& w, const std::string& force_scheme) {
         }
     } else {
         if (auto r = w.schedule.add(describe(systems::HandForceSystem{})); !r) return r;
+    }
+    for (const auto& desc : main_lane_systems) {
+        if (auto r = w.schedule.add(desc); !r) return r;
     }
     return w.schedule.finalize();
 }
@@ -213,6 +219,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     r.set_resource<Table>(scene.table_height_m, 0.6);
     r.set_resource<Contacts>();
     r.set_resource<systems::FrameChannel*>(&w->channel);
+    r.set_resource<systems::ViewChannel*>(&w->view);
     w->main.set_resource<systems::FrameChannel*>(&w->channel);
     w->main.set_resource<systems::ReceivedFrames>();
 
@@ -262,7 +269,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     if (scheme != "full_rate" && scheme != "paper") {
         return make_error(ErrorCode::invalid_argument, "force scheme '" + scheme + "': expected full_rate or paper");
     }
-    if (auto ok = register_systems(*w, scheme); !ok) return std::move(ok).error();
+    if (auto ok = register_systems(*w, scheme, options.main_lane_systems); !ok) return std::move(ok).error();
     return w;
 }
 

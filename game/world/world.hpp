@@ -18,6 +18,7 @@
 #include "engine/sched/schedule.hpp"
 #include "game/scene/scene.hpp"
 #include "game/species/species.hpp"
+#include "systems/haptics/workspace_view_system.hpp"
 #include "systems/presentation/frame_channel.hpp"
 
 namespace ikebana::game {
@@ -25,6 +26,9 @@ namespace ikebana::game {
 struct WorldOptions {
     std::vector<std::string> rate_overrides; // "name=hz", applied after the scene's own rates
     std::string force_scheme;                // overrides the scene's ("full_rate" or "paper")
+    // More systems for the main lane (the trainee app's frame: draw, present), registered with the
+    // world's own before the schedule is finalized.
+    std::vector<sched::SystemDesc> main_lane_systems;
 };
 
 struct SpawnedFlower {
@@ -39,7 +43,8 @@ public:
     ecs::Registry sim;
     ecs::Registry main;
     sched::Schedule schedule;
-    systems::FrameChannel channel;
+    systems::FrameChannel channel; // simulation -> main thread: what to draw and show
+    systems::ViewChannel view;     // main thread -> simulation: where the camera looks
     std::map<std::string, SpeciesDef> species;
     std::vector<SpawnedFlower> flowers;
     std::array<std::unique_ptr<devices::HapticDevice>, 2> hand_devices;

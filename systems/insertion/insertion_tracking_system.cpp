@@ -41,7 +41,15 @@ void InsertionTrackingSystem::operator()(sched::SystemContext& ctx) {
             insertion::assign_lever_arms(end, *kenzan, engagement.pins);
             const double lowest = x[0].z - end.radius_m * std::sqrt(std::max(0.0, 1.0 - end.axis.z * end.axis.z));
             engagement.depth_m = engagement.in_kenzan ? kenzan->origin_m.z + kenzan->pin_height_m() - lowest : 0.0;
-            if (!engagement.in_kenzan || was_in) return;
+            if (!engagement.in_kenzan) {
+                if (was_in) {
+                    history.left_pins = true;
+                    history.left_pins_us = ctx.time_us;
+                }
+                return;
+            }
+            if (was_in) return;
+            if (history.left_pins && ctx.time_us - history.left_pins_us < min_time_out_us) return; // never really out
             // Only a held stem entering the pins is an insertion (not one falling onto them).
             const auto* grasp = r.try_get<Grasp>(flower);
             if (!grasp || grasp->hands == 0) return;

@@ -21,6 +21,11 @@ struct InsertionTrackingSystem {
                                     components::PinResistance, components::Grasp>;
     using writes = sched::Components<components::PinEngagement, components::InsertionHistory, components::RandomStream>;
 
+    // A stem end that leaves the pins and is back within this time never really came out (the pull
+    // of a grab unbending it, a tick of numerical jitter): the same insertion goes on. A trainee's
+    // withdrawal and new push take far longer.
+    std::int64_t min_time_out_us = 50'000;
+
     void operator()(sched::SystemContext& ctx);
 };
 

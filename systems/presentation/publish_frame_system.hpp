@@ -5,6 +5,7 @@
 #include "components/collision.hpp"
 #include "components/flower.hpp"
 #include "components/hand.hpp"
+#include "components/insertion.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/system.hpp"
 
@@ -15,7 +16,8 @@ struct PublishFrameSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "present"; // after every system that writes what it copies
     static constexpr std::string_view rate = "render";
-    using reads = sched::Components<components::StemPoints, components::Flower, components::Contacts, components::HandState>;
+    using reads = sched::Components<components::StemPoints, components::Flower, components::Contacts, components::HandState,
+                                    components::InsertionHistory, components::PinEngagement, components::KenzanGrip>;
     using writes = sched::Components<>;
 
     void operator()(sched::SystemContext& ctx);

@@ -59,3 +59,31 @@ TEST(MouseKeyboard, TabSwitchesHandsAndEachKeepsItsGrip) {
     EXPECT_LT(left->poll(2000)->position.x, -0.06) << "the mouse now drives the left hand";
     EXPECT_FALSE(right->capabilities().has_force_output);
 }
+
+TEST(MouseKeyboard, RightDragTurnsTheViewAndLeavesTheHandsStill) {
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto right = hands.hand(1);
+    const auto start = right->poll(0)->position;
+    pointer.state.orbit_button = true;
+    pointer.state.cursor_px += glm::dvec2{200, -100};
+    EXPECT_EQ(right->poll(1000)->position, start) << "the drag is the camera's";
+    pointer.state.orbit_button = false;
+    pointer.state.cursor_px.x += 80; // a tenth of the window: 3 cm, counted from where the drag ended
+    EXPECT_NEAR(right->poll(2000)->position.x - start.x, 0.03, 1e-12);
+}
+
+// The pointer the app hands from its main thread to the simulation's thread gives back what was stored.
+TEST(SharedPointer, ReadsWhatTheMainThreadStored) {
+    platform::SharedPointerSource shared;
+    EXPECT_FALSE(shared.read().grab_button);
+    platform::PointerState s;
+    s.cursor_px = {12, 34};
+    s.grab_button = true;
+    s.arrows = {1, -1};
+    shared.store(s);
+    const auto got = shared.read();
+    EXPECT_EQ(got.cursor_px, s.cursor_px);
+    EXPECT_TRUE(got.grab_button);
+    EXPECT_EQ(got.arrows, s.arrows);
+}

@@ -3,6 +3,7 @@
 #include "components/hand.hpp"
 #include "components/insertion.hpp"
 #include "components/stem.hpp"
+#include "engine/devices/mouse_keyboard_device.hpp"
 #include "engine/devices/scripted_device.hpp"
 #include "engine/sched/clocks.hpp"
 #include "game/world/world.hpp"
@@ -71,4 +72,47 @@ TEST(OneHand, PullsAStemOutAndInsertsItElsewhere) {
     EXPECT_TRUE(w->sim.get<KenzanGrip>(flower).engaged);
     EXPECT_TRUE(w->sim.get<PinEngagement>(flower).in_kenzan);
     EXPECT_EQ(w->sim.get<InsertionHistory>(flower).insertions, 1u);
+}
+
+namespace {
+struct StepPointer : platform::PointerSource {
+    platform::PointerState state = [] {
+        platform::PointerState s;
+        s.cursor_px = {320.0, 180.0};
+        s.window_px = {640.0, 360.0};
+        return s;
+    }();
+    platform::PointerState read() override { return state; }
+};
+} // namespace
+
+// The same with the mouse, whose position reaches the simulation in frame-sized steps (30 Hz): the
+// grab's pull that unbends the standing stem is no insertion, the push back in is one.
+TEST(OneHand, TheMouseReinsertsTheStemInFrameSizedSteps) {
+    auto w = standing_sunflower();
+    StepPointer pointer;
+    devices::MouseKeyboardHands mouse(pointer);
+    w->attach_device(0, mouse.hand(0));
+    w->attach_device(1, mouse.hand(1)); // the right hand is active, on the stem at (60, 0, 120) mm
+    const auto flower = w->flowers[0].entity;
+    const glm::dvec3 bottom_before = point(*w, 0);
+    sched::DeterministicClock clock(w->schedule);
+    auto frame = [&](int n) {
+        auto& s = pointer.state;
+        if (n == 3) s.grab_button = true;
+        if (n >= 5 && n < 9) s.cursor_px.y -= 18.0;   // up 5 cm
+        if (n >= 10 && n < 12) s.cursor_px.x += 20.0; // right 1.9 cm
+        if (n >= 13 && n < 17) s.cursor_px.y += 18.0; // down 5 cm
+        if (n == 22) s.grab_button = false;
+        clock.run_for_us(33'333);
+    };
+    for (int n = 0; n < 10; ++n) frame(n);
+    EXPECT_TRUE(w->sim.get<HandState>(w->hands[1]).holds_direction);
+    EXPECT_FALSE(w->sim.get<PinEngagement>(flower).in_kenzan) << "out";
+    EXPECT_EQ(w->sim.get<InsertionHistory>(flower).insertions, 0u) << "pulling out is not an insertion";
+    for (int n = 10; n < 44; ++n) frame(n);
+    EXPECT_TRUE(w->sim.get<HandState>(w->hands[1]).held.is_null());
+    EXPECT_EQ(w->sim.get<InsertionHistory>(flower).insertions, 1u);
+    EXPECT_TRUE(w->sim.get<PinEngagement>(flower).in_kenzan);
+    EXPECT_NEAR(point(*w, 0).x - bottom_before.x, 40.0 / 640.0 * 0.30, 0.006) << "where the mouse put it";
 }

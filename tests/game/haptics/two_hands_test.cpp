@@ -297,3 +297,19 @@ TEST(TwoHands, AGripHoldsTheDirectionOnlyWhileItIsAlone) {
     EXPECT_TRUE(hand(*w, 0).holds_direction) << "alone again: the left hand holds the direction";
     EXPECT_GT(point(*w, 20).z, 0.03) << "and the far end stays up instead of hanging";
 }
+
+// The camera turned a quarter round (the view channel, written by the app's main thread): the device's
+// "right" moves the hand along the turned axis, so that it is still the viewer's right.
+TEST(TwoHands, TheWorkspaceTurnsWithTheView) {
+    auto w = lying_flower();
+    w->attach_device(0, script({{0.0, 0.05, 0.0, 0.1, 0}, {0.1, 0.05, 0.0, 0.1, 0}, {0.3, 0.07, 0.0, 0.1, 0}, {1.0, 0.07, 0.0, 0.1, 0}}));
+    w->view.yaw_rad.store(M_PI / 2);
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(100'000);
+    const glm::dvec3 before = hand(*w, 0).device_m;
+    clock.run_for_us(400'000);
+    const glm::dvec3 moved = hand(*w, 0).device_m - before;
+    EXPECT_NEAR(moved.x, 0.0, 1e-9);
+    EXPECT_NEAR(moved.y, 0.02, 1e-9) << "device +x is world +y after a quarter turn";
+    EXPECT_NEAR(w->sim.get<WorkspaceMapping>(w->hands[0]).yaw_rad, M_PI / 2, 1e-12);
+}

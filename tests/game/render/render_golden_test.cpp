@@ -4,6 +4,8 @@
 // stored image after a deliberate change (look at it before committing).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <GLFW/glfw3.h>
 
 #include <cmath>
@@ -174,9 +176,24 @@ namespace {
 // A mouse the test moves: one state per frame, read by the hands at every simulation tick.
 class ScriptedPointer final : public platform::PointerSource {
 public:
-    platform::PointerState state{{320.0, 180.0}, {640.0, 360.0}, false, false, false, 0.0};
+    platform::PointerState state = centred();
     platform::PointerState read() override { return state; }
+
+private:
+    static platform::PointerState centred() {
+        platform::PointerState s;
+        s.cursor_px = {320.0, 180.0};
+        s.window_px = {640.0, 360.0};
+        return s;
+    }
 };
+
+// Frames of a scripted gesture between `from` and `to` that have been presented. The hooks set the
+// mouse from the presented count, never move it by one step per call: a hook may run twice for one
+// count (a frame that was not presented).
+double steps(std::uint32_t presented, std::uint32_t from, std::uint32_t to) {
+    return static_cast<double>(std::clamp(presented, from, to) - from);
+}
 } // namespace
 
 // End to end with the mouse: the right hand starts beside the standing sunflower's stem, grabs it,
@@ -190,9 +207,9 @@ TEST(WindowApp, TheMouseGrabsAStemAndPullsItOutOfTheKenzan) {
     o.finish_at_frame = 38;
     o.pointer = &mouse;
     o.each_frame = [&mouse](std::uint32_t presented, GLFWwindow*) {
-        if (presented >= 3) mouse.state.grab_button = true;
+        mouse.state.grab_button = presented >= 3;
         // Up by 18 px a frame (1.25 cm of workspace) for 10 frames: 12.5 cm in all.
-        if (presented >= 6 && presented < 16) mouse.state.cursor_px.y -= 18.0;
+        mouse.state.cursor_px.y = 180.0 - 18.0 * steps(presented, 6, 16);
     };
     testing::internal::CaptureStdout();
     const int code = game::run_trainee_app(o);
@@ -203,12 +220,42 @@ TEST(WindowApp, TheMouseGrabsAStemAndPullsItOutOfTheKenzan) {
     // The same session without the grab: the sunflower is still in the kenzan and scored.
     ScriptedPointer still;
     o.pointer = &still;
-    o.each_frame = [&still](std::uint32_t presented, GLFWwindow*) {
-        if (presented >= 6 && presented < 16) still.state.cursor_px.y -= 18.0;
-    };
+    o.each_frame = [&still](std::uint32_t presented, GLFWwindow*) { still.state.cursor_px.y = 180.0 - 18.0 * steps(presented, 6, 16); };
     testing::internal::CaptureStdout();
     ASSERT_EQ(game::run_trainee_app(o), 0);
     const std::string control = testing::internal::GetCapturedStdout();
     EXPECT_EQ(control.find("sunflower      missing"), std::string::npos) << control;
     EXPECT_NE(control.find("sunflower      "), std::string::npos) << control;
+}
+
+// End to end with the mouse, as a trainee would: grab the standing sunflower, pull it up out of the
+// pins, carry it a little to the right, push it back in and let go; drag the camera round with the
+// right button; press Enter. One insertion is counted, the result scores the sunflower where it now
+// stands, and the camera turned.
+TEST(WindowApp, TheMouseReinsertsAStemLooksAroundAndFinishes) {
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !*display) GTEST_SKIP() << "no display (ctest runs this under xvfb-run)";
+    ScriptedPointer mouse;
+    auto o = small_app(640, 360, 44);
+    o.finish_at_frame = 43;
+    o.pointer = &mouse;
+    o.each_frame = [&mouse](std::uint32_t presented, GLFWwindow*) {
+        auto& s = mouse.state;
+        s.grab_button = presented >= 3 && presented < 22;
+        // Up 5 cm (out of the pins), right 1.9 cm, down 5 cm (back in): 18 px or 20 px a frame.
+        s.cursor_px.y = 180.0 - 18.0 * steps(presented, 5, 9) + 18.0 * steps(presented, 13, 17);
+        s.cursor_px.x = 320.0 + 20.0 * steps(presented, 10, 12);
+        // Then the right button drags the view round: 10 x 20 px, one radian.
+        s.orbit_button = presented >= 26 && presented < 38;
+        s.cursor_px.x += 20.0 * steps(presented, 27, 37);
+        s.finish_key = presented >= 42;
+    };
+    testing::internal::CaptureStdout();
+    const int code = game::run_trainee_app(o);
+    const std::string out = testing::internal::GetCapturedStdout();
+    ASSERT_EQ(code, 0) << out;
+    EXPECT_NE(out.find("sunflower: 1 insertions"), std::string::npos) << "pushing it back in was an insertion:\n" << out;
+    EXPECT_NE(out.find("RESULT: "), std::string::npos) << out;
+    EXPECT_EQ(out.find("sunflower      missing"), std::string::npos) << "it stands in the kenzan again:\n" << out;
+    EXPECT_NE(out.find("camera turned 57 deg"), std::string::npos) << "the right-button drag turned the view:\n" << out;
 }

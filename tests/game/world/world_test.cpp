@@ -44,7 +44,7 @@ TEST(World, ChangedInputChangesTheState) {
 TEST(World, RatesComeFromSceneAndCommandLine) {
     auto scene = default_scene();
     scene.rates_hz["render"] = 60.0;
-    auto world = World::create(scene, WorldOptions{.rate_overrides = {"position_check=20"}, .force_scheme = {}});
+    auto world = World::create(scene, WorldOptions{.rate_overrides = {"position_check=20"}, .force_scheme = {}, .main_lane_systems = {}});
     ASSERT_TRUE(world);
     sched::DeterministicClock clock((*world)->schedule);
     clock.run_for_us(1'000'000);
@@ -54,10 +54,10 @@ TEST(World, RatesComeFromSceneAndCommandLine) {
 
 TEST(World, BadRateIsRefusedWithItsName) {
     const auto scene = default_scene();
-    auto world = World::create(scene, WorldOptions{.rate_overrides = {"render=0"}, .force_scheme = {}});
+    auto world = World::create(scene, WorldOptions{.rate_overrides = {"render=0"}, .force_scheme = {}, .main_lane_systems = {}});
     ASSERT_FALSE(world);
     EXPECT_NE(world.error().message.find("render"), std::string::npos);
-    auto unknown = World::create(scene, WorldOptions{.rate_overrides = {"warp=10"}, .force_scheme = {}});
+    auto unknown = World::create(scene, WorldOptions{.rate_overrides = {"warp=10"}, .force_scheme = {}, .main_lane_systems = {}});
     ASSERT_FALSE(unknown);
     EXPECT_NE(unknown.error().message.find("unknown rate 'warp'"), std::string::npos);
 }

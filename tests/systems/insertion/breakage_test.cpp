@@ -34,11 +34,14 @@ struct Bench {
         r.emplace<PinEngagement>(flower);
         r.emplace<Grasp>(flower, std::uint8_t{1});
     }
-    void move_bottom_to(double z) {
+    std::int64_t now_us = 0;
+    // Each move takes `after_us` (a trainee's hand: a tenth of a second).
+    void move_bottom_to(double z, std::int64_t after_us = 100'000) {
         auto& x = r.get<StemPoints>(flower).position_m;
         const double dz = z - x[0].z;
         for (auto& p : x) p.z += dz;
-        sched::SystemContext ctx{r, 0, 0.001, 0};
+        now_us += after_us;
+        sched::SystemContext ctx{r, now_us, 0.001, 0};
         tracking(ctx);
     }
     std::uint32_t insert_until_break(std::uint32_t limit) {
@@ -104,3 +107,16 @@ TEST(Breakage, ReusedHoleIsRecorded) {
     EXPECT_TRUE(records[1].reused_hole);
 }
 
+
+// Out of the pins for a tick or two and back (a grab unbending the stem, numerical jitter) is the same
+// insertion; out for longer than the tracker's minimum is a new one.
+TEST(Breakage, AMomentOutOfThePinsIsNotANewInsertion) {
+    Bench b(1, {});
+    b.move_bottom_to(0.005);
+    b.move_bottom_to(0.05, 1'000);
+    b.move_bottom_to(0.005, 1'000);
+    EXPECT_EQ(b.r.get<InsertionHistory>(b.flower).insertions, 1u);
+    b.move_bottom_to(0.05);
+    b.move_bottom_to(0.005, b.tracking.min_time_out_us);
+    EXPECT_EQ(b.r.get<InsertionHistory>(b.flower).insertions, 2u);
+}

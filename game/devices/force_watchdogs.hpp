@@ -1,0 +1,31 @@
+#pragma once
+// While the haptic loop runs on its own thread, every hand whose device pushes gets a watchdog: if the
+// loop falls silent for 2 ms (a stall, a debugger, a crash of the loop), that device is sent zero
+// force from the watchdog's own thread. Used by `sim --realtime` and the trainee app.
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "engine/devices/force_safety.hpp"
+
+namespace ikebana::game {
+
+class World;
+
+class HandForceWatchdogs {
+public:
+    explicit HandForceWatchdogs(World& world);
+    // Unhooks the watchdogs from the world's hands before they stop (after the loop has ended).
+    ~HandForceWatchdogs();
+    HandForceWatchdogs(const HandForceWatchdogs&) = delete;
+    HandForceWatchdogs& operator=(const HandForceWatchdogs&) = delete;
+
+    [[nodiscard]] bool armed(std::size_t hand) const { return hand < 2 && dogs_[hand] != nullptr; }
+    [[nodiscard]] std::uint64_t trips(std::size_t hand) const { return armed(hand) ? dogs_[hand]->trips() : 0; }
+
+private:
+    World& world_;
+    std::array<std::unique_ptr<devices::ForceWatchdog>, 2> dogs_;
+};
+
+} // namespace ikebana::game

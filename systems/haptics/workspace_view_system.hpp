@@ -1,0 +1,30 @@
+#pragma once
+// The hands' workspace follows the camera: the main thread, which turns the view, writes the yaw into
+// the ViewChannel; this system, on the simulation's thread, copies it into every WorkspaceMapping, so
+// that pushing a device "forward" still moves the hand away from the viewer. Nothing else crosses
+// from the main thread into the simulation's registry.
+#include <atomic>
+#include <string_view>
+
+#include "components/hand.hpp"
+#include "engine/sched/system.hpp"
+
+namespace ikebana::systems {
+
+// Main thread to simulation thread (the World owns it; the sim registry holds a ViewChannel* resource).
+struct ViewChannel {
+    std::atomic<double> yaw_rad{0.0};
+};
+
+struct WorkspaceViewSystem {
+    static constexpr std::string_view name = "workspace_view";
+    static constexpr std::string_view lane = "sim";
+    static constexpr std::string_view phase = "input";
+    static constexpr std::string_view rate = "haptic";
+    using reads = sched::Components<>;
+    using writes = sched::Components<components::WorkspaceMapping>;
+
+    void operator()(sched::SystemContext& ctx);
+};
+
+} // namespace ikebana::systems
