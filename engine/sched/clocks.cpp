@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include <pthread.h>
+#include <sched.h>
 #include <sys/prctl.h>
 
 #include "engine/ecs/registry.hpp"
@@ -139,6 +141,11 @@ std::vector<LaneReport> RealtimeClock::run_for(double seconds, const std::atomic
         if (lanes[li].thread != LaneThread::own) continue;
         threads.emplace_back([&, li] {
             if (config_.own_thread_timer_slack_ns > 0) prctl(PR_SET_TIMERSLACK, config_.own_thread_timer_slack_ns);
+            if (config_.own_thread_fifo_priority > 0) {
+                sched_param param{};
+                param.sched_priority = config_.own_thread_fifo_priority;
+                reports[li].fifo_priority = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0;
+            }
             run_lane(li);
         });
     }

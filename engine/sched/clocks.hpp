@@ -43,6 +43,7 @@ struct LaneReport {
     std::uint64_t skipped_firings = 0;
     DurationHistogram wake_lateness_ns; // how late the lane woke for each due time
     DurationHistogram tick_ns;          // from waking to the end of the last system due then
+    bool fifo_priority = false;         // an own-thread lane got the real-time priority it asked for
 };
 
 struct RealtimeConfig {
@@ -50,6 +51,11 @@ struct RealtimeConfig {
     std::int64_t max_catchup_us = 50'000;
     // Requested timer slack for lanes with their own thread (Linux; 0 leaves the default).
     std::int64_t own_thread_timer_slack_ns = 1'000;
+    // Lanes with their own thread ask for SCHED_FIFO at this priority (Linux; 0: normal scheduling).
+    // On two cores the renderer's threads otherwise delay the 1 kHz loop's wake-ups by milliseconds.
+    // The loop sleeps between ticks and its tick is tens of microseconds, so it cannot starve the
+    // rest; without the privilege the request fails and the lane runs at normal priority.
+    int own_thread_fifo_priority = 0;
 };
 
 class RealtimeClock {

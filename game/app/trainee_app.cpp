@@ -284,7 +284,7 @@ int run_trainee_app(const TraineeAppOptions& o) {
         std::vector<sched::LaneReport> lanes;
         {
             const HandForceWatchdogs watchdogs(w);
-            sched::RealtimeClock clock(w.schedule);
+            sched::RealtimeClock clock(w.schedule, sched::RealtimeConfig{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 20});
             // Until the window closes or the frames asked for are presented.
             lanes = clock.run_for(1e9, &stop);
             std::printf("%s", format_realtime_report(w, lanes).c_str());

@@ -101,6 +101,10 @@ std::string format_realtime_report(const World& world, const std::vector<sched::
                     static_cast<double>(w.percentile(0.99)) / 1e3, static_cast<double>(w.max()) / 1e3, w.count(),
                     reports[i].clamp_events, reports[i].skipped_firings);
         out += line;
+        if (lanes[i].thread == sched::LaneThread::own) {
+            out += "lane " + lanes[i].name + " thread: " +
+                   (reports[i].fifo_priority ? "real-time priority (SCHED_FIFO)\n" : "normal priority (no SCHED_FIFO: not permitted or not asked)\n");
+        }
         const auto& t = reports[i].tick_ns;
         std::snprintf(line, sizeof line, "lane %-5s tick: p50 %.1f us, p99 %.1f us, max %.1f us; wake-ups later than 200 us: %.3f%%\n",
                     lanes[i].name.c_str(), static_cast<double>(t.percentile(0.5)) / 1e3, static_cast<double>(t.percentile(0.99)) / 1e3,

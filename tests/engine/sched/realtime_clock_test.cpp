@@ -162,3 +162,20 @@ TEST(TripleBuffer, ReaderGetsNewestCompleteSnapshotAcrossThreads) {
     EXPECT_EQ(backwards, 0u);
     EXPECT_EQ(buffer.read_buffer().words[0], 200'000u);
 }
+
+// Asking for real-time priority changes nothing the lanes do; the report says whether it was granted
+// (only an own-thread lane can be, and only when asked).
+TEST(RealtimeClock, FifoPriorityIsAskedOnlyForOwnThreadLanes) {
+    TwoLanes asked(std::chrono::milliseconds(0));
+    RealtimeClock with_fifo(asked.schedule, RealtimeConfig{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 10});
+    const auto reports = with_fifo.run_for(0.2);
+    ASSERT_EQ(reports.size(), 2u);
+    EXPECT_FALSE(reports[1].fifo_priority) << "the caller's lane keeps the caller's priority";
+    EXPECT_GT(reports[0].firings, 100u);
+    EXPECT_EQ(asked.out_of_order, 0u);
+
+    TwoLanes not_asked(std::chrono::milliseconds(0));
+    RealtimeClock plain(not_asked.schedule);
+    const auto plain_reports = plain.run_for(0.05);
+    EXPECT_FALSE(plain_reports[0].fifo_priority);
+}
