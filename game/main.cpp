@@ -36,6 +36,9 @@ int main(int argc, char** argv) {
     app.add_flag("--validation", app_options.validation, "Run the app with the Vulkan validation layer");
     app.add_option("--finish-at-frame", app_options.finish_at_frame, "Finish the training at this frame, as Enter does (demos, tests)");
     app.add_option("--env", environment, "Environment covariate for extended species in the app, name=value (repeatable)");
+    std::string app_scene = (ikebana::game::asset_dir() / "scenes" / "default.json").string();
+    app.add_option("--scene", app_scene, "The scene the app opens")->capture_default_str();
+    app.add_option("--rate", app_options.rates, "Change a rate in the app, e.g. --rate render=60 (haptic, position_estimate, position_check, render)");
     ikebana::game::add_sim_command(app, exit_code);
     ikebana::game::add_species_command(app, exit_code);
     ikebana::game::add_assets_command(app, exit_code);
@@ -51,7 +54,7 @@ int main(int argc, char** argv) {
         return app.exit(e);
     }
     if (app.get_subcommands().empty()) {
-        app_options.scene = (ikebana::game::asset_dir() / "scenes" / "default.json").string();
+        app_options.scene = app_scene;
         app_options.left_device = left_device;
         app_options.right_device = right_device;
         app_options.env = environment;

@@ -20,6 +20,8 @@ struct MeshInstance {
 struct DrawBatch {
     std::string mesh;
     std::vector<MeshInstance> instances;
+    // Things thinner than a shadow-map texel (the kenzan's pins) cast nothing worth their cost.
+    bool casts_shadow = true;
 };
 
 struct DrawList {
@@ -33,13 +35,14 @@ struct DrawList {
         for (auto& b : batches) {
             if (b.mesh == mesh) return b;
         }
-        return batches.emplace_back(DrawBatch{mesh, {}});
+        return batches.emplace_back(DrawBatch{mesh, {}, true});
     }
 
     // Adds another list's instances (its lighting and background are not taken).
     void append(const DrawList& other) {
         for (const auto& b : other.batches) {
             auto& mine = batch(b.mesh);
+            mine.casts_shadow = mine.casts_shadow && b.casts_shadow;
             mine.instances.insert(mine.instances.end(), b.instances.begin(), b.instances.end());
         }
     }

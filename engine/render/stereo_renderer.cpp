@@ -11,7 +11,6 @@ namespace ikebana::render {
 
 namespace {
 
-constexpr VkFormat colour_format = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkFormat depth_format = VK_FORMAT_D32_SFLOAT;
 
 struct FrameUniforms {
@@ -98,6 +97,9 @@ Result<std::unique_ptr<StereoRenderer>> StereoRenderer::create(VulkanContext& ct
     if (options.eye_width == 0 || options.eye_height == 0 || options.eye_width > 8192 || options.eye_height > 8192) {
         return make_error(ErrorCode::invalid_argument, "eye size " + std::to_string(options.eye_width) + "x" + std::to_string(options.eye_height) +
                                                            ": expected 1..8192 each");
+    }
+    if (options.colour_format != VK_FORMAT_R8G8B8A8_UNORM && options.colour_format != VK_FORMAT_B8G8R8A8_UNORM) {
+        return make_error(ErrorCode::invalid_argument, "colour format " + std::to_string(options.colour_format) + ": expected R8G8B8A8 or B8G8R8A8 (UNORM)");
     }
     std::unique_ptr<StereoRenderer> r(new StereoRenderer(ctx, options));
     if (r->options_.frames_in_flight == 0) r->options_.frames_in_flight = 1;
@@ -222,7 +224,7 @@ void StereoRenderer::destroy_targets() {
 // Everything whose size follows the eye size or the stereo mode, and nothing else.
 Result<void> StereoRenderer::prepare_targets() {
     const VkExtent2D eye{options_.eye_width, options_.eye_height};
-    auto eyes = create_image(ctx_, colour_format, eye, 2,
+    auto eyes = create_image(ctx_, options_.colour_format, eye, 2,
                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
     if (!eyes) return std::move(eyes).error();
     eyes_ = *eyes;
@@ -234,7 +236,7 @@ Result<void> StereoRenderer::prepare_targets() {
         VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
         view.viewType = VK_IMAGE_VIEW_TYPE_2D;
         view.image = eyes_.image;
-        view.format = colour_format;
+        view.format = options_.colour_format;
         view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, e, 1};
         IKEBANA_VK(vkCreateImageView(ctx_.device(), &view, nullptr, &eye_layer_[e]));
         view.image = depth_.image;
@@ -242,7 +244,7 @@ Result<void> StereoRenderer::prepare_targets() {
         view.subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, e, 1};
         IKEBANA_VK(vkCreateImageView(ctx_.device(), &view, nullptr, &depth_layer_[e]));
     }
-    auto output = create_image(ctx_, colour_format, output_extent(), 1,
+    auto output = create_image(ctx_, options_.colour_format, output_extent(), 1,
                                VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                                VK_IMAGE_ASPECT_COLOR_BIT);
     if (!output) return std::move(output).error();
@@ -373,8 +375,9 @@ Result<void> StereoRenderer::prepare_pipelines() {
     blend.attachmentCount = 1;
     blend.pAttachments = &blend_attachment;
     VkPipelineColorBlendStateCreateInfo no_blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    const VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO, nullptr, 0, 2, dynamic_states};
+    // Culling is set per batch (closed meshes cull their back faces; sheets do not).
+    const VkDynamicState dynamic_states[3] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR, VK_DYNAMIC_STATE_CULL_MODE};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO, nullptr, 0, 3, dynamic_states};
     auto stage = [](VkShaderStageFlagBits s, VkShaderModule m) {
         return VkPipelineShaderStageCreateInfo{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, s, m, "main", nullptr};
     };
@@ -383,7 +386,7 @@ Result<void> StereoRenderer::prepare_pipelines() {
     VkPipelineRenderingCreateInfo scene_rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
     scene_rendering.viewMask = 0b11;
     scene_rendering.colorAttachmentCount = 1;
-    scene_rendering.pColorAttachmentFormats = &colour_format;
+    scene_rendering.pColorAttachmentFormats = &options_.colour_format;
     scene_rendering.depthAttachmentFormat = depth_format;
     const VkPipelineShaderStageCreateInfo scene_stages[2] = {stage(VK_SHADER_STAGE_VERTEX_BIT, modules[0]), stage(VK_SHADER_STAGE_FRAGMENT_BIT, modules[1])};
     VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
@@ -423,7 +426,7 @@ Result<void> StereoRenderer::prepare_pipelines() {
     info.pColorBlendState = &no_blend;
     IKEBANA_VK(vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &shadow_pipeline_));
 
-    auto composite = make_composite_pipeline(colour_format);
+    auto composite = make_composite_pipeline(options_.colour_format);
     if (!composite) return std::move(composite).error();
     composite_pipeline_ = *composite;
     return Ok{};
@@ -574,6 +577,7 @@ Result<void> StereoRenderer::prepare_builtin_meshes() {
     for (const auto& data : {cube_mesh(), cylinder_mesh(), coarse, plane_mesh(), assets::placeholder_mesh()}) {
         auto m = upload(data);
         if (!m) return std::move(m).error();
+        m->closed = data.name == "cube" || data.name == "cylinder" || data.name == "cylinder_coarse";
         meshes_[data.name == "placeholder" || data.name.empty() ? "placeholder" : data.name] = *m;
     }
     if (!meshes_.contains("placeholder")) meshes_["placeholder"] = meshes_.rbegin()->second;
@@ -607,7 +611,7 @@ Result<StereoRenderer::Frame*> StereoRenderer::begin_frame(const DrawList& list,
         if (batch.instances.empty()) continue;
         auto m = mesh(batch.mesh);
         if (!m) return std::move(m).error();
-        draws_.emplace_back(*m, static_cast<std::uint32_t>(batch.instances.size()));
+        draws_.push_back({*m, static_cast<std::uint32_t>(batch.instances.size()), batch.casts_shadow});
         instances.insert(instances.end(), batch.instances.begin(), batch.instances.end());
     }
     const VkDeviceSize needed = std::max<VkDeviceSize>(1, instances.size()) * sizeof(MeshInstance);
@@ -641,9 +645,9 @@ Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoR
     auto begun = begin_frame(list, rig);
     if (!begun) return std::move(begun).error();
     Frame& frame = **begun;
-    auto overlay = overlay_pipeline_for(colour_format);
+    auto overlay = overlay_pipeline_for(options_.colour_format);
     if (!overlay) return std::move(overlay).error();
-    record(frame, list, draws_, {output_.image, output_.view, output_.extent, composite_pipeline_, *overlay, true, with_eyes, false, true});
+    record(frame, list, draws_, {output_.image, output_.view, output_.extent, composite_pipeline_, *overlay, true, with_eyes, false, true, options_.colour_format});
     IKEBANA_VK(vkEndCommandBuffer(frame.cmd));
     IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
     RenderedFrame out;
@@ -661,11 +665,12 @@ Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoR
 
     const auto copied = std::chrono::steady_clock::now();
     const VkExtent2D o = output_.extent;
-    read_back(frame, out.composed, o, 0, false);
+    const bool bgra = options_.colour_format == VK_FORMAT_B8G8R8A8_UNORM;
+    read_back(frame, out.composed, o, 0, bgra);
     if (with_eyes) {
         const std::size_t eye_bytes = 4ull * options_.eye_width * options_.eye_height;
-        read_back(frame, out.left, eyes_.extent, 4ull * o.width * o.height, false);
-        read_back(frame, out.right, eyes_.extent, 4ull * o.width * o.height + eye_bytes, false);
+        read_back(frame, out.left, eyes_.extent, 4ull * o.width * o.height, bgra);
+        read_back(frame, out.right, eyes_.extent, 4ull * o.width * o.height + eye_bytes, bgra);
     }
     out.timing.readback_ms = ms_since(copied);
     return out;
@@ -692,7 +697,7 @@ void StereoRenderer::read_back(const Frame& frame, RgbaImage& img, VkExtent2D ex
 }
 
 Result<VkPipeline> StereoRenderer::composite_pipeline_for(VkFormat format) {
-    if (format == colour_format) return composite_pipeline_;
+    if (format == options_.colour_format) return composite_pipeline_;
     return cached_pipeline(window_composite_, format, &StereoRenderer::make_composite_pipeline);
 }
 
@@ -736,7 +741,7 @@ Result<PresentedFrame> StereoRenderer::present(Swapchain& swapchain, const DrawL
     const bool copy = screenshot && swapchain.can_copy_from();
     auto overlay = overlay_pipeline_for(swapchain.format());
     if (!overlay) return std::move(overlay).error();
-    record(frame, list, draws_, {swapchain.image(index), swapchain.view(index), window, *pipeline, *overlay, copy, false, true, swapchain.can_copy_to()});
+    record(frame, list, draws_, {swapchain.image(index), swapchain.view(index), window, *pipeline, *overlay, copy, false, true, swapchain.can_copy_to(), swapchain.format()});
     IKEBANA_VK(vkEndCommandBuffer(frame.cmd));
     IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
     result.timing.record_ms = ms_since(started);
@@ -771,20 +776,23 @@ Result<PresentedFrame> StereoRenderer::present(Swapchain& swapchain, const DrawL
     return result;
 }
 
-void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vector<std::pair<Mesh*, std::uint32_t>>& draws, const CompositeTarget& target) {
+void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vector<Draw>& draws, const CompositeTarget& target) {
     const bool with_eyes = target.with_eyes;
     VkCommandBuffer cmd = frame.cmd;
-    auto draw_all = [&] {
+    auto draw_all = [&](bool shadow_casters_only) {
         VkDeviceSize zero = 0;
         std::uint32_t first = 0;
-        for (const auto& [m, count] : draws) {
+        for (const auto& d : draws) {
             // Each batch's instances from its offset in the frame's instance buffer.
-            VkBuffer buffers[2] = {m->vertices.buffer, frame.instances.buffer};
-            VkDeviceSize offsets[2] = {zero, first * sizeof(MeshInstance)};
-            vkCmdBindVertexBuffers(cmd, 0, 2, buffers, offsets);
-            vkCmdBindIndexBuffer(cmd, m->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
-            vkCmdDrawIndexed(cmd, m->index_count, count, 0, 0, 0);
-            first += count;
+            if (!shadow_casters_only || d.casts_shadow) {
+                VkBuffer buffers[2] = {d.mesh->vertices.buffer, frame.instances.buffer};
+                VkDeviceSize offsets[2] = {zero, first * sizeof(MeshInstance)};
+                vkCmdBindVertexBuffers(cmd, 0, 2, buffers, offsets);
+                vkCmdBindIndexBuffer(cmd, d.mesh->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+                vkCmdSetCullMode(cmd, d.mesh->closed ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE);
+                vkCmdDrawIndexed(cmd, d.mesh->index_count, d.instances, 0, 0, 0);
+            }
+            first += d.instances;
         }
     };
     auto set_viewport = [&](VkExtent2D e) {
@@ -818,7 +826,7 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
     const std::int32_t no_eye = 0;
     vkCmdPushConstants(cmd, scene_pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof no_eye, &no_eye);
     set_viewport(shadow_.extent);
-    draw_all();
+    draw_all(true);
     vkCmdEndRendering(cmd);
     transition(cmd, shadow_.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
@@ -864,7 +872,7 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
         const std::int32_t base = pass;
         vkCmdPushConstants(cmd, scene_pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof base, &base);
         set_viewport(eyes_.extent);
-        draw_all();
+        draw_all(false);
         vkCmdEndRendering(cmd);
     }
     transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
@@ -895,8 +903,20 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
             regions[e].dstOffsets[0] = {x, 0, 0};
             regions[e].dstOffsets[1] = {x + w, h, 1};
         }
-        vkCmdBlitImage(cmd, eyes_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, count, regions,
-                       VK_FILTER_NEAREST);
+        if (target.format == options_.colour_format) {
+            // The same format: a plain copy (on lavapipe a memcpy, where a blit runs a shader).
+            VkImageCopy copies[2] = {};
+            for (std::uint32_t e = 0; e < count; ++e) {
+                copies[e].srcSubresource = regions[e].srcSubresource;
+                copies[e].dstSubresource = regions[e].dstSubresource;
+                copies[e].dstOffset = regions[e].dstOffsets[0];
+                copies[e].extent = {eyes_.extent.width, eyes_.extent.height, 1};
+            }
+            vkCmdCopyImage(cmd, eyes_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, count, copies);
+        } else {
+            vkCmdBlitImage(cmd, eyes_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, count, regions,
+                           VK_FILTER_NEAREST);
+        }
         transition(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                    VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                    VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);

@@ -41,6 +41,10 @@ struct RendererOptions {
     std::filesystem::path asset_dir;   // glTF mesh names are relative to it
     std::uint32_t frames_in_flight = 2;
     std::uint32_t shadow_map_size = 1024;
+    // The eyes' and the offscreen output's format: R8G8B8A8 or B8G8R8A8 (UNORM). A window should pass
+    // its swapchain's, so that side by side reaches it as a plain copy: on lavapipe a blit that swaps
+    // red and blue costs about 5 ms a frame at 2560x720.
+    VkFormat colour_format = VK_FORMAT_R8G8B8A8_UNORM;
     // Both eyes in one multiview pass, or one pass per eye. Automatic: multiview, except on lavapipe,
     // whose multiview (Mesa 22.3) loses triangles clipped at the frustum in the second view.
     enum class Multiview { automatic, on, off } multiview = Multiview::automatic;
@@ -95,6 +99,14 @@ private:
     struct Mesh {
         GpuBuffer vertices, indices;
         std::uint32_t index_count = 0;
+        // A closed surface (the built-in cube and cylinders): its back faces are never seen, so they
+        // are culled before lavapipe rasterises them. Petals and leaves are single sheets: no culling.
+        bool closed = false;
+    };
+    struct Draw {
+        Mesh* mesh;
+        std::uint32_t instances;
+        bool casts_shadow;
     };
     struct Frame {
         VkCommandBuffer cmd = VK_NULL_HANDLE;
@@ -117,6 +129,7 @@ private:
         bool with_eyes;
         bool present;
         bool blit; // the target takes transfers: side by side and mono are copied, not shaded
+        VkFormat format;
     };
 
     StereoRenderer(VulkanContext& ctx, const RendererOptions& options) : ctx_(ctx), options_(options) {}
@@ -130,7 +143,7 @@ private:
     Result<Mesh*> mesh(const std::string& name);
     Result<Mesh> upload(const assets::MeshData& data);
     Result<Frame*> begin_frame(const DrawList& list, const StereoRig& rig);
-    void record(Frame& frame, const DrawList& list, const std::vector<std::pair<Mesh*, std::uint32_t>>& draws, const CompositeTarget& target);
+    void record(Frame& frame, const DrawList& list, const std::vector<Draw>& draws, const CompositeTarget& target);
     void read_back(const Frame& frame, RgbaImage& image, VkExtent2D extent, std::size_t offset, bool bgra) const;
     Result<VkPipeline> make_screen_pipeline(VkFormat format, const char* shader, const VkPipelineVertexInputStateCreateInfo& input,
                                             const VkPipelineColorBlendAttachmentState& blend, VkPipelineLayout layout);
@@ -158,7 +171,7 @@ private:
     VkPipelineLayout scene_pipeline_layout_ = VK_NULL_HANDLE, composite_pipeline_layout_ = VK_NULL_HANDLE;
     VkPipeline scene_pipeline_ = VK_NULL_HANDLE, per_eye_pipeline_ = VK_NULL_HANDLE, shadow_pipeline_ = VK_NULL_HANDLE, composite_pipeline_ = VK_NULL_HANDLE;
     std::map<std::string, Mesh> meshes_;
-    std::vector<std::pair<Mesh*, std::uint32_t>> draws_;
+    std::vector<Draw> draws_;
     std::map<VkFormat, VkPipeline> window_composite_;
     std::map<VkFormat, VkPipeline> overlay_pipelines_;
     VkPipelineLayout overlay_layout_ = VK_NULL_HANDLE;

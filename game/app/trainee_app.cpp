@@ -20,6 +20,7 @@
 #include "engine/render/stereo_renderer.hpp"
 #include "engine/render/swapchain.hpp"
 #include "engine/sched/clocks.hpp"
+#include "engine/sched/rates.hpp"
 #include "game/asset_paths.hpp"
 #include "game/cli/render_command.hpp"
 #include "game/app/hud.hpp"
@@ -83,6 +84,14 @@ int run_trainee_app(const TraineeAppOptions& o) {
         std::cerr << "ikebana: " << env.error().message << "\n";
         return 2;
     }
+    // Rates are checked before anything opens, so that a bad one is an error with or without a display.
+    for (const auto& assignment : o.rates) {
+        sched::RateTable rates = sched::RateTable::paper_defaults();
+        if (auto r = rates.set_from_string(assignment); !r) {
+            std::cerr << "ikebana: --rate: " << r.error().message << "\n";
+            return 2;
+        }
+    }
     // Devices first: what the trainee holds decides how the hands move.
     std::array<std::unique_ptr<devices::HapticDevice>, 2> picked;
     HudInfo hud;
@@ -140,6 +149,8 @@ int run_trainee_app(const TraineeAppOptions& o) {
         ro.asset_dir = asset_dir();
         ro.eye_width = std::max(1u, *render_mode == render::StereoMode::side_by_side ? o.width / 2 : o.width);
         ro.eye_height = std::max(1u, o.height);
+        // The eyes in the window's own format: side by side then reaches it as a plain copy.
+        if ((*swapchain)->format() == VK_FORMAT_B8G8R8A8_UNORM || (*swapchain)->format() == VK_FORMAT_R8G8B8A8_UNORM) ro.colour_format = (*swapchain)->format();
         auto renderer = render::StereoRenderer::create(**ctx, ro);
         if (!renderer) {
             std::cerr << "ikebana: " << renderer.error().message << "\n";
@@ -265,7 +276,7 @@ int run_trainee_app(const TraineeAppOptions& o) {
         trainee_frame.after = {std::string(systems::ReceiveFrameSystem::name)};
         trainee_frame.run = frame_fn;
 
-        auto world = World::create(*scene, WorldOptions{.rate_overrides = {}, .force_scheme = {}, .main_lane_systems = {trainee_frame}});
+        auto world = World::create(*scene, WorldOptions{.rate_overrides = o.rates, .force_scheme = {}, .main_lane_systems = {trainee_frame}});
         if (!world) {
             std::cerr << "ikebana: " << world.error().message << "\n";
             return 2;

@@ -23,6 +23,7 @@ struct TraineeAppOptions {
     std::string left_device = "auto";
     std::string right_device = "auto";
     std::vector<std::string> env;
+    std::vector<std::string> rates; // "name=hz" over the scene's rates (render=60: frames at 60 Hz)
     std::string stereo;         // empty: the scene's "display"
     std::uint32_t width = 1280; // the window
     std::uint32_t height = 720;

@@ -170,3 +170,49 @@ TEST_F(StereoRendererTest, MultiviewPassDrawsWhatTwoPassesDraw) {
     }
     EXPECT_EQ(shared_context()->validation_errors(), 0u);
 }
+
+// A window's renderer draws in the swapchain's B8G8R8A8; what it reads back is the same picture.
+TEST_F(StereoRendererTest, BgraEyesGiveTheSamePictureAsRgba) {
+    const auto list = two_cubes();
+    auto rgba_options = sized(160, 96);
+    auto bgra_options = rgba_options;
+    bgra_options.colour_format = VK_FORMAT_B8G8R8A8_UNORM;
+    auto rgba = StereoRenderer::create(*shared_context(), rgba_options);
+    auto bgra = StereoRenderer::create(*shared_context(), bgra_options);
+    ASSERT_TRUE(rgba && bgra);
+    const auto a = (*rgba)->render(list, StereoRig{}, true);
+    const auto b = (*bgra)->render(list, StereoRig{}, true);
+    ASSERT_TRUE(a && b);
+    for (auto image : {&RenderedFrame::composed, &RenderedFrame::left}) {
+        const auto d = compare_images((*a).*image, (*b).*image);
+        ASSERT_TRUE(d);
+        EXPECT_LT(d->mean_abs, 0.01) << "red stays red";
+    }
+    auto bad = sized(16, 16);
+    bad.colour_format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    EXPECT_FALSE(StereoRenderer::create(*shared_context(), bad)) << "only the two 8-bit layouts";
+    EXPECT_EQ(shared_context()->validation_errors(), 0u);
+}
+
+// Pins (and anything else marked so) stay out of the shadow pass, and closed meshes cull their back
+// faces: the picture of a closed cube is the same either way.
+TEST_F(StereoRendererTest, BatchesThatCastNoShadowLeaveNone) {
+    DrawList lit;
+    lit.batch("plane").instances = {{glm::mat4(glm::vec4(2, 0, 0, 0), glm::vec4(0, 2, 0, 0), glm::vec4(0, 0, 1, 0), glm::vec4(0, 0, 0, 1)),
+                                     {0.8f, 0.8f, 0.75f, 1}}};
+    lit.batch("cube").instances = {cube_at({0.0f, 0.0f, 0.06f}, 0.05f, {0.2f, 0.6f, 0.2f, 1})};
+    DrawList unshadowed = lit;
+    unshadowed.batch("cube").casts_shadow = false;
+    auto renderer = StereoRenderer::create(*shared_context(), sized(160, 96));
+    ASSERT_TRUE(renderer);
+    const auto with_shadow = (*renderer)->render(lit, StereoRig{}, false);
+    const auto without = (*renderer)->render(unshadowed, StereoRig{}, false);
+    ASSERT_TRUE(with_shadow && without);
+    auto brightness = [](const RgbaImage& img) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < img.pixels.size(); i += 4) sum += img.pixels[i] + img.pixels[i + 1] + img.pixels[i + 2];
+        return sum;
+    };
+    EXPECT_GT(brightness(without->composed), brightness(with_shadow->composed) * 1.001) << "no shadow on the plane: brighter";
+    EXPECT_EQ(shared_context()->validation_errors(), 0u);
+}
