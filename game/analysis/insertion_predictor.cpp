@@ -10,7 +10,7 @@
 #include "components/kenzan.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/clocks.hpp"
-#include "game/kenzan/kenzan_layout.hpp"
+#include "game/experiment/insertion_experiment.hpp"
 #include "game/species/species.hpp"
 #include "game/world/world.hpp"
 
@@ -91,21 +91,17 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
     if (const auto it = cache_.find(key); it != cache_.end()) return it->second;
     if (c.insertion < 1) return make_error(ErrorCode::invalid_argument, "insertion must be 1 or more");
 
-    auto kenzan_def = load_kenzan(kenzan_);
-    if (!kenzan_def) return std::move(kenzan_def).error();
-    SceneDef scene{};
-    scene.seed = 1;
-    scene.gravity_m_s2 = {0.0, 0.0, -9.80665};
-    scene.kenzan_layout = kenzan_;
-    scene.kenzan_position_m = {0.0, 0.0, kenzan_def->base_thickness_m};
+    // Only the covariates this species' terms read: the rest would make no difference.
+    systems::insertion::Covariates environment;
     for (const auto& [name, v] : c.covariates.numeric) {
-        if (used.contains(name)) scene.environment.numeric[name] = v;
+        if (used.contains(name)) environment.numeric[name] = v;
     }
     for (const auto& [name, v] : c.covariates.category) {
-        if (used.contains(name)) scene.environment.category[name] = v;
+        if (used.contains(name)) environment.category[name] = v;
     }
-    scene.flowers.push_back({c.species, game::Placement::lying, {0.3, 0.0, 0.0}, {1.0, 0.0, 0.0}, 0.0});
-    auto world = World::create(scene);
+    auto scene = experiment_bench_scene(c.species, kenzan_, 1, std::move(environment));
+    if (!scene) return std::move(scene).error();
+    auto world = World::create(*scene);
     if (!world) return std::move(world).error();
     World& w = **world;
     auto& r = w.sim;

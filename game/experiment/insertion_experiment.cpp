@@ -41,19 +41,26 @@ void run_until(sched::DeterministicClock& clock, F&& done, double limit_s) {
 
 } // namespace
 
-Result<TrialResult> run_insertion_trial(const ExperimentOptions& o, std::uint64_t trial_seed, bool stop_at_fall,
-                                        std::optional<bool> force_broken) {
-    auto kenzan = load_kenzan(o.kenzan);
+Result<SceneDef> experiment_bench_scene(const std::string& species, const std::string& kenzan_layout, std::uint64_t seed,
+                                        systems::insertion::Covariates environment) {
+    auto kenzan = load_kenzan(kenzan_layout);
     if (!kenzan) return std::move(kenzan).error();
     SceneDef scene{};
-    scene.seed = trial_seed;
+    scene.seed = seed;
     scene.gravity_m_s2 = {0.0, 0.0, -9.80665};
     scene.table_height_m = 0.0;
-    scene.kenzan_layout = o.kenzan;
+    scene.kenzan_layout = kenzan_layout;
     scene.kenzan_position_m = {0.0, 0.0, kenzan->base_thickness_m};
-    scene.environment = o.environment;
-    scene.flowers.push_back({o.species, Placement::lying, {0.3, 0.0, 0.0}, {1.0, 0.0, 0.0}, 0.0});
-    auto world = World::create(scene);
+    scene.environment = std::move(environment);
+    scene.flowers.push_back({species, Placement::lying, {0.3, 0.0, 0.0}, {1.0, 0.0, 0.0}, 0.0});
+    return scene;
+}
+
+Result<TrialResult> run_insertion_trial(const ExperimentOptions& o, std::uint64_t trial_seed, bool stop_at_fall,
+                                        std::optional<bool> force_broken) {
+    auto scene = experiment_bench_scene(o.species, o.kenzan, trial_seed, o.environment);
+    if (!scene) return std::move(scene).error();
+    auto world = World::create(*scene);
     if (!world) return std::move(world).error();
     World& w = **world;
     auto& r = w.sim;

@@ -13,6 +13,7 @@
 #include "engine/core/result.hpp"
 #include <glm/glm.hpp>
 
+#include "game/scene/scene.hpp"
 #include "game/species/species.hpp"
 #include "systems/insertion/deterioration.hpp"
 
@@ -75,6 +76,12 @@ struct ExperimentResult {
 };
 
 using ExperimentProgress = std::function<void(std::uint32_t trial, std::uint32_t of)>;
+
+// The experiment's bench: a kenzan of `kenzan_layout` standing on the table at the origin, and one
+// flower of `species` lying 30 cm beside it for the scripted hand to pick up. The trials and the
+// predictor of measured data both simulate insertions on it.
+Result<SceneDef> experiment_bench_scene(const std::string& species, const std::string& kenzan_layout, std::uint64_t seed,
+                                        systems::insertion::Covariates environment);
 
 Result<ExperimentResult> run_insertion_experiment(const ExperimentOptions& options, const ExperimentProgress& progress = {});
 
