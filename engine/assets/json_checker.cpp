@@ -74,6 +74,15 @@ std::optional<Json> JsonChecker::parse(std::string_view text) {
     }
 }
 
+std::optional<Json> JsonChecker::parse_object(std::string_view text) {
+    auto root = parse(text);
+    if (root && !root->is_object()) {
+        problem("", "expected an object at the top, got " + describe(*root));
+        return std::nullopt;
+    }
+    return root;
+}
+
 std::optional<double> JsonChecker::number(const Json& object, const std::string& path, const char* key,
                                           NumberRange range, bool required) {
     const auto it = object.find(key);

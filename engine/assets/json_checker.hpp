@@ -31,6 +31,8 @@ public:
 
     // Parses text; a syntax error is recorded with its line and column.
     std::optional<Json> parse(std::string_view text);
+    // The same, for files whose top is an object (every format of ours): anything else is a problem.
+    std::optional<Json> parse_object(std::string_view text);
 
     // Field accessors. `path` is the JSON pointer of `object`; missing optional fields give nullopt
     // without a problem, missing required ones record one.

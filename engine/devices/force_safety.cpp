@@ -13,12 +13,21 @@ std::int64_t monotonic_ns() {
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
 }
+} // namespace
+
+std::int64_t monotonic_us() noexcept { return monotonic_ns() / 1000; }
+
+namespace {
 bool finite(glm::dvec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 } // namespace
 
 void ForceSafety::reset() noexcept {
     output_ = glm::dvec3{0.0};
     started_ = false;
+}
+
+void ForceSafety::limit_max_force(double max_force_n) noexcept {
+    if (max_force_n > 0.0 && max_force_n < config_.max_force_n) config_.max_force_n = max_force_n;
 }
 
 glm::dvec3 ForceSafety::filter(glm::dvec3 requested, std::int64_t now_us) {

@@ -6,6 +6,9 @@
 //  - the change per second is limited (no step larger than max_rate * dt);
 //  - output ramps up from zero over ramp_up at start and again after any stall;
 //  - if the previous call is more than `watchdog` ago (the loop stalled), the output restarts at zero.
+// The times it is given must be wall-clock times (SafeForceDevice passes the monotonic clock): the
+// simulation's timeline cannot see a stall, because the firings that catch up after one are still 1 ms
+// apart on it.
 // And ForceWatchdog, on its own thread, sends zero to the device if the haptic loop goes silent for
 // longer than `watchdog` (default 2 ms), because a stalled loop cannot zero anything itself.
 #include <atomic>
@@ -16,6 +19,9 @@
 #include <glm/glm.hpp>
 
 namespace ikebana::devices {
+
+// CLOCK_MONOTONIC in microseconds: the wall clock every force safety decision is made on.
+[[nodiscard]] std::int64_t monotonic_us() noexcept;
 
 struct ForceSafetyConfig {
     double max_force_n = 3.0;
@@ -37,11 +43,14 @@ public:
 
     // The force to send now for this request.
     glm::dvec3 filter(glm::dvec3 requested_n, std::int64_t now_us);
-    // Back to zero with a fresh ramp (a device re-attached, a hand released).
+    // Back to zero with a fresh ramp (a device re-attached, the watchdog zeroed the device).
     void reset() noexcept;
+    // Tightens (never loosens) the maximum: a device may report a lower limit of its own.
+    void limit_max_force(double max_force_n) noexcept;
 
     [[nodiscard]] const ForceSafetyCounters& counters() const noexcept { return counters_; }
     [[nodiscard]] glm::dvec3 last_output() const noexcept { return output_; }
+    [[nodiscard]] const ForceSafetyConfig& config() const noexcept { return config_; }
 
 private:
     ForceSafetyConfig config_;

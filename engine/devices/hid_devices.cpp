@@ -1,6 +1,7 @@
 #include "engine/devices/hid_devices.hpp"
 
 #include <array>
+#include <cmath>
 
 namespace ikebana::devices {
 
@@ -8,6 +9,9 @@ DeviceMatch match_hid_device(const HidDeviceInfo& info) {
     if (const auto p = find_spacemouse_profile(info.vendor_id, info.product_id)) return {DeviceMatch::Kind::spacemouse, p->name};
     if (info.vendor_id == diy_vendor_id && info.product_id == diy_product_id) {
         return {DeviceMatch::Kind::diy_force, "DIY force-feedback device (protocol v1)"};
+    }
+    if (info.vendor_id == woodenhaptics_vendor_id && info.product_id == woodenhaptics_product_id) {
+        return {DeviceMatch::Kind::woodenhaptics, "WoodenHaptics (raw HID)"};
     }
     return {};
 }
@@ -30,11 +34,11 @@ Result<DeviceSample> SpaceMouseDevice::poll(std::int64_t now_us) {
     return parser_.sample(now_us);
 }
 
-DiyForceDevice::DiyForceDevice(std::unique_ptr<HidTransport> transport, ForceSafetyConfig safety)
-    : transport_(std::move(transport)), safety_(safety), safety_config_(safety) {
+DiyForceDevice::DiyForceDevice(std::unique_ptr<HidTransport> transport, double max_force_n)
+    : transport_(std::move(transport)), max_force_n_(max_force_n) {
     caps_.name = "DIY force-feedback device";
     caps_.has_force_output = true;
-    caps_.max_force_n = safety.max_force_n;
+    caps_.max_force_n = max_force_n;
     caps_.workspace_half_extent_m = glm::dvec3{0.08};
     caps_.reports_position = true;
 }
@@ -54,11 +58,9 @@ Result<DeviceSample> DiyForceDevice::poll(std::int64_t now_us) {
         // The device's own limit tightens ours (never loosens it).
         if (last_.max_force_n > 0.0 && last_.max_force_n < caps_.max_force_n) {
             caps_.max_force_n = last_.max_force_n;
-            safety_config_.max_force_n = last_.max_force_n;
-            safety_ = ForceSafety(safety_config_);
+            max_force_n_.store(last_.max_force_n);
         }
     }
-    last_poll_us_ = now_us;
     DeviceSample s;
     s.time_us = now_us;
     s.position = glm::dvec3(last_.position_um) * 1e-6;
@@ -68,7 +70,10 @@ Result<DeviceSample> DiyForceDevice::poll(std::int64_t now_us) {
 }
 
 Result<void> DiyForceDevice::send_force(glm::dvec3 force_n) {
-    const glm::dvec3 safe = safety_.filter(force_n, last_poll_us_);
+    const bool finite = std::isfinite(force_n.x) && std::isfinite(force_n.y) && std::isfinite(force_n.z);
+    glm::dvec3 safe = finite ? force_n : glm::dvec3{0.0};
+    const double limit = max_force_n_.load();
+    if (const double magnitude = glm::length(safe); magnitude > limit) safe *= limit / magnitude;
     const auto bytes = diy::encode_force(diy::ForceReport{static_cast<std::uint16_t>(outbound_.fetch_add(1) + 1), safe, true, 2});
     return transport_->write(bytes);
 }

@@ -6,10 +6,10 @@
 #include <optional>
 
 #include "engine/devices/diy_protocol.hpp"
-#include "engine/devices/force_safety.hpp"
 #include "engine/devices/haptic_device.hpp"
 #include "engine/devices/hid_transport.hpp"
 #include "engine/devices/spacemouse.hpp"
+#include "engine/devices/woodenhaptics.hpp"
 
 namespace ikebana::devices {
 
@@ -19,7 +19,7 @@ inline constexpr std::uint16_t diy_product_id = 0x1d3a;
 
 // Which profile, if any, a HID device matches: for `ikebana devices` and automatic selection.
 struct DeviceMatch {
-    enum class Kind { spacemouse, diy_force, unknown } kind = Kind::unknown;
+    enum class Kind { spacemouse, diy_force, woodenhaptics, unknown } kind = Kind::unknown;
     std::string profile;
 };
 [[nodiscard]] DeviceMatch match_hid_device(const HidDeviceInfo& info);
@@ -41,30 +41,28 @@ private:
 
 class DiyForceDevice final : public HapticDevice {
 public:
-    DiyForceDevice(std::unique_ptr<HidTransport> transport, ForceSafetyConfig safety = {});
+    // The ramp, rate limit and stall handling are SafeForceDevice's, which wraps every force device
+    // before a hand gets it; this device only refuses to encode more than its limit or a NaN.
+    explicit DiyForceDevice(std::unique_ptr<HidTransport> transport, double max_force_n = 3.0);
     [[nodiscard]] const DeviceCapabilities& capabilities() const override { return caps_; }
     Result<DeviceSample> poll(std::int64_t now_us) override;
-    // Passes the force through ForceSafety (clamped also to the device's own reported maximum) and
-    // sends it with the next sequence number.
+    // Sends the force (clamped to the device's limit, non-finite as zero) with the next sequence number.
     Result<void> send_force(glm::dvec3 force_n) override;
     // Zero force, motors still enabled: what the watchdog sends. Safe from another thread.
     Result<void> send_zero();
     Result<void> zero_force() override { return send_zero(); }
 
     [[nodiscard]] const diy::SequenceTracker& sequence() const noexcept { return inbound_; }
-    [[nodiscard]] const ForceSafety& safety() const noexcept { return safety_; }
     [[nodiscard]] std::uint64_t reports_refused() const noexcept { return refused_; }
     [[nodiscard]] std::uint8_t last_status() const noexcept { return last_.status; }
 
 private:
     std::unique_ptr<HidTransport> transport_;
-    ForceSafety safety_;
-    ForceSafetyConfig safety_config_;
+    std::atomic<double> max_force_n_; // read by the sender, tightened by poll()
     diy::SequenceTracker inbound_;
     diy::StateReport last_{};
     std::atomic<std::uint16_t> outbound_{0};
     std::uint64_t refused_ = 0;
-    std::int64_t last_poll_us_ = 0;
     DeviceCapabilities caps_;
 };
 

@@ -30,6 +30,8 @@ Result<DeviceSample> ReconnectingDevice::poll(std::int64_t now_us) {
 }
 
 Result<void> ReconnectingDevice::send_force(glm::dvec3 force_n) {
+    // The same lock as zero_force(): the watchdog's zero and this force must not interleave on the wire.
+    std::lock_guard lock(inner_mutex_);
     if (!inner_) return {}; // nothing to push against: the hand is released and its force zero
     return inner_->send_force(force_n);
 }

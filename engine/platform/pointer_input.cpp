@@ -36,13 +36,13 @@ PointerState GlfwPointerSource::read() {
 }
 
 void SharedPointerSource::store(const PointerState& state) {
-    const std::lock_guard lock(mutex_);
-    state_ = state;
+    buffer_.write_buffer() = state;
+    buffer_.publish();
 }
 
 PointerState SharedPointerSource::read() {
-    const std::lock_guard lock(mutex_);
-    return state_;
+    buffer_.update();
+    return buffer_.read_buffer();
 }
 
 } // namespace ikebana::platform

@@ -2,9 +2,10 @@
 // The mouse and keyboard as the window sees them, read once per tick. The GLFW reader is the only
 // part that needs a window; everything that turns it into hands takes a PointerSource.
 #include <cstdint>
-#include <mutex>
 
 #include <glm/glm.hpp>
+
+#include "engine/sched/triple_buffer.hpp"
 
 struct GLFWwindow;
 
@@ -47,15 +48,16 @@ private:
 
 // The pointer handed across threads: GLFW may only be read on the main thread, but the hands are read
 // by the simulation's own 1 kHz thread. The main thread stores what it read each frame; the hands read
-// the latest (the cursor moves in frame-sized steps, as it did when the window read it).
+// the latest (the cursor moves in frame-sized steps, as it did when the window read it). Lock-free (a
+// triple buffer): the SCHED_FIFO haptic thread must never wait on the main thread. One storing thread,
+// one reading thread.
 class SharedPointerSource final : public PointerSource {
 public:
     void store(const PointerState& state);
     [[nodiscard]] PointerState read() override;
 
 private:
-    std::mutex mutex_;
-    PointerState state_{};
+    sched::TripleBuffer<PointerState> buffer_;
 };
 
 } // namespace ikebana::platform

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "engine/devices/hid_devices.hpp"
+#include "game/devices/hand_device_selection.hpp"
 
 namespace ikebana::game {
 
@@ -23,6 +24,13 @@ void add_devices_command(CLI::App& app, int& exit_code) {
             std::printf("%04x:%04x  %-28s %-24s %s\n", d.vendor_id, d.product_id,
                         match.kind == devices::DeviceMatch::Kind::unknown ? "(no profile)" : match.profile.c_str(),
                         d.product.c_str(), d.path.c_str());
+            if (match.kind == devices::DeviceMatch::Kind::woodenhaptics) {
+                // Its geometry is a file on the host: say which one and whether it reads.
+                const auto file = woodenhaptics_profile_path();
+                const auto profile = devices::load_woodenhaptics_profile(file);
+                if (profile) std::printf("           profile \"%s\" from %s\n", profile->name.c_str(), file.string().c_str());
+                else std::printf("           profile %s does not load:\n%s\n", file.string().c_str(), profile.error().message.c_str());
+            }
         }
         std::printf("%zu HID device(s), %zu usable as hands%s\n", found->size(), usable,
                     usable == 0 ? "; the app falls back to mouse and keyboard" : "");

@@ -1,6 +1,7 @@
 #include "game/devices/hand_device_selection.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 
 #include "engine/devices/hid_devices.hpp"
 #include "engine/devices/reconnecting_device.hpp"
@@ -18,6 +19,14 @@ Result<std::unique_ptr<devices::HapticDevice>> open_hid(const devices::HidDevice
     if (match.kind == devices::DeviceMatch::Kind::diy_force) {
         return std::unique_ptr<devices::HapticDevice>(std::make_unique<devices::DiyForceDevice>(std::move(transport).value()));
     }
+    if (match.kind == devices::DeviceMatch::Kind::woodenhaptics) {
+        // Its kinematics live on the host, so the geometry comes from a profile file: the builder's
+        // own measurements if they gave one, else the published design's.
+        auto profile = devices::load_woodenhaptics_profile(woodenhaptics_profile_path());
+        if (!profile) return std::move(profile).error();
+        return std::unique_ptr<devices::HapticDevice>(
+            std::make_unique<devices::WoodenHapticsDevice>(std::move(transport).value(), std::move(profile).value()));
+    }
     if (match.kind == devices::DeviceMatch::Kind::spacemouse) {
         return std::unique_ptr<devices::HapticDevice>(std::make_unique<devices::SpaceMouseDevice>(
             std::move(transport).value(), *devices::find_spacemouse_profile(info.vendor_id, info.product_id)));
@@ -26,11 +35,15 @@ Result<std::unique_ptr<devices::HapticDevice>> open_hid(const devices::HidDevice
                                                    std::to_string(info.product_id));
 }
 
+bool pushes(devices::DeviceMatch::Kind kind) {
+    return kind == devices::DeviceMatch::Kind::diy_force || kind == devices::DeviceMatch::Kind::woodenhaptics;
+}
+
 OpenedDevice reconnecting(const devices::HidDeviceInfo& info) {
     const auto match = devices::match_hid_device(info);
     devices::DeviceCapabilities expected;
     expected.name = match.profile;
-    expected.has_force_output = match.kind == devices::DeviceMatch::Kind::diy_force;
+    expected.has_force_output = pushes(match.kind);
     expected.reports_position = expected.has_force_output;
     auto device = std::make_unique<devices::ReconnectingDevice>(
         [info]() -> Result<std::unique_ptr<devices::HapticDevice>> {
@@ -47,6 +60,11 @@ OpenedDevice reconnecting(const devices::HidDeviceInfo& info) {
 }
 
 } // namespace
+
+std::filesystem::path woodenhaptics_profile_path() {
+    if (const char* env = std::getenv("IKEBANA_WOODENHAPTICS_PROFILE"); env && *env) return env;
+    return asset_dir() / "devices" / "woodenhaptics.json";
+}
 
 Result<OpenedDevice> open_hand_device(const std::string& spec, std::uint8_t hand) {
     if (spec == "none") return OpenedDevice{nullptr, "none"};
@@ -74,9 +92,9 @@ Result<OpenedDevice> open_hand_device(const std::string& spec, std::uint8_t hand
         for (const auto& d : *found) {
             if (devices::match_hid_device(d).kind != devices::DeviceMatch::Kind::unknown) usable.push_back(d);
         }
+        // Force devices (DIY, WoodenHaptics) first: a hand that can feel the stem beats one that cannot.
         std::stable_sort(usable.begin(), usable.end(), [](const auto& a, const auto& b) {
-            return devices::match_hid_device(a).kind == devices::DeviceMatch::Kind::diy_force &&
-                   devices::match_hid_device(b).kind != devices::DeviceMatch::Kind::diy_force;
+            return pushes(devices::match_hid_device(a).kind) && !pushes(devices::match_hid_device(b).kind);
         });
         if (hand < usable.size()) return reconnecting(usable[hand]);
         return OpenedDevice{nullptr, "none found"};

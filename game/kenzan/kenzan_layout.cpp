@@ -7,12 +7,8 @@ namespace ikebana::game {
 
 Result<components::Kenzan> parse_kenzan(std::string_view text, const std::string& label) {
     assets::JsonChecker c(label);
-    const auto root = c.parse(text);
+    const auto root = c.parse_object(text);
     if (!root) return c.error();
-    if (!root->is_object()) {
-        c.problem("", "expected an object at the top");
-        return c.error();
-    }
     c.no_unknown_keys(*root, "", {"format", "id", "name", "pitch_mm", "columns", "rows", "pin", "base_thickness_mm", "notes"});
     const auto format = c.string(*root, "", "format");
     if (format && *format != "ikebana-kenzan/1") c.problem("/format", "expected \"ikebana-kenzan/1\", got \"" + *format + "\"");

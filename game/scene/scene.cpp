@@ -25,12 +25,8 @@ std::optional<glm::dvec3> vec3(JsonChecker& c, const Json& object, const std::st
 
 Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
     JsonChecker c(label);
-    const auto root = c.parse(text);
+    const auto root = c.parse_object(text);
     if (!root) return c.error();
-    if (!root->is_object()) {
-        c.problem("", "expected an object at the top");
-        return c.error();
-    }
     c.no_unknown_keys(*root, "", {"format", "name", "seed", "rates_hz", "gravity_m_s2", "table_height_mm", "kenzan",
                                   "flowers", "hands", "environment", "force_scheme", "sample", "display", "notes"});
     const auto format = c.string(*root, "", "format");

@@ -207,12 +207,8 @@ void read_look(JsonChecker& c, const Json& root, SpeciesDef& out) {
 
 Result<SpeciesDef> parse_species(std::string_view text, const std::string& label) {
     JsonChecker c(label);
-    const auto root = c.parse(text);
+    const auto root = c.parse_object(text);
     if (!root) return c.error();
-    if (!root->is_object()) {
-        c.problem("", "expected an object at the top, got " + JsonChecker::describe(*root));
-        return c.error();
-    }
     c.no_unknown_keys(*root, "", {"format", "id", "name", "branch", "stem", "head", "parts", "resistance",
                                   "deterioration", "breakage", "look", "notes"});
     SpeciesDef out{};

@@ -19,6 +19,7 @@
 #include "systems/collision/collision_detection_system.hpp"
 #include "components/insertion.hpp"
 #include "components/hand.hpp"
+#include "engine/devices/safe_force_device.hpp"
 #include "engine/devices/scripted_device.hpp"
 #include "systems/haptics/bending_system.hpp"
 #include "systems/haptics/grab_system.hpp"
@@ -276,7 +277,8 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
 void World::attach_device(std::uint8_t hand, std::unique_ptr<devices::HapticDevice> device) {
     if (hand >= 2) return;
     auto* slots = sim.resource<systems::HandDevices>();
-    hand_devices[hand] = std::move(device);
+    // Every device that can push goes through the one safety layer, whoever opened it.
+    hand_devices[hand] = devices::make_force_safe(std::move(device));
     if (slots) slots->device[hand] = hand_devices[hand].get();
 }
 

@@ -6,35 +6,13 @@
 #include <vector>
 
 #include "engine/devices/hid_devices.hpp"
+#include "tests/support/fake_transport.hpp"
 
 using namespace ikebana;
 using namespace ikebana::devices;
 
 namespace {
-// A transport that replays fixture reports and records what is written.
-struct FakeTransport : HidTransport {
-    std::deque<std::vector<std::uint8_t>> inbound;
-    std::vector<std::vector<std::uint8_t>> written;
-    std::mutex mutex;
-    bool unplugged = false;
-
-    Result<std::size_t> read(std::span<std::uint8_t> buffer, int) override {
-        std::lock_guard lock(mutex);
-        if (unplugged) return make_error(ErrorCode::device_error, "fake: gone");
-        if (inbound.empty()) return std::size_t{0};
-        const auto report = inbound.front();
-        inbound.pop_front();
-        const std::size_t n = std::min(report.size(), buffer.size());
-        std::copy_n(report.begin(), n, buffer.begin());
-        return n;
-    }
-    Result<void> write(std::span<const std::uint8_t> report) override {
-        std::lock_guard lock(mutex);
-        if (unplugged) return make_error(ErrorCode::device_error, "fake: gone");
-        written.emplace_back(report.begin(), report.end());
-        return {};
-    }
-};
+using ikebana::test::FakeTransport;
 
 std::vector<std::uint8_t> state(std::uint16_t seq, glm::ivec3 position_um, std::uint16_t buttons, double max_force = 2.5) {
     const auto b = diy::encode_state(diy::StateReport{seq, 0, position_um, {0, 0, 0}, buttons, diy::status::motors_enabled, max_force});

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <thread>
+
 #include "engine/devices/mouse_keyboard_device.hpp"
 
 using namespace ikebana;
@@ -86,4 +89,30 @@ TEST(SharedPointer, ReadsWhatTheMainThreadStored) {
     EXPECT_EQ(got.cursor_px, s.cursor_px);
     EXPECT_TRUE(got.grab_button);
     EXPECT_EQ(got.arrows, s.arrows);
+}
+
+// The main thread stores while the 1 kHz thread reads, without a lock: every state read is one the
+// main thread stored whole (never half of two), and never an older one than read before.
+TEST(SharedPointer, CrossesThreadsWithoutTearingOrGoingBack) {
+    platform::SharedPointerSource shared;
+    std::atomic<bool> done{false};
+    std::thread main_thread([&] {
+        for (int i = 1; i <= 20000; ++i) {
+            platform::PointerState s;
+            s.cursor_px = {i, i};
+            s.scroll = i;
+            shared.store(s);
+        }
+        done.store(true);
+    });
+    double newest = 0.0;
+    while (!done.load()) {
+        const auto s = shared.read();
+        ASSERT_EQ(s.cursor_px.x, s.cursor_px.y);
+        ASSERT_EQ(s.cursor_px.x, s.scroll);
+        ASSERT_GE(s.scroll, newest);
+        newest = s.scroll;
+    }
+    main_thread.join();
+    EXPECT_EQ(shared.read().scroll, 20000.0);
 }
