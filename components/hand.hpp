@@ -24,16 +24,26 @@ struct WorkspaceMapping {
     double rate_speed_m_s;  // rate devices (a SpaceMouse): hand speed at a full push
 };
 
-struct HandState {
-    std::uint8_t hand;          // 0 left, 1 right
+// A hand is four components, one per step of the chain, each written by one system:
+// HandInput (hand_input: what the device said), HandProxy (hand_input: where the cube is), HandGrip
+// (grab: what it holds) and HandForce (the force systems: what it should feel).
+
+struct HandInput {
     bool connected;
     glm::dvec3 device_m;        // where the device puts the hand
-    glm::dvec3 proxy_m;         // where the hand cube is
-    glm::dvec3 slip_m_s;        // how fast the proxy moves relative to the device (coupling damping)
-    glm::dvec3 force_n;         // what the hand should feel (the device's safety chain comes after)
     glm::dvec3 rotation_rad;    // the device's rotation (roll, pitch, yaw); bending uses the roll
     std::uint32_t buttons;
     std::uint32_t previous_buttons;
+    std::uint64_t disconnects;  // times the device went away
+};
+
+// The hand cube as drawn and as it touches things: the device position, kept out of rigid things.
+struct HandProxy {
+    glm::dvec3 position_m;
+    glm::dvec3 slip_m_s;        // how fast the proxy moves relative to the device (coupling damping)
+};
+
+struct HandGrip {
     ecs::Entity held;           // the flower it holds, or null
     std::uint32_t held_point;   // which of its stem's mass points
     glm::dvec3 held_offset_m;   // where that point was relative to the cube when grabbed
@@ -44,7 +54,10 @@ struct HandState {
     bool holds_direction;
     std::uint32_t second_point;
     glm::dvec3 second_offset_m;
-    std::uint64_t disconnects;  // times the device went away
+};
+
+struct HandForce {
+    glm::dvec3 force_n;         // what the hand should feel (the device's safety layer comes after)
 };
 
 // Both-hand bending on one flower (paper Figures 6-8): set by bending_system while both hands bend it.

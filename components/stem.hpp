@@ -34,6 +34,13 @@ struct StemSprings {
     double air_drag_per_s;        // Rayleigh alpha: damps absolute motion (0 in momentum tests)
 };
 
+// The stem's own force on every point in this tick's physics step (springs, hinges, clamp, gravity; not
+// what other systems pushed): computed once by the physics, read by whatever else needs it (what a hand
+// holding the stem feels).
+struct StemLoads {
+    std::vector<glm::dvec3> force_n;
+};
+
 // A clamp of the stem bottom: the bottom point held and the first segment held along a direction by a
 // root hinge of stiffness 2 E I / l_1 (a fully built-in end; the factor 2 is the half segment between
 // the clamp and P1, the trapezoid rule that makes the chain match Euler-Bernoulli).

@@ -7,6 +7,7 @@ namespace ikebana::ecs {
 struct Entity;
 class Registry;
 class CommandBuffer;
+struct AccessMask;
 class SparseSet;
 template <typename T>
 class Storage;

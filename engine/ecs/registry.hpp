@@ -22,17 +22,32 @@
 #include "engine/ecs/entity.hpp"
 #include "engine/ecs/hierarchy.hpp"
 #include "engine/ecs/sparse_set.hpp"
+#include "engine/ecs/type_id.hpp"
 
 namespace ikebana::ecs {
 
 namespace detail {
-inline std::atomic<std::uint32_t> next_component_id{0};
 template <typename T>
 std::uint32_t component_id() {
-    static const std::uint32_t id = next_component_id.fetch_add(1);
-    return id;
+    return type_id<T>();
 }
 } // namespace detail
+
+// What the system running now declared it reads and writes, by type id: none, read, or write (which
+// includes reading). Set by the scheduler around each firing; nullptr outside systems (set-up, tests,
+// the command buffer), where nothing is checked.
+struct AccessMask {
+    enum : std::uint8_t { none = 0, read = 1, write = 2 };
+    std::string system;
+    std::vector<std::uint8_t> by_type;
+};
+
+// An access the running system did not declare: a programming error, found by the first test or run
+// that reaches it, never a silent race.
+class UndeclaredAccess : public std::logic_error {
+public:
+    using std::logic_error::logic_error;
+};
 
 template <typename... T>
 struct Exclude {};
@@ -116,28 +131,33 @@ public:
         return storage<T>().erase(e);
     }
 
+    // get<const T> and try_get<const T> read; get<T> and try_get<T> may write (and are checked so).
     template <typename T>
     [[nodiscard]] T& get(Entity e) {
+        check_access<T>();
         require_valid(e, "get");
-        auto* component = storage<T>().try_get(e);
-        if (!component) throw std::logic_error("get: entity has no " + std::string(type_name<T>()));
+        auto* component = storage<std::remove_const_t<T>>().try_get(e);
+        if (!component) throw std::logic_error("get: entity has no " + std::string(type_name<std::remove_const_t<T>>()));
         return *component;
     }
 
     template <typename T>
     [[nodiscard]] T* try_get(Entity e) {
+        check_access<T>();
         if (!valid(e)) return nullptr;
-        auto* pool = find_storage<T>();
+        auto* pool = find_storage<std::remove_const_t<T>>();
         return pool ? pool->try_get(e) : nullptr;
     }
 
     template <typename... T>
     [[nodiscard]] bool all_of(Entity e) const {
+        (check_access<const T>(), ...);
         return valid(e) && (has_one<T>(e) && ...);
     }
 
     template <typename... T>
     [[nodiscard]] bool any_of(Entity e) const {
+        (check_access<const T>(), ...);
         return valid(e) && (has_one<T>(e) || ...);
     }
 
@@ -145,15 +165,24 @@ public:
     // With several, the first in storage order.
     template <typename T>
     [[nodiscard]] T* single() {
-        auto* pool = find_storage<T>();
+        check_access<T>();
+        auto* pool = find_storage<std::remove_const_t<T>>();
         return pool && pool->size() > 0 ? pool->try_get(pool->entities().front()) : nullptr;
     }
 
     template <typename T>
     [[nodiscard]] std::size_t count() const {
+        check_access<const T>();
         const auto* pool = find_storage<T>();
         return pool ? pool->size() : 0;
     }
+
+    // --- declared access ------------------------------------------------------------------------------
+    // While `mask` is set, every component and resource access is checked against it: a const T needs
+    // T declared read or written, a mutable T needs it declared written. The scheduler sets it around
+    // each system it runs.
+    void set_access_mask(const AccessMask* mask) noexcept { access_ = mask; }
+    [[nodiscard]] const AccessMask* access_mask() const noexcept { return access_; }
 
     // --- iteration ----------------------------------------------------------------------------------
     template <typename... Get, typename... Excluded>
@@ -166,15 +195,18 @@ public:
     // --- singletons (EnTT's context): per-world resources such as configuration and RNG state ------
     template <typename T, typename... Args>
     T& set_resource(Args&&... args) {
+        check_access<T>();
         auto& slot = resources_[std::type_index(typeid(T))];
         if constexpr (std::is_aggregate_v<T>) slot = std::make_shared<T>(T{std::forward<Args>(args)...});
         else slot = std::make_shared<T>(std::forward<Args>(args)...);
         return *std::static_pointer_cast<T>(slot);
     }
+    // resource<const T>() reads, resource<T>() may write (and is checked so).
     template <typename T>
-    [[nodiscard]] T* resource() noexcept {
+    [[nodiscard]] T* resource() {
+        check_access<T>();
         auto it = resources_.find(std::type_index(typeid(T)));
-        return it == resources_.end() ? nullptr : std::static_pointer_cast<T>(it->second).get();
+        return it == resources_.end() ? nullptr : static_cast<T*>(it->second.get());
     }
 
     // --- state hash ---------------------------------------------------------------------------------
@@ -230,6 +262,17 @@ private:
         const auto* pool = find_storage<T>();
         return pool && pool->contains(e);
     }
+    template <typename T>
+    void check_access() const {
+        if (!access_) [[likely]] return;
+        const auto id = type_id<T>();
+        const std::uint8_t declared = id < access_->by_type.size() ? access_->by_type[id] : std::uint8_t{AccessMask::none};
+        const bool writes = !std::is_const_v<T>;
+        if (declared == AccessMask::write || (declared == AccessMask::read && !writes)) return;
+        throw UndeclaredAccess("system '" + access_->system + "' " + (writes ? "writes" : "reads") + " '" +
+                               std::string(type_name<std::remove_const_t<T>>()) + "' without declaring it" +
+                               (declared == AccessMask::read ? " (declared read only: view it as const)" : ""));
+    }
     void guard_structural(const char* what) const {
         if (iteration_depth_ > 0) {
             throw std::logic_error(std::string(what) +
@@ -246,6 +289,7 @@ private:
     std::unordered_map<std::type_index, std::shared_ptr<void>> resources_;
     CommandBuffer commands_;
     int iteration_depth_ = 0;
+    const AccessMask* access_ = nullptr;
 };
 
 } // namespace ikebana::ecs

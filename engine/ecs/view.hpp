@@ -1,7 +1,9 @@
 #pragma once
 // Views over entities that have every Get component and none of the Excluded ones. Iteration walks the
 // smallest of the Get storages and tests membership in the others. Tags (empty types) filter but are
-// not passed to the callback.
+// not passed to the callback. A const Get (`view<const HandState, Grasp>`) is passed as a const
+// reference and counts as a read; the others as writes (checked against the running system's
+// declaration, registry.hpp).
 #include <algorithm>
 #include <tuple>
 #include <type_traits>
@@ -15,14 +17,17 @@ class View<std::tuple<Get...>, std::tuple<Excluded...>> {
     static_assert(sizeof...(Get) > 0, "a view needs at least one component");
 
 public:
-    explicit View(Registry& registry) : registry_(registry) {}
+    explicit View(Registry& registry) : registry_(registry) {
+        (registry_.template check_access<Get>(), ...);
+        (registry_.template check_access<const Excluded>(), ...);
+    }
 
     // f(entity, components...) with the non-empty Get components by reference.
     template <typename F>
     void each(F&& f) {
         for_matching([&](Entity e, const auto& pools) {
             std::apply([&](auto&... components) { f(e, components...); },
-                       std::tuple_cat(fetch<Get>(std::get<Storage<Get>*>(pools), e)...));
+                       std::tuple_cat(fetch<Get>(std::get<Pool<Get>*>(pools), e)...));
         });
     }
 
@@ -52,23 +57,26 @@ private:
         const SparseSet* lead = smallest();
         if (!lead) return;
         IterationScope scope(registry_);
-        const std::tuple<Storage<Get>*...> pools{registry_.template find_storage<Get>()...};
+        const std::tuple<Pool<Get>*...> pools{registry_.template find_storage<std::remove_const_t<Get>>()...};
         const std::tuple<Storage<Excluded>*...> excluded{registry_.template find_storage<Excluded>()...};
         for (const Entity e : lead->entities()) {
-            if (!(std::get<Storage<Get>*>(pools)->contains(e) && ...)) continue;
+            if (!(std::get<Pool<Get>*>(pools)->contains(e) && ...)) continue;
             if (((std::get<Storage<Excluded>*>(excluded) && std::get<Storage<Excluded>*>(excluded)->contains(e)) || ...)) continue;
             visit(e, pools);
         }
     }
 
     template <typename T>
-    static auto fetch(Storage<T>* pool, Entity e) {
-        if constexpr (std::is_empty_v<T>) return std::tuple<>{};
+    using Pool = Storage<std::remove_const_t<T>>;
+
+    template <typename T>
+    static auto fetch(Pool<T>* pool, Entity e) {
+        if constexpr (std::is_empty_v<std::remove_const_t<T>>) return std::tuple<>{};
         else return std::tuple<T&>{pool->get(e)};
     }
 
     const SparseSet* smallest() const {
-        const SparseSet* pools[] = {registry_.template find_storage<Get>()...};
+        const SparseSet* pools[] = {registry_.template find_storage<std::remove_const_t<Get>>()...};
         const SparseSet* best = nullptr;
         for (const SparseSet* p : pools) {
             if (!p) return nullptr; // a component nobody has: the view is empty

@@ -11,9 +11,41 @@
 
 namespace ikebana::sched {
 
+namespace {
+// Sets the running system's access mask on the registry for one firing, and always clears it again.
+class AccessScope {
+public:
+    AccessScope(ecs::Registry& r, const ecs::AccessMask* mask) : r_(r) { r_.set_access_mask(mask); }
+    ~AccessScope() { r_.set_access_mask(nullptr); }
+    AccessScope(const AccessScope&) = delete;
+    AccessScope& operator=(const AccessScope&) = delete;
+
+private:
+    ecs::Registry& r_;
+};
+
+std::shared_ptr<const ecs::AccessMask> mask_of(const SystemDesc& d) {
+    if (!d.checked) return nullptr;
+    auto mask = std::make_shared<ecs::AccessMask>();
+    mask->system = d.name;
+    auto mark = [&](const std::vector<std::uint32_t>& ids, std::uint8_t level) {
+        for (const auto id : ids) {
+            if (id >= mask->by_type.size()) mask->by_type.resize(std::size_t{id} + 1, ecs::AccessMask::none);
+            mask->by_type[id] = std::max(mask->by_type[id], level);
+        }
+    };
+    mark(d.read_ids, ecs::AccessMask::read);
+    mark(d.write_ids, ecs::AccessMask::write);
+    return mask;
+}
+} // namespace
+
 void ScheduledSystem::fire(ecs::Registry& registry) {
     SystemContext ctx{registry, next_due_us, dt_s(), firing};
-    desc.run(ctx);
+    {
+        const AccessScope scope(registry, access.get());
+        desc.run(ctx);
+    }
     registry.commands().apply();
     ++firing;
     next_due_us = due_us(firing);
@@ -63,8 +95,14 @@ Result<void> Schedule::add(SystemDesc system) {
         return make_error(ErrorCode::not_found, "system '" + system.name + "': unknown rate '" + system.rate +
                                                     "' (known: " + rates_.names() + ")");
     }
+    system.module = module_;
     pending_.push_back(std::move(system));
     return {};
+}
+
+void Schedule::begin_module(std::string name) {
+    if (std::find(modules_.begin(), modules_.end(), name) == modules_.end()) modules_.push_back(name);
+    module_ = std::move(name);
 }
 
 Result<void> Schedule::finalize() {
@@ -97,16 +135,44 @@ Result<void> Schedule::finalize() {
             // Reachability, for "is there an order between these two?" (groups are small).
             const std::size_t n = group.size();
             std::vector<std::vector<bool>> before(n, std::vector<bool>(n, false)); // before[i][j]: j runs before i
+            auto reach = [&] {
+                for (std::size_t i = 0; i < n; ++i) {
+                    std::fill(before[i].begin(), before[i].end(), false);
+                    std::vector<std::size_t> stack(preds[i].begin(), preds[i].end());
+                    while (!stack.empty()) {
+                        const auto j = stack.back();
+                        stack.pop_back();
+                        if (before[i][j]) continue;
+                        before[i][j] = true;
+                        for (const auto k : preds[j]) stack.push_back(k);
+                    }
+                }
+            };
+            reach();
+            // Module order: a conflict between two modules' systems with no explicit order is settled by
+            // the order the modules were installed in.
+            auto module_rank = [&](const SystemDesc& d) -> std::ptrdiff_t {
+                const auto it = std::find(modules_.begin(), modules_.end(), d.module);
+                return d.module.empty() || it == modules_.end() ? -1 : it - modules_.begin();
+            };
+            auto conflicting = [](const SystemDesc& a, const SystemDesc& b) {
+                auto meets = [](const std::vector<std::string>& x, const std::vector<std::string>& y) {
+                    return std::any_of(x.begin(), x.end(), [&](const std::string& c) { return std::find(y.begin(), y.end(), c) != y.end(); });
+                };
+                return meets(a.writes, b.writes) || meets(a.writes, b.reads) || meets(b.writes, a.reads);
+            };
+            bool added = false;
             for (std::size_t i = 0; i < n; ++i) {
-                std::vector<std::size_t> stack(preds[i].begin(), preds[i].end());
-                while (!stack.empty()) {
-                    const auto j = stack.back();
-                    stack.pop_back();
-                    if (before[i][j]) continue;
-                    before[i][j] = true;
-                    for (const auto k : preds[j]) stack.push_back(k);
+                for (std::size_t j = 0; j < n; ++j) {
+                    const auto ri = module_rank(*group[i]);
+                    const auto rj = module_rank(*group[j]);
+                    if (ri < 0 || rj < 0 || rj >= ri || before[i][j] || before[j][i]) continue;
+                    if (!conflicting(*group[i], *group[j])) continue;
+                    preds[i].push_back(j); // j's module was installed first
+                    added = true;
                 }
             }
+            if (added) reach();
             for (std::size_t i = 0; i < n; ++i) {
                 if (before[i][i]) problems.push_back("systems of phase '" + phase + "' are ordered in a cycle through '" + group[i]->name + "'");
             }
@@ -144,6 +210,7 @@ Result<void> Schedule::finalize() {
                 ScheduledSystem s;
                 s.desc = *group[i];
                 s.lane = li;
+                s.access = mask_of(s.desc);
                 ordered.push_back(std::move(s));
                 for (std::size_t k = 0; k < n; ++k) {
                     if (!placed[k] && std::count(preds[k].begin(), preds[k].end(), i) > 0) {

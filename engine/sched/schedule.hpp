@@ -4,7 +4,13 @@
 // before anything runs.
 //
 // Order at equal timestamps (the documented tie-break): lanes in the order they were added, then
-// phases in their declared order, then systems ordered by `after` constraints, then registration order.
+// phases in their declared order, then systems ordered by `after` constraints, then by module (below),
+// then registration order.
+//
+// Modules (flecs' modules, Bevy's plugins): each systems folder installs its own systems between
+// begin_module() and end_module(). Two systems of different modules whose access conflicts in one phase
+// run in the order their modules were installed, so modules are ordered, not single systems; inside a
+// module a conflict still needs an explicit `after`.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -39,6 +45,7 @@ struct ScheduledSystem {
     std::uint64_t firing = 0;   // index of the next firing
     std::int64_t next_due_us = 0;
     SystemStats stats;
+    std::shared_ptr<const ecs::AccessMask> access; // what the registry holds the system to; null: unchecked
 
     // Firing k is due at floor(k / rate) seconds, in microseconds: no drift over any run length, and
     // rates need not divide each other.
@@ -69,6 +76,9 @@ public:
     Result<void> add_lane(LaneDesc lane);
     // Fails on an unknown lane, phase or rate, a duplicate name, or a missing function.
     Result<void> add(SystemDesc system);
+    // Systems added until end_module() belong to `name`; modules are ordered by their first beginning.
+    void begin_module(std::string name);
+    void end_module() { module_.clear(); }
 
     [[nodiscard]] RateTable& rates() noexcept { return rates_; }
     // Checks access conflicts and `after` references, fixes the order and the timeline.
@@ -89,6 +99,8 @@ private:
     RateTable rates_;
     std::vector<LaneDesc> lanes_;
     std::vector<SystemDesc> pending_;
+    std::vector<std::string> modules_; // in installation order
+    std::string module_;
     std::vector<ScheduledSystem> systems_;
     bool finalized_ = false;
 };

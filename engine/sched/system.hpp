@@ -1,7 +1,10 @@
 #pragma once
 // How a system introduces itself to the scheduler: its name, which rate it runs at, which lane (thread)
-// and phase it belongs to, and the components it reads and writes. The declared access is what the
-// scheduler checks for conflicting writers before anything runs.
+// and phase it belongs to, and the components and resources it reads and writes. The declared access
+// is what the scheduler checks for conflicting writers before anything runs, and, for systems
+// described from a class (describe<S>), what the registry holds every access to while the system runs:
+// an undeclared read or write throws ecs::UndeclaredAccess naming the system and the type, so the first
+// test that reaches it fails (engine/ecs/registry.hpp).
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -10,6 +13,7 @@
 
 #include "engine/core/type_name.hpp"
 #include "engine/ecs/fwd.hpp"
+#include "engine/ecs/type_id.hpp"
 
 namespace ikebana::sched {
 
@@ -33,6 +37,12 @@ struct SystemDesc {
     std::vector<std::string> writes;
     std::vector<std::string> after; // systems of the same phase this one must follow
     SystemFn run;
+    std::string module;             // set by the schedule: the module that installed it, if any
+    // Type ids of the declared access, for the run-time check; `checked` is false for descriptions
+    // written by hand with names only (tests of the scheduler itself).
+    bool checked = false;
+    std::vector<std::uint32_t> read_ids;
+    std::vector<std::uint32_t> write_ids;
 };
 
 template <typename... T>
@@ -52,10 +62,24 @@ concept DescribedSystem = requires(S s, SystemContext& ctx) {
     s(ctx);
 };
 
+// Components and resources alike: a resource is declared by its type, e.g. Components<render::DrawList>.
 template <typename... T>
 struct Components {
     static std::vector<std::string> names() { return components<T...>(); }
+    static std::vector<std::uint32_t> ids() { return {ecs::type_id<T>()...}; }
 };
+
+// One list from several: what a shared helper reads, plus what the system itself reads.
+template <typename... Lists>
+struct Join;
+template <typename... A>
+struct Join<Components<A...>> {
+    using type = Components<A...>;
+};
+template <typename... A, typename... B, typename... Rest>
+struct Join<Components<A...>, Components<B...>, Rest...> : Join<Components<A..., B...>, Rest...> {};
+template <typename... Lists>
+using Joined = typename Join<Lists...>::type;
 
 template <DescribedSystem S>
 SystemDesc describe(S system = {}, std::vector<std::string> after = {}) {
@@ -66,6 +90,9 @@ SystemDesc describe(S system = {}, std::vector<std::string> after = {}) {
     d.rate = std::string(S::rate);
     d.reads = S::reads::names();
     d.writes = S::writes::names();
+    d.checked = true;
+    d.read_ids = S::reads::ids();
+    d.write_ids = S::writes::ids();
     d.after = std::move(after);
     d.run = [system](SystemContext& ctx) mutable { system(ctx); };
     return d;

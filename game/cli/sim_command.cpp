@@ -114,11 +114,12 @@ int run_sim(const SimOptions& options) {
     std::printf("%s", format_summary(summarize(w), options.seconds).c_str());
     for (std::uint8_t hand = 0; hand < 2; ++hand) {
         if (w.hands[hand].is_null()) continue;
-        const auto& state = w.sim.get<components::HandState>(w.hands[hand]);
+        const auto& input = w.sim.get<components::HandInput>(w.hands[hand]);
+        const auto& grip = w.sim.get<components::HandGrip>(w.hands[hand]);
         const auto* device = w.hand_devices[hand].get();
         std::printf("%s hand: %s, %s, %llu disconnect(s)%s\n", hand ? "right" : "left",
-                    device ? device->capabilities().name.c_str() : "no device", state.connected ? "connected" : "not connected",
-                    static_cast<unsigned long long>(state.disconnects), state.held.is_null() ? "" : ", holding a flower");
+                    device ? device->capabilities().name.c_str() : "no device", input.connected ? "connected" : "not connected",
+                    static_cast<unsigned long long>(input.disconnects), grip.held.is_null() ? "" : ", holding a flower");
     }
     std::printf("wall time %.3f s (%.1fx real time)\n", wall, wall > 0 ? options.seconds / wall : 0.0);
     if (options.stats) std::printf("\n%s", w.schedule.stats_table().c_str());

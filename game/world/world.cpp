@@ -6,39 +6,28 @@
 
 #include "components/appearance.hpp"
 #include "components/collision.hpp"
-#include "components/hand.hpp"
 #include "components/flower.hpp"
+#include "components/hand.hpp"
+#include "components/insertion.hpp"
 #include "components/kenzan.hpp"
 #include "components/physics.hpp"
 #include "components/stem.hpp"
 #include "engine/core/hash.hpp"
+#include "engine/devices/safe_force_device.hpp"
+#include "engine/devices/scripted_device.hpp"
 #include "engine/ecs/hierarchy.hpp"
 #include "game/asset_paths.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
-#include "systems/collision/collider_update_system.hpp"
-#include "systems/collision/collision_detection_system.hpp"
-#include "components/insertion.hpp"
-#include "components/hand.hpp"
-#include "engine/devices/safe_force_device.hpp"
-#include "engine/devices/scripted_device.hpp"
-#include "systems/haptics/bending_system.hpp"
-#include "systems/haptics/grab_system.hpp"
+#include "systems/collision/collision_module.hpp"
 #include "systems/haptics/hand_devices.hpp"
-#include "systems/haptics/hand_force_system.hpp"
-#include "systems/haptics/hand_input_system.hpp"
+#include "systems/haptics/haptics_module.hpp"
 #include "systems/haptics/workspace_view_system.hpp"
 #include "systems/insertion/deterioration.hpp"
-#include "systems/insertion/insertion_resistance_system.hpp"
-#include "systems/insertion/insertion_tracking_system.hpp"
-#include "systems/insertion/kenzan_grip_system.hpp"
-#include "systems/insertion/scripted_insertion_system.hpp"
-#include "systems/insertion/stem_cutting_system.hpp"
-#include "systems/physics/spring_physics_system.hpp"
-#include "systems/presentation/draw_list_system.hpp"
+#include "systems/insertion/insertion_module.hpp"
+#include "systems/physics/physics_module.hpp"
 #include "systems/physics/stem_builder.hpp"
-#include "systems/physics/table_support_system.hpp"
-#include "systems/presentation/publish_frame_system.hpp"
-#include "systems/presentation/receive_frame_system.hpp"
+#include "systems/presentation/frame_channel.hpp"
+#include "systems/presentation/presentation_module.hpp"
 
 namespace ikebana::game {
 
@@ -54,8 +43,7 @@ void add_collision_tag(ecs::Registry& r, ecs::Entity e, CollisionClass c) {
     }
 }
 
-Result<void> register_systems(World& w, const std::string& force_scheme, const std::vector<sched::SystemDesc>& main_lane_systems) {
-    using sched::describe;
+Result<void> register_systems(World& w, systems::ForceScheme force_scheme, const std::vector<sched::SystemDesc>& main_lane_systems) {
     // The lanes' phases, in execution order at equal timestamps.
     if (auto r = w.schedule.add_lane({"sim", &w.sim, sched::LaneThread::own,
                                       {"input", "collision", "insertion", "physics", "constraints", "output", "present"}});
@@ -63,38 +51,13 @@ Result<void> register_systems(World& w, const std::string& force_scheme, const s
         return r;
     }
     if (auto r = w.schedule.add_lane({"main", &w.main, sched::LaneThread::caller, {"frame"}}); !r) return r;
-    using systems::InsertionResistanceSystem;
-    using systems::InsertionTrackingSystem;
-    // The input phase's writers of stem points run in this order: cut, scripted hand, device hands, grab.
-    for (auto desc : {describe(systems::StemCuttingSystem{}),
-                      describe(systems::ScriptedInsertionSystem{}, {std::string(systems::StemCuttingSystem::name)}),
-                      describe(systems::WorkspaceViewSystem{}),
-                      describe(systems::HandInputSystem{},
-                               {std::string(systems::ScriptedInsertionSystem::name), std::string(systems::WorkspaceViewSystem::name)}),
-                      describe(systems::GrabSystem{}, {std::string(systems::HandInputSystem::name)}),
-                      describe(systems::BendingSystem{}, {std::string(systems::GrabSystem::name)}),
-
-                      describe(systems::ColliderUpdateSystem{}),
-                      describe(InsertionTrackingSystem{}),
-                      describe(InsertionResistanceSystem{}, {std::string(InsertionTrackingSystem::name)}),
-                      describe(systems::KenzanGripSystem{}, {std::string(InsertionResistanceSystem::name)}),
-                      describe(systems::CollisionDetectionSystem{}, {std::string(systems::ColliderUpdateSystem::name)}),
-                      describe(systems::SpringPhysicsSystem{}), describe(systems::TableSupportSystem{}),
-                      describe(systems::DrawListSystem{}),
-                      describe(systems::PublishFrameSystem{}, {std::string(systems::DrawListSystem::name)}),
-                      describe(systems::ReceiveFrameSystem{})}) {
-        if (auto r = w.schedule.add(std::move(desc)); !r) return r;
-    }
-    if (force_scheme == "paper") {
-        using systems::ForceCheckSystem;
-        using systems::ForceEstimateSystem;
-        for (auto desc : {describe(ForceCheckSystem{}), describe(ForceEstimateSystem{}, {std::string(ForceCheckSystem::name)}),
-                          describe(systems::ForceOutputSystem{}, {std::string(ForceEstimateSystem::name)})}) {
-            if (auto r = w.schedule.add(std::move(desc)); !r) return r;
-        }
-    } else {
-        if (auto r = w.schedule.add(describe(systems::HandForceSystem{})); !r) return r;
-    }
+    // Modules in the order their conflicting systems run within a phase: a cut or a scripted hand
+    // before a device hand grabs, the hands before the collision and physics they feed.
+    if (auto r = systems::install_insertion(w.schedule); !r) return r;
+    if (auto r = systems::install_haptics(w.schedule, force_scheme); !r) return r;
+    if (auto r = systems::install_collision(w.schedule); !r) return r;
+    if (auto r = systems::install_physics(w.schedule); !r) return r;
+    if (auto r = systems::install_presentation(w.schedule); !r) return r;
     for (const auto& desc : main_lane_systems) {
         if (auto r = w.schedule.add(desc); !r) return r;
     }
@@ -168,6 +131,7 @@ ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPla
     r.emplace<StemPoints>(flower, std::move(stem.points));
     r.emplace<StemRestShape>(flower, std::move(stem.rest));
     r.emplace<StemSprings>(flower, std::move(stem.springs));
+    r.emplace<StemLoads>(flower, StemLoads{std::vector<glm::dvec3>(point_count, glm::dvec3{0.0})});
 
     // Stem segments: the bottom one meets the pins (Active), the rest are touched (Passive).
     for (std::uint32_t i = 0; i + 1 < point_count; ++i) {
@@ -249,12 +213,10 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
         r.emplace<HandCube>(hand, h.hand, h.edge_m);
         r.emplace<Collider>(hand, ShapeKind::box, h.position_m, h.position_m, 0.0, glm::dvec3{0.5 * h.edge_m});
         r.emplace<ActiveCollider>(hand);
-        HandState state{};
-        state.hand = h.hand;
-        state.device_m = h.position_m;
-        state.proxy_m = h.position_m;
-        state.held = ecs::null_entity;
-        r.emplace<HandState>(hand, state);
+        r.emplace<HandInput>(hand, HandInput{false, h.position_m, glm::dvec3{0.0}, 0, 0, 0});
+        r.emplace<HandProxy>(hand, HandProxy{h.position_m, glm::dvec3{0.0}});
+        r.emplace<HandGrip>(hand, HandGrip{ecs::null_entity, 0, glm::dvec3{0.0}, false, 0, glm::dvec3{0.0}});
+        r.emplace<HandForce>(hand, HandForce{glm::dvec3{0.0}});
         r.emplace<ForceChecks>(hand);
         // Scripted trajectories are in world coordinates.
         r.emplace<WorkspaceMapping>(hand, glm::dvec3{0.0}, 1.0, 0.0, 0.3);
@@ -270,7 +232,8 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     if (scheme != "full_rate" && scheme != "paper") {
         return make_error(ErrorCode::invalid_argument, "force scheme '" + scheme + "': expected full_rate or paper");
     }
-    if (auto ok = register_systems(*w, scheme, options.main_lane_systems); !ok) return std::move(ok).error();
+    const auto force_scheme = scheme == "paper" ? systems::ForceScheme::paper : systems::ForceScheme::full_rate;
+    if (auto ok = register_systems(*w, force_scheme, options.main_lane_systems); !ok) return std::move(ok).error();
     return w;
 }
 

@@ -9,8 +9,8 @@ using namespace components;
 
 void ColliderUpdateSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    auto place = [&](ecs::Entity, Part& part, Collider& collider, ecs::ChildOf& owner) {
-            const auto* stem = r.try_get<StemPoints>(owner.parent);
+    auto place = [&](ecs::Entity, const Part& part, Collider& collider, const ecs::ChildOf& owner) {
+            const auto* stem = r.try_get<const StemPoints>(owner.parent);
             if (!stem || stem->position_m.empty()) return;
             const auto& x = stem->position_m;
             const std::size_t i = std::min<std::size_t>(part.stem_point, x.size() - 1);
@@ -23,8 +23,8 @@ void ColliderUpdateSystem::operator()(sched::SystemContext& ctx) {
             }
         };
     // Led by the tag storages, so Inactive parts are never visited, not even to be skipped.
-    r.view<ActiveCollider, Part, Collider, ecs::ChildOf>().each(place);
-    r.view<PassiveCollider, Part, Collider, ecs::ChildOf>().each(place);
+    r.view<const ActiveCollider, const Part, Collider, const ecs::ChildOf>().each(place);
+    r.view<const PassiveCollider, const Part, Collider, const ecs::ChildOf>().each(place);
 }
 
 } // namespace ikebana::systems

@@ -34,7 +34,7 @@ void for_each_cell(const collision::Bounds& b, double cell, F&& f) {
 }
 
 ecs::Entity owner_of(ecs::Registry& r, ecs::Entity e) {
-    const auto* link = r.try_get<ecs::ChildOf>(e);
+    const auto* link = r.try_get<const ecs::ChildOf>(e);
     return link ? link->parent : e;
 }
 
@@ -52,21 +52,21 @@ void CollisionDetectionSystem::operator()(sched::SystemContext& ctx) {
     entities.clear();
     owners.clear();
     active.clear();
-    auto index = [&](ecs::Entity e, Collider& c, bool is_active) {
+    auto index = [&](ecs::Entity e, const Collider& c, bool is_active) {
         const auto slot = static_cast<std::uint32_t>(entities.size());
         entities.push_back(e);
         owners.push_back(owner_of(r, e));
         active.push_back(is_active ? 1 : 0);
         for_each_cell(collision::bounds_of(c), cell_size_m, [&](std::int64_t key) { cells.emplace_back(key, slot); });
     };
-    r.view<Collider, ActiveCollider>().each([&](ecs::Entity e, Collider& c) { index(e, c, true); });
-    r.view<Collider, PassiveCollider>().each([&](ecs::Entity e, Collider& c) { index(e, c, false); });
+    r.view<const Collider, const ActiveCollider>().each([&](ecs::Entity e, const Collider& c) { index(e, c, true); });
+    r.view<const Collider, const PassiveCollider>().each([&](ecs::Entity e, const Collider& c) { index(e, c, false); });
     std::sort(cells.begin(), cells.end());
 
     std::vector<std::uint32_t> candidates;
     for (std::uint32_t i = 0; i < entities.size(); ++i) {
         if (!active[i]) continue;
-        const Collider& a = r.get<Collider>(entities[i]);
+        const Collider& a = r.get<const Collider>(entities[i]);
         candidates.clear();
         for_each_cell(collision::bounds_of(a), cell_size_m, [&](std::int64_t key) {
             auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key, std::uint32_t{0}));
@@ -78,16 +78,16 @@ void CollisionDetectionSystem::operator()(sched::SystemContext& ctx) {
             if (j == i || owners[j] == owners[i]) continue;
             if (active[j] && j < i) continue; // Active x Active: each pair once
             ++contacts->pairs_tested;
-            if (const auto hit = collision::collide(a, r.get<Collider>(entities[j]))) {
+            if (const auto hit = collision::collide(a, r.get<const Collider>(entities[j]))) {
                 contacts->list.push_back({entities[i], entities[j], hit->point_m, hit->normal, hit->depth_m, -1});
             }
         }
     }
 
     // The kenzan: its grid is the broad phase. Only Active capsules (stem ends) meet the pins.
-    r.view<Kenzan>().each([&](ecs::Entity kenzan_entity, Kenzan& k) {
+    r.view<const Kenzan>().each([&](ecs::Entity kenzan_entity, const Kenzan& k) {
         const double top = k.origin_m.z + k.pin_height_m();
-        r.view<Collider, ActiveCollider>().each([&](ecs::Entity e, Collider& c) {
+        r.view<const Collider, const ActiveCollider>().each([&](ecs::Entity e, const Collider& c) {
             if (c.kind != ShapeKind::capsule) return;
             const auto b = collision::bounds_of(c);
             if (b.lo.z > top || b.hi.z < k.origin_m.z) return;

@@ -21,7 +21,8 @@ struct CollisionDetectionSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "collision";
     static constexpr std::string_view rate = "position_check";
-    using reads = sched::Components<components::Collider, components::Kenzan>;
+    using reads = sched::Components<components::Collider, components::Kenzan, components::ActiveCollider,
+                                    components::PassiveCollider, ecs::ChildOf>;
     using writes = sched::Components<components::Contacts>;
 
     void operator()(sched::SystemContext& ctx);

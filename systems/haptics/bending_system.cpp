@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "engine/ecs/registry.hpp"
 #include "systems/haptics/bending.hpp"
@@ -12,16 +13,22 @@ using namespace components;
 
 void BendingSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    HandState* hands[2] = {nullptr, nullptr};
-    r.view<HandState>().each([&](ecs::Entity, HandState& h) {
-        if (h.hand < 2) hands[h.hand] = &h;
-    });
+    struct Hand {
+        const HandInput* input;
+        const HandProxy* proxy;
+        const HandGrip* grip;
+    };
+    std::optional<Hand> hands[2];
+    r.view<const HandCube, const HandInput, const HandProxy, const HandGrip>().each(
+        [&](ecs::Entity, const HandCube& cube, const HandInput& input, const HandProxy& proxy, const HandGrip& grip) {
+            if (cube.hand < 2) hands[cube.hand] = Hand{&input, &proxy, &grip};
+        });
     // A bend that stops hands its points back to the physics (except the ones a hand holds).
     r.view<Bending, StemPoints>().each([&](ecs::Entity flower, Bending& b, StemPoints& pts) {
         if (b.active) {
             for (std::uint32_t i = b.support_a; i <= b.support_b && i < pts.pinned.size(); ++i) {
-                auto holds = [&](const HandState* h) {
-                    return h && h->held == flower && (h->held_point == i || (h->holds_direction && h->second_point == i));
+                auto holds = [&](const std::optional<Hand>& h) {
+                    return h && h->grip->held == flower && (h->grip->held_point == i || (h->grip->holds_direction && h->grip->second_point == i));
                 };
                 const bool held = holds(hands[0]) || holds(hands[1]);
                 if (!held) pts.pinned[i] = 0;
@@ -31,21 +38,22 @@ void BendingSystem::operator()(sched::SystemContext& ctx) {
         b.force_n = 0.0;
     });
     if (!hands[0] || !hands[1]) return;
-    HandState& left = *hands[0];
-    HandState& right = *hands[1];
-    if (left.held.is_null() || left.held != right.held) return;
-    if (glm::length(left.proxy_m - right.proxy_m) > tips_together_m) return;
-    auto* points = r.try_get<StemPoints>(left.held);
-    auto* rest = r.try_get<StemRestShape>(left.held);
-    auto* springs = r.try_get<StemSprings>(left.held);
-    auto* bend = r.try_get<Bending>(left.held);
+    const Hand& left = *hands[0];
+    const Hand& right = *hands[1];
+    const ecs::Entity held = left.grip->held;
+    if (held.is_null() || held != right.grip->held) return;
+    if (glm::length(left.proxy->position_m - right.proxy->position_m) > tips_together_m) return;
+    auto* points = r.try_get<StemPoints>(held);
+    auto* rest = r.try_get<StemRestShape>(held);
+    const auto* springs = r.try_get<const StemSprings>(held);
+    auto* bend = r.try_get<Bending>(held);
     if (!points || !rest || !springs || !bend || points->position_m.size() < 3) return;
-    const double theta = M_PI - std::min(std::abs(left.rotation_rad.x - right.rotation_rad.x), M_PI - 1e-3);
+    const double theta = M_PI - std::min(std::abs(left.input->rotation_rad.x - right.input->rotation_rad.x), M_PI - 1e-3);
     if (M_PI - theta < 1e-3) return;
 
     // C: the stem point nearest the middle of the two hands; A and B: L/2 of rest length either side.
     auto& x = points->position_m;
-    const glm::dvec3 middle = 0.5 * (left.proxy_m + right.proxy_m);
+    const glm::dvec3 middle = 0.5 * (left.proxy->position_m + right.proxy->position_m);
     std::size_t c = 0;
     double nearest = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < x.size(); ++i) {

@@ -18,7 +18,8 @@ struct BendingSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<components::HandState, components::StemSprings>;
+    using reads = sched::Components<components::HandCube, components::HandInput, components::HandProxy, components::HandGrip,
+                                    components::StemSprings>;
     using writes = sched::Components<components::Bending, components::StemPoints, components::StemRestShape>;
 
     void operator()(sched::SystemContext& ctx);

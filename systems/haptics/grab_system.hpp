@@ -2,7 +2,9 @@
 // Grabbing and both-hand unification (Figure 5): pressing the button with a stem inside the hand cube
 // unifies the cube with the nearest stem mass point; that point then follows the hand. Two hands may
 // hold two flowers, or two points of one flower: the part held by neither then stretches or shrinks
-// through its springs. Releasing lets the point go (it falls, or stays if inserted in the kenzan).
+// through its springs. Releasing the button, or losing the device, lets the point go (it falls, or
+// stays if inserted in the kenzan). The grasp rules (who holds which point, when a one-hand grip keeps
+// the stem's direction) live here and nowhere else.
 #include <string_view>
 
 #include "components/hand.hpp"
@@ -17,10 +19,17 @@ struct GrabSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<components::HandCube, components::StemRestShape>;
-    using writes = sched::Components<components::HandState, components::StemPoints, components::Grasp>;
+    using reads = sched::Components<components::HandCube, components::HandInput, components::HandProxy, components::StemRestShape>;
+    using writes = sched::Components<components::HandGrip, components::StemPoints, components::Grasp>;
 
     void operator()(sched::SystemContext& ctx);
 };
+
+// Lets go of whatever the grip holds (on release and on disconnect).
+void release_hold(ecs::Registry& registry, components::HandGrip& grip);
+
+// Lets go of the second point of a one-hand grip (a second hand took the flower, or the hand lets go);
+// the held point stays held.
+void let_go_of_direction(ecs::Registry& registry, components::HandGrip& grip);
 
 } // namespace ikebana::systems

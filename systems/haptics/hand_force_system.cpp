@@ -1,85 +1,82 @@
 #include "systems/haptics/hand_force_system.hpp"
 
 #include "engine/ecs/registry.hpp"
-#include "systems/haptics/hand_devices.hpp"
-#include "systems/physics/stem_dynamics.hpp"
 
 namespace ikebana::systems {
 
 using namespace components;
 
 namespace {
-void send(ecs::Registry& r, const HandState& hand) {
-    const auto* devices = r.resource<HandDevices>();
-    if (devices && hand.hand < 2 && devices->device[hand.hand]) {
-        (void)devices->device[hand.hand]->send_force(hand.force_n);
-        if (devices->watchdog[hand.hand]) devices->watchdog[hand.hand]->feed();
+void send(ecs::Registry& r, const HandCube& cube, const HandForce& force) {
+    const auto* devices = r.resource<const HandDevices>();
+    if (devices && cube.hand < 2 && devices->device[cube.hand]) {
+        (void)devices->device[cube.hand]->send_force(force.force_n);
+        if (devices->watchdog[cube.hand]) devices->watchdog[cube.hand]->feed();
     }
-    if (auto* log = r.resource<SentForceLog>(); log && log->enabled && hand.hand < 2) log->hand[hand.hand].push_back(hand.force_n);
+    if (auto* log = r.resource<SentForceLog>(); log && log->enabled && cube.hand < 2) log->hand[cube.hand].push_back(force.force_n);
 }
 } // namespace
 
-glm::dvec3 hand_feels(ecs::Registry& r, const HandState& hand, std::vector<glm::dvec3>& scratch) {
-    const auto* devices = r.resource<HandDevices>();
-    if (!devices || !hand.connected) return glm::dvec3{0.0};
+glm::dvec3 hand_feels(ecs::Registry& r, const HandInput& input, const HandProxy& proxy, const HandGrip& grip) {
+    const auto* devices = r.resource<const HandDevices>();
+    if (!devices || !input.connected) return glm::dvec3{0.0};
     // Virtual coupling: a spring and a damper between the device and the proxy it drives.
-    glm::dvec3 force = devices->coupling_n_per_m * (hand.proxy_m - hand.device_m) + devices->coupling_damping_n_s_per_m * hand.slip_m_s;
-    if (!hand.held.is_null()) {
-        const auto* settings = r.resource<PhysicsSettings>();
-        const glm::dvec3 g = settings ? settings->gravity_m_s2 : PhysicsSettings{}.gravity_m_s2;
-        auto* points = r.try_get<StemPoints>(hand.held);
-        auto* rest = r.try_get<StemRestShape>(hand.held);
-        auto* springs = r.try_get<StemSprings>(hand.held);
-        if (points && rest && springs && hand.held_point < points->position_m.size()) {
-            physics::stem_forces(*points, *rest, *springs, r.try_get<StemClamp>(hand.held), g, scratch);
-            force += scratch[hand.held_point];
-            if (hand.holds_direction && hand.second_point < scratch.size()) force += scratch[hand.second_point];
+    glm::dvec3 force = devices->coupling_n_per_m * (proxy.position_m - input.device_m) + devices->coupling_damping_n_s_per_m * proxy.slip_m_s;
+    if (!grip.held.is_null()) {
+        // The stem's pull on the points the grip holds: its weight, its bending, its stretch between two
+        // hands, as the physics computed it this tick.
+        if (const auto* loads = r.try_get<const StemLoads>(grip.held); loads && grip.held_point < loads->force_n.size()) {
+            force += loads->force_n[grip.held_point];
+            if (grip.holds_direction && grip.second_point < loads->force_n.size()) force += loads->force_n[grip.second_point];
         }
         // Bending: the thumbs push the middle with F^b (Eq. 5); each hand takes half of it back.
-        if (const auto* bend = r.try_get<Bending>(hand.held); bend && bend->active) force -= 0.5 * bend->force_n * bend->push_direction;
+        if (const auto* bend = r.try_get<const Bending>(grip.held); bend && bend->active) force -= 0.5 * bend->force_n * bend->push_direction;
     }
     return force;
 }
 
 void HandForceSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    r.view<HandState>().each([&](ecs::Entity, HandState& hand) {
-        hand.force_n = hand_feels(r, hand, scratch);
-        send(r, hand);
-    });
+    r.view<const HandCube, const HandInput, const HandProxy, const HandGrip, HandForce>().each(
+        [&](ecs::Entity, const HandCube& cube, const HandInput& input, const HandProxy& proxy, const HandGrip& grip, HandForce& force) {
+            force.force_n = hand_feels(r, input, proxy, grip);
+            send(r, cube, force);
+        });
 }
 
 void ForceCheckSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    r.view<HandState, ForceChecks>().each([&](ecs::Entity, HandState& hand, ForceChecks& checks) {
-        checks.previous_n = checks.last_n;
-        checks.previous_us = checks.last_us;
-        checks.last_n = hand_feels(r, hand, scratch);
-        checks.last_us = ctx.time_us;
-        ++checks.checks;
-    });
+    r.view<const HandInput, const HandProxy, const HandGrip, ForceChecks>().each(
+        [&](ecs::Entity, const HandInput& input, const HandProxy& proxy, const HandGrip& grip, ForceChecks& checks) {
+            checks.previous_n = checks.last_n;
+            checks.previous_us = checks.last_us;
+            checks.last_n = hand_feels(r, input, proxy, grip);
+            checks.last_us = ctx.time_us;
+            ++checks.checks;
+        });
 }
 
 void ForceEstimateSystem::operator()(sched::SystemContext& ctx) {
-    ctx.registry.view<HandState, ForceChecks>().each([&](ecs::Entity, HandState& hand, ForceChecks& checks) {
-        if (!hand.connected) {
-            hand.force_n = glm::dvec3{0.0};
-            return;
-        }
-        glm::dvec3 estimate = checks.last_n;
-        if (checks.checks >= 2 && checks.last_us > checks.previous_us) {
-            const glm::dvec3 moving = (checks.last_n - checks.previous_n) / static_cast<double>(checks.last_us - checks.previous_us);
-            estimate += moving * static_cast<double>(ctx.time_us - checks.last_us);
-        }
-        hand.force_n = estimate;
-    });
+    ctx.registry.view<const HandInput, const ForceChecks, HandForce>().each(
+        [&](ecs::Entity, const HandInput& input, const ForceChecks& checks, HandForce& force) {
+            if (!input.connected) {
+                force.force_n = glm::dvec3{0.0};
+                return;
+            }
+            glm::dvec3 estimate = checks.last_n;
+            if (checks.checks >= 2 && checks.last_us > checks.previous_us) {
+                const glm::dvec3 moving = (checks.last_n - checks.previous_n) / static_cast<double>(checks.last_us - checks.previous_us);
+                estimate += moving * static_cast<double>(ctx.time_us - checks.last_us);
+            }
+            force.force_n = estimate;
+        });
 }
 
 void ForceOutputSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    r.view<HandState>().each([&](ecs::Entity, HandState& hand) {
-        if (!hand.connected) hand.force_n = glm::dvec3{0.0};
-        send(r, hand);
+    r.view<const HandCube, const HandInput, HandForce>().each([&](ecs::Entity, const HandCube& cube, const HandInput& input, HandForce& force) {
+        if (!input.connected) force.force_n = glm::dvec3{0.0};
+        send(r, cube, force);
     });
 }
 

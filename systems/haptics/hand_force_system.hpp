@@ -10,28 +10,32 @@
 //    ForceEstimateSystem extrapolates it at 100 Hz from the last two checks (the moving vector),
 //    and ForceOutputSystem sends the same estimate ten times at 1 kHz.
 #include <string_view>
-#include <vector>
 
 #include "components/hand.hpp"
 #include "components/physics.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/system.hpp"
+#include "systems/haptics/hand_devices.hpp"
 
 namespace ikebana::systems {
 
-// The force a hand feels now, from the live state (shared by both schemes).
-glm::dvec3 hand_feels(ecs::Registry& registry, const components::HandState& hand, std::vector<glm::dvec3>& scratch);
+// The force a hand feels now, from the live state (shared by both schemes): the coupling spring, and
+// the loads the physics computed this tick on the points the grip holds (never computed again here).
+glm::dvec3 hand_feels(ecs::Registry& registry, const components::HandInput& input, const components::HandProxy& proxy,
+                      const components::HandGrip& grip);
+
+// Everything hand_feels reads.
+using HandFeelsReads = sched::Components<HandDevices, components::HandInput, components::HandProxy, components::HandGrip,
+                                         components::StemLoads, components::Bending>;
 
 struct HandForceSystem {
     static constexpr std::string_view name = "hand_force";
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "output";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<components::StemPoints, components::StemRestShape, components::StemSprings,
-                                    components::StemClamp, components::PhysicsSettings>;
-    using writes = sched::Components<components::HandState>;
+    using reads = sched::Joined<HandFeelsReads, sched::Components<components::HandCube>>;
+    using writes = sched::Components<components::HandForce, components::SentForceLog>;
     void operator()(sched::SystemContext& ctx);
-    std::vector<glm::dvec3> scratch;
 };
 
 struct ForceCheckSystem {
@@ -39,11 +43,9 @@ struct ForceCheckSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "output";
     static constexpr std::string_view rate = "position_check";
-    using reads = sched::Components<components::HandState, components::StemPoints, components::StemRestShape,
-                                    components::StemSprings, components::StemClamp, components::PhysicsSettings>;
+    using reads = HandFeelsReads;
     using writes = sched::Components<components::ForceChecks>;
     void operator()(sched::SystemContext& ctx);
-    std::vector<glm::dvec3> scratch;
 };
 
 struct ForceEstimateSystem {
@@ -51,8 +53,8 @@ struct ForceEstimateSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "output";
     static constexpr std::string_view rate = "position_estimate";
-    using reads = sched::Components<components::ForceChecks>;
-    using writes = sched::Components<components::HandState>;
+    using reads = sched::Components<components::ForceChecks, components::HandInput>;
+    using writes = sched::Components<components::HandForce>;
     void operator()(sched::SystemContext& ctx);
 };
 
@@ -62,8 +64,9 @@ struct ForceOutputSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "output";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<components::HandState>;
-    using writes = sched::Components<>;
+    using reads = sched::Components<HandDevices, components::HandCube, components::HandInput>;
+    // HandForce: a hand whose device is gone is set to feel nothing.
+    using writes = sched::Components<components::HandForce, components::SentForceLog>;
     void operator()(sched::SystemContext& ctx);
 };
 

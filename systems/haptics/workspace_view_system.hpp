@@ -21,7 +21,7 @@ struct WorkspaceViewSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<>;
+    using reads = sched::Components<ViewChannel*>;
     using writes = sched::Components<components::WorkspaceMapping>;
 
     void operator()(sched::SystemContext& ctx);

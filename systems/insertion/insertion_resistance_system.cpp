@@ -15,12 +15,12 @@ using namespace components;
 
 void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    const Kenzan* kenzan = r.single<Kenzan>();
-    const auto* settings = r.resource<PhysicsSettings>();
+    const Kenzan* kenzan = r.single<const Kenzan>();
+    const auto* settings = r.resource<const PhysicsSettings>();
     const double g = settings ? glm::length(settings->gravity_m_s2) : 9.80665;
-    const auto* world_covariates = r.resource<insertion::Covariates>();
-    r.view<StemPoints, StemRestShape, PinResistance, InsertionHistory, PinEngagement>().each(
-        [&](ecs::Entity, StemPoints& points, StemRestShape& rest, PinResistance& model, InsertionHistory& history,
+    const auto* world_covariates = r.resource<const insertion::Covariates>();
+    r.view<const StemPoints, const StemRestShape, const PinResistance, InsertionHistory, PinEngagement>().each(
+        [&](ecs::Entity, const StemPoints& points, const StemRestShape& rest, const PinResistance& model, InsertionHistory& history,
             PinEngagement& engagement) {
             engagement.resistance_n = 0.0;
             engagement.holding_moment_nm = 0.0;

@@ -16,6 +16,7 @@
 #include "components/physics.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/system.hpp"
+#include "systems/insertion/deterioration.hpp"
 
 namespace ikebana::systems {
 
@@ -25,7 +26,7 @@ struct InsertionResistanceSystem {
     static constexpr std::string_view phase = "insertion";
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::StemPoints, components::StemRestShape, components::PinResistance,
-                                    components::PhysicsSettings, components::Kenzan>;
+                                    components::PhysicsSettings, components::Kenzan, insertion::Covariates>;
     // InsertionHistory: the records keep each insertion's maxima.
     using writes = sched::Components<components::PinEngagement, components::InsertionHistory>;
 

@@ -15,11 +15,11 @@ using namespace components;
 
 void InsertionTrackingSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    const Kenzan* kenzan = r.single<Kenzan>();
+    const Kenzan* kenzan = r.single<const Kenzan>();
     RandomStream* random = r.single<RandomStream>();
     if (!kenzan) return;
-    r.view<StemPoints, StemRestShape, PinResistance, InsertionHistory, PinEngagement>().each(
-        [&](ecs::Entity flower, StemPoints& points, StemRestShape& rest, PinResistance& model, InsertionHistory& history,
+    r.view<const StemPoints, const StemRestShape, const PinResistance, InsertionHistory, PinEngagement>().each(
+        [&](ecs::Entity flower, const StemPoints& points, const StemRestShape& rest, const PinResistance& model, InsertionHistory& history,
             PinEngagement& engagement) {
             const auto& x = points.position_m;
             if (x.size() < 2) return;
@@ -51,7 +51,7 @@ void InsertionTrackingSystem::operator()(sched::SystemContext& ctx) {
             if (was_in) return;
             if (history.left_pins && ctx.time_us - history.left_pins_us < min_time_out_us) return; // never really out
             // Only a held stem entering the pins is an insertion (not one falling onto them).
-            const auto* grasp = r.try_get<Grasp>(flower);
+            const auto* grasp = r.try_get<const Grasp>(flower);
             if (!grasp || grasp->hands == 0) return;
 
             // A new insertion of this stem end.

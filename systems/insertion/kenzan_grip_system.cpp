@@ -27,10 +27,10 @@ glm::dvec3 rotate_towards(glm::dvec3 from, glm::dvec3 to, double angle) {
 
 void KenzanGripSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    r.view<KenzanGrip, StemClamp, PinEngagement, StemPoints, StemSprings>().each(
-        [&](ecs::Entity e, KenzanGrip& grip, StemClamp& clamp, PinEngagement& engagement, StemPoints& points,
-            StemSprings& springs) {
-            const auto* grasp = r.try_get<Grasp>(e);
+    r.view<KenzanGrip, StemClamp, const PinEngagement, const StemPoints, const StemSprings>().each(
+        [&](ecs::Entity e, KenzanGrip& grip, StemClamp& clamp, const PinEngagement& engagement, const StemPoints& points,
+            const StemSprings& springs) {
+            const auto* grasp = r.try_get<const Grasp>(e);
             const bool held = grasp && grasp->hands > 0;
             const auto& x = points.position_m;
             if (held || !engagement.in_kenzan || x.size() < 2) {

@@ -22,8 +22,8 @@ void hold_straight(StemPoints& points, const StemRestShape& rest, glm::dvec3 bot
 
 void ScriptedInsertionSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    r.view<ScriptedInsertion, StemPoints, StemRestShape, PinEngagement, Grasp>().each(
-        [&](ecs::Entity, ScriptedInsertion& hand, StemPoints& points, StemRestShape& rest, PinEngagement& engagement,
+    r.view<ScriptedInsertion, StemPoints, const StemRestShape, const PinEngagement, Grasp>().each(
+        [&](ecs::Entity, ScriptedInsertion& hand, StemPoints& points, const StemRestShape& rest, const PinEngagement& engagement,
             Grasp& grasp) {
             using Stage = ScriptedInsertion::Stage;
             const double radius = 0.5 * rest.diameter_m;

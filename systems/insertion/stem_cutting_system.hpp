@@ -16,8 +16,9 @@ struct StemCuttingSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<components::CutRequest>;
-    using writes = sched::Components<components::StemPoints, components::StemRestShape, components::StemSprings,
+    using reads = sched::Components<>;
+    // CutRequest: each request is consumed (removed) once carried out.
+    using writes = sched::Components<components::CutRequest, components::StemPoints, components::StemRestShape, components::StemSprings,
                                      components::InsertionHistory>;
 
     void operator()(sched::SystemContext& ctx);

@@ -6,17 +6,24 @@ namespace ikebana::systems {
 
 void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
     auto& registry = ctx.registry;
-    const auto* settings = registry.resource<components::PhysicsSettings>();
+    const auto* settings = registry.resource<const components::PhysicsSettings>();
     const glm::dvec3 gravity = settings ? settings->gravity_m_s2 : components::PhysicsSettings{}.gravity_m_s2;
-    registry.view<components::StemPoints, components::StemRestShape, components::StemSprings>().each(
-        [&](ecs::Entity e, components::StemPoints& points, components::StemRestShape& rest,
-            components::StemSprings& springs) {
-            const auto* clamp = registry.try_get<components::StemClamp>(e);
-            if (!physics::step_stem(points, rest, springs, clamp, gravity, ctx.dt_s, scratch)) {
+    registry.view<components::StemPoints, const components::StemRestShape, const components::StemSprings, components::StemLoads>().each(
+        [&](ecs::Entity e, components::StemPoints& points, const components::StemRestShape& rest,
+            const components::StemSprings& springs, components::StemLoads& loads) {
+            const auto* clamp = registry.try_get<const components::StemClamp>(e);
+            if (physics::step_stem(points, rest, springs, clamp, gravity, ctx.dt_s, scratch)) {
+                // The stem's own forces of this step (springs, hinges, clamp, gravity: without what other
+                // systems pushed), for whatever else needs them (a hand that holds the stem): computed once
+                // a tick, here.
+                loads.force_n.resize(scratch.end_force.size());
+                for (std::size_t i = 0; i < scratch.end_force.size(); ++i) loads.force_n[i] = scratch.end_force[i] - points.external_force_n[i];
+            } else {
                 // A non-finite step is refused: the stem stays where it was, at rest, rather than
                 // carrying NaN into contacts and force output.
                 ++failed_steps;
                 for (auto& v : points.velocity_m_s) v = glm::dvec3{0.0};
+                loads.force_n.assign(points.position_m.size(), glm::dvec3{0.0});
             }
             for (auto& f : points.external_force_n) f = glm::dvec3{0.0};
         });

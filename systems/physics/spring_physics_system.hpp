@@ -18,7 +18,7 @@ struct SpringPhysicsSystem {
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::StemRestShape, components::StemSprings, components::StemClamp,
                                     components::PhysicsSettings>;
-    using writes = sched::Components<components::StemPoints>;
+    using writes = sched::Components<components::StemPoints, components::StemLoads>;
 
     void operator()(sched::SystemContext& ctx);
 

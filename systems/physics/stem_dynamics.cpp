@@ -242,6 +242,8 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
         const double m = points.mass_kg[p];
         scratch.rhs[i] = dt * (f[p][axis] - (beta + dt) * scratch.rhs[i] - alpha * m * v[p][axis]);
     }
+    // H itself, kept for the end-of-step forces below.
+    scratch.stiffness = scratch.band;
     // A = M (1 + h alpha) + (h beta + h^2) H; fixed points become identity rows with zero change.
     const double stiffness_scale = dt * beta + dt * dt;
     for (std::size_t i = 0; i < n; ++i) {
@@ -272,6 +274,20 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
         }
         v[p] += glm::dvec3{scratch.rhs[3 * p], scratch.rhs[3 * p + 1], scratch.rhs[3 * p + 2]};
         x[p] += dt * v[p];
+    }
+    // The forces at the end of the step, as backward Euler has them: f(x + dx) = f(x) - H dx, with dx
+    // the step's motion (zero for fixed points). This is the reaction a held (fixed) point feels: the
+    // stem has already answered the hand's move within this step. One banded product, no second pass
+    // over the springs.
+    Band stiffness{scratch.stiffness, n};
+    scratch.end_force.assign(count, glm::dvec3{0.0});
+    auto moved = [&](std::size_t i) { return is_fixed(i / 3) ? 0.0 : dt * v[i / 3][static_cast<glm::length_t>(i % 3)]; };
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t j0 = i >= bandwidth ? i - bandwidth : 0;
+        double change = 0.0;
+        for (std::size_t j = j0; j <= i; ++j) change += stiffness.at(i, j) * moved(j);
+        for (std::size_t j = i + 1; j < std::min(n, i + bandwidth + 1); ++j) change += stiffness.at(j, i) * moved(j);
+        scratch.end_force[i / 3][static_cast<glm::length_t>(i % 3)] = f[i / 3][static_cast<glm::length_t>(i % 3)] - change;
     }
     return true;
 }

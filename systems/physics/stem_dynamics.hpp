@@ -44,8 +44,10 @@ void stem_forces(const components::StemPoints& points, const components::StemRes
 // Working memory reused across steps so that the 1 kHz loop does not allocate.
 struct StemSolverScratch {
     std::vector<double> band;
+    std::vector<double> stiffness;
     std::vector<double> rhs;
-    std::vector<glm::dvec3> force;
+    std::vector<glm::dvec3> force;     // at the start of the step
+    std::vector<glm::dvec3> end_force; // at its end, linearised (what a held point feels)
 };
 
 // Advances one stem by dt. Pinned points and a clamped P0 stay where they are. Returns false (and

@@ -7,12 +7,12 @@
 namespace ikebana::systems {
 
 void TableSupportSystem::operator()(sched::SystemContext& ctx) {
-    const auto* table = ctx.registry.resource<components::Table>();
+    const auto* table = ctx.registry.resource<const components::Table>();
     if (!table) return;
-    const auto* settings = ctx.registry.resource<components::PhysicsSettings>();
+    const auto* settings = ctx.registry.resource<const components::PhysicsSettings>();
     const double g = settings ? std::abs(settings->gravity_m_s2.z) : 9.80665;
-    ctx.registry.view<components::StemPoints, components::StemRestShape>().each(
-        [&](ecs::Entity, components::StemPoints& points, components::StemRestShape& rest) {
+    ctx.registry.view<components::StemPoints, const components::StemRestShape>().each(
+        [&](ecs::Entity, components::StemPoints& points, const components::StemRestShape& rest) {
             const double floor = table->height_m + 0.5 * rest.diameter_m;
             for (std::size_t i = 0; i < points.position_m.size(); ++i) {
                 auto& x = points.position_m[i];

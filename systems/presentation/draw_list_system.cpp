@@ -37,11 +37,11 @@ glm::mat4 segment(const glm::dvec3& p, const glm::dvec3& q, double radius) {
 
 render::DrawList build_draw_list(ecs::Registry& r) {
     render::DrawList list;
-    if (const auto* table = r.resource<Table>()) {
+    if (const auto* table = r.resource<const Table>()) {
         list.batch("plane").instances.push_back(
             {frame_matrix({1.2, 0, 0}, {0, 0.8, 0}, {0, 0, 1}, {0.0, 0.0, table->height_m}), {0.62f, 0.5f, 0.36f, 1.0f}});
     }
-    if (const auto* k = r.single<Kenzan>()) {
+    if (const auto* k = r.single<const Kenzan>()) {
         const double w = (k->columns + 1) * k->pitch_m, d = (k->rows + 1) * k->pitch_m;
         list.batch("cube").instances.push_back({frame_matrix({w, 0, 0}, {0, d, 0}, {0, 0, k->base_thickness_m},
                                                              k->origin_m - glm::dvec3{0, 0, 0.5 * k->base_thickness_m}),
@@ -61,7 +61,7 @@ render::DrawList build_draw_list(ecs::Registry& r) {
         list.shadow_centre = glm::vec3(k->origin_m) + glm::vec3(0.0f, 0.0f, 0.12f);
         list.shadow_radius = 0.4f;
     }
-    r.view<StemPoints, StemRestShape, FlowerLook>().each([&](ecs::Entity, StemPoints& points, StemRestShape& rest, FlowerLook& look) {
+    r.view<const StemPoints, const StemRestShape, const FlowerLook>().each([&](ecs::Entity, const StemPoints& points, const StemRestShape& rest, const FlowerLook& look) {
         const auto& x = points.position_m;
         auto& stems = list.batch("cylinder").instances;
         const glm::vec4 colour(look.stem_colour, 1.0f);
@@ -71,10 +71,10 @@ render::DrawList build_draw_list(ecs::Registry& r) {
             list.batch(look.head_mesh).instances.push_back({frame_matrix(f.side, f.third, f.up, x.back()), glm::vec4(look.head_colour, 1.0f)});
         }
     });
-    r.view<Part, ecs::ChildOf>().each([&](ecs::Entity, Part& part, ecs::ChildOf& owner) {
+    r.view<const Part, const ecs::ChildOf>().each([&](ecs::Entity, const Part& part, const ecs::ChildOf& owner) {
         if (part.kind == PartKind::stem || part.mesh.empty()) return;
-        const auto* points = r.try_get<StemPoints>(owner.parent);
-        const auto* look = r.try_get<FlowerLook>(owner.parent);
+        const auto* points = r.try_get<const StemPoints>(owner.parent);
+        const auto* look = r.try_get<const FlowerLook>(owner.parent);
         if (!points || points->position_m.empty() || !look) return;
         const auto f = physics::attachment_frame(points->position_m, part.stem_point);
         // The mesh runs along +x for one unit: out along the offset's direction, as long as the part.
@@ -87,10 +87,10 @@ render::DrawList build_draw_list(ecs::Registry& r) {
         const glm::vec3 colour = part.kind == PartKind::petal ? look->petal_colour : look->leaf_colour;
         list.batch(part.mesh).instances.push_back({frame_matrix(along * size, across * size, normal * size, f.origin_m), glm::vec4(colour, 1.0f)});
     });
-    r.view<HandCube, HandState>().each([&](ecs::Entity, HandCube& cube, HandState& hand) {
-        const glm::vec4 colour = hand.hand == 0 ? glm::vec4(0.2f, 0.45f, 0.85f, 1.0f) : glm::vec4(0.85f, 0.3f, 0.25f, 1.0f);
+    r.view<const HandCube, const HandProxy, const HandInput>().each([&](ecs::Entity, const HandCube& cube, const HandProxy& proxy, const HandInput& input) {
+        const glm::vec4 colour = cube.hand == 0 ? glm::vec4(0.2f, 0.45f, 0.85f, 1.0f) : glm::vec4(0.85f, 0.3f, 0.25f, 1.0f);
         const double e = cube.edge_m;
-        list.batch("cube").instances.push_back({frame_matrix({e, 0, 0}, {0, e, 0}, {0, 0, e}, hand.proxy_m), hand.connected ? colour : colour * 0.5f});
+        list.batch("cube").instances.push_back({frame_matrix({e, 0, 0}, {0, e, 0}, {0, 0, e}, proxy.position_m), input.connected ? colour : colour * 0.5f});
     });
     return list;
 }

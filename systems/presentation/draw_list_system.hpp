@@ -22,8 +22,9 @@ struct DrawListSystem {
     static constexpr std::string_view phase = "present";
     static constexpr std::string_view rate = "render";
     using reads = sched::Components<components::StemPoints, components::StemRestShape, components::Part, components::FlowerLook,
-                                    components::Kenzan, components::Table, components::HandCube, components::HandState>;
-    using writes = sched::Components<>;
+                                    components::Kenzan, components::Table, components::HandCube, components::HandProxy,
+                                    components::HandInput, ecs::ChildOf>;
+    using writes = sched::Components<render::DrawList>;
 
     void operator()(sched::SystemContext& ctx);
 };

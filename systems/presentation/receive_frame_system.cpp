@@ -6,7 +6,7 @@
 namespace ikebana::systems {
 
 void ReceiveFrameSystem::operator()(sched::SystemContext& ctx) {
-    auto** channel = ctx.registry.resource<FrameChannel*>();
+    auto* const* channel = ctx.registry.resource<FrameChannel* const>();
     auto* received = ctx.registry.resource<ReceivedFrames>();
     if (!channel || !*channel || !received) return;
     ++received->frames;

@@ -3,6 +3,7 @@
 #include <string_view>
 
 #include "engine/sched/system.hpp"
+#include "systems/presentation/frame_channel.hpp"
 
 namespace ikebana::systems {
 
@@ -11,8 +12,8 @@ struct ReceiveFrameSystem {
     static constexpr std::string_view lane = "main";
     static constexpr std::string_view phase = "frame";
     static constexpr std::string_view rate = "render";
-    using reads = sched::Components<>;
-    using writes = sched::Components<>;
+    using reads = sched::Components<FrameChannel*>;
+    using writes = sched::Components<ReceivedFrames>;
 
     void operator()(sched::SystemContext& ctx);
 };

@@ -123,3 +123,116 @@ TEST(RateTable, BadValuesAreRefusedWithAClearMessage) {
     EXPECT_TRUE(t.set_from_string("render=60"));
     EXPECT_EQ(t.hz("render"), 60.0);
 }
+
+namespace {
+struct Position {
+    double x = 0.0;
+};
+struct Velocity {
+    double v = 0.0;
+};
+struct Gravity {
+    double g = 9.81;
+};
+
+// Declares it reads Velocity, then writes it (a mutable view): the bug the check exists for.
+struct WritesWhatItReads {
+    static constexpr std::string_view name = "writes_what_it_reads";
+    static constexpr std::string_view lane = "sim";
+    static constexpr std::string_view phase = "physics";
+    static constexpr std::string_view rate = "haptic";
+    using reads = Components<Velocity>;
+    using writes = Components<Position>;
+    void operator()(SystemContext& ctx) {
+        ctx.registry.view<Position, Velocity>().each([](ecs::Entity, Position& p, Velocity& v) { p.x += v.v; });
+    }
+};
+// Reads a resource it never declared.
+struct ReadsAnUndeclaredResource {
+    static constexpr std::string_view name = "reads_an_undeclared_resource";
+    static constexpr std::string_view lane = "sim";
+    static constexpr std::string_view phase = "physics";
+    static constexpr std::string_view rate = "haptic";
+    using reads = Components<Velocity>;
+    using writes = Components<Position>;
+    void operator()(SystemContext& ctx) {
+        const auto* g = ctx.registry.resource<const Gravity>();
+        ctx.registry.view<Position, const Velocity>().each([&](ecs::Entity, Position& p, const Velocity& v) { p.x += v.v * g->g; });
+    }
+};
+// Exactly what it declares: a const view of what it reads, a mutable one of what it writes.
+struct DeclaresWhatItDoes {
+    static constexpr std::string_view name = "declares_what_it_does";
+    static constexpr std::string_view lane = "sim";
+    static constexpr std::string_view phase = "physics";
+    static constexpr std::string_view rate = "haptic";
+    using reads = Components<Velocity, Gravity>;
+    using writes = Components<Position>;
+    void operator()(SystemContext& ctx) {
+        const auto* g = ctx.registry.resource<const Gravity>();
+        ctx.registry.view<Position, const Velocity>().each([&](ecs::Entity, Position& p, const Velocity& v) { p.x += v.v * g->g; });
+    }
+};
+
+template <typename S>
+std::string first_firing_error() {
+    ecs::Registry registry;
+    registry.set_resource<Gravity>();
+    const auto e = registry.create();
+    registry.emplace<Position>(e);
+    registry.emplace<Velocity>(e, Velocity{1.0});
+    Schedule schedule;
+    EXPECT_TRUE(schedule.add_lane({"sim", &registry, LaneThread::caller, {"physics"}}));
+    EXPECT_TRUE(schedule.add(describe(S{})));
+    EXPECT_TRUE(schedule.finalize());
+    try {
+        schedule.systems()[0].fire(registry);
+    } catch (const ecs::UndeclaredAccess& error) {
+        EXPECT_EQ(registry.access_mask(), nullptr) << "the mask is cleared even when the system throws";
+        return error.what();
+    }
+    EXPECT_EQ(registry.access_mask(), nullptr);
+    return "";
+}
+} // namespace
+
+// Declared access must be true: a system that writes what it declared read-only, or reads a resource it
+// did not declare, is refused the moment it does so, naming itself and the type.
+TEST(Schedule, RefusesUndeclaredComponentAccess) {
+    EXPECT_EQ(first_firing_error<WritesWhatItReads>(),
+              "system 'writes_what_it_reads' writes '{anonymous}::Velocity' without declaring it (declared read only: view it as const)");
+    EXPECT_EQ(first_firing_error<ReadsAnUndeclaredResource>(), "system 'reads_an_undeclared_resource' reads '{anonymous}::Gravity' without declaring it");
+    EXPECT_EQ(first_firing_error<DeclaresWhatItDoes>(), "") << "a system true to its declaration runs";
+}
+
+// Outside systems (set-up, tests, the command buffer) nothing is checked.
+TEST(Schedule, AccessIsCheckedOnlyWhileASystemRuns) {
+    ecs::Registry registry;
+    const auto e = registry.create();
+    registry.emplace<Position>(e);
+    EXPECT_NO_THROW(registry.get<Position>(e).x = 1.0);
+}
+
+// Modules are ordered, not single systems: two modules' systems that write the same component in one
+// phase run in the order the modules were installed, with no `after` between them; inside one module a
+// conflict still needs one.
+TEST(Schedule, ConflictsBetweenModulesFollowTheModulesOrder) {
+    Fixture f;
+    f.schedule.begin_module("hands");
+    ASSERT_TRUE(f.schedule.add(make("grab", "input", {}, components<Points>())));
+    f.schedule.end_module();
+    f.schedule.begin_module("cutting");
+    ASSERT_TRUE(f.schedule.add(make("cut", "input", {}, components<Points>())));
+    f.schedule.end_module();
+    ASSERT_TRUE(f.schedule.finalize());
+    ASSERT_EQ(f.schedule.systems().size(), 2u);
+    EXPECT_EQ(f.schedule.systems()[0].desc.name, "grab");
+    EXPECT_EQ(f.schedule.systems()[1].desc.name, "cut");
+
+    Fixture g;
+    g.schedule.begin_module("hands");
+    ASSERT_TRUE(g.schedule.add(make("grab", "input", {}, components<Points>())));
+    ASSERT_TRUE(g.schedule.add(make("bend", "input", {}, components<Points>())));
+    g.schedule.end_module();
+    EXPECT_FALSE(g.schedule.finalize()) << "one module's own conflict is not settled for it";
+}

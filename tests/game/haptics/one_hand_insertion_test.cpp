@@ -51,15 +51,15 @@ TEST(OneHand, PullsAStemOutAndInsertsItElsewhere) {
                                 {6.4, grip.x + 0.05, grip.y + aside, grip.z, 0}, {9.0, grip.x + 0.05, grip.y + aside, grip.z, 0}}));
     const glm::dvec3 axis_before = glm::normalize(point(*w, 20) - point(*w, 0));
     clock.run_for_us(1'600'000); // grabbed and lifted
-    ASSERT_EQ(w->sim.get<HandState>(w->hands[1]).held, flower);
-    EXPECT_TRUE(w->sim.get<HandState>(w->hands[1]).holds_direction);
+    ASSERT_EQ(ikebana::test::hand_view(*w, 1).held, flower);
+    EXPECT_TRUE(ikebana::test::hand_view(*w, 1).holds_direction);
     EXPECT_FALSE(w->sim.get<PinEngagement>(flower).in_kenzan) << "pulled out";
     const glm::dvec3 axis_lifted = glm::normalize(point(*w, 20) - point(*w, 0));
     EXPECT_GT(glm::dot(axis_before, axis_lifted), std::cos(0.05)) << "the grip keeps the stem's direction: the head does not swing down";
     EXPECT_GT(point(*w, 20).z, point(*w, 0).z + 0.1);
 
     clock.run_for_us(2'400'000); // carried aside, pushed in, let go
-    const auto& hand = w->sim.get<HandState>(w->hands[1]);
+    const auto& hand = ikebana::test::hand_view(*w, 1);
     EXPECT_TRUE(hand.held.is_null()) << "released";
     EXPECT_EQ(w->sim.get<StemPoints>(flower).pinned, std::vector<std::uint8_t>(21, 0)) << "nothing stays pinned after letting go";
     EXPECT_EQ(w->sim.get<InsertionHistory>(flower).insertions, 1u) << "pushing it back in is an insertion";
@@ -107,11 +107,11 @@ TEST(OneHand, TheMouseReinsertsTheStemInFrameSizedSteps) {
         clock.run_for_us(33'333);
     };
     for (int n = 0; n < 10; ++n) frame(n);
-    EXPECT_TRUE(w->sim.get<HandState>(w->hands[1]).holds_direction);
+    EXPECT_TRUE(ikebana::test::hand_view(*w, 1).holds_direction);
     EXPECT_FALSE(w->sim.get<PinEngagement>(flower).in_kenzan) << "out";
     EXPECT_EQ(w->sim.get<InsertionHistory>(flower).insertions, 0u) << "pulling out is not an insertion";
     for (int n = 10; n < 44; ++n) frame(n);
-    EXPECT_TRUE(w->sim.get<HandState>(w->hands[1]).held.is_null());
+    EXPECT_TRUE(ikebana::test::hand_view(*w, 1).held.is_null());
     EXPECT_EQ(w->sim.get<InsertionHistory>(flower).insertions, 1u);
     EXPECT_TRUE(w->sim.get<PinEngagement>(flower).in_kenzan);
     EXPECT_NEAR(point(*w, 0).x - bottom_before.x, 40.0 / 640.0 * 0.30, 0.006) << "where the mouse put it";

@@ -4,6 +4,9 @@
 
 #include <sstream>
 
+#include "components/hand.hpp"
+#include "game/world/world.hpp"
+
 namespace ikebana::test {
 
 std::unique_ptr<devices::ScriptedDevice> script(const std::vector<Key>& keys) {
@@ -13,6 +16,16 @@ std::unique_ptr<devices::ScriptedDevice> script(const std::vector<Key>& keys) {
     auto parsed = devices::parse_trajectory(csv.str(), "test");
     EXPECT_TRUE(parsed) << (parsed ? "" : parsed.error().message);
     return std::make_unique<devices::ScriptedDevice>(std::move(parsed).value(), devices::ScriptedDevice::Mode::interpolate);
+}
+
+HandView hand_view(game::World& w, std::size_t hand) {
+    const auto e = w.hands[hand];
+    const auto& input = w.sim.get<components::HandInput>(e);
+    const auto& proxy = w.sim.get<components::HandProxy>(e);
+    const auto& grip = w.sim.get<components::HandGrip>(e);
+    const auto& force = w.sim.get<components::HandForce>(e);
+    return HandView{input.connected, input.disconnects, input.device_m, proxy.position_m, grip.held, grip.held_point, grip.held_offset_m,
+                    grip.holds_direction, grip.second_point, force.force_n};
 }
 
 } // namespace ikebana::test

@@ -4,8 +4,28 @@
 #include <vector>
 
 #include "engine/devices/scripted_device.hpp"
+#include "engine/ecs/entity.hpp"
+
+namespace ikebana::game {
+class World;
+}
 
 namespace ikebana::test {
+
+// One hand's four components read together, for assertions.
+struct HandView {
+    bool connected;
+    std::uint64_t disconnects;
+    glm::dvec3 device_m;
+    glm::dvec3 proxy_m;
+    ecs::Entity held;
+    std::uint32_t held_point;
+    glm::dvec3 held_offset_m;
+    bool holds_direction;
+    std::uint32_t second_point;
+    glm::dvec3 force_n;
+};
+HandView hand_view(game::World& world, std::size_t hand);
 
 // A keyframe as (t, x, y, z, buttons); seconds and metres in the world frame.
 struct Key {

@@ -35,7 +35,7 @@ std::unique_ptr<World> lying_flower(glm::dvec3 base = {0.1, 0.1, 0.0}, glm::dvec
 }
 
 glm::dvec3 point(World& w, std::size_t i) { return w.sim.get<StemPoints>(w.flowers[0].entity).position_m[i]; }
-const HandState& hand(World& w, int h) { return w.sim.get<HandState>(w.hands[static_cast<std::size_t>(h)]); }
+ikebana::test::HandView hand(World& w, int h) { return ikebana::test::hand_view(w, static_cast<std::size_t>(h)); }
 
 // An unplugged device: every read fails.
 struct Gone : devices::HapticDevice {
