@@ -1,17 +1,21 @@
 #pragma once
-// What the main thread gets from the simulation each frame: a copy, never a reference into the
-// simulation's registry (the two live on different threads in real time).
+// What the main thread gets from the simulation each frame: a copy of plain state, never a reference
+// into the simulation's registry (the two live on different threads in real time), and nothing drawn:
+// the main lane prepares the draw list and the HUD from it (extract here, prepare and draw there).
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
-#include "engine/render/draw_list.hpp"
+#include "components/appearance.hpp"
+#include "components/flower.hpp"
+#include "components/kenzan.hpp"
 
 namespace ikebana::components {
 
-// One flower as the trainee sees it: where its stem is and how it stands in the kenzan.
+// One flower as the trainee sees it: where its stem is, how it looks and how it stands in the kenzan.
 struct FlowerStatus {
     std::string species;
     std::vector<glm::dvec3> points_m;   // the stem's mass points, bottom first
@@ -21,6 +25,9 @@ struct FlowerStatus {
     bool fallen;
     double holding_moment_nm;           // what the pins can hold
     double gravity_moment_nm;           // what its weight asks of them
+    double diameter_m;                  // the stem's
+    FlowerLook look;
+    std::vector<Part> parts;            // petals and leaves (the stem is drawn from its points)
 };
 
 struct HandStatus {
@@ -28,7 +35,9 @@ struct HandStatus {
     bool connected;     // its device answers
     std::uint64_t disconnects;
     bool holding;       // it holds a stem
-    glm::dvec3 force_n; // what it feels (before the device's safety chain)
+    glm::dvec3 force_n; // what it feels (before the device's safety layer)
+    glm::dvec3 position_m; // where its cube is
+    double edge_m;
 };
 
 struct FrameSnapshot {
@@ -36,7 +45,8 @@ struct FrameSnapshot {
     std::vector<FlowerStatus> flowers;
     std::uint64_t contacts;
     HandStatus hands[2];
-    render::DrawList draw_list; // what the renderer draws this frame
+    std::optional<Kenzan> kenzan;
+    std::optional<double> table_height_m;
 };
 
 } // namespace ikebana::components

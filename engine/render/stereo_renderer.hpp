@@ -3,7 +3,9 @@
 // composite pass to the display's format: side by side, row-interleaved (the paper's polarized
 // display), anaglyph red-cyan, or mono. Offscreen: the composed frame (and each eye) is read back.
 // Structure after Sascha Willems' examples: short prepare_*() steps; a resize recreates only the
-// size-dependent targets; per-frame resources live in arrays of frames in flight.
+// size-dependent targets; per-frame resources live in arrays of frames in flight. One class in four
+// files: set-up and frames here (stereo_renderer.cpp), a function per pass (render_passes.cpp), the
+// pipelines (render_pipelines.cpp, with pipeline_builder.hpp), the meshes (render_meshes.cpp).
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -25,6 +27,8 @@
 #include "engine/render/vulkan_context.hpp"
 
 namespace ikebana::render {
+
+class GraphicsPipelineBuilder;
 
 enum class StereoMode { side_by_side, rows, anaglyph, mono };
 Result<StereoMode> parse_stereo_mode(std::string_view text); // sbs, rows, anaglyph, mono
@@ -133,27 +137,43 @@ private:
     };
 
     StereoRenderer(VulkanContext& ctx, const RendererOptions& options) : ctx_(ctx), options_(options) {}
+    // Set-up, resources and frames (stereo_renderer.cpp).
     Result<void> prepare_frames();
     Result<void> prepare_shadow_map();
     Result<void> prepare_targets();
     Result<void> prepare_descriptors();
-    Result<void> prepare_pipelines();
-    Result<void> prepare_builtin_meshes();
     void destroy_targets();
-    Result<Mesh*> mesh(const std::string& name);
-    Result<Mesh> upload(const assets::MeshData& data);
     Result<Frame*> begin_frame(const DrawList& list, const StereoRig& rig);
-    void record(Frame& frame, const DrawList& list, const std::vector<Draw>& draws, const CompositeTarget& target);
     void read_back(const Frame& frame, RgbaImage& image, VkExtent2D extent, std::size_t offset, bool bgra) const;
-    Result<VkPipeline> make_screen_pipeline(VkFormat format, const char* shader, const VkPipelineVertexInputStateCreateInfo& input,
-                                            const VkPipelineColorBlendAttachmentState& blend, VkPipelineLayout layout);
+    void read_timestamps(Frame& frame, FrameTiming& timing) const;
+
+    // Pipelines (render_pipelines.cpp).
+    Result<void> prepare_pipelines();
+    Result<VkPipeline> make_screen_pipeline(VkFormat format, const char* shader, GraphicsPipelineBuilder& pipeline, VkPipelineLayout layout);
     Result<VkPipeline> cached_pipeline(std::map<VkFormat, VkPipeline>& cache, VkFormat format, Result<VkPipeline> (StereoRenderer::*make)(VkFormat));
     Result<VkPipeline> make_composite_pipeline(VkFormat format);
     Result<VkPipeline> make_overlay_pipeline(VkFormat format);
     Result<VkPipeline> overlay_pipeline_for(VkFormat format);
-    Result<void> fill_overlay(Frame& frame);
-    void read_timestamps(Frame& frame, FrameTiming& timing) const;
     Result<VkPipeline> composite_pipeline_for(VkFormat format);
+
+    // Meshes and the heads-up panels' triangles (render_meshes.cpp).
+    Result<void> prepare_builtin_meshes();
+    Result<Mesh*> mesh(const std::string& name);
+    Result<Mesh> upload(const assets::MeshData& data);
+    Result<void> fill_overlay(Frame& frame);
+
+    // The frame's commands, one function per pass (render_passes.cpp).
+    void record(Frame& frame, const DrawList& list, const std::vector<Draw>& draws, const CompositeTarget& target);
+    void record_shadow_pass(const Frame& frame, const std::vector<Draw>& draws) const;
+    void record_eye_passes(const Frame& frame, const DrawList& list, const std::vector<Draw>& draws) const;
+    void clear_eye_depth(VkCommandBuffer cmd) const;
+    VkImageLayout record_composite(const Frame& frame, const CompositeTarget& target) const; // the eyes' layout after it
+    void copy_eyes_to_target(VkCommandBuffer cmd, const CompositeTarget& target) const;
+    void draw_composite(VkCommandBuffer cmd, const CompositeTarget& target) const;
+    void draw_overlay(const Frame& frame, const CompositeTarget& target) const;
+    void record_hand_over(const Frame& frame, const CompositeTarget& target, VkImageLayout eyes_layout) const;
+    void copy_eyes_to_host(const Frame& frame, const CompositeTarget& target, VkImageLayout eyes_layout) const;
+    static void draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only);
 
     VulkanContext& ctx_;
     RendererOptions options_;

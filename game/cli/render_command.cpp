@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <vector>
 
@@ -14,7 +15,7 @@
 #include "game/asset_paths.hpp"
 #include "game/scene/scene.hpp"
 #include "game/world/world.hpp"
-#include "systems/presentation/draw_list_system.hpp"
+#include "components/presentation.hpp"
 
 namespace ikebana::game {
 
@@ -28,6 +29,21 @@ double percentile(std::vector<double> v, double q) {
 
 } // namespace
 
+// The offscreen draw: the main lane's last phase, like the window's present, drawing what
+// prepare_frame_system prepared (the world, the sample, the HUD) into PNGs.
+struct OffscreenDrawSystem {
+    static constexpr std::string_view name = "offscreen_draw";
+    static constexpr std::string_view lane = "main";
+    static constexpr std::string_view phase = "draw";
+    static constexpr std::string_view rate = "render";
+    using reads = sched::Components<components::PreparedFrame>;
+    using writes = sched::Components<>;
+    std::function<void(const components::PreparedFrame&)> draw;
+    void operator()(sched::SystemContext& ctx) {
+        if (const auto* prepared = ctx.registry.resource<const components::PreparedFrame>()) draw(*prepared);
+    }
+};
+
 int run_render(const RenderOptions& o) {
     auto scene = load_scene(o.scene);
     if (!scene) {
@@ -37,11 +53,6 @@ int run_render(const RenderOptions& o) {
     auto mode = render::parse_stereo_mode(o.stereo.empty() ? scene->display.stereo : o.stereo);
     if (!mode) {
         std::cerr << "ikebana render: " << mode.error().message << "\n";
-        return 2;
-    }
-    auto world = World::create(*scene);
-    if (!world) {
-        std::cerr << "ikebana render: " << world.error().message << "\n";
         return 2;
     }
     auto ctx = render::VulkanContext::create({.validation = o.validation, .require_validation = false, .instance_extensions = {}});
@@ -65,10 +76,6 @@ int run_render(const RenderOptions& o) {
         std::cerr << "ikebana render: " << o.out << ": " << ec.message() << "\n";
         return 2;
     }
-    World& w = **world;
-    sched::DeterministicClock clock(w.schedule);
-    const double hz = w.schedule.rates().hz("render");
-    const auto frame_us = static_cast<std::int64_t>(std::llround(1e6 / hz));
     render::StereoRig rig;
     rig.eye_separation_m = scene->display.eye_separation_m;
     rig.screen_distance_m = scene->display.screen_distance_m;
@@ -76,17 +83,20 @@ int run_render(const RenderOptions& o) {
     rig = render::orbited(rig, o.yaw_deg * M_PI / 180.0, o.pitch_deg * M_PI / 180.0);
     const bool tty = isatty(fileno(stderr)) != 0;
     std::vector<double> record, execute, readback, shadow, scene_pass, composite;
-    for (std::uint32_t f = 1; f <= o.frames; ++f) {
-        // The first frame shows the scene as built; each next one a render period later.
-        if (f > 1) clock.run_for_us(frame_us);
-        const auto* list = w.sim.resource<render::DrawList>();
-        const render::DrawList drawn = list ? *list : systems::build_draw_list(w.sim);
-        auto frame = (*renderer)->render(drawn, rig, true);
+    std::uint32_t written = 0;
+    int code = 0;
+    OffscreenDrawSystem offscreen;
+    offscreen.draw = [&](const components::PreparedFrame& prepared) {
+        if (code != 0 || written >= o.frames) return;
+        (*renderer)->set_overlay(prepared.overlay);
+        auto frame = (*renderer)->render(prepared.list, rig, true);
         if (!frame) {
-            std::cerr << "ikebana render: frame " << f << ": " << frame.error().message << "\n";
-            return 3;
+            std::cerr << "ikebana render: frame " << written + 1 << ": " << frame.error().message << "\n";
+            code = 3;
+            return;
         }
         for (const auto& warning : (*renderer)->take_warnings()) std::cerr << "ikebana render: warning: " << warning << "\n";
+        ++written;
         record.push_back(frame->timing.record_ms);
         execute.push_back(frame->timing.execute_ms);
         readback.push_back(frame->timing.readback_ms);
@@ -95,15 +105,28 @@ int run_render(const RenderOptions& o) {
         composite.push_back(frame->timing.composite_ms);
         char name[64];
         for (const auto& [suffix, image] : {std::pair{"left", &frame->left}, std::pair{"right", &frame->right}, std::pair{"composed", &frame->composed}}) {
-            std::snprintf(name, sizeof name, "frame_%04u_%s.png", f, suffix);
+            std::snprintf(name, sizeof name, "frame_%04u_%s.png", written, suffix);
             if (auto wr = render::write_png(std::filesystem::path(o.out) / name, *image); !wr) {
                 std::cerr << "ikebana render: " << wr.error().message << "\n";
-                return 1;
+                code = 1;
+                return;
             }
         }
-        if (tty && !o.quiet) std::fprintf(stderr, "\r\033[Kframe %u / %u", f, o.frames);
+        if (tty && !o.quiet) std::fprintf(stderr, "\r\033[Kframe %u / %u", written, o.frames);
+    };
+    // The same world, systems and presentation path as the window: only the last phase differs.
+    auto world = World::create(*scene, WorldOptions{.rate_overrides = {}, .force_scheme = {}, .main_lane_systems = {sched::describe(offscreen)}});
+    if (!world) {
+        std::cerr << "ikebana render: " << world.error().message << "\n";
+        return 2;
     }
+    World& w = **world;
+    sched::DeterministicClock clock(w.schedule);
+    // One frame at each render firing: the first shows the scene after its first tick.
+    const auto step_us = static_cast<std::int64_t>(std::llround(1e6 / w.schedule.rates().hz("render")));
+    while (written < o.frames && code == 0) clock.run_for_us(step_us);
     if (tty && !o.quiet) std::fprintf(stderr, "\r\033[K");
+    if (code != 0) return code;
     const auto out_extent = (*renderer)->output_extent();
     std::printf("rendered %u frame(s) of the scene on %s (%s, %s, %ux%u per eye, composed %ux%u) into %s\n", o.frames,
                 (*ctx)->device_name().c_str(), render::stereo_mode_name(*mode), (*renderer)->multiview() ? "multiview" : "one pass per eye",

@@ -11,6 +11,7 @@
 #include "components/insertion.hpp"
 #include "components/kenzan.hpp"
 #include "components/physics.hpp"
+#include "components/presentation.hpp"
 #include "components/stem.hpp"
 #include "engine/core/hash.hpp"
 #include "engine/devices/safe_force_device.hpp"
@@ -18,6 +19,7 @@
 #include "engine/ecs/hierarchy.hpp"
 #include "game/asset_paths.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
+#include "game/training/sample_arrangement.hpp"
 #include "systems/collision/collision_module.hpp"
 #include "systems/haptics/hand_devices.hpp"
 #include "systems/haptics/haptics_module.hpp"
@@ -50,7 +52,8 @@ Result<void> register_systems(World& w, systems::ForceScheme force_scheme, const
         !r) {
         return r;
     }
-    if (auto r = w.schedule.add_lane({"main", &w.main, sched::LaneThread::caller, {"frame"}}); !r) return r;
+    // The main lane: receive the snapshot, take the trainee's input, prepare the frame, draw it.
+    if (auto r = w.schedule.add_lane({"main", &w.main, sched::LaneThread::caller, {"receive", "input", "prepare", "draw"}}); !r) return r;
     // Modules in the order their conflicting systems run within a phase: a cut or a scripted hand
     // before a device hand grabs, the hands before the collision and physics they feed.
     if (auto r = systems::install_insertion(w.schedule); !r) return r;
@@ -187,6 +190,8 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     r.set_resource<systems::ViewChannel*>(&w->view);
     w->main.set_resource<systems::FrameChannel*>(&w->channel);
     w->main.set_resource<systems::ReceivedFrames>();
+    w->main.set_resource<HudInfo>();
+    w->main.set_resource<PreparedFrame>();
 
     const ecs::Entity kenzan_entity = r.create();
     kenzan->origin_m = scene.kenzan_position_m;
@@ -228,6 +233,9 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
                                                                                h.trajectory));
         }
     }
+    // The sample to copy, drawn beside the kenzan in every frame (the window's, `render`'s).
+    auto& scenery = w->main.set_resource<Scenery>();
+    add_sample_to_draw_list(scenery.list, *w, scene.sample);
     const std::string scheme = options.force_scheme.empty() ? scene.force_scheme : options.force_scheme;
     if (scheme != "full_rate" && scheme != "paper") {
         return make_error(ErrorCode::invalid_argument, "force scheme '" + scheme + "': expected full_rate or paper");
@@ -243,6 +251,7 @@ void World::attach_device(std::uint8_t hand, std::unique_ptr<devices::HapticDevi
     // Every device that can push goes through the one safety layer, whoever opened it.
     hand_devices[hand] = devices::make_force_safe(std::move(device));
     if (slots) slots->device[hand] = hand_devices[hand].get();
+    if (auto* hud = main.resource<HudInfo>()) hud->device[hand] = hand_devices[hand] ? hand_devices[hand]->capabilities().name : "no device";
 }
 
 std::uint64_t World::state_hash() const {

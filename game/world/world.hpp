@@ -26,8 +26,9 @@ namespace ikebana::game {
 struct WorldOptions {
     std::vector<std::string> rate_overrides; // "name=hz", applied after the scene's own rates
     std::string force_scheme;                // overrides the scene's ("full_rate" or "paper")
-    // More systems for the main lane (the trainee app's frame: draw, present), registered with the
-    // world's own before the schedule is finalized.
+    // More systems for the main lane, by phase: "input" (the window's keys and camera) and "draw" (the
+    // window's present, `render`'s offscreen images), registered with the world's own before the
+    // schedule is finalized.
     std::vector<sched::SystemDesc> main_lane_systems;
 };
 

@@ -17,7 +17,14 @@ struct FrameChannel {
 struct ReceivedFrames {
     std::uint64_t frames = 0;
     std::uint64_t fresh = 0; // frames that brought a new snapshot
-    components::FrameSnapshot latest;
+    // The newest snapshot, read in place in the channel (no copy): the reader's buffer stays the
+    // reader's until the next receive, which only the main lane does.
+    const components::FrameSnapshot* current = nullptr;
+    [[nodiscard]] const components::FrameSnapshot& latest() const {
+        static const components::FrameSnapshot none{};
+        return current ? *current : none;
+    }
+    components::HandStatus previous_hands[2]{};
     // Called on the main lane when something the trainee should hear about happens (a device
     // unplugged or back); the app decides how to say it (a line on the terminal, the HUD).
     std::function<void(const std::string&)> announce;

@@ -1,42 +1,67 @@
 #include "systems/presentation/publish_frame_system.hpp"
 
-#include "components/hand.hpp"
+#include "engine/ecs/hierarchy.hpp"
 #include "engine/ecs/registry.hpp"
-#include "systems/presentation/frame_channel.hpp"
 
 namespace ikebana::systems {
 
+using namespace components;
+
 void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
-    auto* const* channel = ctx.registry.resource<FrameChannel* const>();
+    auto& r = ctx.registry;
+    auto* const* channel = r.resource<FrameChannel* const>();
     if (!channel || !*channel) return;
+    // The writer's slot is reused: its vectors keep their capacity from frame to frame.
     auto& frame = (*channel)->buffer.write_buffer();
     frame.sim_time_us = ctx.time_us;
-    frame.flowers.clear();
-    auto& r = ctx.registry;
-    r.view<const components::Flower, const components::StemPoints>().each([&](ecs::Entity e, const components::Flower& flower, const components::StemPoints& points) {
-        components::FlowerStatus status{flower.species, points.position_m, 0, false, false, false, 0.0, 0.0};
-        if (const auto* h = r.try_get<const components::InsertionHistory>(e)) {
-            status.insertions = h->insertions_total;
-            status.bottom_broken = h->bottom_broken;
-        }
-        if (const auto* engagement = r.try_get<const components::PinEngagement>(e)) {
-            status.in_kenzan = engagement->in_kenzan;
-            status.holding_moment_nm = engagement->holding_moment_nm;
-            status.gravity_moment_nm = engagement->gravity_moment_nm;
-        }
-        if (const auto* grip = r.try_get<const components::KenzanGrip>(e)) status.fallen = grip->fallen;
-        frame.flowers.push_back(std::move(status));
-    });
-    for (auto& h : frame.hands) h = components::HandStatus{false, false, 0, false, glm::dvec3{0.0}};
-    r.view<const components::HandCube, const components::HandInput, const components::HandGrip, const components::HandForce>().each(
-        [&](ecs::Entity, const components::HandCube& cube, const components::HandInput& input, const components::HandGrip& grip,
-            const components::HandForce& force) {
-            if (cube.hand < 2) frame.hands[cube.hand] = components::HandStatus{true, input.connected, input.disconnects, !grip.held.is_null(), force.force_n};
+    std::size_t count = 0;
+    r.view<const Flower, const StemPoints, const StemRestShape, const FlowerLook>().each(
+        [&](ecs::Entity e, const Flower& flower, const StemPoints& points, const StemRestShape& rest, const FlowerLook& look) {
+            if (frame.flowers.size() <= count) frame.flowers.emplace_back();
+            auto& status = frame.flowers[count++];
+            status.species = flower.species;
+            status.points_m = points.position_m;
+            status.diameter_m = rest.diameter_m;
+            status.look = look;
+            status.insertions = 0;
+            status.bottom_broken = false;
+            status.in_kenzan = false;
+            status.fallen = false;
+            status.holding_moment_nm = 0.0;
+            status.gravity_moment_nm = 0.0;
+            if (const auto* h = r.try_get<const InsertionHistory>(e)) {
+                status.insertions = h->insertions_total;
+                status.bottom_broken = h->bottom_broken;
+            }
+            if (const auto* engagement = r.try_get<const PinEngagement>(e)) {
+                status.in_kenzan = engagement->in_kenzan;
+                status.holding_moment_nm = engagement->holding_moment_nm;
+                status.gravity_moment_nm = engagement->gravity_moment_nm;
+            }
+            if (const auto* grip = r.try_get<const KenzanGrip>(e)) status.fallen = grip->fallen;
+            status.parts.clear();
+            if (const auto* children = r.try_get<const ecs::Children>(e)) {
+                for (const ecs::Entity child : children->entities) {
+                    const auto* part = r.try_get<const Part>(child);
+                    if (part && part->kind != PartKind::stem && !part->mesh.empty()) status.parts.push_back(*part);
+                }
+            }
         });
-    const auto* contacts = ctx.registry.resource<const components::Contacts>();
+    frame.flowers.resize(count);
+    for (auto& h : frame.hands) h = HandStatus{false, false, 0, false, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.0};
+    r.view<const HandCube, const HandInput, const HandProxy, const HandGrip, const HandForce>().each(
+        [&](ecs::Entity, const HandCube& cube, const HandInput& input, const HandProxy& proxy, const HandGrip& grip, const HandForce& force) {
+            if (cube.hand < 2) {
+                frame.hands[cube.hand] = HandStatus{true, input.connected, input.disconnects, !grip.held.is_null(), force.force_n,
+                                                    proxy.position_m, cube.edge_m};
+            }
+        });
+    const auto* contacts = r.resource<const Contacts>();
     frame.contacts = contacts ? contacts->list.size() : 0;
-    const auto* list = ctx.registry.resource<const render::DrawList>();
-    frame.draw_list = list ? *list : render::DrawList{};
+    const auto* kenzan = r.single<const Kenzan>();
+    frame.kenzan = kenzan ? std::optional<Kenzan>(*kenzan) : std::nullopt;
+    const auto* table = r.resource<const Table>();
+    frame.table_height_m = table ? std::optional<double>(table->height_m) : std::nullopt;
     (*channel)->buffer.publish();
 }
 

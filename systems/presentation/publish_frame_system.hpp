@@ -1,13 +1,17 @@
 #pragma once
-// Copies what the main thread needs to draw into the frame channel, at the render rate.
+// Extract: copies the plain state the main thread needs to show the world (stems, looks, parts, the
+// kenzan, the table, the hands, how each flower stands) into the frame channel, at the render rate.
+// Nothing is drawn here: the main lane prepares the draw list and the HUD (prepare_frame_system).
 #include <string_view>
 
+#include "components/appearance.hpp"
 #include "components/collision.hpp"
 #include "components/flower.hpp"
 #include "components/hand.hpp"
 #include "components/insertion.hpp"
+#include "components/kenzan.hpp"
+#include "components/physics.hpp"
 #include "components/stem.hpp"
-#include "engine/render/draw_list.hpp"
 #include "engine/sched/system.hpp"
 #include "systems/presentation/frame_channel.hpp"
 
@@ -18,10 +22,11 @@ struct PublishFrameSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "present"; // after every system that writes what it copies
     static constexpr std::string_view rate = "render";
-    using reads = sched::Components<FrameChannel*, components::StemPoints, components::Flower, components::Contacts,
-                                    components::HandCube, components::HandInput, components::HandGrip, components::HandForce,
-                                    components::InsertionHistory, components::PinEngagement, components::KenzanGrip,
-                                    render::DrawList>;
+    using reads = sched::Components<FrameChannel*, components::StemPoints, components::StemRestShape, components::Flower,
+                                    components::FlowerLook, components::Part, ecs::Children, components::Contacts,
+                                    components::HandCube, components::HandInput, components::HandProxy, components::HandGrip,
+                                    components::HandForce, components::InsertionHistory, components::PinEngagement,
+                                    components::KenzanGrip, components::Kenzan, components::Table>;
     using writes = sched::Components<>;
 
     void operator()(sched::SystemContext& ctx);

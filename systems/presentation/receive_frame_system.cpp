@@ -1,7 +1,6 @@
 #include "systems/presentation/receive_frame_system.hpp"
 
 #include "engine/ecs/registry.hpp"
-#include "systems/presentation/frame_channel.hpp"
 
 namespace ikebana::systems {
 
@@ -10,24 +9,25 @@ void ReceiveFrameSystem::operator()(sched::SystemContext& ctx) {
     auto* received = ctx.registry.resource<ReceivedFrames>();
     if (!channel || !*channel || !received) return;
     ++received->frames;
-    if ((*channel)->buffer.update()) {
-        const components::FrameSnapshot previous = received->latest;
-        ++received->fresh;
-        received->latest = (*channel)->buffer.read_buffer();
-        if (received->announce && received->fresh > 1) {
-            for (int h = 0; h < 2; ++h) {
-                const auto& was = previous.hands[h];
-                const auto& now = received->latest.hands[h];
-                if (!now.present) continue;
-                const char* hand_name = h ? "right" : "left";
-                if (now.disconnects > was.disconnects) {
-                    received->announce(std::string(hand_name) + " hand: device unplugged; what it held is released and its force is zero");
-                } else if (now.connected && !was.connected && now.disconnects > 0) {
-                    received->announce(std::string(hand_name) + " hand: device back; the hand follows it again");
-                }
+    if (!(*channel)->buffer.update()) return; // nothing new: the current snapshot stays
+    const bool first = received->current == nullptr;
+    received->current = &(*channel)->buffer.read_buffer();
+    ++received->fresh;
+    const auto& now_hands = received->current->hands;
+    if (received->announce && !first) {
+        for (int h = 0; h < 2; ++h) {
+            const auto& was = received->previous_hands[h];
+            const auto& now = now_hands[h];
+            if (!now.present) continue;
+            const char* hand_name = h ? "right" : "left";
+            if (now.disconnects > was.disconnects) {
+                received->announce(std::string(hand_name) + " hand: device unplugged; what it held is released and its force is zero");
+            } else if (now.connected && !was.connected && now.disconnects > 0) {
+                received->announce(std::string(hand_name) + " hand: device back; the hand follows it again");
             }
         }
     }
+    for (int h = 0; h < 2; ++h) received->previous_hands[h] = now_hands[h];
 }
 
 } // namespace ikebana::systems

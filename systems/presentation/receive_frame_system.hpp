@@ -1,5 +1,6 @@
 #pragma once
-// Main lane: takes the newest simulation snapshot for drawing (the renderer issue draws it).
+// Main lane, first: takes the newest simulation snapshot (in place, no copy), and announces devices
+// unplugged or back.
 #include <string_view>
 
 #include "engine/sched/system.hpp"
@@ -10,7 +11,7 @@ namespace ikebana::systems {
 struct ReceiveFrameSystem {
     static constexpr std::string_view name = "receive_frame";
     static constexpr std::string_view lane = "main";
-    static constexpr std::string_view phase = "frame";
+    static constexpr std::string_view phase = "receive";
     static constexpr std::string_view rate = "render";
     using reads = sched::Components<FrameChannel*>;
     using writes = sched::Components<ReceivedFrames>;

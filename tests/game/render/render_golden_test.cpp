@@ -19,7 +19,9 @@
 #include "game/scene/scene.hpp"
 #include "game/training/sample_arrangement.hpp"
 #include "game/world/world.hpp"
-#include "systems/presentation/draw_list_system.hpp"
+#include "components/presentation.hpp"
+#include "engine/sched/clocks.hpp"
+#include "game/cli/render_command.hpp"
 
 using namespace ikebana;
 
@@ -31,6 +33,13 @@ struct Rendered {
     render::RenderedFrame frame;
     std::uint32_t validation_errors = 0;
 };
+
+// What the main lane prepared for the world's first frame: the draw list with the sample, and the HUD.
+components::PreparedFrame first_prepared_frame(game::World& world) {
+    sched::DeterministicClock clock(world.schedule);
+    clock.run_until(1); // the first tick: the simulation publishes, the main lane prepares
+    return *world.main.resource<components::PreparedFrame>();
+}
 
 std::optional<Rendered> render_default_scene(render::StereoMode mode) {
     auto ctx = render::VulkanContext::create({.validation = true, .require_validation = false, .instance_extensions = {}});
@@ -47,7 +56,10 @@ std::optional<Rendered> render_default_scene(render::StereoMode mode) {
     auto renderer = render::StereoRenderer::create(**ctx, o);
     EXPECT_TRUE(renderer) << (renderer ? "" : renderer.error().message);
     if (!renderer) return std::nullopt;
-    auto frame = (*renderer)->render(systems::build_draw_list((*world)->sim), render::StereoRig{}, true);
+    // What `ikebana render` and the window draw (the world and the sample), without the HUD: at this
+    // size its text would cover half the picture (RenderShowsTheSampleAndTheHudLikeTheWindow checks it).
+    const auto prepared = first_prepared_frame(**world);
+    auto frame = (*renderer)->render(prepared.list, render::StereoRig{}, true);
     EXPECT_TRUE(frame);
     if (!frame) return std::nullopt;
     EXPECT_TRUE((*renderer)->take_warnings().empty()) << "every shipped mesh loads";
@@ -98,6 +110,60 @@ TEST(RenderGolden, TheEyesSeeTheSceneFromDifferentPlaces) {
     EXPECT_LT(background, p.size() / 4 * 9 / 10);
 }
 
+// One presentation path: `ikebana render` draws what the window draws, the sample beside the kenzan
+// and the heads-up display over the frame, from the same prepare system.
+TEST(RenderGolden, RenderShowsTheSampleAndTheHudLikeTheWindow) {
+    auto scene = game::load_scene(game::asset_dir() / "scenes" / "default.json");
+    ASSERT_TRUE(scene);
+    ASSERT_FALSE(scene->sample.empty()) << "the default scene has a sample to copy";
+    auto world = game::World::create(*scene);
+    ASSERT_TRUE(world);
+    const auto prepared = first_prepared_frame(**world);
+    ASSERT_EQ(prepared.overlay.size(), 1u);
+    ASSERT_FALSE(prepared.overlay[0].lines.empty());
+    EXPECT_EQ(prepared.overlay[0].lines[0].rfind("IKEBANA", 0), 0u) << "the HUD's first line";
+    std::size_t stems = 0, world_segments = 0;
+    for (const auto& b : prepared.list.batches) {
+        if (b.mesh == "cylinder") stems = b.instances.size();
+    }
+    for (const auto& f : (*world)->main.resource<systems::ReceivedFrames>()->latest().flowers) world_segments += f.points_m.size() - 1;
+    EXPECT_EQ(stems, world_segments + scene->sample.size()) << "every stem segment of the world, and one cylinder per sample stem";
+
+    if (!render::VulkanContext::create({})) GTEST_SKIP() << "no Vulkan 1.3 device";
+    const auto out = std::filesystem::temp_directory_path() / "ikebana_render_hud";
+    std::filesystem::remove_all(out);
+    game::RenderOptions o;
+    o.scene = (game::asset_dir() / "scenes" / "default.json").string();
+    o.out = out.string();
+    o.width = 320;
+    o.height = 180;
+    o.stereo = "mono";
+    o.quiet = true;
+    testing::internal::CaptureStdout();
+    ASSERT_EQ(game::run_render(o), 0);
+    testing::internal::GetCapturedStdout();
+    const auto composed = render::read_png(out / "frame_0001_composed.png");
+    ASSERT_TRUE(composed) << composed.error().message;
+    // The HUD's translucent black panel darkens the top-left corner; the same frame without it does not.
+    auto ctx = render::VulkanContext::create({});
+    render::RendererOptions ro;
+    ro.eye_width = 320;
+    ro.eye_height = 180;
+    ro.mode = render::StereoMode::mono;
+    ro.asset_dir = game::asset_dir();
+    auto renderer = render::StereoRenderer::create(**ctx, ro);
+    ASSERT_TRUE(renderer);
+    const auto bare = (*renderer)->render(prepared.list, render::StereoRig{}, false);
+    ASSERT_TRUE(bare);
+    auto corner_brightness = [](const render::RgbaImage& img) {
+        double sum = 0.0;
+        for (std::uint32_t y = 14; y < 24; ++y)
+            for (std::uint32_t x = 14; x < 60; ++x) sum += img.pixels[4ull * (y * img.width + x) + 1];
+        return sum / (10.0 * 46.0);
+    };
+    EXPECT_LT(corner_brightness(*composed), 0.7 * corner_brightness(bare->composed)) << "the HUD panel is drawn by render too";
+}
+
 // The trainee app's real window (under Xvfb in ctest; skipped without a display): it presents frames,
 // and a screenshot of what it presented shows the scene the offscreen renderer draws.
 TEST(WindowApp, PresentsTheSceneInARealWindow) {
@@ -126,9 +192,7 @@ TEST(WindowApp, PresentsTheSceneInARealWindow) {
     ro.asset_dir = game::asset_dir();
     auto renderer = render::StereoRenderer::create(**ctx, ro);
     ASSERT_TRUE(renderer);
-    auto list = systems::build_draw_list((*world)->sim);
-    game::add_sample_to_draw_list(list, **world, scene->sample);
-    const auto offscreen = (*renderer)->render(list, render::StereoRig{}, false);
+    const auto offscreen = (*renderer)->render(first_prepared_frame(**world).list, render::StereoRig{}, false);
     ASSERT_TRUE(offscreen);
     // The sim ran on while the window was open (stems settle, the mouse placed the hands), so the
     // pictures are compared by their colours: table, background, kenzan, stems, in like amounts. The

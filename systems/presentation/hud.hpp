@@ -3,21 +3,16 @@
 // pins have over gravity (Eq. 7 as moments), and whether it stands or fell; each hand's device and the
 // force it feels; the keys; and, once the trainee has finished, the result. Everything comes from the
 // frame snapshot the simulation publishes, never from the simulation's registry (another thread).
-#include <array>
 #include <string>
 #include <vector>
 
+#include "components/presentation.hpp"
 #include "components/snapshot.hpp"
 #include "engine/render/text_overlay.hpp"
 
-namespace ikebana::game {
+namespace ikebana::systems {
 
-struct HudInfo {
-    std::array<std::string, 2> device{"", ""}; // what drives each hand
-    std::vector<std::string> result;           // the training result's lines, when finished
-};
+std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const components::HudInfo& info);
+std::vector<render::OverlayPanel> hud_panels(const components::FrameSnapshot& frame, const components::HudInfo& info);
 
-std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const HudInfo& info);
-std::vector<render::OverlayPanel> hud_panels(const components::FrameSnapshot& frame, const HudInfo& info);
-
-} // namespace ikebana::game
+} // namespace ikebana::systems

@@ -1,8 +1,10 @@
-#include "game/app/hud.hpp"
+#include "systems/presentation/hud.hpp"
 
 #include <cstdio>
 
-namespace ikebana::game {
+namespace ikebana::systems {
+
+using components::HudInfo;
 
 std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const HudInfo& info) {
     std::vector<std::string> lines;
@@ -29,8 +31,11 @@ std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const
     for (std::size_t h = 0; h < 2; ++h) {
         const auto& hand = frame.hands[h];
         if (!hand.present) continue;
-        std::snprintf(text, sizeof text, "%s hand: %s%s   feels %.2f N%s", h ? "right" : "left", info.device[h].c_str(),
-                      hand.connected ? "" : " (disconnected)", glm::length(hand.force_n), hand.holding ? "   holding a stem" : "");
+        const char* state = hand.connected ? "" : hand.disconnects > 0 ? " (unplugged)" : " (not answering)";
+        const std::string device = info.device[h].empty() || info.device[h] == "no device" ? "no device" : info.device[h];
+        if (device == "no device") state = "";
+        std::snprintf(text, sizeof text, "%s hand: %s%s   feels %.2f N%s", h ? "right" : "left", device.c_str(), state,
+                      glm::length(hand.force_n), hand.holding ? "   holding a stem" : "");
         lines.emplace_back(text);
     }
     for (const auto& r : info.result) lines.push_back(r);
@@ -44,4 +49,4 @@ std::vector<render::OverlayPanel> hud_panels(const components::FrameSnapshot& fr
     return {panel};
 }
 
-} // namespace ikebana::game
+} // namespace ikebana::systems

@@ -1,0 +1,32 @@
+#pragma once
+// The main lane's presentation state (resources of the main registry): what the window, `ikebana
+// render` and the no-display fallback all prepare and draw the same way.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/render/draw_list.hpp"
+#include "engine/render/text_overlay.hpp"
+
+namespace ikebana::components {
+
+// What the HUD says beyond the snapshot: what drives each hand, and the result once the trainee is done.
+struct HudInfo {
+    std::array<std::string, 2> device{"", ""};
+    std::vector<std::string> result;
+};
+
+// Drawn every frame beside the world, fixed for the session: the scene's sample arrangement.
+struct Scenery {
+    render::DrawList list;
+};
+
+// This frame, ready for the renderer: the world's draw list with the scenery, and the HUD's panels.
+struct PreparedFrame {
+    render::DrawList list;
+    std::vector<render::OverlayPanel> overlay;
+    std::uint64_t prepared = 0; // frames prepared so far
+};
+
+} // namespace ikebana::components

@@ -1,0 +1,97 @@
+#include "systems/presentation/draw_list.hpp"
+
+#include <cmath>
+
+#include "systems/physics/part_attachment.hpp"
+
+namespace ikebana::systems {
+
+using namespace components;
+
+namespace {
+
+// A model matrix whose x, y, z columns are the given (scaled) axes, at `origin`.
+glm::mat4 frame_matrix(const glm::dvec3& x, const glm::dvec3& y, const glm::dvec3& z, const glm::dvec3& origin) {
+    return glm::mat4(glm::vec4(glm::vec3(x), 0.0f), glm::vec4(glm::vec3(y), 0.0f), glm::vec4(glm::vec3(z), 0.0f), glm::vec4(glm::vec3(origin), 1.0f));
+}
+
+// Any two unit axes perpendicular to `axis` (unit).
+void perpendiculars(const glm::dvec3& axis, glm::dvec3& a, glm::dvec3& b) {
+    a = std::abs(axis.x) < 0.9 ? glm::normalize(glm::cross(axis, glm::dvec3{1, 0, 0})) : glm::normalize(glm::cross(axis, glm::dvec3{0, 1, 0}));
+    b = glm::cross(axis, a);
+}
+
+// The unit cylinder (radius 1, z from 0 to 1) stretched from p to q.
+glm::mat4 segment(const glm::dvec3& p, const glm::dvec3& q, double radius) {
+    const glm::dvec3 d = q - p;
+    const double length = glm::length(d);
+    const glm::dvec3 axis = length > 1e-12 ? d / length : glm::dvec3{0, 0, 1};
+    glm::dvec3 a, b;
+    perpendiculars(axis, a, b);
+    return frame_matrix(a * radius, b * radius, d, p);
+}
+
+} // namespace
+
+render::DrawList build_draw_list(const FrameSnapshot& frame) {
+    render::DrawList list;
+    if (frame.table_height_m) {
+        list.batch("plane").instances.push_back(
+            {frame_matrix({1.2, 0, 0}, {0, 0.8, 0}, {0, 0, 1}, {0.0, 0.0, *frame.table_height_m}), {0.62f, 0.5f, 0.36f, 1.0f}});
+    }
+    if (frame.kenzan) {
+        const Kenzan& k = *frame.kenzan;
+        const double w = (k.columns + 1) * k.pitch_m, d = (k.rows + 1) * k.pitch_m;
+        list.batch("cube").instances.push_back({frame_matrix({w, 0, 0}, {0, d, 0}, {0, 0, k.base_thickness_m},
+                                                             k.origin_m - glm::dvec3{0, 0, 0.5 * k.base_thickness_m}),
+                                                {0.18f, 0.18f, 0.2f, 1.0f}});
+        // The pins are 0.9 mm thick, about one texel of the shadow map: their shadows would only
+        // shimmer, and leaving them out of the shadow pass saves a third of its time on lavapipe.
+        auto& pin_batch = list.batch("cylinder_coarse");
+        pin_batch.casts_shadow = false;
+        auto& pins = pin_batch.instances;
+        const double radius = 0.5 * k.pin.trunk_diameter_m;
+        for (std::int32_t c = 0; c < k.columns; ++c) {
+            for (std::int32_t row = 0; row < k.rows; ++row) {
+                const glm::dvec3 base = k.pin_base(c, row);
+                pins.push_back({segment(base, base + glm::dvec3{0, 0, k.pin_height_m()}, radius), {0.55f, 0.56f, 0.6f, 1.0f}});
+            }
+        }
+        list.shadow_centre = glm::vec3(k.origin_m) + glm::vec3(0.0f, 0.0f, 0.12f);
+        list.shadow_radius = 0.4f;
+    }
+    for (const auto& flower : frame.flowers) {
+        const auto& x = flower.points_m;
+        const auto& look = flower.look;
+        auto& stems = list.batch("cylinder").instances;
+        const glm::vec4 colour(look.stem_colour, 1.0f);
+        for (std::size_t i = 0; i + 1 < x.size(); ++i) stems.push_back({segment(x[i], x[i + 1], 0.5 * flower.diameter_m), colour});
+        if (!look.head_mesh.empty() && x.size() >= 2) {
+            const auto f = physics::attachment_frame(x, x.size() - 1);
+            list.batch(look.head_mesh).instances.push_back({frame_matrix(f.side, f.third, f.up, x.back()), glm::vec4(look.head_colour, 1.0f)});
+        }
+        if (x.empty()) continue;
+        for (const auto& part : flower.parts) {
+            const auto f = physics::attachment_frame(x, std::min<std::size_t>(part.stem_point, x.size() - 1));
+            // The mesh runs along +x for one unit: out along the offset's direction, as long as the part.
+            const glm::dvec3 out = f.place(part.offset_m) - f.origin_m;
+            const double size = 2.0 * glm::length(out);
+            if (size <= 0.0) continue;
+            const glm::dvec3 along = glm::normalize(out);
+            const glm::dvec3 across = glm::normalize(glm::cross(f.up, along));
+            const glm::dvec3 normal = glm::cross(along, across);
+            const glm::vec3 part_colour = part.kind == PartKind::petal ? look.petal_colour : look.leaf_colour;
+            list.batch(part.mesh).instances.push_back({frame_matrix(along * size, across * size, normal * size, f.origin_m), glm::vec4(part_colour, 1.0f)});
+        }
+    }
+    for (std::size_t h = 0; h < 2; ++h) {
+        const auto& hand = frame.hands[h];
+        if (!hand.present) continue;
+        const glm::vec4 colour = h == 0 ? glm::vec4(0.2f, 0.45f, 0.85f, 1.0f) : glm::vec4(0.85f, 0.3f, 0.25f, 1.0f);
+        const double e = hand.edge_m;
+        list.batch("cube").instances.push_back({frame_matrix({e, 0, 0}, {0, e, 0}, {0, 0, e}, hand.position_m), hand.connected ? colour : colour * 0.5f});
+    }
+    return list;
+}
+
+} // namespace ikebana::systems
