@@ -51,7 +51,39 @@ Error JsonChecker::error() const {
     return make_error(ErrorCode::parse_error, message);
 }
 
+std::optional<TextPosition> json_nesting_beyond(std::string_view text, std::size_t max_depth) {
+    TextPosition at;
+    std::size_t depth = 0;
+    bool in_string = false;
+    bool escaped = false;
+    for (const char c : text) {
+        if (in_string) {
+            if (escaped) escaped = false;
+            else if (c == '\\') escaped = true;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > max_depth) return at;
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            --depth;
+        }
+        if (c == '\n') {
+            ++at.line;
+            at.column = 1;
+        } else {
+            ++at.column;
+        }
+    }
+    return std::nullopt;
+}
+
 std::optional<Json> JsonChecker::parse(std::string_view text) {
+    if (const auto deep = json_nesting_beyond(text, max_json_depth)) {
+        problems_.push_back(file_ + ":" + std::to_string(deep->line) + ":" + std::to_string(deep->column) +
+                            ": arrays and objects nest deeper than " + std::to_string(max_json_depth) + " levels");
+        return std::nullopt;
+    }
     try {
         return Json::parse(text.begin(), text.end());
     } catch (const Json::parse_error& e) {
@@ -70,6 +102,15 @@ std::optional<Json> JsonChecker::parse(std::string_view text) {
         std::string what = e.what();
         if (const auto at = what.find("syntax error"); at != std::string::npos) what = what.substr(at);
         problems_.push_back(file_ + ":" + std::to_string(line) + ":" + std::to_string(column) + ": not valid JSON: " + what);
+        return std::nullopt;
+    } catch (const Json::out_of_range& e) {
+        // A number too large for a double ("1e400"): nlohmann names the number but not where it is.
+        std::string what = e.what();
+        if (const auto at = what.find("number overflow"); at != std::string::npos) what = what.substr(at);
+        problems_.push_back(file_ + ": not valid JSON: " + what);
+        return std::nullopt;
+    } catch (const Json::exception& e) {
+        problems_.push_back(file_ + ": not valid JSON: " + std::string(e.what()));
         return std::nullopt;
     }
 }
@@ -237,10 +278,18 @@ void JsonChecker::no_unknown_keys(const Json& object, const std::string& path, c
     }
 }
 
-Result<std::string> read_text_file(const std::filesystem::path& path) {
+Result<std::string> read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes) {
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) return make_error(ErrorCode::not_found, path.string() + ": no such file");
-    if (std::filesystem::is_directory(path, ec)) return make_error(ErrorCode::io_error, path.string() + ": is a directory");
+    const auto status = std::filesystem::status(path, ec);
+    if (!std::filesystem::exists(status)) return make_error(ErrorCode::not_found, path.string() + ": no such file");
+    if (std::filesystem::is_directory(status)) return make_error(ErrorCode::io_error, path.string() + ": is a directory");
+    if (!std::filesystem::is_regular_file(status)) {
+        return make_error(ErrorCode::io_error, path.string() + ": not a regular file (a device, a FIFO or a socket is never read)");
+    }
+    if (const auto size = std::filesystem::file_size(path, ec); !ec && size > max_bytes) {
+        return make_error(ErrorCode::io_error, path.string() + ": " + std::to_string(size) + " bytes, more than the " +
+                                                   std::to_string(max_bytes >> 20) + " MiB a file may have here");
+    }
     std::ifstream in(path, std::ios::binary);
     if (!in) return make_error(ErrorCode::io_error, path.string() + ": cannot be opened for reading");
     std::ostringstream text;

@@ -29,7 +29,9 @@ class JsonChecker {
 public:
     explicit JsonChecker(std::string file_label) : file_(std::move(file_label)) {}
 
-    // Parses text; a syntax error is recorded with its line and column.
+    // Parses text; a syntax error is recorded with its line and column, and so is anything else the
+    // parser refuses (a number too large for a double, a nesting deeper than max_json_depth): every
+    // reader of JSON goes through this one door, so none can be crashed by what the parser throws.
     std::optional<Json> parse(std::string_view text);
     // The same, for files whose top is an object (every format of ours): anything else is a problem.
     std::optional<Json> parse_object(std::string_view text);
@@ -67,8 +69,22 @@ private:
     std::vector<std::string> problems_;
 };
 
-// Reads a whole file; not_found or io_error naming the path.
-Result<std::string> read_text_file(const std::filesystem::path& path);
+// Limits a user's file must keep; each refusal names the file and the limit.
+inline constexpr std::size_t max_json_depth = 64;                  // our formats nest 5 deep at most
+inline constexpr std::uintmax_t max_text_file_bytes = 64ull << 20; // 64 MiB
+
+// Where `text` nests arrays and objects deeper than `max_depth` (outside strings): the 1-based line
+// and column of the bracket that goes too deep, or nullopt. A linear scan with no recursion, for
+// parsers that recurse (tinygltf) as well as ours.
+struct TextPosition {
+    std::size_t line = 1;
+    std::size_t column = 1;
+};
+[[nodiscard]] std::optional<TextPosition> json_nesting_beyond(std::string_view text, std::size_t max_depth);
+
+// Reads a whole regular file of at most `max_bytes`; not_found or io_error naming the path. Devices,
+// FIFOs and directories are refused before they are opened (/dev/zero would never end).
+Result<std::string> read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes = max_text_file_bytes);
 // Writes beside the target and renames over it: a reader sees the old file or the whole new one.
 Result<void> write_text_file(const std::filesystem::path& path, const std::string& text);
 

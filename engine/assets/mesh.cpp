@@ -1,7 +1,10 @@
 #include "engine/assets/mesh.hpp"
 
 #include <cmath>
+#include <algorithm>
 #include <cstring>
+#include <optional>
+#include <string_view>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
@@ -134,15 +137,90 @@ std::string base64(const std::vector<unsigned char>& bytes) {
 
 } // namespace
 
-Result<MeshData> parse_gltf_mesh(const std::string& text, const std::string& label) {
+namespace {
+
+// What tinygltf may read besides the file itself: only regular files inside the mesh's own folder,
+// each within the size limit. Absolute URIs and ../ escapes are refused, and so is every external
+// file of a mesh given as text (no folder).
+struct MeshFolder {
+    std::filesystem::path folder;
+};
+
+std::optional<std::filesystem::path> inside_folder(const std::string& path, const MeshFolder& f) {
+    if (f.folder.empty()) return std::nullopt;
+    std::error_code ec;
+    const auto root = std::filesystem::weakly_canonical(f.folder, ec);
+    if (ec) return std::nullopt;
+    const auto target = std::filesystem::weakly_canonical(std::filesystem::path(path), ec);
+    if (ec) return std::nullopt;
+    const auto [r, t] = std::mismatch(root.begin(), root.end(), target.begin(), target.end());
+    if (r != root.end()) return std::nullopt; // not below the folder (an absolute path, a ../ escape, a link out)
+    return target;
+}
+
+bool folder_file_exists(const std::string& path, void* user) {
+    std::error_code ec;
+    const auto inside = inside_folder(path, *static_cast<MeshFolder*>(user));
+    return inside && std::filesystem::is_regular_file(*inside, ec);
+}
+
+std::string no_expansion(const std::string& path, void*) { return path; } // no ~ or $VARIABLES
+
+bool read_folder_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    const auto inside = inside_folder(path, *static_cast<MeshFolder*>(user));
+    if (!inside) {
+        if (err) *err += "refused to read '" + path + "': a mesh reads only files in its own folder";
+        return false;
+    }
+    auto bytes = read_text_file(*inside);
+    if (!bytes) {
+        if (err) *err += bytes.error().message;
+        return false;
+    }
+    out->assign(bytes->begin(), bytes->end());
+    return true;
+}
+
+bool never_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "a mesh is never written while it is read";
+    return false;
+}
+
+// Images are never used (a mesh here is its triangles): skipped, never decoded, so a small file naming
+// a huge picture costs nothing.
+bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) { return true; }
+
+// The JSON part of a .glb (or the whole text of a .gltf), for the nesting check before tinygltf, whose
+// JSON reader recurses.
+std::string_view json_part(const std::string& bytes, bool binary) {
+    if (!binary) return bytes;
+    if (bytes.size() < 20) return {};
+    std::uint32_t length = 0;
+    std::memcpy(&length, bytes.data() + 12, 4);
+    return std::string_view(bytes).substr(20, std::min<std::size_t>(length, bytes.size() - 20));
+}
+
+Result<MeshData> parse_gltf(const std::string& bytes, const std::string& label, const std::filesystem::path& folder) {
+    const bool binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
+    if (const auto deep = json_nesting_beyond(json_part(bytes, binary), max_json_depth)) {
+        return make_error(ErrorCode::parse_error, label + (binary ? "" : ":" + std::to_string(deep->line) + ":" + std::to_string(deep->column)) +
+                                                      ": arrays and objects nest deeper than " + std::to_string(max_json_depth) + " levels");
+    }
+    if (bytes.size() > max_text_file_bytes) return make_error(ErrorCode::parse_error, label + ": larger than 64 MiB");
     tinygltf::TinyGLTF loader;
+    MeshFolder files{folder};
+    loader.SetFsCallbacks(tinygltf::FsCallbacks{folder_file_exists, no_expansion, read_folder_file, never_write, &files});
+    loader.SetImageLoader(skip_image, nullptr);
     tinygltf::Model model;
     std::string err;
     std::string warn;
-    // Only embedded (data URI) buffers: an empty base dir keeps a file from reading others.
     bool ok = false;
     try {
-        ok = loader.LoadASCIIFromString(&model, &err, &warn, text.data(), static_cast<unsigned int>(text.size()), "");
+        const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+        const auto size = static_cast<unsigned int>(bytes.size());
+        const std::string base = folder.empty() ? std::string() : folder.string();
+        ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data, size, base)
+                    : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), size, base);
     } catch (const std::exception& e) {
         err = e.what();
     }
@@ -153,10 +231,16 @@ Result<MeshData> parse_gltf_mesh(const std::string& text, const std::string& lab
     return from_model(model, label);
 }
 
+} // namespace
+
+Result<MeshData> parse_gltf_mesh(const std::string& text, const std::string& label) { return parse_gltf(text, label, {}); }
+
 Result<MeshData> load_gltf_mesh(const std::filesystem::path& path) {
-    auto text = read_text_file(path);
-    if (!text) return std::move(text).error();
-    return parse_gltf_mesh(*text, path.string());
+    auto bytes = read_text_file(path);
+    if (!bytes) return std::move(bytes).error();
+    std::error_code ec;
+    const auto folder = std::filesystem::absolute(path, ec).parent_path();
+    return parse_gltf(*bytes, path.string(), folder);
 }
 
 std::string gltf_text(const MeshData& mesh) {

@@ -21,9 +21,13 @@ struct MeshData {
     std::vector<std::uint32_t> indices; // triangles
 };
 
-// The first triangle primitive of the first mesh, with POSITION and NORMAL.
+// The first triangle primitive of the first mesh, with POSITION and NORMAL, from a .gltf (text) or a .glb
+// (binary). Before tinygltf sees it, the file must be a regular file of at most 64 MiB nesting its JSON
+// no deeper than 64 levels; external buffers are read only from the file's own folder (never an absolute
+// path or a ../ escape), and images are skipped, never decoded.
 Result<MeshData> load_gltf_mesh(const std::filesystem::path& path);
-Result<MeshData> parse_gltf_mesh(const std::string& text, const std::string& label);
+// The same from bytes already read (`label` names them in errors); external files are refused.
+Result<MeshData> parse_gltf_mesh(const std::string& bytes, const std::string& label);
 
 // Writes a .gltf with the buffer embedded as a base64 data URI (one self-contained text file).
 Result<void> write_gltf_mesh(const std::filesystem::path& path, const MeshData& mesh);

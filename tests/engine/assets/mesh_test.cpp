@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <random>
+
+#include <nlohmann/json.hpp>
 
 #include "engine/assets/mesh.hpp"
 
@@ -90,4 +94,102 @@ TEST(GltfMesh, MutatedFilesNeverCrashTheLoader) {
             EXPECT_EQ(loaded.error().message.rfind("fuzz.gltf", 0), 0u);
         }
     }
+}
+
+namespace {
+// A triangle whose buffer is a file beside the .gltf (`uri`), as downloaded meshes often are.
+struct ExternalMesh {
+    std::filesystem::path folder;
+    std::filesystem::path gltf;
+};
+ExternalMesh external_mesh(const std::string& folder_name, const std::string& uri) {
+    const auto folder = std::filesystem::temp_directory_path() / folder_name;
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder / "sub");
+    auto json = nlohmann::json::parse(gltf_text(triangle()));
+    const std::string data_uri = json["buffers"][0]["uri"];
+    const std::string base64 = data_uri.substr(data_uri.find(',') + 1);
+    // Decode the embedded buffer into a file of its own.
+    std::string bin;
+    int value = 0, bits = -8;
+    for (const char c : base64) {
+        const auto at = std::string("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/").find(c);
+        if (at == std::string::npos) break;
+        value = (value << 6) + static_cast<int>(at);
+        bits += 6;
+        if (bits >= 0) {
+            bin.push_back(static_cast<char>((value >> bits) & 0xff));
+            bits -= 8;
+        }
+    }
+    std::ofstream(folder / "tri.bin", std::ios::binary) << bin;
+    json["buffers"][0]["uri"] = uri;
+    std::ofstream(folder / "sub" / "tri.gltf") << json.dump();
+    return {folder, folder / "sub" / "tri.gltf"};
+}
+} // namespace
+
+TEST(GltfMesh, ABufferBesideTheFileIsRead) {
+    const auto m = external_mesh("ikebana_gltf_beside", "tri.bin");
+    std::filesystem::rename(m.folder / "tri.bin", m.folder / "sub" / "tri.bin");
+    const auto loaded = load_gltf_mesh(m.gltf);
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    EXPECT_EQ(loaded->positions.size(), 3u);
+}
+
+// A mesh reads only files in its own folder: not ../ above it, not an absolute path, not from the
+// current directory, and nothing at all when it is given as text.
+TEST(GltfMesh, URIsOutsideTheMeshesFolderAreRefused) {
+    for (const std::string uri : {"../tri.bin", "/etc/passwd", "sub/../../tri.bin"}) {
+        const auto m = external_mesh("ikebana_gltf_escape", uri);
+        const auto loaded = load_gltf_mesh(m.gltf);
+        ASSERT_FALSE(loaded) << uri << " was read";
+        EXPECT_NE(loaded.error().message.find("tri.gltf"), std::string::npos) << loaded.error().message;
+        EXPECT_EQ(loaded.error().message.find("root:"), std::string::npos) << "never echo what a file holds";
+    }
+    const auto m = external_mesh("ikebana_gltf_text", "tri.bin");
+    std::filesystem::rename(m.folder / "tri.bin", m.folder / "sub" / "tri.bin");
+    std::ifstream in(m.gltf);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_FALSE(parse_gltf_mesh(text, "text.gltf")) << "bytes without a folder have no files beside them";
+}
+
+// A fuzzer's finding: tinygltf's JSON reader recurses without a limit (20,000 nested arrays in `extras`
+// crashed `species check`). The nesting is refused before tinygltf sees the file, naming where.
+TEST(GltfMesh, DeepNestingIsRefusedBeforeTinygltf) {
+    const std::string deep = "{\"asset\": {\"version\": \"2.0\"},\n \"extras\": " + std::string(20000, '[') + std::string(20000, ']') + "}";
+    const auto loaded = parse_gltf_mesh(deep, "deep.gltf");
+    ASSERT_FALSE(loaded);
+    EXPECT_NE(loaded.error().message.find("deep.gltf:2:"), std::string::npos) << loaded.error().message;
+    EXPECT_NE(loaded.error().message.find("nest deeper than 64 levels"), std::string::npos);
+}
+
+// Images are never decoded: a picture the mesh names costs nothing and breaks nothing.
+TEST(GltfMesh, ImagesAreSkippedNotDecoded) {
+    auto json = nlohmann::json::parse(gltf_text(triangle()));
+    json["images"] = nlohmann::json::array({{{"uri", "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAF3AAABdwCAIAAAA"}}});
+    const auto loaded = parse_gltf_mesh(json.dump(), "picture.gltf");
+    EXPECT_TRUE(loaded) << loaded.error().message;
+}
+
+// A binary .glb is read like a .gltf (a designer's download is often one).
+TEST(GltfMesh, BinaryGlbIsRead) {
+    auto json = nlohmann::json::parse(gltf_text(triangle()));
+    const std::string data_uri = json["buffers"][0]["uri"];
+    const auto via_text = parse_gltf_mesh(json.dump(), "t.gltf");
+    ASSERT_TRUE(via_text);
+    const auto m = external_mesh("ikebana_glb", "tri.bin");
+    std::ifstream bin_in(m.folder / "tri.bin", std::ios::binary);
+    std::string bin((std::istreambuf_iterator<char>(bin_in)), std::istreambuf_iterator<char>());
+    while (bin.size() % 4) bin.push_back('\0');
+    json["buffers"][0].erase("uri");
+    std::string chunk = json.dump();
+    while (chunk.size() % 4) chunk.push_back(' ');
+    auto u32 = [](std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+    const std::string glb = "glTF" + u32(2) + u32(static_cast<std::uint32_t>(12 + 8 + chunk.size() + 8 + bin.size())) +
+                            u32(static_cast<std::uint32_t>(chunk.size())) + "JSON" + chunk + u32(static_cast<std::uint32_t>(bin.size())) +
+                            std::string("BIN\0", 4) + bin;
+    const auto loaded = parse_gltf_mesh(glb, "tri.glb");
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    EXPECT_EQ(loaded->positions, via_text->positions);
 }
