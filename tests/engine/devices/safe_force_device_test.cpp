@@ -210,6 +210,7 @@ TEST(ForceSafety, WatchdogAndSenderMayRace) {
     }
     done.store(true);
     watchdog.join();
+    EXPECT_GT(device.zeroed(), 0u); // before the wire's lock: the device's lock is always taken first
     const std::lock_guard lock(wire.mutex);
     // After each zero on the wire, the next force is at most one rate step above zero.
     for (std::size_t i = 1; i < wire.entries.size(); ++i) {
@@ -217,7 +218,6 @@ TEST(ForceSafety, WatchdogAndSenderMayRace) {
             EXPECT_LE(glm::length(wire.entries[i].force_n), 0.3 + 1e-9) << "entry " << i;
         }
     }
-    EXPECT_GT(device.zeroed(), 0u);
 }
 
 TEST(ForceSafety, ReconnectingDeviceSendsAndZeroesUnderOneLock) {
