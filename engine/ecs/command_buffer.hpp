@@ -20,21 +20,13 @@ public:
     // The handle is valid at once (creating touches no storage); its components arrive on apply().
     Entity create();
 
-    void destroy(Entity e) {
-        ops_.emplace_back([e](auto& r) { r.destroy(e); });
-    }
-
+    // Defined after Registry (engine/ecs/view.hpp): the queued operations call into it, and a
+    // compiler may check them as soon as they are wrapped (clang does).
+    void destroy(Entity e);
     template <typename T, typename... Args>
-    void emplace(Entity e, Args&&... args) {
-        ops_.emplace_back([e, value = make<T>(std::forward<Args>(args)...)](auto& r) mutable {
-            if (r.valid(e)) r.template emplace_or_replace<T>(e, std::move(value));
-        });
-    }
-
+    void emplace(Entity e, Args&&... args);
     template <typename T>
-    void remove(Entity e) {
-        ops_.emplace_back([e](auto& r) { r.template remove<T>(e); });
-    }
+    void remove(Entity e);
 
     // Any other change that must wait until iteration ends.
     void defer(std::function<void(Registry&)> op) { ops_.push_back(std::move(op)); }

@@ -95,6 +95,22 @@ View<std::tuple<Get...>, std::tuple<Excluded...>> Registry::view(Exclude<Exclude
 
 inline Entity CommandBuffer::create() { return registry_.create(); }
 
+inline void CommandBuffer::destroy(Entity e) {
+    ops_.emplace_back([e](Registry& r) { r.destroy(e); });
+}
+
+template <typename T, typename... Args>
+void CommandBuffer::emplace(Entity e, Args&&... args) {
+    ops_.emplace_back([e, value = make<T>(std::forward<Args>(args)...)](Registry& r) mutable {
+        if (r.valid(e)) r.template emplace_or_replace<T>(e, std::move(value));
+    });
+}
+
+template <typename T>
+void CommandBuffer::remove(Entity e) {
+    ops_.emplace_back([e](Registry& r) { r.template remove<T>(e); });
+}
+
 inline void CommandBuffer::apply() {
     // Index loop: an applied operation may queue more.
     for (std::size_t i = 0; i < ops_.size(); ++i) {

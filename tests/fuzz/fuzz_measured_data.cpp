@@ -1,0 +1,13 @@
+// libFuzzer: the measured-data CSV, through the CSV reader and the measured-data checks.
+#include "engine/assets/csv_table.hpp"
+#include "game/analysis/measured_data.hpp"
+#include "tests/fuzz/fuzz_target.hpp"
+
+using namespace ikebana;
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    auto table = assets::parse_csv(fuzz::text_of(data, size), fuzz::label);
+    fuzz::expect_named(table);
+    if (table) fuzz::expect_named(game::read_measured_data(std::move(table).value()));
+    return 0;
+}
