@@ -97,6 +97,10 @@ Result<CsvTable> parse_csv(std::string_view text, const std::string& label) {
         if (!cells) return std::move(cells).error();
         if (!header_seen) {
             header_seen = true;
+            if (cells->size() > max_csv_columns) {
+                return make_error(ErrorCode::parse_error, where + "1: " + std::to_string(cells->size()) + " columns, more than the " +
+                                                              std::to_string(max_csv_columns) + " a table may have here");
+            }
             for (const auto& c : *cells) {
                 if (c.text.empty()) return make_error(ErrorCode::parse_error, where + std::to_string(c.column) + ": empty column name in the header");
                 if (table.find(c.text)) {
@@ -109,6 +113,9 @@ Result<CsvTable> parse_csv(std::string_view text, const std::string& label) {
         if (cells->size() != table.columns.size()) {
             return make_error(ErrorCode::parse_error, where + "1: expected " + std::to_string(table.columns.size()) + " fields (as the header), found " +
                                                           std::to_string(cells->size()));
+        }
+        if (table.rows() == max_csv_rows) {
+            return make_error(ErrorCode::parse_error, where + "1: more than " + std::to_string(max_csv_rows) + " rows, the most a table may have here");
         }
         for (std::size_t c = 0; c < cells->size(); ++c) table.columns[c].text.push_back(std::move((*cells)[c].text));
         table.line_of_row.push_back(line_no);

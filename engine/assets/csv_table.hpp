@@ -29,6 +29,11 @@ struct CsvTable {
     [[nodiscard]] const CsvColumn* find(std::string_view name) const noexcept;
 };
 
+// Limits a table must keep (a lab's file has thousands of rows and tens of columns); each refusal says
+// which and where.
+inline constexpr std::size_t max_csv_rows = 1'000'000;
+inline constexpr std::size_t max_csv_columns = 1'000;
+
 Result<CsvTable> parse_csv(std::string_view text, const std::string& label);
 Result<CsvTable> load_csv(const std::string& path);
 

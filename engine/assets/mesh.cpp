@@ -72,6 +72,10 @@ Result<MeshData> from_model(const tinygltf::Model& model, const std::string& lab
     auto nrm = accessor_bytes(model, nrm_it->second, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, label, "NORMAL");
     if (!nrm) return std::move(nrm).error();
     if (pos->count != nrm->count) return make_error(ErrorCode::parse_error, label + ": POSITION and NORMAL counts differ");
+    if (pos->count > max_mesh_vertices) {
+        return make_error(ErrorCode::parse_error, label + ": " + std::to_string(pos->count) + " vertices, more than the " +
+                                                      std::to_string(max_mesh_vertices) + " a flower's part may have");
+    }
 
     MeshData mesh;
     mesh.name = model.meshes[0].name;
@@ -97,6 +101,10 @@ Result<MeshData> from_model(const tinygltf::Model& model, const std::string& lab
         }
         auto idx = accessor_bytes(model, prim.indices, acc_type, TINYGLTF_TYPE_SCALAR, label, "indices");
         if (!idx) return std::move(idx).error();
+        if (idx->count > 6 * max_mesh_vertices) {
+            return make_error(ErrorCode::parse_error, label + ": " + std::to_string(idx->count) + " indices, more than a mesh of " +
+                                                          std::to_string(max_mesh_vertices) + " vertices needs");
+        }
         mesh.indices.resize(idx->count);
         for (std::size_t i = 0; i < idx->count; ++i) {
             if (acc_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {

@@ -21,6 +21,9 @@ struct MeshData {
     std::vector<std::uint32_t> indices; // triangles
 };
 
+// A petal, a leaf or a head is drawn by the hundred: more than this is a mistake (or an attack), refused.
+inline constexpr std::size_t max_mesh_vertices = 1'000'000;
+
 // The first triangle primitive of the first mesh, with POSITION and NORMAL, from a .gltf (text) or a .glb
 // (binary). Before tinygltf sees it, the file must be a regular file of at most 64 MiB nesting its JSON
 // no deeper than 64 levels; external buffers are read only from the file's own folder (never an absolute

@@ -69,3 +69,18 @@ TEST(CsvTable, MutatedFilesNeverCrashAndRowsStayRectangular) {
         }
     }
 }
+
+// Limits a user can see: a table too wide or too long is refused, saying which limit and where.
+TEST(CsvTable, TablesBeyondTheLimitsAreRefusedSayingWhich) {
+    std::string wide;
+    for (std::size_t c = 0; c <= max_csv_columns; ++c) wide += (c ? ",c" : "c") + std::to_string(c);
+    const auto too_wide = parse_csv(wide + "\n", "wide.csv");
+    ASSERT_FALSE(too_wide);
+    EXPECT_EQ(too_wide.error().message, "wide.csv:1:1: 1001 columns, more than the 1000 a table may have here");
+    std::string tall = "a\n";
+    tall.reserve(2 * max_csv_rows + 16);
+    for (std::size_t r = 0; r <= max_csv_rows; ++r) tall += "1\n";
+    const auto too_tall = parse_csv(tall, "tall.csv");
+    ASSERT_FALSE(too_tall);
+    EXPECT_EQ(too_tall.error().message, "tall.csv:1000002:1: more than 1000000 rows, the most a table may have here");
+}
