@@ -109,6 +109,12 @@ struct KenzanGrip {
     glm::dvec3 entry_axis;       // the stem's direction when it was released in the kenzan
     double holding_moment_nm;    // the cap, from the pins
     bool fallen;                 // tipped more than fall_angle from entry_axis
+    // Why it fell, for the summary and the HUD: a fallen stem leans on more pins and can show a
+    // positive margin, so the moments when the pins first gave way are kept, and when it tipped.
+    bool yielded;                // the pins have given way at least once since it was released
+    double yield_holding_nm;     // at that first give
+    double yield_gravity_nm;
+    std::int64_t fell_at_us;     // simulated time it passed fall_angle
 };
 
 // How many hands hold the flower now (scripted or haptic). An insertion is a held stem entering the

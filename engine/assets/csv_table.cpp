@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 
 namespace ikebana::assets {
@@ -78,19 +79,30 @@ const CsvColumn* CsvTable::find(std::string_view name) const noexcept {
     return nullptr;
 }
 
+std::vector<TextLine> split_lines(std::string_view text) {
+    if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+    std::vector<TextLine> lines;
+    std::size_t start = 0;
+    while (start < text.size()) {
+        const std::size_t end = text.find_first_of("\r\n", start);
+        if (end == std::string_view::npos) {
+            lines.push_back({text.substr(start), {}});
+            break;
+        }
+        const std::size_t ending = text.substr(end, 2) == "\r\n" ? 2 : 1;
+        lines.push_back({text.substr(start, end - start), text.substr(end, ending)});
+        start = end + ending;
+    }
+    return lines;
+}
+
 Result<CsvTable> parse_csv(std::string_view text, const std::string& label) {
     CsvTable table;
     table.label = label;
     bool header_seen = false;
     std::size_t line_no = 0;
-    std::size_t start = 0;
-    while (start < text.size()) {
-        std::size_t end = text.find('\n', start);
-        if (end == std::string_view::npos) end = text.size();
-        std::string_view line = text.substr(start, end - start);
-        start = end + 1;
+    for (const auto& [line, ending] : split_lines(text)) {
         ++line_no;
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
         if (line.find_first_not_of(" \t") == std::string_view::npos || line.front() == '#') continue;
         const std::string where = label + ":" + std::to_string(line_no) + ":";
         auto cells = split(line, where);

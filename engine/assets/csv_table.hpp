@@ -34,6 +34,15 @@ struct CsvTable {
 inline constexpr std::size_t max_csv_rows = 1'000'000;
 inline constexpr std::size_t max_csv_columns = 1'000;
 
+// A text's lines as spreadsheets write them: "\n", "\r\n" or a lone "\r" (old Mac exports) ends a
+// line, and a UTF-8 byte-order mark before the first is dropped. `ending` is what ended each line
+// ("" for the last, unterminated one), so that a tool writing the lines back keeps them.
+struct TextLine {
+    std::string_view text;
+    std::string_view ending;
+};
+std::vector<TextLine> split_lines(std::string_view text);
+
 Result<CsvTable> parse_csv(std::string_view text, const std::string& label);
 Result<CsvTable> load_csv(const std::string& path);
 

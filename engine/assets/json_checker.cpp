@@ -278,45 +278,4 @@ void JsonChecker::no_unknown_keys(const Json& object, const std::string& path, c
     }
 }
 
-Result<std::string> read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes) {
-    std::error_code ec;
-    const auto status = std::filesystem::status(path, ec);
-    if (!std::filesystem::exists(status)) return make_error(ErrorCode::not_found, path.string() + ": no such file");
-    if (std::filesystem::is_directory(status)) return make_error(ErrorCode::io_error, path.string() + ": is a directory");
-    if (!std::filesystem::is_regular_file(status)) {
-        return make_error(ErrorCode::io_error, path.string() + ": not a regular file (a device, a FIFO or a socket is never read)");
-    }
-    if (const auto size = std::filesystem::file_size(path, ec); !ec && size > max_bytes) {
-        return make_error(ErrorCode::io_error, path.string() + ": " + std::to_string(size) + " bytes, more than the " +
-                                                   std::to_string(max_bytes >> 20) + " MiB a file may have here");
-    }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return make_error(ErrorCode::io_error, path.string() + ": cannot be opened for reading");
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) return make_error(ErrorCode::io_error, path.string() + ": read failed");
-    return text.str();
-}
-
-Result<void> write_text_file(const std::filesystem::path& path, const std::string& text) {
-    const std::filesystem::path temporary = path.string() + ".tmp";
-    {
-        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-        out << text;
-        out.flush();
-        if (!out) {
-            std::error_code ignored;
-            std::filesystem::remove(temporary, ignored);
-            return make_error(ErrorCode::io_error, path.string() + ": cannot be written");
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(temporary, path, ec);
-    if (ec) {
-        std::filesystem::remove(temporary, ec);
-        return make_error(ErrorCode::io_error, path.string() + ": " + ec.message());
-    }
-    return Ok{};
-}
-
 } // namespace ikebana::assets

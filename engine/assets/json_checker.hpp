@@ -71,7 +71,6 @@ private:
 
 // Limits a user's file must keep; each refusal names the file and the limit.
 inline constexpr std::size_t max_json_depth = 64;                  // our formats nest 5 deep at most
-inline constexpr std::uintmax_t max_text_file_bytes = 64ull << 20; // 64 MiB
 
 // Where `text` nests arrays and objects deeper than `max_depth` (outside strings): the 1-based line
 // and column of the bracket that goes too deep, or nullopt. A linear scan with no recursion, for
@@ -82,10 +81,5 @@ struct TextPosition {
 };
 [[nodiscard]] std::optional<TextPosition> json_nesting_beyond(std::string_view text, std::size_t max_depth);
 
-// Reads a whole regular file of at most `max_bytes`; not_found or io_error naming the path. Devices,
-// FIFOs and directories are refused before they are opened (/dev/zero would never end).
-Result<std::string> read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes = max_text_file_bytes);
-// Writes beside the target and renames over it: a reader sees the old file or the whole new one.
-Result<void> write_text_file(const std::filesystem::path& path, const std::string& text);
 
 } // namespace ikebana::assets

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 
 namespace ikebana::assets {
@@ -288,18 +289,7 @@ std::string gltf_text(const MeshData& mesh) {
 }
 
 Result<void> write_gltf_mesh(const std::filesystem::path& path, const MeshData& mesh) {
-    // Written beside the target and renamed, so a failed write never leaves half a file.
-    const auto temporary = path.string() + ".tmp";
-    {
-        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-        if (!out) return make_error(ErrorCode::io_error, temporary + ": cannot be opened for writing");
-        out << gltf_text(mesh);
-        if (!out) return make_error(ErrorCode::io_error, temporary + ": write failed");
-    }
-    std::error_code ec;
-    std::filesystem::rename(temporary, path, ec);
-    if (ec) return make_error(ErrorCode::io_error, path.string() + ": " + ec.message());
-    return {};
+    return write_file_atomically(path, gltf_text(mesh));
 }
 
 MeshData placeholder_mesh() {

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "engine/assets/csv_table.hpp"
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 
 namespace ikebana::devices {
@@ -17,22 +19,14 @@ Result<std::vector<Keyframe>> parse_trajectory(std::string_view text, const std:
     std::vector<Keyframe> keys;
     bool seen_header = false;
     std::size_t line_no = 0;
-    std::size_t start = 0;
-    while (start <= text.size()) {
-        const std::size_t end = std::min(text.find('\n', start), text.size());
-        std::string_view line = text.substr(start, end - start);
-        start = end + 1;
+    // Lines as spreadsheets write them (any ending, a byte-order mark dropped), as every CSV here.
+    for (const auto& [line, ending] : assets::split_lines(text)) {
         ++line_no;
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-        if (line.empty() || line.front() == '#') {
-            if (end == text.size()) break;
-            continue;
-        }
+        if (line.empty() || line.front() == '#') continue;
         auto where = [&](std::size_t column) { return label + ":" + std::to_string(line_no) + ":" + std::to_string(column) + ": "; };
         if (!seen_header) {
             if (line != header) return make_error(ErrorCode::parse_error, where(1) + "expected the header '" + std::string(header) + "'");
             seen_header = true;
-            if (end == text.size()) break;
             continue;
         }
         // Split into cells, remembering where each starts (for the column in messages).
@@ -56,11 +50,23 @@ Result<std::vector<Keyframe>> parse_trajectory(std::string_view text, const std:
         if (fields[7] < 0 || fields[7] > 4294967295.0 || std::floor(fields[7]) != fields[7]) {
             return make_error(ErrorCode::parse_error, where(column) + "buttons must be a whole number bitmask");
         }
+        if (std::abs(fields[0]) > max_trajectory_time_s) {
+            return make_error(ErrorCode::parse_error, where(cells[0].second) + "time beyond the 1e9 s a trajectory may span");
+        }
+        for (std::size_t f = 1; f <= 3; ++f) {
+            if (std::abs(fields[f]) > max_trajectory_reach_m) {
+                return make_error(ErrorCode::parse_error, where(cells[f].second) + "a position beyond the 10 m any device reaches");
+            }
+        }
+        for (std::size_t f = 4; f <= 6; ++f) {
+            if (std::abs(fields[f]) > max_trajectory_rotation_rad) {
+                return make_error(ErrorCode::parse_error, where(cells[f].second) + "a rotation beyond 1000 rad");
+            }
+        }
         if (!keys.empty() && !(fields[0] > keys.back().time_s)) {
             return make_error(ErrorCode::parse_error, where(1) + "time must increase (previous " + std::to_string(keys.back().time_s) + " s)");
         }
         keys.push_back({fields[0], {fields[1], fields[2], fields[3]}, {fields[4], fields[5], fields[6]}, static_cast<std::uint32_t>(fields[7])});
-        if (end == text.size()) break;
     }
     if (!seen_header) return make_error(ErrorCode::parse_error, label + ": empty; expected the header '" + std::string(header) + "'");
     if (keys.empty()) return make_error(ErrorCode::parse_error, label + ": no samples after the header");
@@ -112,13 +118,17 @@ Result<void> ScriptedDevice::send_force(glm::dvec3 force_n) {
     return {};
 }
 
-DeviceRecorder::DeviceRecorder(std::ostream& out) : out_(out) { out_ << header << "\n"; }
+DeviceRecorder::DeviceRecorder(std::ostream& out) : out_(out) { out_ << header << "\n" << std::flush; }
 
 void DeviceRecorder::record(const DeviceSample& s) {
     char line[512];
     std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%u\n", static_cast<double>(s.time_us) * 1e-6,
                   s.position.x, s.position.y, s.position.z, s.rotation.x, s.rotation.y, s.rotation.z, s.buttons);
     out_ << line;
+    if (s.time_us - last_flush_us_ >= flush_every_us || s.time_us < last_flush_us_) {
+        out_.flush();
+        last_flush_us_ = s.time_us;
+    }
 }
 
 } // namespace ikebana::devices

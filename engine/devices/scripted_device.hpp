@@ -28,6 +28,13 @@ struct Keyframe {
     std::uint32_t buttons;
 };
 
+// What a trajectory may hold: positions within 10 m (no device reaches further; 1e15 m once hung the
+// collision grid), rotations within 1000 rad, times within 1e9 s (the microsecond timeline's reach
+// with room to spare).
+inline constexpr double max_trajectory_reach_m = 10.0;
+inline constexpr double max_trajectory_rotation_rad = 1000.0;
+inline constexpr double max_trajectory_time_s = 1e9;
+
 // Errors name the file, line and column.
 Result<std::vector<Keyframe>> parse_trajectory(std::string_view text, const std::string& label);
 Result<std::vector<Keyframe>> load_trajectory(const std::filesystem::path& path);
@@ -51,13 +58,17 @@ private:
 };
 
 // Writes every sample a device produced, with its time, in the trajectory format.
+// Writes samples as they come; flushes the header at once and then every flush_every_us of device
+// time, so that a recording cut short by a crash keeps all but its last moments.
 class DeviceRecorder {
 public:
+    static constexpr std::int64_t flush_every_us = 100'000;
     explicit DeviceRecorder(std::ostream& out);
     void record(const DeviceSample& sample);
 
 private:
     std::ostream& out_;
+    std::int64_t last_flush_us_ = 0;
 };
 
 } // namespace ikebana::devices

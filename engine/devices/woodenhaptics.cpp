@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 
 namespace ikebana::devices {

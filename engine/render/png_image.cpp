@@ -16,26 +16,31 @@
 #include <stb_image_write.h>
 #pragma GCC diagnostic pop
 
+#include "engine/assets/files.hpp"
+
 namespace ikebana::render {
 
 Result<void> write_png(const std::filesystem::path& path, const RgbaImage& image) {
     if (image.width == 0 || image.height == 0 || image.pixels.size() != 4ull * image.width * image.height) {
         return make_error(ErrorCode::invalid_argument, path.string() + ": no image to write");
     }
-    const std::filesystem::path temporary = path.string() + ".tmp";
-    if (!stbi_write_png(temporary.c_str(), static_cast<int>(image.width), static_cast<int>(image.height), 4, image.pixels.data(),
-                        static_cast<int>(image.width * 4))) {
-        return make_error(ErrorCode::io_error, path.string() + ": cannot be written");
+    // Encoded in memory and written through the one output door (exclusive temporary, rename).
+    std::string bytes;
+    const auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+    };
+    if (!stbi_write_png_to_func(append, &bytes, static_cast<int>(image.width), static_cast<int>(image.height), 4, image.pixels.data(),
+                                static_cast<int>(image.width * 4))) {
+        return make_error(ErrorCode::io_error, path.string() + ": cannot be encoded");
     }
-    std::error_code ec;
-    std::filesystem::rename(temporary, path, ec);
-    if (ec) return make_error(ErrorCode::io_error, path.string() + ": " + ec.message());
-    return Ok{};
+    return assets::write_file_atomically(path, bytes);
 }
 
 Result<RgbaImage> read_png(const std::filesystem::path& path) {
+    auto bytes = assets::read_text_file(path);
+    if (!bytes) return std::move(bytes).error();
     int w = 0, h = 0, channels = 0;
-    stbi_uc* data = stbi_load(path.c_str(), &w, &h, &channels, 4);
+    stbi_uc* data = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()), static_cast<int>(bytes->size()), &w, &h, &channels, 4);
     if (!data) return make_error(ErrorCode::parse_error, path.string() + ": not a readable PNG (" + stbi_failure_reason() + ")");
     RgbaImage img;
     img.width = static_cast<std::uint32_t>(w);

@@ -19,6 +19,10 @@ Result<void> check_hz(std::string_view name, double hz) {
         return make_error(ErrorCode::invalid_argument,
                           "rate '" + std::string(name) + "' must be a positive number of Hz, got " + number_text(hz));
     }
+    if (hz < min_rate_hz) {
+        return make_error(ErrorCode::invalid_argument, "rate '" + std::string(name) + "' of " + number_text(hz) +
+                                                           " Hz is below the supported minimum of 0.001 Hz");
+    }
     if (hz > max_rate_hz) {
         return make_error(ErrorCode::invalid_argument, "rate '" + std::string(name) + "' of " + number_text(hz) +
                                                            " Hz is above the supported maximum of 100000 Hz");

@@ -32,5 +32,8 @@ private:
 
 // Largest rate the integer-microsecond timeline can represent faithfully.
 inline constexpr double max_rate_hz = 100'000.0;
+// Smallest: the schedule counts rates in whole millihertz, and a rate that rounds to zero of them
+// would divide by zero when due times are computed.
+inline constexpr double min_rate_hz = 0.001;
 
 } // namespace ikebana::sched

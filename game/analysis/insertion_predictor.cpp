@@ -1,6 +1,8 @@
 #include "game/analysis/insertion_predictor.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -118,6 +120,27 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
     const double radius = 0.5 * r.get<StemRestShape>(flower).diameter_m;
     const double pin_top = k.origin_m.z + k.pin_height_m();
     const double elevation = glm::radians(c.angle_deg);
+    // What the physics can mean: a stem goes no deeper than the pins are tall (deeper would push it
+    // through the base plate, and the force would keep rising), and touches no more pins than lie
+    // under its footprint.
+    if (c.depth_m && *c.depth_m > k.pin_height_m()) {
+        char text[200];
+        std::snprintf(text, sizeof text, "depth_mm: %.3g mm is deeper than the kenzan's pins are tall (%.3g mm); the stem would be pushed into the base plate",
+                      *c.depth_m * 1e3, k.pin_height_m() * 1e3);
+        return make_error(ErrorCode::invalid_argument, text);
+    }
+    if (c.pins) {
+        const double pin_radius = 0.5 * k.pin.trunk_diameter_m;
+        const double across = 2.0 * (radius + pin_radius);
+        const double along = 2.0 * radius / std::sin(elevation) + k.pin_height_m() / std::tan(elevation) + 2.0 * pin_radius;
+        const auto most = static_cast<std::uint32_t>(std::ceil(across / k.pitch_m + 1.0) * std::ceil(along / k.pitch_m + 1.0));
+        if (*c.pins > most) {
+            char text[200];
+            std::snprintf(text, sizeof text, "pins: %u is more than a %.3g mm stem at %.3g degrees can touch on this kenzan (at most %u)", *c.pins,
+                          2e3 * radius, c.angle_deg, most);
+            return make_error(ErrorCode::invalid_argument, text);
+        }
+    }
     r.emplace<ScriptedInsertion>(flower);
     sched::DeterministicClock clock(w.schedule);
 
@@ -174,11 +197,17 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
                 clock.run_for_us(2000);
             }
         }
+        // The placements that touched as many pins as the row says, or, when none did, those that
+        // came nearest (not all of them: a count the placements never reached still means more or
+        // fewer pins than average).
         std::vector<const PlacementResult*> matching;
-        for (const auto& p : placements) {
-            if (!c.pins || p.pins == *c.pins) matching.push_back(&p);
-        }
-        if (matching.empty()) {
+        if (c.pins) {
+            std::uint32_t nearest = std::numeric_limits<std::uint32_t>::max();
+            for (const auto& p : placements) nearest = std::min(nearest, p.pins > *c.pins ? p.pins - *c.pins : *c.pins - p.pins);
+            for (const auto& p : placements) {
+                if ((p.pins > *c.pins ? p.pins - *c.pins : *c.pins - p.pins) == nearest) matching.push_back(&p);
+            }
+        } else {
             for (const auto& p : placements) matching.push_back(&p);
         }
         double force = 0.0;

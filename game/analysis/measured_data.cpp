@@ -57,7 +57,8 @@ Result<MeasuredData> read_measured_data(assets::CsvTable table) {
         auto depth = number_in(row, "depth_mm", 0, 100, false);
         if (!depth) return std::move(depth).error();
         t.depth_mm = *depth;
-        auto pins = number_in(row, "pins", 0, 1000, true);
+        // A stem in the kenzan touches at least one pin; 0 once meant "any" without a word.
+        auto pins = number_in(row, "pins", 1, 1000, true);
         if (!pins) return std::move(pins).error();
         if (*pins) t.pins = static_cast<std::uint32_t>(**pins);
         for (const char* column : {"speed_mm_s", "minutes_since_cut"}) {

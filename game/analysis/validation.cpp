@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 #include "game/analysis/cause_explanations.hpp"
 #include "game/species/species.hpp"

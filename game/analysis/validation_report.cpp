@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 #include "game/analysis/svg_plot.hpp"
 
@@ -209,9 +210,7 @@ std::string validation_summary(const ValidationResult& v) {
 
 Result<void> write_validation_report(const ValidationResult& v, const AnalysisOptions& options, const std::filesystem::path& dir,
                                      const std::string& extra_markdown) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec) return make_error(ErrorCode::io_error, dir.string() + ": " + ec.message());
+    if (auto folder = assets::create_output_folder(dir); !folder) return folder;
     const AnalysisResult& a = v.analysis;
     std::ostringstream md;
     md << "# Measured insertions against the simulation\n\n";

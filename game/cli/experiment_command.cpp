@@ -5,8 +5,10 @@
 
 #include <unistd.h>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 #include "game/asset_paths.hpp"
+#include "game/cli/option_checks.hpp"
 #include "game/experiment/force_scheme_comparison.hpp"
 #include "game/experiment/insertion_experiment.hpp"
 #include "game/scene/scene.hpp"
@@ -28,7 +30,7 @@ void add_experiment_command(CLI::App& app, int& exit_code) {
     auto* cmd = app.add_subcommand("experiment", "Reproduce the paper's repeated-insertion experiment (section 3.1) headless");
     cmd->add_option("--trials", args->options.trials, "Flowers to use")->capture_default_str()->check(CLI::Range(1u, 100000u));
     cmd->add_option("--seed", args->options.seed, "Random seed (breakage, where each insertion lands)")->capture_default_str();
-    cmd->add_option("--angle", args->options.angle_deg, "Insertion angle against the horizontal, degrees")->capture_default_str()->check(CLI::Range(10.0, 90.0));
+    cmd->add_option("--angle", args->options.angle_deg, "Insertion angle against the horizontal, degrees")->capture_default_str()->check(finite_in(10.0, 90.0, "degrees"));
     cmd->add_option("--species", args->options.species, "Species id or file")->capture_default_str();
     cmd->add_option("--max-insertions", args->options.max_insertions, "Give up on a flower after this many")->capture_default_str()->check(CLI::Range(1u, 1000u));
     cmd->add_option("--env", args->env, "Environment covariate for an extended species, name=value (repeatable)");
@@ -73,7 +75,7 @@ void add_force_bench_command(CLI::App& app, int& exit_code) {
     bench->require_subcommand(1);
     auto* forces = bench->add_subcommand("forces", "The paper's multi-rate force scheme against full rate, on one scripted session");
     forces->add_option("--scene", args->scene, "Scene with scripted hands")->capture_default_str();
-    forces->add_option("--seconds", args->seconds, "Simulated seconds")->capture_default_str()->check(CLI::PositiveNumber);
+    forces->add_option("--seconds", args->seconds, "Simulated seconds")->capture_default_str()->check(simulated_seconds());
     forces->callback([args, &exit_code] {
         const auto result = compare_force_schemes(args->scene, args->seconds);
         if (!result) {

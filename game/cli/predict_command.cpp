@@ -6,6 +6,8 @@
 
 #include <unistd.h>
 
+#include "engine/assets/csv_table.hpp"
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 #include "game/analysis/insertion_predictor.hpp"
 #include "game/analysis/measured_data.hpp"
@@ -42,12 +44,12 @@ int run_predict(const std::string& input, const std::string& species_override, c
     std::map<std::size_t, std::size_t> row_of_line;
     for (std::size_t i = 0; i < data->table.line_of_row.size(); ++i) row_of_line[data->table.line_of_row[i]] = i;
     std::ostringstream out;
-    std::istringstream in(*text);
-    std::string line;
+    // Split as the table was read (any line ending, no byte-order mark), each line's ending kept.
     bool header_done = false;
-    for (std::size_t line_no = 1; std::getline(in, line); ++line_no) {
-        const bool cr = !line.empty() && line.back() == '\r';
-        if (cr) line.pop_back();
+    std::size_t line_no = 0;
+    for (const auto& [text_line, ending] : assets::split_lines(*text)) {
+        ++line_no;
+        std::string line(text_line);
         const bool blank = line.find_first_not_of(" \t") == std::string::npos;
         if (!blank && line.front() != '#' && !header_done) {
             header_done = true;
@@ -58,7 +60,7 @@ int run_predict(const std::string& input, const std::string& species_override, c
             line += value;
             if (data->has_outcome) line += "," + predictions[it->second].second;
         }
-        out << line << (cr ? "\r\n" : "\n");
+        out << line << (ending.empty() ? std::string_view("\n") : ending);
     }
     // Written beside the target and renamed: no half-written output.
     if (auto w = assets::write_text_file(output, out.str()); !w) {

@@ -10,9 +10,11 @@
 
 #include <unistd.h>
 
+#include "engine/assets/files.hpp"
 #include "engine/render/stereo_renderer.hpp"
 #include "engine/sched/clocks.hpp"
 #include "game/asset_paths.hpp"
+#include "game/cli/option_checks.hpp"
 #include "game/scene/scene.hpp"
 #include "game/world/world.hpp"
 #include "components/presentation.hpp"
@@ -55,6 +57,10 @@ int run_render(const RenderOptions& o) {
         std::cerr << "ikebana render: " << mode.error().message << "\n";
         return 2;
     }
+    if (auto folder = assets::create_output_folder(o.out); !folder) {
+        std::cerr << "ikebana render: --out: " << folder.error().message << "\n";
+        return 2;
+    }
     auto ctx = render::VulkanContext::create({.validation = o.validation, .require_validation = false, .instance_extensions = {}});
     if (!ctx) {
         std::cerr << "ikebana render: " << ctx.error().message << "\n";
@@ -69,12 +75,6 @@ int run_render(const RenderOptions& o) {
     if (!renderer) {
         std::cerr << "ikebana render: " << renderer.error().message << "\n";
         return 3;
-    }
-    std::error_code ec;
-    std::filesystem::create_directories(o.out, ec);
-    if (ec) {
-        std::cerr << "ikebana render: " << o.out << ": " << ec.message() << "\n";
-        return 2;
     }
     render::StereoRig rig;
     rig.eye_separation_m = scene->display.eye_separation_m;
@@ -150,8 +150,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
     cmd->add_option("--out", o->out, "Folder for the PNGs")->required();
     cmd->add_option("--width", o->width, "Width of one eye's image")->capture_default_str()->check(CLI::Range(16u, 8192u));
     cmd->add_option("--height", o->height, "Height of one eye's image")->capture_default_str()->check(CLI::Range(16u, 8192u));
-    cmd->add_option("--yaw", o->yaw_deg, "Orbit the camera about the arrangement, degrees")->capture_default_str();
-    cmd->add_option("--pitch", o->pitch_deg, "Raise the camera, degrees")->capture_default_str();
+    cmd->add_option("--yaw", o->yaw_deg, "Orbit the camera about the arrangement, degrees")->capture_default_str()->check(finite_in(-360.0, 360.0, "degrees"));
+    cmd->add_option("--pitch", o->pitch_deg, "Raise the camera, degrees")->capture_default_str()->check(finite_in(-89.0, 89.0, "degrees"));
     cmd->add_flag("--validation", o->validation, "Run with the Vulkan validation layer; any error fails the command");
     cmd->callback([o, &exit_code] { exit_code = run_render(*o); });
 }

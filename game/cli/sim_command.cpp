@@ -4,7 +4,6 @@
 #include <cinttypes>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 
 #include <unistd.h>
@@ -12,7 +11,9 @@
 #include "engine/sched/clocks.hpp"
 #include "components/hand.hpp"
 #include "engine/devices/scripted_device.hpp"
+#include "engine/assets/files.hpp"
 #include "game/asset_paths.hpp"
+#include "game/cli/option_checks.hpp"
 #include "game/devices/force_watchdogs.hpp"
 #include "game/devices/hand_device_selection.hpp"
 #include "systems/haptics/hand_devices.hpp"
@@ -56,19 +57,23 @@ int run_sim(const SimOptions& options) {
             std::fflush(stdout);
         };
     }
-    std::ofstream record_files[2];
+    std::unique_ptr<std::ostream> record_files[2];
     std::unique_ptr<devices::DeviceRecorder> recorders[2];
     if (!options.record_dir.empty()) {
-        std::filesystem::create_directories(options.record_dir);
+        if (auto folder = assets::create_output_folder(options.record_dir); !folder) {
+            std::cerr << "ikebana sim: --record: " << folder.error().message << "\n";
+            return 2;
+        }
         auto* slots = w.sim.resource<systems::HandDevices>();
         for (int hand = 0; hand < 2; ++hand) {
             const auto path = std::filesystem::path(options.record_dir) / (hand ? "right.csv" : "left.csv");
-            record_files[hand].open(path);
-            if (!record_files[hand]) {
-                std::cerr << "ikebana sim: cannot write " << path.string() << "\n";
+            auto file = assets::open_output_stream(path);
+            if (!file) {
+                std::cerr << "ikebana sim: --record: " << file.error().message << "\n";
                 return 2;
             }
-            recorders[hand] = std::make_unique<devices::DeviceRecorder>(record_files[hand]);
+            record_files[hand] = std::move(*file);
+            recorders[hand] = std::make_unique<devices::DeviceRecorder>(*record_files[hand]);
             slots->recorder[static_cast<std::size_t>(hand)] = recorders[hand].get();
         }
         std::printf("recording every device sample to %s/{left,right}.csv (replay with --left replay:FILE)\n", options.record_dir.c_str());
@@ -132,7 +137,7 @@ void add_sim_command(CLI::App& app, int& exit_code) {
     options->scene = (asset_dir() / "scenes" / "default.json").string();
     auto* sim = app.add_subcommand("sim", "Run a scene headless on the deterministic clock and print a summary");
     sim->add_option("--scene", options->scene, "Scene file")->capture_default_str();
-    sim->add_option("--seconds", options->seconds, "Simulated seconds")->capture_default_str()->check(CLI::PositiveNumber);
+    sim->add_option("--seconds", options->seconds, "Simulated seconds")->capture_default_str()->check(simulated_seconds());
     sim->add_flag("--stats", options->stats, "Print per-system statistics (calls, mean, p99, max, lateness, missed)");
     sim->add_flag("--hash", options->hash, "Print the final state hash as the last line (state-hash: <hex>)");
     sim->add_flag("--realtime", options->realtime, "Pace by the wall clock, simulation lane on its own thread");

@@ -10,9 +10,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 #include "game/analysis/validation_report.hpp"
 #include "game/asset_paths.hpp"
+#include "game/cli/option_checks.hpp"
 #include "game/experiment/insertion_experiment.hpp"
 
 namespace ikebana::game {
@@ -227,7 +229,7 @@ void add_validate_command(CLI::App& app, int& exit_code) {
     cmd->add_option("--write-species", args->write_species, "Write the species with the fitted extension to this file");
     cmd->add_option("--seed", args->analysis.seed, "Seed of the permutations, folds and bootstrap")->capture_default_str();
     cmd->add_option("--permutations", args->analysis.permutations, "Permutations per test")->capture_default_str()->check(CLI::Range(19u, 1000000u));
-    auto* alpha = cmd->add_option("--alpha", args->analysis.alpha, "Family-wise significance level")->capture_default_str()->check(CLI::Range(1e-6, 0.5));
+    auto* alpha = cmd->add_option("--alpha", args->analysis.alpha, "Family-wise significance level")->capture_default_str()->check(finite_in(1e-6, 0.5, ""));
     cmd->add_option("--ignore", args->ignore, "Columns that are not covariates (repeat or comma-separate)")->delimiter(',');
     cmd->add_flag("--paper", args->paper, "Run on the paper's Table 2 and report its experiment with the extended species");
     cmd->add_option("--paper-trials", args->paper_trials, "Flowers in the paper's experiment")->capture_default_str()->check(CLI::Range(1u, 1000u));

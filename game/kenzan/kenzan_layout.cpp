@@ -1,5 +1,6 @@
 #include "game/kenzan/kenzan_layout.hpp"
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 #include "game/asset_paths.hpp"
 

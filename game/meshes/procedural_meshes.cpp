@@ -5,6 +5,8 @@
 
 #include <glm/gtc/constants.hpp>
 
+#include "engine/assets/files.hpp"
+
 namespace ikebana::game {
 
 using assets::MeshData;
@@ -104,9 +106,7 @@ Result<std::vector<std::filesystem::path>> write_procedural_meshes(const std::fi
     std::vector<std::filesystem::path> written;
     for (const auto& [file, mesh] : procedural_meshes()) {
         const auto path = assets_root / file;
-        std::error_code ec;
-        std::filesystem::create_directories(path.parent_path(), ec);
-        if (ec) return make_error(ErrorCode::io_error, path.parent_path().string() + ": " + ec.message());
+        if (auto folder = assets::create_output_folder(path.parent_path()); !folder) return std::move(folder).error();
         if (auto ok = assets::write_gltf_mesh(path, mesh); !ok) return std::move(ok).error();
         written.push_back(path);
     }

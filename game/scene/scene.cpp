@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 
 namespace ikebana::game {
@@ -12,8 +13,8 @@ using assets::JsonChecker;
 
 namespace {
 std::optional<glm::dvec3> vec3(JsonChecker& c, const Json& object, const std::string& path, const char* key,
-                               bool required, double scale) {
-    const auto v = c.numbers(object, path, key, {}, 3, required);
+                               bool required, double scale, assets::NumberRange range = {}) {
+    const auto v = c.numbers(object, path, key, range, 3, required);
     if (!v) return std::nullopt;
     if (v->size() != 3) {
         c.problem(path + "/" + key, "expected exactly 3 numbers, got " + std::to_string(v->size()));
@@ -32,12 +33,13 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
     const auto format = c.string(*root, "", "format");
     if (format && *format != "ikebana-scene/1") c.problem("/format", "expected \"ikebana-scene/1\", got \"" + *format + "\"");
     SceneDef s{};
+    const assets::NumberRange workspace{-workspace_half_extent_m * 1e3, workspace_half_extent_m * 1e3};
     s.seed = static_cast<std::uint64_t>(c.integer(*root, "", "seed", 0, std::numeric_limits<std::int64_t>::max(), false).value_or(1));
-    s.gravity_m_s2 = vec3(c, *root, "", "gravity_m_s2", false, 1.0).value_or(glm::dvec3{0, 0, -9.80665});
+    s.gravity_m_s2 = vec3(c, *root, "", "gravity_m_s2", false, 1.0, {-max_gravity_m_s2, max_gravity_m_s2}).value_or(glm::dvec3{0, 0, -9.80665});
     s.table_height_m = c.number(*root, "", "table_height_mm", {-1000, 1000}, false).value_or(0) * 1e-3;
     if (const auto* rates = c.object(*root, "", "rates_hz", false)) {
         for (const auto& [name, value] : rates->items()) {
-            if (const auto hz = c.number(*rates, "/rates_hz", name.c_str(), {0, 100000, true})) s.rates_hz[name] = *hz;
+            if (const auto hz = c.number(*rates, "/rates_hz", name.c_str(), {0.001, 100000})) s.rates_hz[name] = *hz;
         }
     }
     s.force_scheme = c.choice(*root, "", "force_scheme", {"full_rate", "paper"}, false).value_or("full_rate");
@@ -79,10 +81,13 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
     if (const auto* k = c.object(*root, "", "kenzan")) {
         c.no_unknown_keys(*k, "/kenzan", {"layout", "position_mm"});
         s.kenzan_layout = c.string(*k, "/kenzan", "layout").value_or("");
-        s.kenzan_position_m = vec3(c, *k, "/kenzan", "position_mm", false, 1e-3).value_or(glm::dvec3{0.0});
+        s.kenzan_position_m = vec3(c, *k, "/kenzan", "position_mm", false, 1e-3, workspace).value_or(glm::dvec3{0.0});
     }
     if (const auto* flowers = c.array(*root, "", "flowers", false)) {
-        for (std::size_t i = 0; i < flowers->size(); ++i) {
+        if (flowers->size() > max_scene_flowers) {
+            c.problem("/flowers", std::to_string(flowers->size()) + " flowers, more than the " + std::to_string(max_scene_flowers) + " a scene may have");
+        }
+        for (std::size_t i = 0; i < flowers->size() && i < max_scene_flowers; ++i) {
             const std::string p = "/flowers/" + std::to_string(i);
             const Json& f = (*flowers)[i];
             if (!f.is_object()) {
@@ -93,7 +98,7 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
             FlowerPlacement fp{};
             fp.species = c.string(f, p, "species").value_or("");
             fp.placement = c.choice(f, p, "placement", {"inserted", "lying"}) == "lying" ? Placement::lying : Placement::inserted;
-            fp.base_m = vec3(c, f, p, "base_mm", true, 1e-3).value_or(glm::dvec3{0.0});
+            fp.base_m = vec3(c, f, p, "base_mm", true, 1e-3, workspace).value_or(glm::dvec3{0.0});
             fp.direction = vec3(c, f, p, "direction", true, 1.0).value_or(glm::dvec3{0, 0, 1});
             if (glm::length(fp.direction) < 1e-9) {
                 c.problem(p + "/direction", "must not be the zero vector");
@@ -115,7 +120,7 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
             c.no_unknown_keys(h, p, {"hand", "position_mm", "edge_mm", "trajectory"});
             HandPlacement hp{};
             hp.hand = c.choice(h, p, "hand", {"left", "right"}) == "right" ? 1 : 0;
-            hp.position_m = vec3(c, h, p, "position_mm", true, 1e-3).value_or(glm::dvec3{0.0});
+            hp.position_m = vec3(c, h, p, "position_mm", true, 1e-3, workspace).value_or(glm::dvec3{0.0});
             hp.edge_m = c.number(h, p, "edge_mm", {1, 200}, false).value_or(20) * 1e-3;
             hp.trajectory = c.string(h, p, "trajectory", false).value_or("");
             s.hands.push_back(hp);

@@ -53,6 +53,15 @@ struct DisplayDef {
     double vertical_fov_rad = 0.7;
 };
 
+// Where a scene's things may be: within this distance of the origin on each axis (a table and the
+// reach of two arms, with room to spare). Beyond it no arrangement is meant, and coordinates of 1e15 m
+// once hung the collision grid.
+inline constexpr double workspace_half_extent_m = 2.0;
+// Gravity up to ten times the Earth's on each axis (a centrifuge, not a typo of 1e300).
+inline constexpr double max_gravity_m_s2 = 100.0;
+// More flowers than any arrangement uses (its placements are checked pairwise).
+inline constexpr std::size_t max_scene_flowers = 1000;
+
 struct SceneDef {
     std::filesystem::path file;
     std::uint64_t seed;

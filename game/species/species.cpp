@@ -4,6 +4,7 @@
 
 #include <glm/gtc/constants.hpp>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 #include "game/asset_paths.hpp"
 

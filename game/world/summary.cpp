@@ -51,7 +51,13 @@ WorldSummary summarize(World& w) {
             fs.holding_moment_nm = e->holding_moment_nm;
             fs.gravity_moment_nm = e->gravity_moment_nm;
         }
-        if (const auto* grip = r.try_get<KenzanGrip>(f.entity)) fs.fallen = grip->fallen;
+        if (const auto* grip = r.try_get<KenzanGrip>(f.entity)) {
+            fs.fallen = grip->fallen;
+            fs.fell_at_s = static_cast<double>(grip->fell_at_us) * 1e-6;
+            fs.yielded = grip->yielded;
+            fs.yield_holding_nm = grip->yield_holding_nm;
+            fs.yield_gravity_nm = grip->yield_gravity_nm;
+        }
         s.flower_states.push_back(fs);
     }
     return s;
@@ -75,11 +81,24 @@ std::string format_summary(const WorldSummary& s, double seconds) {
     for (const auto& f : s.flower_states) {
         char line[512];
         if (f.in_kenzan) {
+            // The verdict the physics reached: a fallen stem leans on more pins and may show a
+            // positive margin now, so the moments when the pins first gave way are what explain it.
+            char verdict[160];
+            if (f.fallen && f.yielded) {
+                std::snprintf(verdict, sizeof verdict, "FELL at %.2f s (the pins first gave way holding %.2f mN m under %.2f mN m)", f.fell_at_s,
+                              f.yield_holding_nm * 1e3, f.yield_gravity_nm * 1e3);
+            } else if (f.fallen) {
+                std::snprintf(verdict, sizeof verdict, "FELL at %.2f s", f.fell_at_s);
+            } else if (f.holding_moment_nm < f.gravity_moment_nm) {
+                std::snprintf(verdict, sizeof verdict, "yielding (the pins hold less than its weight asks: it is tipping)");
+            } else {
+                std::snprintf(verdict, sizeof verdict, "stands");
+            }
             std::snprintf(line, sizeof line,
                           "  %-14s in the kenzan: %zu pins, %.1f mm deep, resistance %.0f gf, holding %.2f mN m vs gravity %.2f mN m (margin %+.2f), insertions %u%s -> %s\n",
                           f.species.c_str(), f.pins, f.depth_m * 1e3, f.resistance_n / 9.80665e-3, f.holding_moment_nm * 1e3,
                           f.gravity_moment_nm * 1e3, (f.holding_moment_nm - f.gravity_moment_nm) * 1e3, f.insertions,
-                          f.broken ? ", bottom broken" : "", f.fallen ? "FELL" : "stands");
+                          f.broken ? ", bottom broken" : "", verdict);
         } else {
             std::snprintf(line, sizeof line, "  %-14s not in the kenzan, insertions %u%s%s\n", f.species.c_str(), f.insertions,
                           f.broken ? ", bottom broken" : "", f.fallen ? ", fell" : "");

@@ -17,6 +17,10 @@ struct FlowerSummary {
     double holding_moment_nm = 0.0;
     double gravity_moment_nm = 0.0;
     bool fallen = false;
+    double fell_at_s = 0.0;
+    bool yielded = false;            // the pins gave way at least once (the moments then follow)
+    double yield_holding_nm = 0.0;
+    double yield_gravity_nm = 0.0;
 };
 
 struct WorldSummary {

@@ -1,6 +1,7 @@
 #include "game/world/world.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include <glm/gtc/constants.hpp>
 
@@ -19,6 +20,7 @@
 #include "engine/ecs/hierarchy.hpp"
 #include "game/asset_paths.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
+#include "game/scene/placement_checks.hpp"
 #include "game/training/sample_arrangement.hpp"
 #include "systems/collision/collision_module.hpp"
 #include "systems/haptics/hand_devices.hpp"
@@ -43,6 +45,20 @@ void add_collision_tag(ecs::Registry& r, ecs::Entity e, CollisionClass c) {
     case CollisionClass::passive: r.emplace<PassiveCollider>(e); break;
     case CollisionClass::inactive: r.emplace<InactiveCollider>(e); break;
     }
+}
+
+// A scene's trajectories are in world coordinates: each keyframe within the scene's workspace.
+Result<void> keys_within_workspace(const std::vector<devices::Keyframe>& keys) {
+    for (const auto& k : keys) {
+        const glm::dvec3 p = k.position_m;
+        if (std::abs(p.x) > workspace_half_extent_m || std::abs(p.y) > workspace_half_extent_m || std::abs(p.z) > workspace_half_extent_m) {
+            char text[200];
+            std::snprintf(text, sizeof text, "at %.3f s the hand is at (%.3g, %.3g, %.3g) m, outside the workspace (%.0f m from the origin on each axis)",
+                          k.time_s, p.x, p.y, p.z, workspace_half_extent_m);
+            return make_error(ErrorCode::invalid_argument, text);
+        }
+    }
+    return {};
 }
 
 Result<void> register_systems(World& w, systems::ForceScheme force_scheme, const std::vector<sched::SystemDesc>& main_lane_systems) {
@@ -172,13 +188,30 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     }
     // Everything the scene names is loaded before anything is spawned: a broken file leaves no
     // half-built world behind.
+    // Each error names the scene and the field that named the file, then the file's own message.
+    const std::string scene_label = scene.file.empty() ? std::string("scene") : scene.file.filename().string();
+    const auto from_scene = [&](const std::string& field, const Error& e) { return make_error(e.code, scene_label + ": " + field + ": " + e.message); };
     auto kenzan = load_kenzan(scene.kenzan_layout);
-    if (!kenzan) return std::move(kenzan).error();
-    for (const auto& f : scene.flowers) {
+    if (!kenzan) return from_scene("/kenzan/layout", kenzan.error());
+    for (std::size_t i = 0; i < scene.flowers.size(); ++i) {
+        const auto& f = scene.flowers[i];
         if (w->species.contains(f.species)) continue;
         auto sp = load_species(f.species);
-        if (!sp) return std::move(sp).error();
+        if (!sp) return from_scene("/flowers/" + std::to_string(i) + "/species", sp.error());
         w->species.emplace(f.species, std::move(sp).value());
+    }
+    {
+        components::Kenzan placed = *kenzan;
+        placed.origin_m = scene.kenzan_position_m;
+        if (auto ok = check_placements(scene, placed, w->species); !ok) return std::move(ok).error();
+    }
+    std::vector<std::vector<devices::Keyframe>> trajectories(scene.hands.size());
+    for (std::size_t i = 0; i < scene.hands.size(); ++i) {
+        if (scene.hands[i].trajectory.empty()) continue;
+        auto keys = devices::load_trajectory(asset_path(scene.hands[i].trajectory));
+        if (!keys) return from_scene("/hands/" + std::to_string(i) + "/trajectory", keys.error());
+        if (auto inside = keys_within_workspace(*keys); !inside) return from_scene("/hands/" + std::to_string(i) + "/trajectory", inside.error());
+        trajectories[i] = std::move(keys).value();
     }
 
     auto& r = w->sim;
@@ -213,7 +246,8 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     }
     r.set_resource<systems::HandDevices>();
     r.set_resource<SentForceLog>();
-    for (const auto& h : scene.hands) {
+    for (std::size_t hand_index = 0; hand_index < scene.hands.size(); ++hand_index) {
+        const auto& h = scene.hands[hand_index];
         const ecs::Entity hand = r.create();
         r.emplace<HandCube>(hand, h.hand, h.edge_m);
         r.emplace<Collider>(hand, ShapeKind::box, h.position_m, h.position_m, 0.0, glm::dvec3{0.5 * h.edge_m});
@@ -227,9 +261,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
         r.emplace<WorkspaceMapping>(hand, glm::dvec3{0.0}, 1.0, 0.0, 0.3);
         if (h.hand < 2) w->hands[h.hand] = hand;
         if (!h.trajectory.empty()) {
-            auto keys = devices::load_trajectory(asset_path(h.trajectory));
-            if (!keys) return std::move(keys).error();
-            w->attach_device(h.hand, std::make_unique<devices::ScriptedDevice>(std::move(keys).value(), devices::ScriptedDevice::Mode::interpolate,
+            w->attach_device(h.hand, std::make_unique<devices::ScriptedDevice>(std::move(trajectories[hand_index]), devices::ScriptedDevice::Mode::interpolate,
                                                                                h.trajectory));
         }
     }

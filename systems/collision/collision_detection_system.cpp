@@ -18,17 +18,30 @@ std::int64_t cell_key(std::int64_t x, std::int64_t y, std::int64_t z) {
     return ((x + bias) & 0x1FFFFF) | (((y + bias) & 0x1FFFFF) << 21) | (((z + bias) & 0x1FFFFF) << 42);
 }
 
+// A grid index for any finite coordinate: clamped far beyond any workspace, so that the cast is
+// defined and loops over indices always advance (a double of 1e15 does not change when 1 is added,
+// which once hung the loop below).
+std::int64_t grid_index(double scaled) {
+    constexpr double limit = 1e12;
+    return static_cast<std::int64_t>(std::clamp(scaled, -limit, limit));
+}
+
 template <typename F>
 void for_each_cell(const collision::Bounds& b, double cell, F&& f) {
-    const auto lo = glm::floor(b.lo / cell);
-    const auto hi = glm::floor(b.hi / cell);
+    const glm::dvec3 lo_d = glm::floor(b.lo / cell);
+    const glm::dvec3 hi_d = glm::floor(b.hi / cell);
+    for (int axis = 0; axis < 3; ++axis) {
+        if (!std::isfinite(lo_d[axis]) || !std::isfinite(hi_d[axis])) return; // NaN or inf: nowhere on the grid
+    }
     // A collider spanning very many cells (a huge box) is clamped to a window rather than looping forever.
-    constexpr double max_span = 64.0;
-    for (double x = lo.x; x <= std::min(hi.x, lo.x + max_span); ++x) {
-        for (double y = lo.y; y <= std::min(hi.y, lo.y + max_span); ++y) {
-            for (double z = lo.z; z <= std::min(hi.z, lo.z + max_span); ++z) {
-                f(cell_key(static_cast<std::int64_t>(x), static_cast<std::int64_t>(y), static_cast<std::int64_t>(z)));
-            }
+    constexpr std::int64_t max_span = 64;
+    const std::int64_t x0 = grid_index(lo_d.x), y0 = grid_index(lo_d.y), z0 = grid_index(lo_d.z);
+    const std::int64_t x1 = std::min(grid_index(hi_d.x), x0 + max_span);
+    const std::int64_t y1 = std::min(grid_index(hi_d.y), y0 + max_span);
+    const std::int64_t z1 = std::min(grid_index(hi_d.z), z0 + max_span);
+    for (std::int64_t x = x0; x <= x1; ++x) {
+        for (std::int64_t y = y0; y <= y1; ++y) {
+            for (std::int64_t z = z0; z <= z1; ++z) f(cell_key(x, y, z));
         }
     }
 }
@@ -90,19 +103,15 @@ void CollisionDetectionSystem::operator()(sched::SystemContext& ctx) {
         r.view<const Collider, const ActiveCollider>().each([&](ecs::Entity e, const Collider& c) {
             if (c.kind != ShapeKind::capsule) return;
             const auto b = collision::bounds_of(c);
-            if (b.lo.z > top || b.hi.z < k.origin_m.z) return;
-            const glm::dvec3 corner = k.pin_base(0, 0);
+            if (!(b.lo.z <= top && b.hi.z >= k.origin_m.z)) return; // also NaN bounds
             const double reach = 0.5 * k.pin.trunk_diameter_m;
-            const auto col_lo = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil((b.lo.x - reach - corner.x) / k.pitch_m)));
-            const auto col_hi = std::min<std::int64_t>(k.columns - 1, static_cast<std::int64_t>(std::floor((b.hi.x + reach - corner.x) / k.pitch_m)));
-            const auto row_lo = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil((b.lo.y - reach - corner.y) / k.pitch_m)));
-            const auto row_hi = std::min<std::int64_t>(k.rows - 1, static_cast<std::int64_t>(std::floor((b.hi.y + reach - corner.y) / k.pitch_m)));
-            for (auto row = row_lo; row <= row_hi; ++row) {
-                for (auto col = col_lo; col <= col_hi; ++col) {
+            const auto range = k.pins_within(glm::dvec2(b.lo) - reach, glm::dvec2(b.hi) + reach);
+            for (auto row = range.row_lo; row <= range.row_hi; ++row) {
+                for (auto col = range.column_lo; col <= range.column_hi; ++col) {
                     ++contacts->pairs_tested;
-                    const auto base = k.pin_base(static_cast<std::int32_t>(col), static_cast<std::int32_t>(row));
+                    const auto base = k.pin_base(col, row);
                     if (const auto hit = collision::collide_capsule_pin(c, base, k.pin)) {
-                        const auto pin = static_cast<std::int32_t>(row * k.columns + col);
+                        const auto pin = row * k.columns + col;
                         contacts->list.push_back({e, kenzan_entity, hit->point_m, hit->normal, hit->depth_m, pin});
                     }
                 }

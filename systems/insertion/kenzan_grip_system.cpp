@@ -43,6 +43,7 @@ void KenzanGripSystem::operator()(sched::SystemContext& ctx) {
             if (!grip.engaged) {
                 grip.engaged = true;
                 grip.fallen = false;
+                grip.yielded = false;
                 grip.entry_axis = glm::normalize(x.back() - x[0]);
                 clamp = StemClamp{true, x[0], first, root_stiffness};
             }
@@ -50,9 +51,19 @@ void KenzanGripSystem::operator()(sched::SystemContext& ctx) {
             // Elastic up to the holding moment, then the hinge yields (return mapping).
             if (root_stiffness > 0.0) {
                 const double limit = grip.holding_moment_nm / root_stiffness;
-                if (angle_between(clamp.direction, first) > limit) clamp.direction = rotate_towards(clamp.direction, first, limit);
+                if (angle_between(clamp.direction, first) > limit) {
+                    clamp.direction = rotate_towards(clamp.direction, first, limit);
+                    if (!grip.yielded && !grip.fallen) {
+                        grip.yielded = true;
+                        grip.yield_holding_nm = engagement.holding_moment_nm;
+                        grip.yield_gravity_nm = engagement.gravity_moment_nm;
+                    }
+                }
             }
-            grip.fallen = grip.fallen || angle_between(grip.entry_axis, glm::normalize(x.back() - x[0])) > fall_angle_rad;
+            if (!grip.fallen && angle_between(grip.entry_axis, glm::normalize(x.back() - x[0])) > fall_angle_rad) {
+                grip.fallen = true;
+                grip.fell_at_us = ctx.time_us;
+            }
         });
 }
 

@@ -80,13 +80,9 @@ std::vector<PinContact> engaged_pins(const StemEnd& stem, const Kenzan& k) {
     glm::dvec2 lo = glm::min(glm::dvec2(stem.bottom_m), glm::dvec2(far)) - glm::dvec2(stem.radius_m);
     glm::dvec2 hi = glm::max(glm::dvec2(stem.bottom_m), glm::dvec2(far)) + glm::dvec2(stem.radius_m);
     if (std::min(stem.bottom_m.z, far.z) - stem.radius_m > top) return out;
-    const glm::dvec3 corner = k.pin_base(0, 0);
-    const auto col_lo = std::max(0, static_cast<int>(std::ceil((lo.x - corner.x) / k.pitch_m)));
-    const auto col_hi = std::min(k.columns - 1, static_cast<int>(std::floor((hi.x - corner.x) / k.pitch_m)));
-    const auto row_lo = std::max(0, static_cast<int>(std::ceil((lo.y - corner.y) / k.pitch_m)));
-    const auto row_hi = std::min(k.rows - 1, static_cast<int>(std::floor((hi.y - corner.y) / k.pitch_m)));
-    for (int row = row_lo; row <= row_hi; ++row) {
-        for (int col = col_lo; col <= col_hi; ++col) {
+    const auto range = k.pins_within(lo, hi);
+    for (auto row = range.row_lo; row <= range.row_hi; ++row) {
+        for (auto col = range.column_lo; col <= range.column_hi; ++col) {
             if (auto contact = pin_contact(stem, k.pin_base(col, row), k.pin)) {
                 contact->pin = row * k.columns + col;
                 out.push_back(*contact);

@@ -16,6 +16,9 @@ std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const
         std::string state;
         if (f.fallen) {
             state = "FELL";
+        } else if (f.in_kenzan && f.holding_moment_nm < f.gravity_moment_nm) {
+            std::snprintf(text, sizeof text, "tipping: the pins hold %.1fx its weight's moment", f.holding_moment_nm / f.gravity_moment_nm);
+            state = text;
         } else if (f.in_kenzan && f.gravity_moment_nm > 0.0) {
             std::snprintf(text, sizeof text, "stands, holding %.1fx its weight's moment", f.holding_moment_nm / f.gravity_moment_nm);
             state = text;

@@ -84,3 +84,23 @@ TEST(CsvTable, TablesBeyondTheLimitsAreRefusedSayingWhich) {
     ASSERT_FALSE(too_tall);
     EXPECT_EQ(too_tall.error().message, "tall.csv:1000002:1: more than 1000000 rows, the most a table may have here");
 }
+
+TEST(CsvTable, AByteOrderMarkAndAnyLineEndingReadAsPlainLines) {
+    // Excel's "CSV UTF-8" starts with a BOM (the first column was once "\xEF\xBB\xBFflower_id"), and old
+    // Mac exports end lines with a lone CR (once one line, and a misleading duplicate-column error).
+    for (const char* text : {"\xEF\xBB\xBF" "flower_id,insertion\nA,1\nB,2\n", "flower_id,insertion\rA,1\rB,2\r",
+                             "flower_id,insertion\r\nA,1\r\nB,2", "\xEF\xBB\xBF" "flower_id,insertion\rA,1\n\rB,2\r\n"}) {
+        const auto t = parse_csv(text, "lab.csv");
+        ASSERT_TRUE(t) << t.error().message;
+        ASSERT_NE(t->find("flower_id"), nullptr) << "the first column keeps its name";
+        ASSERT_EQ(t->rows(), 2u);
+        EXPECT_EQ(t->find("flower_id")->text[1], "B");
+        EXPECT_EQ((*t->find("insertion")->numbers)[1], 2.0);
+    }
+    const auto lines = split_lines("a\r\nb\rc\nd");
+    ASSERT_EQ(lines.size(), 4u);
+    EXPECT_EQ(lines[0].ending, "\r\n");
+    EXPECT_EQ(lines[1].ending, "\r");
+    EXPECT_EQ(lines[3].text, "d");
+    EXPECT_EQ(lines[3].ending, "");
+}

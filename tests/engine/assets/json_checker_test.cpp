@@ -3,6 +3,7 @@
 #include <fstream>
 #include <sys/stat.h>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 
 using namespace ikebana;

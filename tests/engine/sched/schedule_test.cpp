@@ -124,6 +124,21 @@ TEST(RateTable, BadValuesAreRefusedWithAClearMessage) {
     EXPECT_EQ(t.hz("render"), 60.0);
 }
 
+TEST(RateTable, RatesThatRoundToZeroMillihertzAreRefused) {
+    // 1e-4 Hz is 0.1 mHz: the schedule would round it to 0 and divide by it (SIGFPE, issue 20).
+    auto t = RateTable::paper_defaults();
+    const auto tiny = t.set_from_string("render=1e-4");
+    ASSERT_FALSE(tiny);
+    EXPECT_EQ(tiny.error().message, "rate 'render' of 0.0001 Hz is below the supported minimum of 0.001 Hz");
+    ASSERT_TRUE(t.set("render", min_rate_hz));
+    ecs::Registry registry;
+    Schedule schedule(t);
+    ASSERT_TRUE(schedule.add_lane({"sim", &registry, LaneThread::caller, {"physics"}}));
+    ASSERT_TRUE(schedule.add(make("slow", "physics", {}, {}, {}, "render")));
+    ASSERT_TRUE(schedule.finalize());
+    EXPECT_EQ(schedule.find("slow")->due_us(1), 1'000'000'000) << "the smallest allowed rate fires every 1000 s";
+}
+
 namespace {
 struct Position {
     double x = 0.0;

@@ -4,7 +4,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
+#include "game/analysis/insertion_predictor.hpp"
 #include "game/analysis/measured_data.hpp"
 #include "game/cli/predict_command.hpp"
 
@@ -90,4 +92,31 @@ TEST(Predict, UnknownColumnsBecomeCovariates) {
     EXPECT_EQ(data->trials[0].covariates.numeric.at("room_c"), 21.5);
     EXPECT_EQ(data->trials[0].covariates.category.at("batch"), "north");
     EXPECT_EQ(data->trials[0].covariates.numeric.at("insertion"), 1.0);
+}
+
+TEST(Predict, DepthsBeyondThePinsAndPinCountsNoStemCanTouchAreRefused) {
+    // 50 mm once gave 494 gf (the stem pushed through the base); pins 0 and 999 once meant "any".
+    const auto deep = write("deep.csv", "flower_id,insertion,max_force_gf,depth_mm\nA,1,480,50\n");
+    const auto output = temp("deep_out.csv");
+    std::filesystem::remove(output);
+    EXPECT_NE(run_predict(deep, "", output), 0);
+    EXPECT_FALSE(std::filesystem::exists(output));
+    InsertionPredictor predictor;
+    MeasuredTrial trial;
+    trial.insertion = 1;
+    trial.max_force_gf = 480;
+    trial.depth_mm = 50;
+    const auto too_deep = predictor.predict(conditions_for(trial, "sunflower", false));
+    ASSERT_FALSE(too_deep);
+    EXPECT_EQ(too_deep.error().message, "depth_mm: 50 mm is deeper than the kenzan's pins are tall (13 mm); the stem would be pushed into the base plate");
+    trial.depth_mm.reset();
+    trial.pins = 999;
+    const auto many = predictor.predict(conditions_for(trial, "sunflower", false));
+    ASSERT_FALSE(many);
+    EXPECT_NE(many.error().message.find("pins: 999 is more than a 7.5 mm stem at 45 degrees can touch on this kenzan (at most "), std::string::npos)
+        << many.error().message;
+    const auto zero = load_measured_data(write("zero_pins.csv", "flower_id,insertion,max_force_gf,pins\nA,1,480,0\n"));
+    ASSERT_FALSE(zero);
+    EXPECT_NE(zero.error().message.find("zero_pins.csv:2: column 'pins': expected an integer in [1, 1000], got '0'"), std::string::npos)
+        << zero.error().message;
 }

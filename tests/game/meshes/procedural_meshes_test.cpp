@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 #include "engine/assets/mesh.hpp"
 #include "game/meshes/procedural_meshes.hpp"

@@ -22,7 +22,7 @@ TEST(Scene, BadValuesNameTheirPath) {
                                    "s.json");
     ASSERT_FALSE(scene);
     const auto& m = scene.error().message;
-    EXPECT_NE(m.find("s.json: /rates_hz/render: expected a number in (0, 100000], got 0"), std::string::npos) << m;
+    EXPECT_NE(m.find("s.json: /rates_hz/render: expected a number in [0.001, 100000], got 0"), std::string::npos) << m;
     EXPECT_NE(m.find("s.json: /flowers/0/placement: expected one of"), std::string::npos) << m;
     EXPECT_NE(m.find("s.json: /flowers/0/base_mm: expected at least 3 numbers, got 2"), std::string::npos) << m;
     EXPECT_NE(m.find("s.json: /flowers/0/direction: must not be the zero vector"), std::string::npos) << m;

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <random>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/csv_table.hpp"
 #include "engine/assets/json_checker.hpp"
 #include "game/species/species.hpp"

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <set>
 
 #include "components/collision.hpp"
@@ -116,4 +118,37 @@ TEST(CollisionDetection, StemEndPushedIntoKenzanMeetsThePinsUnderIt) {
     }
     EXPECT_EQ(pins.size(), 4u);
     EXPECT_LE(c.pairs_tested, 16u) << "the grid limits candidates to the pins under the stem";
+}
+
+TEST(CollisionDetection, AstronomicalAndNonFiniteCoordinatesEndAtOnce) {
+    // A double of 1e15 does not change when 1 is added: the grid loop once stepped it forever.
+    ecs::Registry r;
+    for (const double far : {2.8e14, 1e15, 1e18, 1e300, -1e300}) {
+        add<ActiveCollider>(r, sphere({far, 0, 0}, 0.01));
+        add<ActiveCollider>(r, capsule({0, far, 0}, {0, far, 0.01}, 0.004));
+        add<PassiveCollider>(r, sphere({0, 0, far}, 0.01));
+    }
+    add<ActiveCollider>(r, sphere({std::numeric_limits<double>::quiet_NaN(), 0, 0}, 0.01));
+    add<ActiveCollider>(r, sphere({std::numeric_limits<double>::infinity(), 0, 0}, 0.01));
+    const auto k = r.create();
+    r.emplace<Kenzan>(k, standard_kenzan());
+    r.emplace<PassiveCollider>(k);
+    const auto near = add<ActiveCollider>(r, sphere({0, 0, 0.5}, 0.01));
+    const auto other = add<PassiveCollider>(r, sphere({0, 0, 0.515}, 0.01));
+    const auto& c = detect(r);
+    ASSERT_EQ(c.list.size(), 1u) << "the ordinary pair is still found among the far ones";
+    EXPECT_EQ(c.list[0].a, near);
+    EXPECT_EQ(c.list[0].b, other);
+}
+
+TEST(CollisionDetection, PinRangesAreEmptyForBoundsOffTheKenzanOrNotANumber) {
+    const auto k = standard_kenzan();
+    const auto none = k.pins_within({1e300, 1e300}, {1e300, 1e300});
+    EXPECT_GT(none.column_lo, none.column_hi);
+    const auto nan = k.pins_within({std::nan(""), 0}, {std::nan(""), 0});
+    EXPECT_GT(nan.column_lo, nan.column_hi);
+    const auto all = k.pins_within({-1e300, -1e300}, {1e300, 1e300});
+    EXPECT_EQ(all.column_lo, 0);
+    EXPECT_EQ(all.column_hi, 19);
+    EXPECT_EQ(all.row_hi, 19);
 }

@@ -1,0 +1,196 @@
+#include "engine/assets/files.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <streambuf>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace ikebana::assets {
+
+namespace {
+Error os_error(const std::filesystem::path& path, const char* doing, int err) {
+    return make_error(ErrorCode::io_error, path.string() + ": " + doing + " (" + std::strerror(err) + ")");
+}
+
+// Closes a descriptor on every path out of a function.
+struct Descriptor {
+    int fd = -1;
+    explicit Descriptor(int f) : fd(f) {}
+    Descriptor(const Descriptor&) = delete;
+    Descriptor& operator=(const Descriptor&) = delete;
+    ~Descriptor() {
+        if (fd >= 0) ::close(fd);
+    }
+    int release() { return std::exchange(fd, -1); }
+};
+
+bool write_all(int fd, const char* data, std::size_t size) {
+    while (size > 0) {
+        const ssize_t n = ::write(fd, data, size);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            return false;
+        }
+        data += n;
+        size -= static_cast<std::size_t>(n);
+    }
+    return true;
+}
+
+const char* kind_of(mode_t mode) {
+    if (S_ISLNK(mode)) return "a symbolic link";
+    if (S_ISDIR(mode)) return "a folder";
+    if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
+    if (S_ISFIFO(mode)) return "a FIFO";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "not a regular file";
+}
+
+// A buffered ostream over a descriptor it owns; flush() (sync) writes the buffer out.
+class DescriptorBuffer final : public std::streambuf {
+public:
+    explicit DescriptorBuffer(int fd) : fd_(fd) { setp(buffer_, buffer_ + sizeof buffer_); }
+    DescriptorBuffer(const DescriptorBuffer&) = delete;
+    DescriptorBuffer& operator=(const DescriptorBuffer&) = delete;
+    ~DescriptorBuffer() override {
+        sync();
+        ::close(fd_);
+    }
+
+protected:
+    int_type overflow(int_type c) override {
+        if (sync() != 0) return traits_type::eof();
+        if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+        *pptr() = traits_type::to_char_type(c);
+        pbump(1);
+        return c;
+    }
+    int sync() override {
+        const bool ok = write_all(fd_, pbase(), static_cast<std::size_t>(pptr() - pbase()));
+        setp(buffer_, buffer_ + sizeof buffer_);
+        return ok ? 0 : -1;
+    }
+
+private:
+    int fd_;
+    char buffer_[1 << 16];
+};
+
+class DescriptorStream final : public std::ostream {
+public:
+    explicit DescriptorStream(int fd) : std::ostream(nullptr), buffer_(fd) { rdbuf(&buffer_); }
+
+private:
+    DescriptorBuffer buffer_;
+};
+} // namespace
+
+Result<std::string> read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes) {
+    // Non-blocking, so that opening a FIFO with no writer returns at once; fstat then refuses it.
+    Descriptor file(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
+    if (file.fd < 0) {
+        if (errno == ENOENT || errno == ENOTDIR) return make_error(ErrorCode::not_found, path.string() + ": no such file");
+        return os_error(path, "cannot be opened for reading", errno);
+    }
+    struct stat info {};
+    if (::fstat(file.fd, &info) != 0) return os_error(path, "cannot be examined", errno);
+    if (S_ISDIR(info.st_mode)) return make_error(ErrorCode::io_error, path.string() + ": is a directory");
+    if (!S_ISREG(info.st_mode)) {
+        return make_error(ErrorCode::io_error, path.string() + ": not a regular file (a device, a FIFO or a socket is never read)");
+    }
+    const auto too_big = [&](std::uintmax_t size) {
+        return make_error(ErrorCode::io_error, path.string() + ": " + std::to_string(size) + " bytes, more than the " +
+                                                   std::to_string(max_bytes >> 20) + " MiB a file may have here");
+    };
+    if (static_cast<std::uintmax_t>(info.st_size) > max_bytes) return too_big(static_cast<std::uintmax_t>(info.st_size));
+    std::string text;
+    text.reserve(static_cast<std::size_t>(info.st_size));
+    char chunk[1 << 16];
+    for (;;) {
+        const ssize_t n = ::read(file.fd, chunk, sizeof chunk);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            return os_error(path, "read failed", errno);
+        }
+        if (n == 0) break;
+        text.append(chunk, static_cast<std::size_t>(n));
+        if (text.size() > max_bytes) return too_big(text.size());
+    }
+    return text;
+}
+
+Result<void> check_output_path(const std::filesystem::path& path) {
+    struct stat info {};
+    if (::lstat(path.c_str(), &info) == 0) {
+        if (S_ISREG(info.st_mode)) return {};
+        return make_error(ErrorCode::io_error, path.string() + ": is " + kind_of(info.st_mode) + ", not a file; refusing to write to it");
+    }
+    if (errno != ENOENT) return os_error(path, "cannot be examined", errno);
+    const auto folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec)) {
+        return make_error(ErrorCode::not_found, path.string() + ": the folder " + folder.string() + " does not exist");
+    }
+    return {};
+}
+
+Result<void> write_file_atomically(const std::filesystem::path& path, std::string_view bytes) {
+    if (auto ok = check_output_path(path); !ok) return ok;
+    const auto folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+    // mkstemp creates the name with O_CREAT|O_EXCL: a file or link planted at a predictable
+    // temporary name is never written through.
+    std::string name = (folder / ("." + path.filename().string() + ".XXXXXX")).string();
+    Descriptor file(::mkstemp(name.data()));
+    if (file.fd < 0) return os_error(path, "cannot create a temporary file beside it", errno);
+    const auto fail = [&](const char* doing) {
+        const int err = errno;
+        ::unlink(name.c_str());
+        return os_error(path, doing, err);
+    };
+    // mkstemp makes 0600; an output is as readable as any file the user creates (or keeps the
+    // mode of the file it replaces).
+    struct stat old {};
+    const mode_t mode = ::stat(path.c_str(), &old) == 0 ? (old.st_mode & 07777) : 0644;
+    if (::fchmod(file.fd, mode) != 0) return fail("cannot set the temporary file's mode");
+    if (!write_all(file.fd, bytes.data(), bytes.size())) return fail("cannot be written");
+    if (::fsync(file.fd) != 0) return fail("cannot be written to disk");
+    if (::close(file.release()) != 0) return fail("cannot be written");
+    if (::rename(name.c_str(), path.c_str()) != 0) return fail("cannot be replaced");
+    return {};
+}
+
+Result<void> write_text_file(const std::filesystem::path& path, const std::string& text) {
+    return write_file_atomically(path, text);
+}
+
+Result<std::unique_ptr<std::ostream>> open_output_stream(const std::filesystem::path& path) {
+    if (auto ok = check_output_path(path); !ok) return std::move(ok).error();
+    // O_NOFOLLOW: a link planted after the check is refused; O_NONBLOCK: a FIFO cannot hang the open.
+    Descriptor file(::open(path.c_str(), O_WRONLY | O_CREAT | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0644));
+    if (file.fd < 0) return os_error(path, "cannot be opened for writing", errno);
+    struct stat info {};
+    if (::fstat(file.fd, &info) != 0) return os_error(path, "cannot be examined", errno);
+    if (!S_ISREG(info.st_mode)) {
+        return make_error(ErrorCode::io_error, path.string() + ": is " + kind_of(info.st_mode) + ", not a file; refusing to write to it");
+    }
+    if (::ftruncate(file.fd, 0) != 0) return os_error(path, "cannot be truncated", errno);
+    if (::fcntl(file.fd, F_SETFL, ::fcntl(file.fd, F_GETFL) & ~O_NONBLOCK) != 0) return os_error(path, "cannot be set up", errno);
+    return std::unique_ptr<std::ostream>(std::make_unique<DescriptorStream>(file.release()));
+}
+
+Result<void> create_output_folder(const std::filesystem::path& path) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (std::filesystem::is_directory(status)) return {};
+    if (std::filesystem::exists(status)) {
+        return make_error(ErrorCode::io_error, path.string() + ": exists and is not a folder");
+    }
+    std::filesystem::create_directories(path, ec);
+    if (ec) return make_error(ErrorCode::io_error, path.string() + ": cannot create the folder (" + ec.message() + ")");
+    return {};
+}
+
+} // namespace ikebana::assets
