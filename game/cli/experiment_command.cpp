@@ -16,7 +16,7 @@
 namespace ikebana::game {
 
 namespace {
-bool write_file(const std::string& path, const std::string& text) { return assets::write_text_file(path, text).ok(); }
+Result<void> write_file(const std::string& path, const std::string& text) { return assets::write_text_file(path, text); }
 } // namespace
 
 void add_experiment_command(CLI::App& app, int& exit_code) {
@@ -42,6 +42,15 @@ void add_experiment_command(CLI::App& app, int& exit_code) {
             exit_code = 2;
             return;
         }
+        // Outputs are checked before the work, not refused after it.
+        for (const auto& [option, path] : {std::pair{"--json", &args->json}, std::pair{"--csv", &args->csv}}) {
+            if (path->empty()) continue;
+            if (auto ok = assets::check_output_path(*path); !ok) {
+                std::cerr << "ikebana experiment: " << option << ": " << ok.error().message << "\n";
+                exit_code = 2;
+                return;
+            }
+        }
         const bool tty = isatty(fileno(stderr)) != 0;
         auto result = run_insertion_experiment(args->options, [tty](std::uint32_t t, std::uint32_t n) {
             if (tty) std::fprintf(stderr, "\rtrial %u / %u", t, n);
@@ -53,13 +62,17 @@ void add_experiment_command(CLI::App& app, int& exit_code) {
             return;
         }
         std::printf("%s", experiment_report(*result, args->options).c_str());
-        if (!args->json.empty() && !write_file(args->json, experiment_json(*result, args->options))) {
-            std::cerr << "ikebana experiment: cannot write " << args->json << "\n";
-            exit_code = 1;
+        if (!args->json.empty()) {
+            if (auto w = write_file(args->json, experiment_json(*result, args->options)); !w) {
+                std::cerr << "ikebana experiment: --json: " << w.error().message << "\n";
+                exit_code = 1;
+            }
         }
-        if (!args->csv.empty() && !write_file(args->csv, experiment_csv(*result))) {
-            std::cerr << "ikebana experiment: cannot write " << args->csv << "\n";
-            exit_code = 1;
+        if (!args->csv.empty()) {
+            if (auto w = write_file(args->csv, experiment_csv(*result)); !w) {
+                std::cerr << "ikebana experiment: --csv: " << w.error().message << "\n";
+                exit_code = 1;
+            }
         }
     });
 }

@@ -16,6 +16,11 @@
 namespace ikebana::game {
 
 int run_predict(const std::string& input, const std::string& species_override, const std::string& output) {
+    // The output is checked before the simulations, not refused after them.
+    if (auto ok = assets::check_output_path(output); !ok) {
+        std::cerr << "ikebana predict: -o: " << ok.error().message << "\n";
+        return 2;
+    }
     auto data = load_measured_data(input);
     if (!data) {
         std::cerr << "ikebana predict: " << data.error().message << "\n";

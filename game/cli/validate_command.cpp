@@ -95,6 +95,19 @@ int run_validate(Args& args) {
         std::cerr << "ikebana validate: give MEASURED.csv, or --paper for the paper's data\n";
         return 2;
     }
+    for (const auto& [option, path] : {std::pair{"--json", &args.json}, std::pair{"--write-species", &args.write_species}}) {
+        if (path->empty()) continue;
+        if (auto ok = assets::check_output_path(*path); !ok) {
+            std::cerr << "ikebana validate: " << option << ": " << ok.error().message << "\n";
+            return 2;
+        }
+    }
+    if (!args.report.empty()) {
+        if (auto ok = assets::create_output_folder(args.report); !ok) {
+            std::cerr << "ikebana validate: --report: " << ok.error().message << "\n";
+            return 2;
+        }
+    }
     if (args.json.empty() && !args.paper && args.report.empty()) {
         std::cerr << "ikebana validate: --json OUT.json is required (or --report DIR)\n";
         return 2;

@@ -1,7 +1,11 @@
 #include "game/world/summary.hpp"
 
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
+#include <map>
+
+#include <glm/gtc/constants.hpp>
 
 #include "components/collision.hpp"
 #include "components/hand.hpp"
@@ -50,6 +54,17 @@ WorldSummary summarize(World& w) {
             fs.resistance_n = e->resistance_n;
             fs.holding_moment_nm = e->holding_moment_nm;
             fs.gravity_moment_nm = e->gravity_moment_nm;
+        }
+        if (const auto* points = r.try_get<StemPoints>(f.entity)) {
+            const auto& rest = r.get<StemRestShape>(f.entity);
+            const auto& springs = r.get<StemSprings>(f.entity);
+            fs.elastic_j = systems::physics::stem_energy(*points, rest, springs, r.try_get<StemClamp>(f.entity), g).elastic_j;
+            const double half_turn = glm::pi<double>();
+            for (const double k : springs.hinge_nm_per_rad) fs.elastic_ceiling_j += 0.5 * k * half_turn * half_turn;
+            for (std::size_t i = 0; i < springs.axial_n_per_m.size() && i < rest.segment_length_m.size(); ++i) {
+                const double stretch = 0.1 * rest.segment_length_m[i];
+                fs.elastic_ceiling_j += 0.5 * springs.axial_n_per_m[i] * stretch * stretch;
+            }
         }
         if (const auto* grip = r.try_get<KenzanGrip>(f.entity)) {
             fs.fallen = grip->fallen;
@@ -104,6 +119,46 @@ std::string format_summary(const WorldSummary& s, double seconds) {
                           f.broken ? ", bottom broken" : "", f.fallen ? ", fell" : "");
         }
         out += line;
+    }
+    for (const auto& f : s.flower_states) {
+        if (f.elastic_j <= f.elastic_ceiling_j) continue;
+        char line[400];
+        std::snprintf(line, sizeof line,
+                      "warning: %s's springs hold %.3g J, more than bending every joint half a turn would (%.3g J): the physics has left its "
+                      "stable range (a haptic rate too low for it, or a hand moving too far in one tick)\n",
+                      f.species.c_str(), f.elastic_j, f.elastic_ceiling_j);
+        out += line;
+    }
+    return out;
+}
+
+std::vector<std::string> stability_warnings(World& w) {
+    std::vector<std::string> out;
+    const double haptic_hz = w.schedule.rates().hz("haptic");
+    std::map<std::string, double> needed_hz;
+    for (const auto& f : w.flowers) {
+        const auto* points = w.sim.try_get<StemPoints>(f.entity);
+        const auto* springs = w.sim.try_get<StemSprings>(f.entity);
+        const auto* rest = w.sim.try_get<StemRestShape>(f.entity);
+        if (!points || !springs || !rest) continue;
+        double ring_hz = 0.0;
+        for (std::size_t i = 0; i < springs->hinge_nm_per_rad.size(); ++i) {
+            // Hinge i joins segments i and i+1 at point i+1: the lighter neighbour and the shorter lever ring fastest.
+            const double m = std::min(points->mass_kg[i + 1], std::min(points->mass_kg[i], points->mass_kg[std::min(i + 2, points->mass_kg.size() - 1)]));
+            const double l = std::min(rest->segment_length_m[i], rest->segment_length_m[std::min(i + 1, rest->segment_length_m.size() - 1)]);
+            if (m > 0.0 && l > 0.0) ring_hz = std::max(ring_hz, std::sqrt(springs->hinge_nm_per_rad[i] / (m * l * l)) / (2.0 * glm::pi<double>()));
+        }
+        double& need = needed_hz[f.species];
+        need = std::max(need, ring_hz / periods_per_step_limit);
+    }
+    for (const auto& [species, need] : needed_hz) {
+        if (haptic_hz >= need) continue;
+        char line[400];
+        std::snprintf(line, sizeof line,
+                      "warning: the haptic rate of %g Hz is below the %.0f Hz the %s's stiffness needs (its stem's joints ring at %.0f Hz); "
+                      "its motion and whether it stands will be wrong",
+                      haptic_hz, need, species.c_str(), need * periods_per_step_limit);
+        out.emplace_back(line);
     }
     return out;
 }

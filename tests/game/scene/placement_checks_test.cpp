@@ -150,3 +150,24 @@ TEST(Summary, EveryInsertedFlowerOfTheShippedArrangementStandsForFourSeconds) {
         EXPECT_GE(f.holding_moment_nm, f.gravity_moment_nm) << i << " " << f.species;
     }
 }
+
+TEST(Summary, AHapticRateTooLowForAStemIsNamedAndItsRunawayEnergyWarned) {
+    auto scene = default_scene();
+    {
+        auto paper = World::create(scene);
+        ASSERT_TRUE(paper);
+        EXPECT_TRUE(stability_warnings(**paper).empty()) << "the paper's 1 kHz suits every shipped species here";
+    }
+    auto world = World::create(scene, WorldOptions{.rate_overrides = {"haptic=1"}, .force_scheme = {}, .main_lane_systems = {}});
+    ASSERT_TRUE(world) << world.error().message;
+    const auto warnings = stability_warnings(**world);
+    ASSERT_EQ(warnings.size(), 2u);
+    EXPECT_NE(warnings[0].find("below the 232 Hz the cherry_branch's stiffness needs"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[1].find("the sunflower's stiffness needs"), std::string::npos) << warnings[1];
+    sched::DeterministicClock clock((*world)->schedule);
+    clock.run_for_us(3'000'000);
+    const auto summary = summarize(**world);
+    const auto text = format_summary(summary, 3.0);
+    EXPECT_GT(summary.flower_states[1].elastic_j, summary.flower_states[1].elastic_ceiling_j) << "at 1 Hz the branch's energy runs away";
+    EXPECT_NE(text.find("warning: cherry_branch's springs hold"), std::string::npos) << text;
+}
