@@ -78,6 +78,17 @@ std::optional<TextPosition> json_nesting_beyond(std::string_view text, std::size
     return std::nullopt;
 }
 
+std::string without_echo(std::string message) {
+    // nlohmann's "last read: '...'" quotes the file; the line and column already say where.
+    for (auto at = message.find("last read: '"); at != std::string::npos; at = message.find("last read: '")) {
+        const auto close = message.find("'; ", at + 12);
+        const auto end = close == std::string::npos ? message.size() : close + 3;
+        message.erase(at, end - at);
+    }
+    while (!message.empty() && (message.back() == ' ' || message.back() == ';')) message.pop_back();
+    return message;
+}
+
 std::optional<Json> JsonChecker::parse(std::string_view text) {
     if (const auto deep = json_nesting_beyond(text, max_json_depth)) {
         problems_.push_back(file_ + ":" + std::to_string(deep->line) + ":" + std::to_string(deep->column) +
@@ -99,7 +110,7 @@ std::optional<Json> JsonChecker::parse(std::string_view text) {
                 ++column;
             }
         }
-        std::string what = e.what();
+        std::string what = without_echo(e.what());
         if (const auto at = what.find("syntax error"); at != std::string::npos) what = what.substr(at);
         problems_.push_back(file_ + ":" + std::to_string(line) + ":" + std::to_string(column) + ": not valid JSON: " + what);
         return std::nullopt;
@@ -110,7 +121,7 @@ std::optional<Json> JsonChecker::parse(std::string_view text) {
         problems_.push_back(file_ + ": not valid JSON: " + what);
         return std::nullopt;
     } catch (const Json::exception& e) {
-        problems_.push_back(file_ + ": not valid JSON: " + std::string(e.what()));
+        problems_.push_back(file_ + ": not valid JSON: " + without_echo(e.what()));
         return std::nullopt;
     }
 }

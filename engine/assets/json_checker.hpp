@@ -72,6 +72,10 @@ private:
 // Limits a user's file must keep; each refusal names the file and the limit.
 inline constexpr std::size_t max_json_depth = 64;                  // our formats nest 5 deep at most
 
+// A parser's message without the text it quotes from the file ("last read: '...'"): errors say where,
+// never what a file holds (it may be one the user should not see through us).
+[[nodiscard]] std::string without_echo(std::string message);
+
 // Where `text` nests arrays and objects deeper than `max_depth` (outside strings): the 1-based line
 // and column of the bracket that goes too deep, or nullopt. A linear scan with no recursion, for
 // parsers that recurse (tinygltf) as well as ours.

@@ -1,5 +1,6 @@
 #include "engine/assets/mesh.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <algorithm>
 #include <cstring>
@@ -209,11 +210,47 @@ std::string_view json_part(const std::string& bytes, bool binary) {
     return std::string_view(bytes).substr(20, std::min<std::size_t>(length, bytes.size() - 20));
 }
 
+// A buffer's or image's uri may name only a file in the mesh's own folder: an absolute path, a scheme
+// (file://, C:) or a ".." step is refused by name before tinygltf resolves anything.
+Result<void> check_uris(const nlohmann::json& root, const std::string& label) {
+    for (const char* list : {"buffers", "images"}) {
+        const auto it = root.find(list);
+        if (it == root.end() || !it->is_array()) continue;
+        for (std::size_t i = 0; i < it->size(); ++i) {
+            const auto& entry = (*it)[i];
+            if (!entry.is_object() || !entry.contains("uri") || !entry["uri"].is_string()) continue;
+            const std::string uri = entry["uri"].get<std::string>();
+            if (uri.rfind("data:", 0) == 0) continue;
+            const std::filesystem::path path(uri);
+            bool escapes = path.is_absolute() || uri.find(':') != std::string::npos || uri.find('\\') != std::string::npos;
+            for (const auto& step : path) escapes = escapes || step == "..";
+            // Percent-escapes that decode to a dot, a slash or a backslash: tinygltf decodes uris.
+            std::string lower = uri;
+            for (auto& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+            for (const char* escaped : {"%2e", "%2f", "%5c"}) escapes = escapes || lower.find(escaped) != std::string::npos;
+            if (escapes) {
+                return make_error(ErrorCode::parse_error, label + ": /" + list + "/" + std::to_string(i) + "/uri: '" + uri +
+                                                              "' is refused: a mesh reads only files in its own folder, by relative name");
+            }
+        }
+    }
+    return {};
+}
+
 Result<MeshData> parse_gltf(const std::string& bytes, const std::string& label, const std::filesystem::path& folder) {
     const bool binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
     if (const auto deep = json_nesting_beyond(json_part(bytes, binary), max_json_depth)) {
         return make_error(ErrorCode::parse_error, label + (binary ? "" : ":" + std::to_string(deep->line) + ":" + std::to_string(deep->column)) +
                                                       ": arrays and objects nest deeper than " + std::to_string(max_json_depth) + " levels");
+    }
+    std::size_t images = 0;
+    {
+        const auto json = json_part(bytes, binary);
+        const auto root = nlohmann::json::parse(json.begin(), json.end(), nullptr, false);
+        if (!root.is_discarded() && root.is_object()) {
+            if (auto uris = check_uris(root, label); !uris) return std::move(uris).error();
+            if (const auto it = root.find("images"); it != root.end() && it->is_array()) images = it->size();
+        }
     }
     if (bytes.size() > max_text_file_bytes) return make_error(ErrorCode::parse_error, label + ": larger than 64 MiB");
     tinygltf::TinyGLTF loader;
@@ -234,10 +271,13 @@ Result<MeshData> parse_gltf(const std::string& bytes, const std::string& label, 
         err = e.what();
     }
     if (!ok) {
+        err = without_echo(err);
         if (err.size() > 300) err = err.substr(0, 300) + "...";
         return make_error(ErrorCode::parse_error, label + ": not a readable glTF 2.0 file: " + err);
     }
-    return from_model(model, label);
+    auto mesh = from_model(model, label);
+    if (mesh) mesh->skipped_images = images;
+    return mesh;
 }
 
 } // namespace

@@ -19,6 +19,7 @@ struct MeshData {
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals; // unit length, one per position
     std::vector<std::uint32_t> indices; // triangles
+    std::size_t skipped_images = 0;     // pictures the file names: never read or decoded (a mesh here is its triangles)
 };
 
 // A petal, a leaf or a head is drawn by the hundred: more than this is a mistake (or an attack), refused.

@@ -21,19 +21,24 @@ int check_species_files(const std::vector<std::string>& files) {
                 if (!species->parts[i].mesh.empty()) meshes.emplace_back("/parts/" + std::to_string(i) + "/mesh", species->parts[i].mesh);
             }
             bool meshes_ok = true;
+            std::string notes;
             for (const auto& [where, mesh] : meshes) {
                 const auto loaded = assets::load_gltf_mesh(asset_path(mesh));
                 if (!loaded) {
                     std::cerr << std::filesystem::path(file).filename().string() << ": " << where << ": " << loaded.error().message << "\n";
                     meshes_ok = false;
+                } else if (loaded->skipped_images > 0) {
+                    // Said, not silently dropped: a designer who textured a petal learns it is not drawn.
+                    notes += "\n  " + where + " (" + mesh + "): " + std::to_string(loaded->skipped_images) +
+                             " image(s) skipped, never read: a part is drawn in its species' colours";
                 }
             }
             if (!meshes_ok) {
                 ++bad;
                 continue;
             }
-            std::printf("%s: ok (%s, %s branch, %u segments, %.0f mm)\n", file.c_str(), species->id.c_str(),
-                        species->branch == BranchKind::hard ? "hard" : "soft", species->segments, species->length_m * 1e3);
+            std::printf("%s: ok (%s, %s branch, %u segments, %.0f mm)%s\n", file.c_str(), species->id.c_str(),
+                        species->branch == BranchKind::hard ? "hard" : "soft", species->segments, species->length_m * 1e3, notes.c_str());
         } else {
             ++bad;
             std::cerr << species.error().message << "\n";

@@ -115,4 +115,23 @@ execute_process(COMMAND ${IKEBANA} predict ${out}/bom.csv -o ${out}/bom_out.csv 
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "a CSV with a BOM and CR-only lines was refused (${rc}): ${err}")
 endif()
+# glTF: a uri escaping the mesh's folder is refused by name; images are skipped and said to be.
+file(READ ${ASSETS}/species/sunflower.json species)
+file(READ ${ASSETS}/meshes/sunflower_head.gltf head)
+string(JSON pictured SET "${head}" images "[{\"uri\": \"huge.png\"}]")
+file(WRITE ${out}/pictured.gltf "${pictured}")
+string(REPLACE "\"meshes/sunflower_head.gltf\"" "\"${out}/pictured.gltf\"" pictured_species "${species}")
+file(WRITE ${out}/pictured_species.json "${pictured_species}")
+execute_process(COMMAND ${IKEBANA} species check ${out}/pictured_species.json RESULT_VARIABLE rc OUTPUT_VARIABLE said ERROR_VARIABLE said)
+string(FIND "${said}" "1 image(s) skipped, never read" at)
+if(NOT rc EQUAL 0 OR at EQUAL -1)
+  message(FATAL_ERROR "a head mesh naming a picture: expected ok with the image said to be skipped (${rc}):\n${said}")
+endif()
+string(JSON escaping SET "${head}" buffers 0 uri "\"/etc/passwd\"")
+file(WRITE ${out}/escaping.gltf "${escaping}")
+string(REPLACE "\"meshes/sunflower_head.gltf\"" "\"${out}/escaping.gltf\"" escaping_species "${species}")
+file(WRITE ${out}/escaping_species.json "${escaping_species}")
+expect_refusal("a glTF buffer at /etc/passwd" "escaping.gltf: /buffers/0/uri: '/etc/passwd' is refused: a mesh reads only files in its own folder"
+               ${IKEBANA} species check ${out}/escaping_species.json)
+
 message(STATUS "every hostile input is refused or handled, and nothing it pointed at was touched")
