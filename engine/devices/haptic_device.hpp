@@ -20,6 +20,9 @@ struct DeviceCapabilities {
     // Position devices report where the handle is; rate devices (a SpaceMouse) report a push that the
     // hand integrates into motion.
     bool reports_position = true;
+    // A scripted or replayed hand: its time is the trajectory's and its forces are recorded, not felt.
+    // It still gets the safety chain, on that time, so a recording shows what a device would have felt.
+    bool on_timeline = false;
 };
 
 struct DeviceSample {

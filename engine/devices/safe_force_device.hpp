@@ -18,6 +18,8 @@
 #include <memory>
 #include <pthread.h>
 
+#include <atomic>
+
 #include "engine/devices/force_safety.hpp"
 #include "engine/devices/haptic_device.hpp"
 
@@ -28,6 +30,9 @@ public:
     using WallClock = std::function<std::int64_t()>; // microseconds, monotonic
     explicit SafeForceDevice(std::unique_ptr<HapticDevice> inner, ForceSafetyConfig config = {},
                              WallClock wall_clock_us = monotonic_us);
+    // The safety chain on the time the device is polled with (a scripted or replayed hand): the same
+    // clamp, rate limit, ramp and watchdog, deterministic, so that a recording shows what it would feel.
+    [[nodiscard]] static std::unique_ptr<SafeForceDevice> on_timeline(std::unique_ptr<HapticDevice> inner, ForceSafetyConfig config = {});
     ~SafeForceDevice() override;
     SafeForceDevice(const SafeForceDevice&) = delete;
     SafeForceDevice& operator=(const SafeForceDevice&) = delete;
@@ -42,6 +47,8 @@ public:
     [[nodiscard]] ForceSafetyCounters counters() const;
     [[nodiscard]] glm::dvec3 last_output() const;
     [[nodiscard]] std::uint64_t zeroed() const;
+    // The largest force that left the chain.
+    [[nodiscard]] double peak_output_n() const;
 
 private:
     class Lock;
@@ -50,9 +57,12 @@ private:
     mutable pthread_mutex_t mutex_;
     ForceSafety safety_;
     std::uint64_t zeroed_ = 0;
+    double peak_output_n_ = 0.0;
+    std::atomic<std::int64_t> polled_us_{0}; // the last poll's time (the clock of on_timeline devices)
 };
 
-// `device` wrapped in a SafeForceDevice if it can push and is not wrapped yet; otherwise unchanged.
+// `device` wrapped in a SafeForceDevice if it can push (on the wall clock) or is a scripted or replayed
+// hand (on its timeline), and is not wrapped yet; otherwise unchanged.
 [[nodiscard]] std::unique_ptr<HapticDevice> make_force_safe(std::unique_ptr<HapticDevice> device, ForceSafetyConfig config = {});
 
 } // namespace ikebana::devices

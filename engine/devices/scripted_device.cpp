@@ -82,6 +82,7 @@ Result<std::vector<Keyframe>> load_trajectory(const std::filesystem::path& path)
 ScriptedDevice::ScriptedDevice(std::vector<Keyframe> keys, Mode mode, std::string name) : keys_(std::move(keys)), mode_(mode) {
     caps_.name = std::move(name);
     caps_.has_force_output = false;
+    caps_.on_timeline = true;
     caps_.reports_position = true;
     caps_.workspace_half_extent_m = glm::dvec3{0.2};
 }

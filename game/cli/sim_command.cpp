@@ -10,6 +10,7 @@
 
 #include "engine/sched/clocks.hpp"
 #include "components/hand.hpp"
+#include "engine/devices/safe_force_device.hpp"
 #include "engine/devices/scripted_device.hpp"
 #include "engine/assets/files.hpp"
 #include "game/asset_paths.hpp"
@@ -123,9 +124,19 @@ int run_sim(const SimOptions& options) {
         const auto& input = w.sim.get<components::HandInput>(w.hands[hand]);
         const auto& grip = w.sim.get<components::HandGrip>(w.hands[hand]);
         const auto* device = w.hand_devices[hand].get();
-        std::printf("%s hand: %s, %s, %llu disconnect(s)%s\n", hand ? "right" : "left",
+        // What the device felt: the force after the safety chain (for a scripted or replayed hand,
+        // what a real device would have felt on that trajectory).
+        std::string felt;
+        if (const auto* safe = dynamic_cast<const devices::SafeForceDevice*>(device)) {
+            const auto counters = safe->counters();
+            char text[160];
+            std::snprintf(text, sizeof text, ", force after the safety chain at most %.2f N (%llu clamped, %llu rate-limited)", safe->peak_output_n(),
+                          static_cast<unsigned long long>(counters.clamped), static_cast<unsigned long long>(counters.rate_limited));
+            felt = text;
+        }
+        std::printf("%s hand: %s, %s, %llu disconnect(s)%s%s\n", hand ? "right" : "left",
                     device ? device->capabilities().name.c_str() : "no device", input.connected ? "connected" : "not connected",
-                    static_cast<unsigned long long>(input.disconnects), grip.held.is_null() ? "" : ", holding a flower");
+                    static_cast<unsigned long long>(input.disconnects), grip.held.is_null() ? "" : ", holding a flower", felt.c_str());
     }
     std::printf("wall time %.3f s (%.1fx real time)\n", wall, wall > 0 ? options.seconds / wall : 0.0);
     if (options.stats) std::printf("\n%s", w.schedule.stats_table().c_str());

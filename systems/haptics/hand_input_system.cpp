@@ -15,7 +15,7 @@ void HandInputSystem::operator()(sched::SystemContext& ctx) {
     const auto* table = r.resource<const Table>();
     const Kenzan* kenzan = r.single<const Kenzan>();
     r.view<const HandCube, const WorkspaceMapping, HandInput, HandProxy, Collider>().each(
-        [&](ecs::Entity, const HandCube& cube, const WorkspaceMapping& map, HandInput& input, HandProxy& proxy, Collider& collider) {
+        [&](ecs::Entity e, const HandCube& cube, const WorkspaceMapping& map, HandInput& input, HandProxy& proxy, Collider& collider) {
             devices::HapticDevice* device = cube.hand < 2 ? devices->device[cube.hand] : nullptr;
             if (!device) return;
             const auto sample = device->poll(ctx.time_us);
@@ -48,6 +48,12 @@ void HandInputSystem::operator()(sched::SystemContext& ctx) {
                 if (at.x > lo.x - half && at.x < hi.x + half && at.y > lo.y - half && at.y < hi.y + half) {
                     at.z = std::max(at.z, kenzan->origin_m.z + half);
                 }
+            }
+            // No faster than a hand: the proxy closes a bigger jump over several ticks.
+            if (const auto* grip = r.try_get<const HandGrip>(e); grip && !grip->held.is_null()) {
+                const glm::dvec3 step = at - proxy.position_m;
+                const double reach = max_hand_speed_m_s * ctx.dt_s;
+                if (glm::length(step) > reach) at = proxy.position_m + step * (reach / glm::length(step));
             }
             const glm::dvec3 slip = at - input.device_m;
             proxy.slip_m_s = ctx.dt_s > 0.0 ? (slip - (proxy.position_m - previous_device)) / ctx.dt_s : glm::dvec3{0.0};

@@ -14,13 +14,19 @@
 
 namespace ikebana::systems {
 
+// The fastest a hand's proxy moves while it holds a stem: a quick human hand, with room (about 2 m/s in
+// a flick). A device or a script that jumps further in one tick (a scripted hand 1.3 m per tick once
+// drove a held stem's energy to tens of kJ) is followed at this speed, and the gap is felt as a pull.
+// A free hand goes where its device says (a script may place it on a stem at once).
+inline constexpr double max_hand_speed_m_s = 5.0;
+
 struct HandInputSystem {
     static constexpr std::string_view name = "hand_input";
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<HandDevices, components::WorkspaceMapping, components::HandCube, components::Kenzan,
-                                    components::Table>;
+    using reads = sched::Components<HandDevices, components::WorkspaceMapping, components::HandCube, components::HandGrip,
+                                    components::Kenzan, components::Table>;
     using writes = sched::Components<components::HandInput, components::HandProxy, components::Collider>;
 
     void operator()(sched::SystemContext& ctx);

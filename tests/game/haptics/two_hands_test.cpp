@@ -4,11 +4,14 @@
 #include "components/hand.hpp"
 #include "components/insertion.hpp"
 #include "components/stem.hpp"
+#include "engine/devices/safe_force_device.hpp"
 #include "engine/devices/scripted_device.hpp"
 #include "engine/sched/clocks.hpp"
+#include "game/world/summary.hpp"
 #include "game/world/world.hpp"
 #include "scripted_hands.hpp"
 #include "systems/haptics/hand_devices.hpp"
+#include "systems/haptics/hand_input_system.hpp"
 #include "systems/presentation/frame_channel.hpp"
 
 using namespace ikebana;
@@ -312,4 +315,33 @@ TEST(TwoHands, TheWorkspaceTurnsWithTheView) {
     EXPECT_NEAR(moved.x, 0.0, 1e-9);
     EXPECT_NEAR(moved.y, 0.02, 1e-9) << "device +x is world +y after a quarter turn";
     EXPECT_NEAR(w->sim.get<WorkspaceMapping>(w->hands[0]).yaw_rad, M_PI / 2, 1e-12);
+}
+
+// A violent script (1.3 m per tick while holding) once drove the held stem's energy to tens of kJ, and
+// a scripted hand's force skipped the safety chain. Now the held hand follows at a hand's speed, and
+// the force passes the chain on the script's own time, so a run shows what a device would feel.
+TEST(TwoHands, AViolentScriptedHandIsFollowedAtAHandsSpeedAndItsForceIsMadeSafe) {
+    auto w = lying_flower();
+    const glm::dvec3 p10 = point(*w, 10);
+    std::vector<ikebana::test::Key> keys{{0.0, p10.x, p10.y, p10.z, 1}, {0.5, p10.x, p10.y, 0.06, 1}};
+    for (int k = 1; k <= 300; ++k) keys.push_back({0.5 + 0.001 * k, k % 2 ? 0.65 : -0.65, p10.y, 0.06, 1});
+    w->attach_device(0, script(keys));
+    const auto* safe = dynamic_cast<const devices::SafeForceDevice*>(w->hand_devices[0].get());
+    ASSERT_NE(safe, nullptr) << "a scripted hand gets the safety chain too";
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(500'000);
+    ASSERT_FALSE(hand(*w, 0).held.is_null());
+    glm::dvec3 last = hand(*w, 0).proxy_m;
+    double fastest = 0.0;
+    for (int tick = 0; tick < 300; ++tick) {
+        clock.run_for_us(1'000);
+        fastest = std::max(fastest, glm::length(hand(*w, 0).proxy_m - last));
+        last = hand(*w, 0).proxy_m;
+    }
+    EXPECT_LE(fastest, systems::max_hand_speed_m_s * 0.001 + 1e-12) << "the held hand moves no faster than a hand";
+    const auto summary = summarize(*w);
+    EXPECT_LT(summary.flower_states[0].elastic_j, summary.flower_states[0].elastic_ceiling_j) << "the stem's energy stays physical";
+    EXPECT_LT(summary.kinetic_j, 10.0);
+    EXPECT_LE(safe->peak_output_n(), 3.0 + 1e-9);
+    EXPECT_GT(safe->counters().rate_limited, 0u) << "the chain limited the steps the script asked for";
 }
