@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <random>
 #include <sstream>
 
+#include "engine/assets/files.hpp"
 #include "engine/devices/scripted_device.hpp"
 
 using namespace ikebana;
@@ -87,4 +90,25 @@ TEST(ScriptedDevice, MutatedFilesNeverCrashTheParser) {
             ASSERT_EQ(keys.error().message.rfind("m.csv", 0), 0u);
         }
     }
+}
+
+// `sim --record` once left empty CSVs after a crash: everything sat in the stream's buffer. The
+// recorder flushes the header at once and then every 100 ms of device time.
+TEST(ScriptedDevice, ARecordingReachesTheDiskAsItGoes) {
+    const auto path = std::filesystem::temp_directory_path() / "ikebana_recording_as_it_goes.csv";
+    std::filesystem::remove(path);
+    auto out = assets::open_output_stream(path);
+    ASSERT_TRUE(out) << out.error().message;
+    DeviceRecorder recorder(**out);
+    const auto on_disk = [&] { return assets::read_text_file(path).value(); };
+    EXPECT_EQ(on_disk(), "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n") << "the header at once";
+    for (std::int64_t t = 0; t <= 250'000; t += 1'000) recorder.record(DeviceSample{t, {0.1, 0.2, 0.3}, {0, 0, 0}, 1});
+    // Still open, as at a crash: all but the last 100 ms are in the file.
+    const auto text = on_disk();
+    const auto lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+    EXPECT_GE(lines, 1u + 200u);
+    EXPECT_LE(lines, 1u + 251u);
+    out->reset();
+    const auto closed = on_disk();
+    EXPECT_EQ(static_cast<std::size_t>(std::count(closed.begin(), closed.end(), '\n')), 1u + 251u) << "and all of it once closed";
 }
