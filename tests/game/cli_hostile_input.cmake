@@ -52,9 +52,20 @@ expect_refusal("a scripted hand at 1e15 m" "far.csv:2:3: a position beyond the 1
                ${IKEBANA} sim --left scripted:${out}/far.csv --seconds 0.1)
 expect_refusal("a trajectory that is /dev/zero" "/dev/zero: not a regular file (a device, a FIFO or a socket is never read)"
                ${IKEBANA} sim --left scripted:/dev/zero --seconds 0.1)
+expect_refusal("a replay that is /dev/zero" "/dev/zero: not a regular file (a device, a FIFO or a socket is never read)"
+               ${IKEBANA} sim --right replay:/dev/zero --seconds 0.1)
+file(READ ${ASSETS}/species/sunflower.json sunflower)
+string(REPLACE "\"meshes/sunflower_head.gltf\"" "\"/dev/zero\"" zero_mesh "${sunflower}")
+file(WRITE ${out}/zero_mesh.json "${zero_mesh}")
+expect_refusal("a head mesh that is /dev/zero" "/dev/zero: not a regular file" ${IKEBANA} species check ${out}/zero_mesh.json)
 execute_process(COMMAND mkfifo ${out}/fifo.json RESULT_VARIABLE made)
 if(made EQUAL 0)
   expect_refusal("a scene that is a FIFO" "fifo.json: not a regular file" ${IKEBANA} sim --scene ${out}/fifo.json --seconds 0.1)
+  expect_refusal("a species file that is a FIFO" "fifo.json: not a regular file" ${IKEBANA} species check ${out}/fifo.json)
+  expect_refusal("render with a scene that is a FIFO" "fifo.json: not a regular file" ${IKEBANA} render --scene ${out}/fifo.json --out ${out}/never_rendered)
+  if(EXISTS ${out}/never_rendered)
+    message(FATAL_ERROR "render refused its scene but left an empty output folder")
+  endif()
 endif()
 
 # Security: outputs that are links or devices are refused and left as they were
