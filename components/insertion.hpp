@@ -54,6 +54,7 @@ struct InsertionHistory {
     std::vector<glm::dvec2> holes;   // where the current end entered the kenzan (x, y)
     bool left_pins;                  // the end has come out of the pins (at left_pins_us)
     std::int64_t left_pins_us;
+    bool entry_counted;              // this entry into the pins has been decided (an insertion, or a stem set in)
 };
 
 enum class ResistanceKind : std::uint8_t { soft_table, hard_eq6 };

@@ -48,8 +48,11 @@ void InsertionTrackingSystem::operator()(sched::SystemContext& ctx) {
                 }
                 return;
             }
-            if (was_in) return;
-            if (history.left_pins && ctx.time_us - history.left_pins_us < min_time_out_us) return; // never really out
+            if (!was_in && (!history.left_pins || ctx.time_us - history.left_pins_us >= min_time_out_us)) {
+                history.entry_counted = false; // really out and back: a new entry (a quick return is the same one)
+            }
+            if (history.entry_counted || engagement.depth_m < pierced_depth_m) return;
+            history.entry_counted = true;
             // Only a held stem entering the pins is an insertion (not one falling onto them).
             const auto* grasp = r.try_get<const Grasp>(flower);
             if (!grasp || grasp->hands == 0) return;

@@ -25,6 +25,10 @@ struct InsertionTrackingSystem {
     // of a grab unbending it, a tick of numerical jitter): the same insertion goes on. A trainee's
     // withdrawal and new push take far longer.
     std::int64_t min_time_out_us = 50'000;
+    // An insertion counts once the pins are this deep in the stem, past their cone tips (1.5 mm): a
+    // stem pushed down onto the tips in a jerk bounces off them before it goes in (a mouse moving
+    // 1.25 cm a frame at 10 frames a second once counted two insertions for one push).
+    double pierced_depth_m = 0.002;
 
     void operator()(sched::SystemContext& ctx);
 };

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 
 #include "components/hand.hpp"
 #include "components/insertion.hpp"
@@ -344,4 +345,36 @@ TEST(TwoHands, AViolentScriptedHandIsFollowedAtAHandsSpeedAndItsForceIsMadeSafe)
     EXPECT_LT(summary.kinetic_j, 10.0);
     EXPECT_LE(safe->peak_output_n(), 3.0 + 1e-9);
     EXPECT_GT(safe->counters().rate_limited, 0u) << "the chain limited the steps the script asked for";
+}
+
+// Pushing a stem back in by jerks (a mouse moving 1.25 cm a frame at 10 frames a second) bounces its
+// bottom off the pin tips before it goes in: that is one insertion, not two. The same push made
+// smoothly, or in jerks 16 ms apart, counts the same.
+TEST(TwoHands, AStemPushedInByJerksIsOneInsertion) {
+    for (const double frame_s : {0.016, 0.1, 0.2}) {
+        auto scene = load_scene(std::string(IKEBANA_ASSET_DIR) + "/scenes/default.json");
+        ASSERT_TRUE(scene);
+        auto world = World::create(*scene);
+        ASSERT_TRUE(world);
+        World& w = **world;
+        // The right hand onto the settled sunflower at 2 s, up 5 cm, right 1.9 cm, down 5 cm, let go.
+        const double x0 = 0.06 + 61.0 / 640.0 * 0.30, z0 = 0.12 - 37.0 / 360.0 * 0.25;
+        const auto clamp_steps = [](int f, int a, int b) { return static_cast<double>(std::clamp(f, a, b) - a); };
+        std::vector<ikebana::test::Key> keys{{0.0, 0.06, 0.0, 0.12, 0}};
+        ikebana::test::Key previous{};
+        for (int f = 0; f < 45; ++f) {
+            const double t = 2.0 + f * frame_s;
+            const ikebana::test::Key now{t, x0 + 20.0 * clamp_steps(f, 8, 10) / 640.0 * 0.30, 0.0,
+                                         z0 + (18.0 * clamp_steps(f, 3, 7) - 18.0 * clamp_steps(f, 11, 15)) / 360.0 * 0.25, f >= 1 && f < 20 ? 1 : 0};
+            if (f > 0) keys.push_back({t - 0.0005, previous.x, previous.y, previous.z, previous.buttons}); // a jump, not a glide
+            keys.push_back(now);
+            previous = now;
+        }
+        w.attach_device(1, script(keys));
+        sched::DeterministicClock clock(w.schedule);
+        clock.run_for_us(static_cast<std::int64_t>((2.0 + 50 * frame_s + 2.0) * 1e6));
+        const auto& history = w.sim.get<InsertionHistory>(w.flowers[0].entity);
+        EXPECT_EQ(history.insertions, 1u) << frame_s << " s a frame";
+        EXPECT_TRUE(w.sim.get<PinEngagement>(w.flowers[0].entity).in_kenzan) << frame_s << " s a frame";
+    }
 }

@@ -328,11 +328,13 @@ TEST(WindowApp, TheMouseGrabsAStemAndPullsItOutOfTheKenzan) {
 TEST(WindowApp, TheMouseReinsertsAStemLooksAroundAndFinishes) {
     const char* display = std::getenv("DISPLAY");
     if (!display || !*display) GTEST_SKIP() << "no display (ctest runs this under xvfb-run)";
+    for (const int frame_ms : {0, 100}) {
     ScriptedPointer mouse;
     SettledGesture gesture;
     auto o = gesture_app();
     o.pointer = &mouse;
-    o.each_frame = [&](std::uint32_t presented, GLFWwindow* window) {
+    o.each_frame = [&, frame_ms](std::uint32_t presented, GLFWwindow* window) {
+        if (frame_ms > 0) std::this_thread::sleep_for(std::chrono::milliseconds(frame_ms));
         const int f = gesture.frame(presented);
         if (f < 0) return;
         auto& st = mouse.state;
@@ -354,4 +356,5 @@ TEST(WindowApp, TheMouseReinsertsAStemLooksAroundAndFinishes) {
     EXPECT_NE(out.find("RESULT: "), std::string::npos) << out;
     EXPECT_EQ(out.find("sunflower      missing"), std::string::npos) << "it stands in the kenzan again:\n" << out;
     EXPECT_NE(out.find("camera turned 57 deg"), std::string::npos) << "the right-button drag turned the view:\n" << out;
+    }
 }
