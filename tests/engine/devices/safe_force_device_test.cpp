@@ -67,7 +67,7 @@ ForceSafetyConfig quick_ramp() {
 
 // The defect this layer exists for: after a real stall shorter than the scheduler's catch-up window,
 // the firings that catch up are 1 ms apart on the timeline, so a timeline-based ramp never restarts.
-// Here a 1 kHz loop on the real-time clock stalls for 25 ms of wall time while pushing 2 N; the
+// Here a 1 kHz loop on the real-time clock stalls for 25 ms of wall time while pushing 1 to 2 N; the
 // watchdog zeroes the device; the forces sent afterwards must rise from zero within the ramp.
 TEST(ForceSafety, RampsFromZeroAfterAWallClockStall) {
     Wire wire;
@@ -84,8 +84,9 @@ TEST(ForceSafety, RampsFromZeroAfterAWallClockStall) {
     loop.phase = "loop";
     loop.rate = "haptic";
     loop.run = [&](sched::SystemContext&) {
-        // Once the full 2 N are being sent (on a loaded machine small stalls may restart the ramp first).
-        if (stall_end_us.load() == 0 && glm::length(device.last_output()) > 1.999) {
+        // Once at least 1 N is being sent (on a loaded machine, a sanitizer build with other tests beside
+        // it, small stalls restart the ramp first; half of it needs only 50 clean milliseconds).
+        if (stall_end_us.load() == 0 && glm::length(device.last_output()) > 0.999) {
             std::this_thread::sleep_for(std::chrono::milliseconds(25));
             stall_end_us.store(monotonic_us());
         }
@@ -95,7 +96,7 @@ TEST(ForceSafety, RampsFromZeroAfterAWallClockStall) {
     ASSERT_TRUE(schedule.add(loop));
     ASSERT_TRUE(schedule.finalize());
     sched::RealtimeClock clock(schedule);
-    clock.run_for(1.0);
+    clock.run_for(2.0);
 
     const std::lock_guard lock(wire.mutex);
     const std::int64_t resumed = stall_end_us.load();
@@ -112,14 +113,14 @@ TEST(ForceSafety, RampsFromZeroAfterAWallClockStall) {
             first_after = i;
         }
     }
-    EXPECT_GT(before_stall_n, 1.99) << "the loop pushed 2 N before it stalled";
+    EXPECT_GT(before_stall_n, 0.99) << "the loop pushed 1 N or more before it stalled";
     EXPECT_TRUE(zeroed_in_stall) << "the watchdog zeroed the device during the stall";
     ASSERT_LT(first_after, wire.entries.size()) << "the loop sent forces after the stall";
     // After: never above the ramp's envelope (3 N over 0.1 s from the resume) plus one rate step, and no
     // rise larger than the rate limit allows for the wall time between two sends. Drops are allowed: on
     // a loaded machine the loop may stall again, and a stall or a watchdog zero restarts from zero.
     const auto& config = quick_ramp();
-    EXPECT_LT(glm::length(wire.entries[first_after].force_n), 0.31) << "the first force after the stall starts near zero, not at 2 N";
+    EXPECT_LT(glm::length(wire.entries[first_after].force_n), 0.31) << "the first force after the stall starts near zero, not where it was";
     double previous = glm::length(wire.entries[first_after].force_n);
     std::int64_t previous_us = wire.entries[first_after].wall_us;
     double largest_after = previous;
