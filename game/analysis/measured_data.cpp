@@ -46,7 +46,9 @@ Result<MeasuredData> read_measured_data(assets::CsvTable table) {
         if (!insertion) return std::move(insertion).error();
         if (!*insertion) return problem(row, "insertion", "empty; expected an integer >= 1");
         t.insertion = static_cast<std::uint32_t>(**insertion);
-        auto force = number_in(row, "max_force_gf", 0, 1e9, false);
+        // What the physics can mean: no stem takes 100 kgf to push into pins (the paper's are hundreds of gf),
+        // no hand pushes faster than 5 m/s, and a cut stem is not kept a year.
+        auto force = number_in(row, "max_force_gf", 0, 100000, false);
         if (!force) return std::move(force).error();
         if (!*force || **force <= 0.0) return problem(row, "max_force_gf", "expected a positive number");
         t.max_force_gf = **force;
@@ -61,8 +63,8 @@ Result<MeasuredData> read_measured_data(assets::CsvTable table) {
         auto pins = number_in(row, "pins", 1, 1000, true);
         if (!pins) return std::move(pins).error();
         if (*pins) t.pins = static_cast<std::uint32_t>(**pins);
-        for (const char* column : {"speed_mm_s", "minutes_since_cut"}) {
-            auto v = number_in(row, column, 0, 1e9, false);
+        for (const auto& [column, most] : {std::pair{"speed_mm_s", 5000.0}, std::pair{"minutes_since_cut", 525600.0}}) {
+            auto v = number_in(row, column, 0, most, false);
             if (!v) return std::move(v).error();
         }
         auto reuse = number_in(row, "hole_reuse", 0, 1, true);

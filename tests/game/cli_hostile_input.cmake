@@ -95,6 +95,9 @@ expect_refusal("predict with 999 pins" "pins.csv:2: pins: 999 is more than a 7.5
 file(WRITE ${out}/pins0.csv "flower_id,insertion,max_force_gf,pins\nA,1,480,0\n")
 expect_refusal("predict with 0 pins" "pins0.csv:2: column 'pins': expected an integer in [1, 1000], got '0'"
                ${IKEBANA} predict ${out}/pins0.csv -o ${out}/pins0_out.csv)
+file(WRITE ${out}/fast.csv "flower_id,insertion,max_force_gf,speed_mm_s\nA,1,480,1e8\n")
+expect_refusal("a push at 100 km/s" "fast.csv:2: column 'speed_mm_s': expected a number in [0, 5000], got '1e8'"
+               ${IKEBANA} predict ${out}/fast.csv -o ${out}/fast_out.csv)
 string(REPLACE "\"direction\": [0.5, 0.0, 0.866]" "\"direction\": [0, 0, -1]" down "${scene}")
 file(WRITE ${out}/down.json "${down}")
 expect_refusal("a stem pointing down into the kenzan" "down.json: /flowers/0/direction: an inserted stem must point up out of the pins"
