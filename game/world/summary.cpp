@@ -31,9 +31,11 @@ WorldSummary summarize(World& w) {
     if (const auto* contacts = r.resource<Contacts>()) s.contacts = contacts->list.size();
     const auto* settings = r.resource<PhysicsSettings>();
     const glm::dvec3 g = settings ? settings->gravity_m_s2 : PhysicsSettings{}.gravity_m_s2;
+    std::map<ecs::Entity, double> elastic_of; // each stem's, for its flower's line below (computed once)
     r.view<StemPoints, StemRestShape, StemSprings>().each(
         [&](ecs::Entity e, StemPoints& p, StemRestShape& rest, StemSprings& springs) {
             const auto energy = systems::physics::stem_energy(p, rest, springs, r.try_get<StemClamp>(e), g);
+            elastic_of[e] = energy.elastic_j;
             s.kinetic_j += energy.kinetic_j;
             s.elastic_j += energy.elastic_j;
             s.gravitational_j += energy.gravitational_j;
@@ -55,10 +57,10 @@ WorldSummary summarize(World& w) {
             fs.holding_moment_nm = e->holding_moment_nm;
             fs.gravity_moment_nm = e->gravity_moment_nm;
         }
-        if (const auto* points = r.try_get<StemPoints>(f.entity)) {
+        if (const auto it = elastic_of.find(f.entity); it != elastic_of.end()) {
             const auto& rest = r.get<StemRestShape>(f.entity);
             const auto& springs = r.get<StemSprings>(f.entity);
-            fs.elastic_j = systems::physics::stem_energy(*points, rest, springs, r.try_get<StemClamp>(f.entity), g).elastic_j;
+            fs.elastic_j = it->second;
             const double half_turn = glm::pi<double>();
             for (const double k : springs.hinge_nm_per_rad) fs.elastic_ceiling_j += 0.5 * k * half_turn * half_turn;
             for (std::size_t i = 0; i < springs.axial_n_per_m.size() && i < rest.segment_length_m.size(); ++i) {
