@@ -10,6 +10,7 @@
 #include "game/cli/assets_command.hpp"
 #include "game/cli/devices_command.hpp"
 #include "game/cli/experiment_command.hpp"
+#include "game/cli/lesson_command.hpp"
 #include "game/cli/predict_command.hpp"
 #include "game/cli/render_command.hpp"
 #include "game/cli/validate_command.hpp"
@@ -48,6 +49,7 @@ int main(int argc, char** argv) {
     ikebana::game::add_predict_command(app, exit_code);
     ikebana::game::add_validate_command(app, exit_code);
     ikebana::game::add_render_command(app, exit_code);
+    ikebana::game::add_lesson_command(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,0 +1,171 @@
+#include "game/cli/lesson_command.hpp"
+
+#include <cstdio>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/assets/files.hpp"
+#include "game/asset_paths.hpp"
+#include "game/kenzan/kenzan_layout.hpp"
+#include "game/lesson/form_score.hpp"
+#include "game/lesson/lesson.hpp"
+#include "game/scene/scene.hpp"
+
+namespace ikebana::game {
+
+namespace {
+std::string roles_of(const LessonDef& l) {
+    std::string roles;
+    for (const auto& m : l.stems) roles += (roles.empty() ? "" : ", ") + m.role;
+    return l.scoring == "sample" ? "against " + l.scene + "'s sample" : roles;
+}
+
+Result<KenzanFootprint> footprint_of(const LessonDef& l) {
+    auto k = load_kenzan(l.kenzan_layout);
+    if (!k) return std::move(k).error();
+    return KenzanFootprint{{(k->columns + 1) * k->pitch_m, (k->rows + 1) * k->pitch_m}, k->base_thickness_m};
+}
+} // namespace
+
+int list_lessons(bool json) {
+    auto lessons = load_shipped_lessons();
+    if (!lessons) {
+        std::cerr << "ikebana lesson list: " << lessons.error().message << "\n";
+        return 2;
+    }
+    if (json) {
+        nlohmann::json out = nlohmann::json::array();
+        for (const auto& l : *lessons) {
+            nlohmann::json roles = nlohmann::json::array();
+            for (const auto& m : l.stems) roles.push_back(m.role);
+            out.push_back({{"id", l.id}, {"title", l.title}, {"school", l.school}, {"scoring", l.scoring}, {"roles", roles},
+                           {"file", std::filesystem::relative(l.file, asset_dir()).string()}});
+        }
+        std::printf("%s\n", out.dump(1).c_str());
+        return 0;
+    }
+    for (const auto& l : *lessons) std::printf("%-26s %-9s %s (%s)\n", l.id.c_str(), l.school.c_str(), l.title.c_str(), roles_of(l).c_str());
+    return 0;
+}
+
+int check_lesson_files(const std::vector<std::string>& files) {
+    int bad = 0;
+    for (const auto& file : files) {
+        const auto lesson = load_lesson_file(file);
+        if (!lesson) {
+            ++bad;
+            std::cerr << lesson.error().message << "\n";
+            continue;
+        }
+        std::printf("%s: ok (%s: %s; %zu rule(s))\n", file.c_str(), lesson->id.c_str(), roles_of(*lesson).c_str(), lesson->rules.size());
+    }
+    if (bad > 0) std::cerr << bad << " of " << files.size() << " lesson file(s) have problems\n";
+    return bad > 0 ? 1 : 0;
+}
+
+int score_lesson(const std::string& lesson_name, const std::string& arrangement_file, const std::string& json_out) {
+    const std::string who = "ikebana lesson score: ";
+    if (!json_out.empty() && json_out != "-") {
+        if (auto ok = assets::check_output_path(json_out); !ok) {
+            std::cerr << who << "--json: " << ok.error().message << "\n";
+            return 2;
+        }
+    }
+    const auto lesson = load_lesson(lesson_name);
+    if (!lesson) {
+        std::cerr << who << lesson.error().message << "\n";
+        return 2;
+    }
+    const auto arrangement = load_arrangement(arrangement_file);
+    if (!arrangement) {
+        std::cerr << who << arrangement.error().message << "\n";
+        return 2;
+    }
+    FormScore result;
+    if (lesson->scoring == "sample") {
+        const auto scene = load_scene(asset_path(lesson->scene));
+        if (!scene) {
+            std::cerr << who << scene.error().message << "\n";
+            return 2;
+        }
+        result = score_sample(*lesson, *arrangement, scene->sample);
+    } else {
+        const auto footprint = footprint_of(*lesson);
+        if (!footprint) {
+            std::cerr << who << footprint.error().message << "\n";
+            return 2;
+        }
+        auto scored = score_form(*lesson, *arrangement, *footprint, std::filesystem::path(arrangement_file).filename().string());
+        if (!scored) {
+            std::cerr << who << scored.error().message << "\n";
+            return 2;
+        }
+        result = std::move(scored).value();
+    }
+    if (json_out == "-") {
+        std::printf("%s", result.json().c_str());
+        return 0;
+    }
+    for (const auto& line : result.lines()) std::printf("%s\n", line.c_str());
+    if (!json_out.empty()) {
+        if (auto w = assets::write_text_file(json_out, result.json()); !w) {
+            std::cerr << who << w.error().message << "\n";
+            return 2;
+        }
+        std::printf("every criterion, tip and the arrangement in %s\n", json_out.c_str());
+    }
+    return 0;
+}
+
+int print_model(const std::string& lesson_name) {
+    const auto lesson = load_lesson(lesson_name);
+    if (!lesson) {
+        std::cerr << "ikebana lesson model: " << lesson.error().message << "\n";
+        return 2;
+    }
+    if (lesson->scoring != "form") {
+        std::cerr << "ikebana lesson model: " << lesson->id << " copies its scene's sample (" << lesson->scene << "); it has no form to model\n";
+        return 2;
+    }
+    const auto footprint = footprint_of(*lesson);
+    if (!footprint) {
+        std::cerr << "ikebana lesson model: " << footprint.error().message << "\n";
+        return 2;
+    }
+    std::printf("%s", arrangement_json(model_arrangement(*lesson, *footprint)).c_str());
+    return 0;
+}
+
+void add_lesson_command(CLI::App& app, int& exit_code) {
+    auto* lesson = app.add_subcommand("lesson", "The school forms a trainee practises (assets/lessons/*.json)");
+    lesson->require_subcommand(1);
+    auto json = std::make_shared<bool>(false);
+    auto* list = lesson->add_subcommand("list", "The shipped lessons");
+    list->add_flag("--json", *json, "As JSON");
+    list->callback([json, &exit_code] { exit_code = list_lessons(*json); });
+
+    auto files = std::make_shared<std::vector<std::string>>();
+    auto* check = lesson->add_subcommand("check", "Validate lesson files; every problem is printed with its JSON path");
+    check->add_option("files", *files, "Lesson files")->required()->check(CLI::ExistingFile);
+    check->callback([files, &exit_code] { exit_code = check_lesson_files(*files); });
+
+    auto model_of = std::make_shared<std::string>();
+    auto* model = lesson->add_subcommand("model", "Print the form's model arrangement as JSON (what --arrangement accepts)");
+    model->add_option("lesson", *model_of, "Lesson id or file")->required();
+    model->callback([model_of, &exit_code] { exit_code = print_model(*model_of); });
+
+    struct ScoreArgs {
+        std::string lesson, arrangement, json;
+    };
+    auto args = std::make_shared<ScoreArgs>();
+    auto* score = lesson->add_subcommand("score", "Score an arrangement described as data against a lesson, criterion by criterion");
+    score->add_option("lesson", args->lesson, "Lesson id (see `lesson list`) or file")->required();
+    score->add_option("--arrangement", args->arrangement, "The arrangement (JSON: {\"stems\": [...]}, or a result whose \"arrangement\" is one)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    score->add_option("--json", args->json, "Also write the whole result as JSON here (- : only the JSON, on standard output)");
+    score->callback([args, &exit_code] { exit_code = score_lesson(args->lesson, args->arrangement, args->json); });
+}
+
+} // namespace ikebana::game

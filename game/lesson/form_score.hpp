@@ -1,0 +1,108 @@
+#pragma once
+// Scoring an arrangement against a lesson's form, criterion by criterion, the way a teacher corrects
+// it: each stem gets its role (shin, soe, hikae; subject, object; ...), then each of its criteria
+// (length, tilt, direction, place on the kenzan) gives the target, the band, what was measured, the
+// points and one plain tip naming the stem; then the lesson's rules are checked likewise.
+//
+// An arrangement is data (`ikebana lesson score --arrangement FILE`): what a demo or the app measured,
+// or what a teacher measured on a real arrangement and typed in. The same JSON is what the result's
+// "arrangement" holds, so a result can be edited and scored again.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "engine/core/result.hpp"
+#include "game/lesson/lesson.hpp"
+#include "game/scene/scene.hpp"
+
+namespace ikebana::game {
+
+struct ArrangementStem {
+    std::string role;    // empty: let the scoring choose; "supporting": a supporting stem (jushi)
+    std::string species;
+    glm::dvec2 base_m{0.0};   // where it enters the kenzan, from the kenzan's centre (x right, y away from the viewer)
+    double length_m = 0.0;    // from where it enters the kenzan to its tip
+    double tilt_rad = 0.0;    // of the line from base to tip, from the vertical
+    double azimuth_rad = 0.0; // which way it leans, seen from above: 0 toward the viewer, + to the viewer's left
+    bool standing = true;     // false: it fell (or lies on the table)
+    // Optional: the stem's shape, points from its base up, kenzan coordinates (x, y as base_m; z above
+    // the kenzan's plate). A straight line from base to tip when empty.
+    std::vector<glm::dvec3> path_m;
+};
+
+struct Arrangement {
+    std::optional<glm::dvec2> kenzan_offset_m; // where the kenzan sits in the container (the lesson's when unset)
+    std::vector<ArrangementStem> stems;
+};
+
+inline constexpr std::size_t max_arrangement_stems = 200;
+inline constexpr std::size_t max_path_points = 200;
+
+// An arrangement's JSON: {"stems": [...]} or a whole result whose "arrangement" is one.
+Result<Arrangement> parse_arrangement(std::string_view text, const std::string& label);
+Result<Arrangement> load_arrangement(const std::filesystem::path& path);
+[[nodiscard]] std::string arrangement_json(const Arrangement& arrangement, int indent = 1);
+
+struct Criterion {
+    std::string stem; // the role
+    std::string name; // "length_mm", "tilt_deg", "azimuth_deg", "region_mm", "match"
+    double target = 0.0;
+    double tolerance = 0.0;
+    std::optional<double> measured; // none: no stem plays the role
+    double points = 0.0;
+    double max_points = 0.0;
+    std::string tip;
+};
+
+struct RuleResult {
+    std::string name;
+    bool ok = false;
+    double points = 0.0;
+    double max_points = 0.0;
+    std::string tip;
+};
+
+struct FormScore {
+    std::string lesson;
+    double score = 0.0; // 0..100: points earned / points possible
+    std::vector<Criterion> criteria;
+    std::vector<RuleResult> rules;
+    Arrangement arrangement; // with the roles the scoring gave
+    std::string how;         // how points are given, in a sentence or two
+    [[nodiscard]] std::string json(int indent = 1) const;
+    // For a terminal or the result panel: the score, then each role's worst tip, then failed rules.
+    [[nodiscard]] std::vector<std::string> lines() const;
+};
+
+// Where the kenzan is, for the rules that look at it.
+struct KenzanFootprint {
+    glm::dvec2 size_m{0.08, 0.08};
+    double plate_thickness_m = 0.008;
+};
+
+// Scores a "form" lesson. Errors (an unknown role, a role given twice) name the arrangement's field.
+Result<FormScore> score_form(const LessonDef& lesson, const Arrangement& arrangement, const KenzanFootprint& kenzan,
+                             const std::string& label = "arrangement");
+
+// Scores a free-practice lesson against its scene's sample with the paper's Figure 2 comparison
+// (training/arrangement_score): one criterion per sample stem, "match", whose points are that stem's
+// share of the score; its tip gives the direction, height and place errors.
+FormScore score_sample(const LessonDef& lesson, const Arrangement& arrangement, const std::vector<SampleStem>& sample);
+
+// The form's model arrangement: each main stem at its nominal length, tilt, direction and place; where
+// the lesson wants the stems to rise as one line from the water, they do so before they part; and
+// where it wants the kenzan hidden, low supporting stems lean toward the front until it is. What a
+// teacher shows, what the demonstration aims at, and what every shipped form scores >= 90 against.
+[[nodiscard]] Arrangement model_arrangement(const LessonDef& lesson, const KenzanFootprint& kenzan);
+
+// The water's surface above the kenzan's plate, as the rules see it: a suiban's water over the
+// kenzan; in a vase, the mouth where the stems are held (the kenzan stands in for a kubari there).
+[[nodiscard]] double water_level_m(const LessonDef& lesson, const KenzanFootprint& kenzan);
+
+// Points for a measured error against a band: all of them within it, falling linearly to none at
+// three times the band (a band of 0 counts as the kenzan's pitch, 4 units).
+[[nodiscard]] double band_points(double error, double tolerance, double max_points);
+
+} // namespace ikebana::game

@@ -1,0 +1,67 @@
+# `ikebana lesson`, end to end: the shipped lessons listed and valid, a broken lesson refused by its
+# fields, an arrangement scored with its criteria, a refused output left untouched.
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+set(out ${WORK}/cli_lesson)
+file(REMOVE_RECURSE ${out})
+file(MAKE_DIRECTORY ${out})
+
+function(expect_success what expected_text)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE text ERROR_VARIABLE err TIMEOUT 60)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${what}: exit ${rc}:\n${text}${err}")
+  endif()
+  string(FIND "${text}" "${expected_text}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "${what}: the output does not say '${expected_text}':\n${text}")
+  endif()
+  set(said "${text}" PARENT_SCOPE)
+endfunction()
+
+expect_success("lesson list" "sogetsu_basic_upright      Sogetsu   Basic Upright Style (moribana) (shin, soe, hikae)" ${IKEBANA} lesson list)
+expect_success("lesson list --json" "\"id\": \"ohara_rising_form\"" ${IKEBANA} lesson list --json)
+file(GLOB lessons ${ASSETS}/lessons/*.json)
+expect_success("lesson check on every shipped lesson" "ikenobo_shoka_shofutai.json: ok (ikenobo_shoka_shofutai: shin, soe, tai; 3 rule(s))" ${IKEBANA} lesson check ${lessons})
+
+# A broken lesson: every problem named by its path, nothing else said to be fine.
+file(READ ${ASSETS}/lessons/sogetsu_basic_upright.json upright)
+string(REPLACE "\"target\": 15," "\"target\": 150," broken "${upright}")
+string(REPLACE "\"of\": \"shin\"" "\"of\": \"tai\"" broken "${broken}")
+file(WRITE ${out}/broken_lesson.json "${broken}")
+expect_refusal("a lesson with a tilt beyond 90 degrees" "broken_lesson.json: /main_stems/0/tilt_deg/target: expected a number in [0, 90], got 150"
+               ${IKEBANA} lesson check ${out}/broken_lesson.json)
+expect_refusal("a lesson whose length follows an unknown role"
+               "broken_lesson.json: /main_stems/1/length/of: expected \"container_size\", \"container_height\" or the role of an earlier main stem, got \"tai\""
+               ${IKEBANA} lesson check ${out}/broken_lesson.json)
+expect_refusal("a lesson id that is a path outside the lessons" "no lesson \"..\"" ${IKEBANA} lesson model ..)
+
+# Scoring: the measured arrangement in every band, then the same with shin at 45 degrees.
+set(fixtures ${CMAKE_CURRENT_LIST_DIR}/fixtures/arrangements)
+expect_success("an arrangement inside every band" "RESULT: 100 / 100 (sogetsu_basic_upright)"
+               ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${fixtures}/sogetsu_upright_measured.json --json ${out}/result.json)
+file(READ ${out}/result.json result)
+string(JSON roles_given GET "${result}" arrangement stems 0 role)
+if(NOT roles_given STREQUAL "shin")
+  message(FATAL_ERROR "the result's arrangement gives the first stem the role '${roles_given}', not shin")
+endif()
+expect_success("a result scored again" "RESULT: 100 / 100 (sogetsu_basic_upright)"
+               ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${out}/result.json)
+expect_success("shin at 45 degrees" "shin      16.0 / 30   shin: 45° from vertical, the form wants 15° ±10°: raise it toward upright"
+               ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${fixtures}/sogetsu_upright_shin45.json)
+expect_success("shin at 45 degrees, as JSON" "\"score\": 87.3" ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${fixtures}/sogetsu_upright_shin45.json --json -)
+expect_success("free practice against the sample" "RESULT: " ${IKEBANA} lesson score free_practice --arrangement ${fixtures}/sogetsu_upright_measured.json)
+file(READ ${fixtures}/sogetsu_upright_measured.json measured)
+string(REPLACE "{\"species\": \"willow_branch\"" "{\"role\": \"tai\", \"species\": \"willow_branch\"" tai "${measured}")
+file(WRITE ${out}/tai.json "${tai}")
+expect_refusal("an arrangement with a role the lesson has not"
+               "ikebana lesson score: tai.json: /stems/0/role: \"tai\" is not a role of sogetsu_basic_upright (shin, soe, hikae, or supporting)"
+               ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${out}/tai.json)
+
+# The output is checked before anything is scored: a link is refused and its target untouched.
+file(WRITE ${out}/target.txt "keep")
+file(CREATE_LINK ${out}/target.txt ${out}/link.json SYMBOLIC)
+expect_refusal("--json onto a symbolic link" "link.json: is a symbolic link, not a file; refusing to write to it"
+               ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${fixtures}/sogetsu_upright_measured.json --json ${out}/link.json)
+file(READ ${out}/target.txt kept)
+if(NOT kept STREQUAL "keep")
+  message(FATAL_ERROR "--json wrote through a symbolic link")
+endif()

@@ -1,0 +1,377 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/assets/files.hpp"
+#include "game/kenzan/kenzan_layout.hpp"
+#include "game/lesson/form_score.hpp"
+#include "game/lesson/lesson.hpp"
+#include "game/scene/scene.hpp"
+#include "game/asset_paths.hpp"
+#include "game/training/arrangement_score.hpp"
+
+using namespace ikebana;
+using namespace ikebana::game;
+
+namespace {
+constexpr double deg = 3.14159265358979323846 / 180.0;
+
+KenzanFootprint footprint(const LessonDef& l) {
+    const auto k = load_kenzan(l.kenzan_layout);
+    EXPECT_TRUE(k.ok());
+    return {{(k->columns + 1) * k->pitch_m, (k->rows + 1) * k->pitch_m}, k->base_thickness_m};
+}
+
+LessonDef lesson(const std::string& id) {
+    auto l = load_lesson(id);
+    EXPECT_TRUE(l.ok()) << (l.ok() ? "" : l.error().message);
+    return l.ok() ? std::move(l).value() : LessonDef{};
+}
+
+ArrangementStem* stem_with_role(Arrangement& a, const std::string& role) {
+    for (auto& s : a.stems) {
+        if (s.role == role) return &s;
+    }
+    return nullptr;
+}
+
+const Criterion* criterion(const FormScore& f, const std::string& stem, const std::string& name) {
+    for (const auto& c : f.criteria) {
+        if (c.stem == stem && c.name == name) return &c;
+    }
+    return nullptr;
+}
+
+const RuleResult* rule(const FormScore& f, const std::string& name) {
+    for (const auto& r : f.rules) {
+        if (r.name == name) return &r;
+    }
+    return nullptr;
+}
+
+// A minimal valid form lesson's text, with `patch` applied to its JSON.
+std::string lesson_text(const std::function<void(nlohmann::json&)>& patch = {}) {
+    nlohmann::json j = nlohmann::json::parse(R"({
+      "format": "ikebana-lesson/1", "id": "t", "title": "T", "school": "S", "source": "test",
+      "container": {"shape": "round", "diameter_mm": 240, "depth_mm": 50},
+      "kenzan": {"layout": "standard", "offset_mm": [-35, -35]},
+      "materials": [{"species": "willow_branch"}, {"species": "chrysanthemum", "count": 2}],
+      "main_stems": [
+        {"role": "shin", "species": ["willow_branch"], "length": {"ratio": 1.2, "of": "container_size", "tolerance": 0.1},
+         "tilt_deg": {"target": 15, "tolerance": 10}, "azimuth_deg": {"target": 45, "tolerance": 25}},
+        {"role": "hikae", "length": {"ratio": 0.5, "of": "shin", "tolerance": 0.1}, "tilt_deg": {"target": 70, "tolerance": 10}}
+      ]})");
+    if (patch) patch(j);
+    return j.dump();
+}
+
+std::filesystem::path write_temp(const std::string& name, const std::string& text) {
+    const auto dir = std::filesystem::temp_directory_path() / "ikebana-lesson-test";
+    std::filesystem::create_directories(dir);
+    const auto path = dir / name;
+    std::ofstream(path) << text;
+    return path;
+}
+} // namespace
+
+TEST(LessonFile, EveryShippedLessonLoadsWithWhatItNames) {
+    const auto lessons = load_shipped_lessons();
+    ASSERT_TRUE(lessons.ok()) << lessons.error().message;
+    std::vector<std::string> ids;
+    for (const auto& l : *lessons) ids.push_back(l.id);
+    EXPECT_EQ(ids, (std::vector<std::string>{"free_practice", "ikenobo_shoka_shofutai", "ohara_rising_form", "sogetsu_basic_slanting", "sogetsu_basic_upright"}));
+    for (const auto& l : *lessons) {
+        EXPECT_FALSE(l.source.empty()) << l.id << " cites where its numbers come from";
+        EXPECT_EQ(l.file.stem().string(), l.id) << "a lesson's file is named by its id";
+    }
+}
+
+TEST(LessonFile, SogetsuUprightHasTheTextbooksProportionsAndAngles) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    ASSERT_EQ(l.stems.size(), 3u);
+    const double size = l.container.size_m();
+    EXPECT_NEAR(nominal_length_m(l, 0), 1.5 * size, 1e-9);
+    EXPECT_NEAR(nominal_length_m(l, 1), 0.75 * 1.5 * size, 1e-9);
+    EXPECT_NEAR(nominal_length_m(l, 2), 0.75 * 0.75 * 1.5 * size, 1e-9);
+    EXPECT_NEAR(l.stems[0].tilt_rad.target, 15 * deg, 1e-9);
+    EXPECT_NEAR(l.stems[1].tilt_rad.target, 45 * deg, 1e-9);
+    EXPECT_NEAR(l.stems[2].tilt_rad.target, 75 * deg, 1e-9);
+    EXPECT_EQ(direction_words(l.stems[0].azimuth_rad->target), "left front");
+    EXPECT_EQ(direction_words(l.stems[2].azimuth_rad->target), "right front");
+    EXPECT_LT(l.kenzan_offset_m.x, 0.0) << "kenzan at the front left";
+    EXPECT_LT(l.kenzan_offset_m.y, 0.0);
+}
+
+TEST(LessonFile, TheSlantingStyleExchangesShinAndSoesTilts) {
+    const LessonDef up = lesson("sogetsu_basic_upright"), slant = lesson("sogetsu_basic_slanting");
+    EXPECT_DOUBLE_EQ(slant.stems[0].tilt_rad.target, up.stems[1].tilt_rad.target);
+    EXPECT_DOUBLE_EQ(slant.stems[1].tilt_rad.target, up.stems[0].tilt_rad.target);
+    EXPECT_GT(slant.kenzan_offset_m.x, 0.0) << "kenzan at the back right";
+    EXPECT_GT(slant.kenzan_offset_m.y, 0.0);
+}
+
+TEST(LessonFile, ABrokenLessonNamesEveryBadFieldByItsPath) {
+    const auto r = parse_lesson(lesson_text([](nlohmann::json& j) {
+                                    j["main_stems"][0]["tilt_deg"]["target"] = 120;
+                                    j["main_stems"][1]["role"] = "shin";
+                                    j["main_stems"][1]["length"]["of"] = "tai";
+                                    j["container"]["shape"] = "bowl";
+                                    j["rules"] = nlohmann::json::array({{{"rule", "no_crossing"}}});
+                                    j["colour"] = "red";
+                                }),
+                                "broken.json");
+    ASSERT_FALSE(r.ok());
+    const std::string& m = r.error().message;
+    EXPECT_NE(m.find("broken.json: /main_stems/0/tilt_deg/target: expected a number in [0, 90], got 120"), std::string::npos) << m;
+    EXPECT_NE(m.find("broken.json: /main_stems/1/role: \"shin\" is already the role of /main_stems/0"), std::string::npos) << m;
+    EXPECT_NE(m.find("/main_stems/1/length/of: expected \"container_size\", \"container_height\" or the role of an earlier main stem, got \"tai\""), std::string::npos) << m;
+    EXPECT_NE(m.find("/container/shape"), std::string::npos) << m;
+    EXPECT_NE(m.find("/rules/0/rule"), std::string::npos) << m;
+    EXPECT_NE(m.find("/colour"), std::string::npos) << m;
+}
+
+TEST(LessonFile, ALengthCannotFollowALaterRole) {
+    const auto r = parse_lesson(lesson_text([](nlohmann::json& j) { j["main_stems"][0]["length"]["of"] = "hikae"; }), "t.json");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("t.json: /main_stems/0/length/of"), std::string::npos) << r.error().message;
+}
+
+TEST(LessonFile, IdsCannotReachOutsideTheAssetsFolder) {
+    const auto r = parse_lesson(lesson_text([](nlohmann::json& j) {
+                                    j["materials"][0]["species"] = "../../etc/passwd";
+                                    j["kenzan"]["layout"] = "/dev/zero";
+                                }),
+                                "t.json");
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("t.json: /materials/0/species: expected a species id, got \"../../etc/passwd\""), std::string::npos) << r.error().message;
+    EXPECT_NE(r.error().message.find("t.json: /kenzan/layout: expected a kenzan layout id"), std::string::npos) << r.error().message;
+}
+
+TEST(LessonFile, AKenzanThatDoesNotFitTheContainerIsRefused) {
+    const auto path = write_temp("overhanging.json", lesson_text([](nlohmann::json& j) { j["kenzan"]["offset_mm"] = {-90, -40}; }));
+    const auto r = load_lesson_file(path);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("overhanging.json: /kenzan: the 84 x 84 mm kenzan at [-90, -40] mm does not fit inside the container"), std::string::npos)
+        << r.error().message;
+}
+
+TEST(LessonFile, AFormNoMaterialCanMakeIsRefusedNamingTheStem) {
+    // 2.0 x 290 mm = 580 mm of shin; the willow is 450 mm.
+    const auto path = write_temp("too_tall.json", lesson_text([](nlohmann::json& j) { j["main_stems"][0]["length"]["ratio"] = 2.0; }));
+    const auto r = load_lesson_file(path);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("too_tall.json: /main_stems/0: shin wants 580 mm above the kenzan (and 13 mm in its pins) but its longest material is 450 mm"),
+              std::string::npos)
+        << r.error().message;
+}
+
+TEST(LessonFile, AMaterialOfAnUnknownSpeciesIsNamed) {
+    const auto path = write_temp("unknown.json", lesson_text([](nlohmann::json& j) { j["materials"][1]["species"] = "tulip"; }));
+    const auto r = load_lesson_file(path);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("unknown.json: /materials/1/species: no species \"tulip\""), std::string::npos) << r.error().message;
+}
+
+TEST(FormScore, EveryShippedFormsModelArrangementScoresAtLeast90) {
+    for (const char* id : {"sogetsu_basic_upright", "sogetsu_basic_slanting", "ohara_rising_form", "ikenobo_shoka_shofutai"}) {
+        const LessonDef l = lesson(id);
+        const auto scored = score_form(l, model_arrangement(l, footprint(l)), footprint(l));
+        ASSERT_TRUE(scored.ok()) << scored.error().message;
+        EXPECT_GE(scored->score, 90.0) << id;
+        for (const auto& r : scored->rules) EXPECT_TRUE(r.ok) << id << ": " << r.tip;
+    }
+}
+
+TEST(FormScore, ShinLeftAt45DegreesLosesPointsOnShinsTiltWithATipNamingShin) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    Arrangement a = model_arrangement(l, footprint(l));
+    const double full = score_form(l, a, footprint(l))->score;
+    stem_with_role(a, "shin")->tilt_rad = 45 * deg;
+    const auto scored = score_form(l, a, footprint(l));
+    ASSERT_TRUE(scored.ok());
+    EXPECT_LT(scored->score, full);
+    EXPECT_LT(scored->score, 90.0) << "a shin at 45 degrees is the slanting style, not this one";
+    const Criterion* tilt = criterion(*scored, "shin", "tilt_deg");
+    ASSERT_NE(tilt, nullptr);
+    EXPECT_DOUBLE_EQ(tilt->points, 0.0) << "30 degrees off a band of 10 is three bands";
+    EXPECT_EQ(tilt->tip, "shin: 45° from vertical, the form wants 15° ±10°: raise it toward upright");
+    for (const auto& c : scored->criteria) {
+        if (c.stem != "shin" || c.name != "tilt_deg") {
+            EXPECT_EQ(c.points, c.max_points) << c.tip;
+        }
+    }
+}
+
+TEST(FormScore, AStemTooUprightIsToldToTiltTowardTheFormsDirection) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    Arrangement a = model_arrangement(l, footprint(l));
+    stem_with_role(a, "soe")->tilt_rad = 28 * deg;
+    const auto scored = score_form(l, a, footprint(l));
+    const Criterion* tilt = criterion(*scored, "soe", "tilt_deg");
+    ASSERT_NE(tilt, nullptr);
+    EXPECT_EQ(tilt->tip, "soe: 28° from vertical, the form wants 45° ±10°: tilt it further toward the left front");
+    EXPECT_NEAR(tilt->points, 14.0 * (1.0 - 7.0 / 20.0), 1e-9) << "7 degrees beyond the band of 10: 35 % less";
+}
+
+TEST(FormScore, PointsFallLinearlyFromTheBandToThreeTimesIt) {
+    EXPECT_DOUBLE_EQ(band_points(10, 10, 8), 8);
+    EXPECT_DOUBLE_EQ(band_points(-20, 10, 8), 4);
+    EXPECT_DOUBLE_EQ(band_points(30, 10, 8), 0);
+    EXPECT_DOUBLE_EQ(band_points(300, 10, 8), 0);
+    EXPECT_DOUBLE_EQ(band_points(4, 0, 3), 1.5) << "a band of 0 counts as a pin pitch, 4";
+}
+
+TEST(FormScore, RolesGoToTheStemsThatFitThemWhateverTheirOrder) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    Arrangement a = model_arrangement(l, footprint(l));
+    std::reverse(a.stems.begin(), a.stems.end());
+    for (auto& s : a.stems) s.role.clear();
+    // A supporting chrysanthemum beside hikae's.
+    a.stems.push_back({"", "chrysanthemum", {0.01, -0.03}, 0.1, 70 * deg, 0.0, true, {}});
+    const auto scored = score_form(l, a, footprint(l));
+    ASSERT_TRUE(scored.ok());
+    const auto& stems = scored->arrangement.stems;
+    EXPECT_EQ(stems[0].role, "hikae");
+    EXPECT_EQ(stems[1].role, "soe");
+    EXPECT_EQ(stems[2].role, "shin");
+    EXPECT_EQ(stems[3].role, "supporting");
+    EXPECT_GE(scored->score, 90.0);
+}
+
+TEST(FormScore, AFallenStemEarnsNothingAndTheTipSaysItFell) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    Arrangement a = model_arrangement(l, footprint(l));
+    stem_with_role(a, "hikae")->standing = false;
+    const auto scored = score_form(l, a, footprint(l));
+    ASSERT_TRUE(scored.ok());
+    for (const auto& c : scored->criteria) {
+        if (c.stem == "hikae") {
+            EXPECT_EQ(c.points, 0.0) << c.name;
+            EXPECT_NE(c.tip.find("hikae fell"), std::string::npos) << c.tip;
+        }
+    }
+    const RuleResult* odd = rule(*scored, "odd_main_stems");
+    ASSERT_NE(odd, nullptr);
+    EXPECT_FALSE(odd->ok);
+    EXPECT_EQ(odd->tip, "2 main stems stand; the form wants an odd number: add hikae");
+}
+
+TEST(FormScore, AMissingRoleIsNamedWithTheLengthToCutItTo) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    Arrangement a = model_arrangement(l, footprint(l));
+    a.stems.erase(a.stems.begin()); // shin
+    const auto scored = score_form(l, a, footprint(l));
+    const Criterion* length = criterion(*scored, "shin", "length_mm");
+    ASSERT_NE(length, nullptr);
+    EXPECT_FALSE(length->measured.has_value());
+    EXPECT_EQ(length->tip, "shin: no stem plays shin: choose a material for it and cut it to 435 mm above the kenzan");
+}
+
+TEST(FormScore, CrossingStemsAndACentredKenzanBreakTheirRules) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    Arrangement a = model_arrangement(l, footprint(l));
+    // Hikae from the right of the kenzan leaning left, 30 degrees: it crosses shin 131 mm up in the front view.
+    auto* hikae = stem_with_role(a, "hikae");
+    hikae->base_m = {0.03, -0.02};
+    hikae->tilt_rad = 30 * deg;
+    hikae->azimuth_rad = 90 * deg;
+    a.kenzan_offset_m = glm::dvec2{0.005, 0.0};
+    const auto scored = score_form(l, a, footprint(l));
+    const RuleResult* crossing = rule(*scored, "no_crossing_front");
+    ASSERT_NE(crossing, nullptr);
+    EXPECT_FALSE(crossing->ok);
+    EXPECT_EQ(crossing->tip, "shin and hikae cross in the front view, 131 mm above the kenzan: move one base across, or turn one the other way");
+    const RuleResult* centre = rule(*scored, "kenzan_off_centre");
+    EXPECT_FALSE(centre->ok);
+    EXPECT_EQ(centre->tip, "the kenzan sits in the container's centre (5 mm from it): move it toward a side, leaving open water");
+}
+
+TEST(FormScore, AKenzanSeenFromTheFrontIsNamedWithWhereItShows) {
+    const LessonDef l = lesson("ohara_rising_form");
+    Arrangement a = model_arrangement(l, footprint(l));
+    std::erase_if(a.stems, [](const ArrangementStem& s) { return s.role == "supporting"; });
+    const auto scored = score_form(l, a, footprint(l));
+    const RuleResult* hidden = rule(*scored, "kenzan_hidden_front");
+    ASSERT_NE(hidden, nullptr);
+    EXPECT_FALSE(hidden->ok);
+    EXPECT_NE(hidden->tip.find("the kenzan shows from the front"), std::string::npos) << hidden->tip;
+    EXPECT_DOUBLE_EQ(hidden->points, 0.0);
+}
+
+TEST(FormScore, StraightStemsDoNotRiseAsOneLineFromTheWater) {
+    const LessonDef l = lesson("ikenobo_shoka_shofutai");
+    Arrangement a = model_arrangement(l, footprint(l));
+    for (auto& s : a.stems) s.path_m.clear();
+    const auto scored = score_form(l, a, footprint(l));
+    const RuleResult* line = rule(*scored, "one_line_at_water");
+    ASSERT_NE(line, nullptr);
+    EXPECT_FALSE(line->ok);
+    EXPECT_NE(line->tip.find("the form keeps them one line for 60-80 mm before they spread"), std::string::npos) << line->tip;
+}
+
+TEST(FormScore, ARoleNotInTheLessonOrGivenTwiceIsRefusedByField) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    Arrangement a = model_arrangement(l, footprint(l));
+    a.stems[1].role = "tai";
+    auto r = score_form(l, a, footprint(l), "mine.json");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, "mine.json: /stems/1/role: \"tai\" is not a role of sogetsu_basic_upright (shin, soe, hikae, or supporting)");
+    a.stems[1].role = "shin";
+    r = score_form(l, a, footprint(l), "mine.json");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message, "mine.json: /stems/1/role: \"shin\" is already played by /stems/0");
+}
+
+TEST(Arrangement, AResultReadBackIsItsArrangementAndScoresTheSame) {
+    const LessonDef l = lesson("ikenobo_shoka_shofutai");
+    Arrangement a = model_arrangement(l, footprint(l));
+    stem_with_role(a, "soe")->tilt_rad = 50 * deg;
+    const auto first = score_form(l, a, footprint(l));
+    ASSERT_TRUE(first.ok());
+    const auto again = parse_arrangement(first->json(), "result.json");
+    ASSERT_TRUE(again.ok()) << again.error().message;
+    ASSERT_EQ(again->stems.size(), a.stems.size());
+    EXPECT_EQ(again->stems[0].path_m.size(), a.stems[0].path_m.size());
+    const auto second = score_form(l, *again, footprint(l));
+    ASSERT_TRUE(second.ok());
+    EXPECT_NEAR(second->score, first->score, 0.1);
+    EXPECT_EQ(second->json(), first->json());
+}
+
+TEST(Arrangement, BadFieldsAreNamedAndNothingIsHalfRead) {
+    const auto r = parse_arrangement(R"({"stems": [{"species": "sunflower", "base_mm": [0], "length_mm": -5, "tilt_deg": 30, "azimuth_deg": 0,
+                                        "path_mm": [[0, 0, "x"]]}, 7], "extra": 1})",
+                                     "a.json");
+    ASSERT_FALSE(r.ok());
+    const std::string& m = r.error().message;
+    EXPECT_NE(m.find("a.json: /stems/0/base_mm: expected at least 2 numbers, got 1"), std::string::npos) << m;
+    EXPECT_NE(m.find("a.json: /stems/0/length_mm"), std::string::npos) << m;
+    EXPECT_NE(m.find("a.json: /stems/0/path_mm/0: expected [x, y, z] in mm"), std::string::npos) << m;
+    EXPECT_NE(m.find("a.json: /stems/1: expected an object, got 7"), std::string::npos) << m;
+    EXPECT_NE(m.find("a.json: /extra"), std::string::npos) << m;
+}
+
+TEST(FormScore, FreePracticeIsScoredAgainstItsSceneAsTheSampleComparisonDoes) {
+    const LessonDef l = lesson("free_practice");
+    const auto scene = load_scene(asset_path(l.scene));
+    ASSERT_TRUE(scene.ok());
+    Arrangement a;
+    // The sample's own stems, as an arrangement (its azimuth is from +x toward +y; the lesson's from the front).
+    for (const auto& s : scene->sample) {
+        const glm::dvec3 dir{std::sin(s.angle_rad) * std::cos(s.azimuth_rad), std::sin(s.angle_rad) * std::sin(s.azimuth_rad), std::cos(s.angle_rad)};
+        a.stems.push_back({"", s.species, s.base_m, s.height_m / dir.z, s.angle_rad, std::atan2(-dir.x, -dir.y), true, {}});
+    }
+    const FormScore f = score_sample(l, a, scene->sample);
+    EXPECT_NEAR(f.score, 100.0, 1e-6);
+    a.stems[0].tilt_rad += 20 * deg;
+    const FormScore worse = score_sample(l, a, scene->sample);
+    EXPECT_LT(worse.score, 90.0);
+    double points = 0.0;
+    for (const auto& c : worse.criteria) points += c.points;
+    EXPECT_NEAR(points, worse.score, 1e-9) << "the criteria's points add up to the score";
+}
