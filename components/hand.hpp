@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include "engine/ecs/entity.hpp"
 
@@ -54,6 +55,12 @@ struct HandGrip {
     bool holds_direction;
     std::uint32_t second_point;
     glm::dvec3 second_offset_m;
+    // A one-hand grip turns with the hand: the offsets above are as they were when the grip took the
+    // stem's direction, turned by how far the device has turned since (`rotation_at_grip_rad` then).
+    // `turned` is the turn applied so far, which follows the device's at a hand's pace.
+    glm::dvec3 rotation_at_grip_rad{0.0};
+    glm::dquat turned{1.0, 0.0, 0.0, 0.0};
+    std::uint32_t cuts_seen = 0; // the held stem's cuts when last gripped (a cut moves its points)
 };
 
 struct HandForce {

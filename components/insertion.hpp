@@ -102,6 +102,25 @@ struct RandomStream {
 
 namespace ikebana::components {
 
+// Why a stem counts as fallen: one definition for the HUD, the `sim` summary and the score.
+enum class FallReason : std::uint8_t {
+    none,
+    tipped,    // tipped more than the fall angle from where it was released
+    lies_flat, // its line from bottom to top is within the lying angle of level: it lies, it does not stand
+    dropped,   // its top sank below a fraction of the height it had when released
+};
+
+// The words the HUD and the summary use for it.
+inline const char* fall_words(FallReason reason) {
+    switch (reason) {
+    case FallReason::tipped: return "tipped over";
+    case FallReason::lies_flat: return "lies flat";
+    case FallReason::dropped: return "its top sank below half its height";
+    case FallReason::none: break;
+    }
+    return "";
+}
+
 // How the kenzan holds a released stem: the bottom point stays where it entered and the first segment
 // is held in direction by a root hinge whose moment is capped at the pins' holding moment. Beyond
 // the cap the hinge yields and the stem tips over about the kenzan (Eq. 7 made dynamic).
@@ -109,7 +128,9 @@ struct KenzanGrip {
     bool engaged;
     glm::dvec3 entry_axis;       // the stem's direction when it was released in the kenzan
     double holding_moment_nm;    // the cap, from the pins
-    bool fallen;                 // tipped more than fall_angle from entry_axis
+    bool fallen;                 // see fall_reason
+    FallReason fall_reason;
+    double release_height_m;     // its top above its bottom when it was released
     // Why it fell, for the summary and the HUD: a fallen stem leans on more pins and can show a
     // positive margin, so the moments when the pins first gave way are kept, and when it tipped.
     bool yielded;                // the pins have given way at least once since it was released

@@ -26,4 +26,16 @@ struct Table {
     double friction; // Coulomb coefficient for points resting on it
 };
 
+// A container on the table (a suiban, a vase; Passive), with the kenzan inside: its floor holds stems
+// up, its wall keeps them in, or out, below the rim. Its water is drawn, not simulated.
+struct Container {
+    bool round;               // round: half_extent_m.x is the radius
+    glm::dvec2 centre_m;
+    glm::dvec2 half_extent_m; // of the inside
+    double floor_z_m;         // the inside's floor
+    double rim_z_m;
+    double wall_m;            // thickness of the wall (and of the bottom, below floor_z_m)
+    double water_z_m;
+};
+
 } // namespace ikebana::components

@@ -11,7 +11,9 @@
 
 #include "components/appearance.hpp"
 #include "components/flower.hpp"
+#include "components/insertion.hpp"
 #include "components/kenzan.hpp"
+#include "components/physics.hpp"
 
 namespace ikebana::components {
 
@@ -22,7 +24,10 @@ struct FlowerStatus {
     std::uint32_t insertions;           // over its life, across cuts
     bool bottom_broken;
     bool in_kenzan;
-    bool fallen;
+    bool fallen;                        // one definition: KenzanGrip's (see FallReason)
+    FallReason fall_reason;
+    double fall_yield_holding_nm;       // when the pins first gave way, if they did (0: never)
+    double fall_yield_gravity_nm;
     double holding_moment_nm;           // what the pins can hold
     double gravity_moment_nm;           // what its weight asks of them
     double diameter_m;                  // the stem's
@@ -47,6 +52,7 @@ struct FrameSnapshot {
     HandStatus hands[2];
     std::optional<Kenzan> kenzan;
     std::optional<double> table_height_m;
+    std::optional<Container> container;
 };
 
 } // namespace ikebana::components

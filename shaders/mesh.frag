@@ -25,5 +25,5 @@ void main() {
     float facing = dot(n, -normalize(frame.light_direction.xyz));
     // Thin parts (petals, leaves) are lit from either side.
     float diffuse = abs(facing);
-    out_colour = vec4(in_colour.rgb * (0.3 + 0.7 * diffuse * lit_fraction()), 1.0);
+    out_colour = vec4(in_colour.rgb * (0.3 + 0.7 * diffuse * lit_fraction()), in_colour.a);
 }

@@ -22,6 +22,9 @@ struct DrawBatch {
     std::vector<MeshInstance> instances;
     // Things thinner than a shadow-map texel (the kenzan's pins) cast nothing worth their cost.
     bool casts_shadow = true;
+    // Water, ghosts: blended over what is drawn, after it, without hiding what lies behind (no depth
+    // write) and without a shadow. Their instances' alpha is their opacity.
+    bool translucent = false;
 };
 
 struct DrawList {
@@ -31,17 +34,18 @@ struct DrawList {
     glm::vec3 shadow_centre{0.0f, 0.0f, 0.1f};     // what the shadow map covers
     float shadow_radius = 0.5f;
 
-    DrawBatch& batch(const std::string& mesh) {
+    // The batch of this mesh (opaque, or translucent: a mesh may be drawn both ways).
+    DrawBatch& batch(const std::string& mesh, bool translucent = false) {
         for (auto& b : batches) {
-            if (b.mesh == mesh) return b;
+            if (b.mesh == mesh && b.translucent == translucent) return b;
         }
-        return batches.emplace_back(DrawBatch{mesh, {}, true});
+        return batches.emplace_back(DrawBatch{mesh, {}, !translucent, translucent});
     }
 
     // Adds another list's instances (its lighting and background are not taken).
     void append(const DrawList& other) {
         for (const auto& b : other.batches) {
-            auto& mine = batch(b.mesh);
+            auto& mine = batch(b.mesh, b.translucent);
             mine.casts_shadow = mine.casts_shadow && b.casts_shadow;
             mine.instances.insert(mine.instances.end(), b.instances.begin(), b.instances.end());
         }

@@ -1,5 +1,6 @@
 // The frame's commands, one function per pass: shadow map, eyes, composite (and heads-up display),
 // then read back and hand over. record() runs them in that order, with a timestamp after each.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -75,10 +76,10 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
 
 // Each batch's instances from its offset in the frame's instance buffer. Closed meshes cull their
 // back faces; sheets (petals, leaves) are drawn from both sides.
-void StereoRenderer::draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only) {
+void StereoRenderer::draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only, bool translucent) {
     std::uint32_t first = 0;
     for (const auto& d : draws) {
-        if (!shadow_casters_only || d.casts_shadow) {
+        if ((!shadow_casters_only || d.casts_shadow) && d.translucent == translucent) {
             const VkBuffer buffers[2] = {d.mesh->vertices.buffer, frame.instances.buffer};
             const VkDeviceSize offsets[2] = {0, first * sizeof(MeshInstance)};
             vkCmdBindVertexBuffers(frame.cmd, 0, 2, buffers, offsets);
@@ -105,7 +106,7 @@ void StereoRenderer::record_shadow_pass(const Frame& frame, const std::vector<Dr
     const std::int32_t no_eye = 0;
     vkCmdPushConstants(cmd, scene_pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof no_eye, &no_eye);
     set_viewport(cmd, shadow_.extent);
-    draw_batches(frame, draws, true);
+    draw_batches(frame, draws, true, false);
     vkCmdEndRendering(cmd);
     transition(cmd, shadow_.image, VK_IMAGE_ASPECT_DEPTH_BIT, 1, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
@@ -147,7 +148,11 @@ void StereoRenderer::record_eye_passes(const Frame& frame, const DrawList& list,
         const std::int32_t base = pass;
         vkCmdPushConstants(cmd, scene_pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof base, &base);
         set_viewport(cmd, eyes_.extent);
-        draw_batches(frame, draws, false);
+        draw_batches(frame, draws, false, false);
+        if (std::any_of(draws.begin(), draws.end(), [](const Draw& d) { return d.translucent; })) {
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, multiview_ ? translucent_pipeline_ : per_eye_translucent_pipeline_);
+            draw_batches(frame, draws, false, true);
+        }
         vkCmdEndRendering(cmd);
     }
     transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,

@@ -69,6 +69,12 @@ Result<void> StereoRenderer::prepare_pipelines() {
         .dynamic_cull_mode();
     if (auto ok = keep(scene.view_mask(0b11).build(ctx_.device(), scene_pipeline_layout_), scene_pipeline_); !ok) return ok;
     if (auto ok = keep(scene.name("per-eye scene").view_mask(0).build(ctx_.device(), scene_pipeline_layout_), per_eye_pipeline_); !ok) return ok;
+    // Translucent batches (water, ghosts): blended, tested against the depth but not written to it.
+    scene.blend(alpha_blend()).depth_test(VK_COMPARE_OP_LESS, false);
+    if (auto ok = keep(scene.name("translucent scene").view_mask(0b11).build(ctx_.device(), scene_pipeline_layout_), translucent_pipeline_); !ok) return ok;
+    if (auto ok = keep(scene.name("per-eye translucent scene").view_mask(0).build(ctx_.device(), scene_pipeline_layout_), per_eye_translucent_pipeline_); !ok) {
+        return ok;
+    }
 
     // Shadow: depth only, from the light, with a slope bias against acne.
     GraphicsPipelineBuilder shadow("shadow");

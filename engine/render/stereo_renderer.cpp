@@ -114,7 +114,7 @@ StereoRenderer::~StereoRenderer() {
     for (auto& f : frames_) {
         if (f.image_available) vkDestroySemaphore(d, f.image_available, nullptr);
     }
-    for (VkPipeline p : {scene_pipeline_, per_eye_pipeline_, shadow_pipeline_, composite_pipeline_}) {
+    for (VkPipeline p : {scene_pipeline_, per_eye_pipeline_, shadow_pipeline_, composite_pipeline_, translucent_pipeline_, per_eye_translucent_pipeline_}) {
         if (p) vkDestroyPipeline(d, p, nullptr);
     }
     for (VkPipelineLayout l : {scene_pipeline_layout_, composite_pipeline_layout_}) {
@@ -306,7 +306,7 @@ Result<StereoRenderer::Frame*> StereoRenderer::begin_frame(const DrawList& list,
         if (batch.instances.empty()) continue;
         auto m = mesh(batch.mesh);
         if (!m) return std::move(m).error();
-        draws_.push_back({*m, static_cast<std::uint32_t>(batch.instances.size()), batch.casts_shadow});
+        draws_.push_back({*m, static_cast<std::uint32_t>(batch.instances.size()), batch.casts_shadow && !batch.translucent, batch.translucent});
         instances.insert(instances.end(), batch.instances.begin(), batch.instances.end());
     }
     const VkDeviceSize needed = std::max<VkDeviceSize>(1, instances.size()) * sizeof(MeshInstance);

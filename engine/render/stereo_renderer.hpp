@@ -111,6 +111,7 @@ private:
         Mesh* mesh;
         std::uint32_t instances;
         bool casts_shadow;
+        bool translucent;
     };
     struct Frame {
         VkCommandBuffer cmd = VK_NULL_HANDLE;
@@ -173,7 +174,7 @@ private:
     void draw_overlay(const Frame& frame, const CompositeTarget& target) const;
     void record_hand_over(const Frame& frame, const CompositeTarget& target, VkImageLayout eyes_layout) const;
     void copy_eyes_to_host(const Frame& frame, const CompositeTarget& target, VkImageLayout eyes_layout) const;
-    static void draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only);
+    static void draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only, bool translucent);
 
     VulkanContext& ctx_;
     RendererOptions options_;
@@ -190,6 +191,7 @@ private:
     VkDescriptorSet composite_set_ = VK_NULL_HANDLE;
     VkPipelineLayout scene_pipeline_layout_ = VK_NULL_HANDLE, composite_pipeline_layout_ = VK_NULL_HANDLE;
     VkPipeline scene_pipeline_ = VK_NULL_HANDLE, per_eye_pipeline_ = VK_NULL_HANDLE, shadow_pipeline_ = VK_NULL_HANDLE, composite_pipeline_ = VK_NULL_HANDLE;
+    VkPipeline translucent_pipeline_ = VK_NULL_HANDLE, per_eye_translucent_pipeline_ = VK_NULL_HANDLE;
     std::map<std::string, Mesh> meshes_;
     std::vector<Draw> draws_;
     std::map<VkFormat, VkPipeline> window_composite_;

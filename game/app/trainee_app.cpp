@@ -243,9 +243,7 @@ int TraineeSession::open() {
     window_pointer_ = std::make_unique<platform::GlfwPointerSource>(window_->glfw());
     pointer_ = o_.pointer ? o_.pointer : window_pointer_.get();
     mouse_ = std::make_unique<devices::MouseKeyboardHands>(shared_pointer_);
-    base_rig_.eye_separation_m = scene_->display.eye_separation_m;
-    base_rig_.screen_distance_m = scene_->display.screen_distance_m;
-    base_rig_.vertical_fov_rad = scene_->display.vertical_fov_rad;
+    base_rig_ = rig_of(scene_->display);
 
     WindowInputSystem input_system;
     input_system.body = [this](sched::SystemContext& c) { input(c); };

@@ -46,6 +46,16 @@ struct OffscreenDrawSystem {
     }
 };
 
+render::StereoRig rig_of(const DisplayDef& display) {
+    render::StereoRig rig;
+    rig.eye_separation_m = display.eye_separation_m;
+    rig.screen_distance_m = display.screen_distance_m;
+    rig.vertical_fov_rad = display.vertical_fov_rad;
+    if (display.camera_position_m) rig.position_m = *display.camera_position_m;
+    if (display.camera_target_m) rig.target_m = *display.camera_target_m;
+    return rig;
+}
+
 int run_render(const RenderOptions& o) {
     auto scene = load_scene(o.scene);
     if (!scene) {
@@ -76,10 +86,7 @@ int run_render(const RenderOptions& o) {
         std::cerr << "ikebana render: " << renderer.error().message << "\n";
         return 3;
     }
-    render::StereoRig rig;
-    rig.eye_separation_m = scene->display.eye_separation_m;
-    rig.screen_distance_m = scene->display.screen_distance_m;
-    rig.vertical_fov_rad = scene->display.vertical_fov_rad;
+    render::StereoRig rig = rig_of(scene->display);
     rig = render::orbited(rig, o.yaw_deg * M_PI / 180.0, o.pitch_deg * M_PI / 180.0);
     const bool tty = isatty(fileno(stderr)) != 0;
     std::vector<double> record, execute, readback, shadow, scene_pass, composite;

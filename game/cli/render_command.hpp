@@ -4,6 +4,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "engine/render/stereo_camera.hpp"
+#include "game/scene/scene.hpp"
+
 namespace ikebana::game {
 
 struct RenderOptions {
@@ -28,5 +31,8 @@ struct RenderOptions {
 // (no window, no display) into DIR as frame_NNNN_left.png, _right.png and _composed.png.
 void add_render_command(CLI::App& app, int& exit_code);
 int run_render(const RenderOptions& options);
+
+// The camera rig a scene's display describes (the window's and `render`'s).
+render::StereoRig rig_of(const DisplayDef& display);
 
 } // namespace ikebana::game

@@ -43,37 +43,6 @@ std::optional<Band> band(JsonChecker& c, const Json& parent, const std::string& 
     return Band{*t * scale, *tol * scale};
 }
 
-void parse_container(JsonChecker& c, const Json& root, LessonDef& l, bool required) {
-    const Json* k = c.object(root, "", "container", required);
-    if (!k) return;
-    const std::string p = "/container";
-    const auto shape = c.choice(*k, p, "shape", {"round", "rectangular", "vase"});
-    const assets::NumberRange size{10, 2000};
-    auto& box = l.container;
-    if (shape == "rectangular") {
-        c.no_unknown_keys(*k, p, {"shape", "width_mm", "front_to_back_mm", "depth_mm", "water_depth_mm"});
-        box.shape = ContainerShape::rectangular;
-        box.width_m = c.number(*k, p, "width_mm", size).value_or(0) * 1e-3;
-        box.front_to_back_m = c.number(*k, p, "front_to_back_mm", size).value_or(0) * 1e-3;
-        box.depth_m = c.number(*k, p, "depth_mm", size).value_or(0) * 1e-3;
-    } else if (shape == "vase") {
-        c.no_unknown_keys(*k, p, {"shape", "diameter_mm", "height_mm", "water_depth_mm"});
-        box.shape = ContainerShape::vase;
-        box.width_m = box.front_to_back_m = c.number(*k, p, "diameter_mm", size).value_or(0) * 1e-3;
-        box.depth_m = c.number(*k, p, "height_mm", size).value_or(0) * 1e-3;
-    } else {
-        c.no_unknown_keys(*k, p, {"shape", "diameter_mm", "depth_mm", "water_depth_mm"});
-        box.shape = ContainerShape::round;
-        box.width_m = box.front_to_back_m = c.number(*k, p, "diameter_mm", size).value_or(0) * 1e-3;
-        box.depth_m = c.number(*k, p, "depth_mm", size).value_or(0) * 1e-3;
-    }
-    const auto water = c.number(*k, p, "water_depth_mm", {0, 2000}, false);
-    box.water_depth_m = water ? *water * 1e-3 : 0.8 * box.depth_m;
-    if (water && box.depth_m > 0.0 && box.water_depth_m > box.depth_m) {
-        c.problem(p + "/water_depth_mm", "the water (" + JsonChecker::describe(*water) + " mm) is deeper than the container");
-    }
-}
-
 void parse_main_stems(JsonChecker& c, const Json& root, LessonDef& l) {
     const Json* stems = c.array(root, "", "main_stems");
     if (!stems) return;
@@ -199,7 +168,7 @@ Result<LessonDef> parse_lesson(std::string_view text, const std::string& label) 
             if (root->contains(key)) c.problem(std::string("/") + key, "a lesson scored against its scene's sample has no form to describe");
         }
     }
-    parse_container(c, *root, l, form);
+    if (const Json* box = c.object(*root, "", "container", form)) parse_container(c, *box, "/container", l.container);
     if (const Json* k = c.object(*root, "", "kenzan", form)) {
         c.no_unknown_keys(*k, "/kenzan", {"layout", "offset_mm"});
         l.kenzan_layout = c.string(*k, "/kenzan", "layout").value_or("standard");

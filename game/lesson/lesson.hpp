@@ -12,20 +12,9 @@
 #include <glm/glm.hpp>
 
 #include "engine/core/result.hpp"
+#include "game/scene/container.hpp"
 
 namespace ikebana::game {
-
-enum class ContainerShape : std::uint8_t { round, rectangular, vase };
-
-struct ContainerDef {
-    ContainerShape shape = ContainerShape::round;
-    double width_m = 0.0;          // diameter (round, vase) or the side across the viewer (rectangular)
-    double front_to_back_m = 0.0;  // rectangular; the diameter otherwise
-    double depth_m = 0.0;          // inside height: a suiban's depth, a vase's height
-    double water_depth_m = 0.0;
-    // The size Sogetsu and Ohara measure stems by: the widest side plus the depth.
-    [[nodiscard]] double size_m() const noexcept { return width_m + depth_m; }
-};
 
 // What a length target is a ratio of.
 struct LengthBase {

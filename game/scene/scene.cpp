@@ -29,7 +29,7 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
     const auto root = c.parse_object(text);
     if (!root) return c.error();
     c.no_unknown_keys(*root, "", {"format", "name", "seed", "rates_hz", "gravity_m_s2", "table_height_mm", "kenzan",
-                                  "flowers", "hands", "environment", "force_scheme", "sample", "display", "notes"});
+                                  "flowers", "hands", "environment", "force_scheme", "sample", "display", "container", "notes"});
     const auto format = c.string(*root, "", "format");
     if (format && *format != "ikebana-scene/1") c.problem("/format", "expected \"ikebana-scene/1\", got \"" + *format + "\"");
     SceneDef s{};
@@ -52,7 +52,13 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
     }
     if (const auto* display = c.object(*root, "", "display", false)) {
         const std::string p = "/display";
-        c.no_unknown_keys(*display, p, {"stereo", "eye_separation_mm", "screen_distance_mm", "vertical_fov_deg"});
+        c.no_unknown_keys(*display, p, {"stereo", "eye_separation_mm", "screen_distance_mm", "vertical_fov_deg", "camera_mm", "target_mm"});
+        s.display.camera_position_m = vec3(c, *display, p, "camera_mm", false, 1e-3, workspace);
+        s.display.camera_target_m = vec3(c, *display, p, "target_mm", false, 1e-3, workspace);
+        if (s.display.camera_position_m && s.display.camera_target_m &&
+            glm::length(*s.display.camera_position_m - *s.display.camera_target_m) < 0.01) {
+            c.problem(p + "/target_mm", "is within 10 mm of camera_mm: the camera must look somewhere");
+        }
         s.display.stereo = c.choice(*display, p, "stereo", {"sbs", "rows", "anaglyph", "mono"}, false).value_or("sbs");
         s.display.eye_separation_m = c.number(*display, p, "eye_separation_mm", {0, 200}, false).value_or(65) * 1e-3;
         s.display.screen_distance_m = c.number(*display, p, "screen_distance_mm", {50, 5000}, false).value_or(460) * 1e-3;
@@ -78,6 +84,14 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
             s.sample.push_back(stem);
         }
     }
+    if (const auto* box = c.object(*root, "", "container", false)) {
+        ContainerDef def;
+        parse_container(c, *box, "/container", def, {"centre_mm"});
+        const auto centre = c.numbers(*box, "/container", "centre_mm", {-workspace_half_extent_m * 1e3, workspace_half_extent_m * 1e3}, 2, false);
+        if (centre && centre->size() != 2) c.problem("/container/centre_mm", "expected [x, y]");
+        else if (centre) s.container_centre_m = glm::dvec2{(*centre)[0], (*centre)[1]} * 1e-3;
+        s.container = def;
+    }
     if (const auto* k = c.object(*root, "", "kenzan")) {
         c.no_unknown_keys(*k, "/kenzan", {"layout", "position_mm"});
         s.kenzan_layout = c.string(*k, "/kenzan", "layout").value_or("");
@@ -94,7 +108,7 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
                 c.problem(p, "expected an object, got " + JsonChecker::describe(f));
                 continue;
             }
-            c.no_unknown_keys(f, p, {"species", "placement", "base_mm", "direction", "inserted_depth_mm"});
+            c.no_unknown_keys(f, p, {"species", "placement", "base_mm", "direction", "inserted_depth_mm", "length_mm"});
             FlowerPlacement fp{};
             fp.species = c.string(f, p, "species").value_or("");
             fp.placement = c.choice(f, p, "placement", {"inserted", "lying"}) == "lying" ? Placement::lying : Placement::inserted;
@@ -106,6 +120,7 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
                 fp.direction = glm::normalize(fp.direction);
             }
             fp.inserted_depth_m = c.number(f, p, "inserted_depth_mm", {0, 100}, false).value_or(10) * 1e-3;
+            fp.length_m = c.number(f, p, "length_mm", {20, 3000}, false).value_or(0) * 1e-3;
             s.flowers.push_back(fp);
         }
     }

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/core/result.hpp"
+#include "game/scene/container.hpp"
 #include "systems/insertion/deterioration.hpp"
 
 namespace ikebana::game {
@@ -25,6 +26,7 @@ struct FlowerPlacement {
     glm::dvec3 base_m;      // bottom of the stem
     glm::dvec3 direction;   // unit, bottom to top
     double inserted_depth_m; // for Placement::inserted
+    double length_m = 0.0;   // the stem as cut (a lesson's uncut material); 0: the species' own length
 };
 
 struct HandPlacement {
@@ -51,6 +53,10 @@ struct DisplayDef {
     double eye_separation_m = 0.065;
     double screen_distance_m = 0.46; // the zero-parallax plane
     double vertical_fov_rad = 0.7;
+    // Where the camera is and looks (a lesson's tall form needs it further back); the rig's defaults
+    // when unset.
+    std::optional<glm::dvec3> camera_position_m;
+    std::optional<glm::dvec3> camera_target_m;
 };
 
 // Where a scene's things may be: within this distance of the origin on each axis (a table and the
@@ -79,6 +85,9 @@ struct SceneDef {
     // each force sent ten times.
     std::string force_scheme = "full_rate";
     std::vector<SampleStem> sample; // the arrangement to copy (empty: free practice)
+    // The container the kenzan stands in (none: the kenzan stands on the table), centred here on the table.
+    std::optional<ContainerDef> container;
+    glm::dvec2 container_centre_m{0.0};
     DisplayDef display;
 };
 

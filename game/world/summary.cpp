@@ -70,6 +70,7 @@ WorldSummary summarize(World& w) {
         }
         if (const auto* grip = r.try_get<KenzanGrip>(f.entity)) {
             fs.fallen = grip->fallen;
+            fs.fall_reason = grip->fall_reason;
             fs.fell_at_s = static_cast<double>(grip->fell_at_us) * 1e-6;
             fs.yielded = grip->yielded;
             fs.yield_holding_nm = grip->yield_holding_nm;
@@ -101,11 +102,16 @@ std::string format_summary(const WorldSummary& s, double seconds) {
             // The verdict the physics reached: a fallen stem leans on more pins and may show a
             // positive margin now, so the moments when the pins first gave way are what explain it.
             char verdict[160];
-            if (f.fallen && f.yielded) {
-                std::snprintf(verdict, sizeof verdict, "FELL at %.2f s (the pins first gave way holding %.2f mN m under %.2f mN m)", f.fell_at_s,
+            if (f.fallen && f.yielded && f.yield_gravity_nm <= f.yield_holding_nm) {
+                // The pins first gave way to the stem's swing or spring after release, not to its weight.
+                std::snprintf(verdict, sizeof verdict, "FELL at %.2f s: %s (the pins first gave way holding %.2f mN m as it swung after release, its weight asking %.2f)",
+                              f.fell_at_s, components::fall_words(f.fall_reason), f.yield_holding_nm * 1e3, f.yield_gravity_nm * 1e3);
+            } else if (f.fallen && f.yielded) {
+                std::snprintf(verdict, sizeof verdict, "FELL at %.2f s: %s (the pins first gave way holding %.2f mN m under %.2f mN m)", f.fell_at_s,
+                              components::fall_words(f.fall_reason),
                               f.yield_holding_nm * 1e3, f.yield_gravity_nm * 1e3);
             } else if (f.fallen) {
-                std::snprintf(verdict, sizeof verdict, "FELL at %.2f s", f.fell_at_s);
+                std::snprintf(verdict, sizeof verdict, "FELL at %.2f s: %s", f.fell_at_s, components::fall_words(f.fall_reason));
             } else if (f.holding_moment_nm < f.gravity_moment_nm) {
                 std::snprintf(verdict, sizeof verdict, "yielding (the pins hold less than its weight asks: it is tipping)");
             } else {

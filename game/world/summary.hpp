@@ -17,6 +17,7 @@ struct FlowerSummary {
     double holding_moment_nm = 0.0;
     double gravity_moment_nm = 0.0;
     bool fallen = false;
+    components::FallReason fall_reason = components::FallReason::none;
     double fell_at_s = 0.0;
     bool yielded = false;            // the pins gave way at least once (the moments then follow)
     double yield_holding_nm = 0.0;

@@ -234,9 +234,29 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     const ecs::Entity world_entity = r.create();
     r.emplace<RandomStream>(world_entity, scene.seed * 0x9e3779b97f4a7c15ull + 1);
 
+    if (scene.container) {
+        // On the table: a bottom and a wall 6 mm thick. A vase is filled up to near its mouth (a kubari,
+        // or sand): the kenzan stands there, its pins below the rim.
+        const ContainerDef& box = *scene.container;
+        const double wall = 0.006;
+        const double rim = scene.table_height_m + wall + box.depth_m;
+        const bool vase = box.shape == ContainerShape::vase;
+        const double floor = vase ? rim - 0.03 : scene.table_height_m + wall;
+        const ecs::Entity container = r.create();
+        r.emplace<Container>(container, Container{box.shape != ContainerShape::rectangular, scene.container_centre_m,
+                                                  glm::dvec2{0.5 * box.width_m, 0.5 * box.front_to_back_m}, floor, rim, wall,
+                                                  vase ? rim - 0.01 : floor + box.water_depth_m});
+        r.emplace<PassiveCollider>(container);
+    }
+
     const auto& kenzan_now = r.get<Kenzan>(kenzan_entity);
     for (auto f : scene.flowers) {
-        const auto& sp = w->species.at(f.species);
+        SpeciesDef sp = w->species.at(f.species);
+        if (f.length_m > 0.0) {
+            // A material cut to length before the session: the same stem, shorter and lighter.
+            sp.stem_mass_kg *= f.length_m / sp.length_m;
+            sp.length_m = f.length_m;
+        }
         if (f.placement == Placement::inserted) {
             // Standing in the pins: the stem end's lowest point `inserted_depth` below the pin tips.
             const double lowest_offset = 0.5 * sp.diameter_m * std::sqrt(std::max(0.0, 1.0 - f.direction.z * f.direction.z));
@@ -254,7 +274,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
         r.emplace<ActiveCollider>(hand);
         r.emplace<HandInput>(hand, HandInput{false, h.position_m, glm::dvec3{0.0}, 0, 0, 0});
         r.emplace<HandProxy>(hand, HandProxy{h.position_m, glm::dvec3{0.0}});
-        r.emplace<HandGrip>(hand, HandGrip{ecs::null_entity, 0, glm::dvec3{0.0}, false, 0, glm::dvec3{0.0}});
+        r.emplace<HandGrip>(hand, HandGrip{ecs::null_entity, 0, glm::dvec3{0.0}, false, 0, glm::dvec3{0.0}, glm::dvec3{0.0}, glm::dquat{1, 0, 0, 0}, 0});
         r.emplace<HandForce>(hand, HandForce{glm::dvec3{0.0}});
         r.emplace<ForceChecks>(hand);
         // Scripted trajectories are in world coordinates.

@@ -1,5 +1,6 @@
 #include "systems/haptics/grab_system.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -19,6 +20,13 @@ bool held_by_another_hand(ecs::Registry& r, const HandGrip& grip, std::uint32_t 
     return other;
 }
 } // namespace
+
+glm::dquat device_turn(glm::dvec3 rotation_rad, double yaw_rad) {
+    const glm::dquat device = glm::angleAxis(rotation_rad.z, glm::dvec3{0, 0, 1}) * glm::angleAxis(rotation_rad.y, glm::dvec3{0, 1, 0}) *
+                              glm::angleAxis(rotation_rad.x, glm::dvec3{1, 0, 0});
+    const glm::dquat camera = glm::angleAxis(yaw_rad, glm::dvec3{0, 0, 1});
+    return camera * device * glm::conjugate(camera);
+}
 
 void let_go_of_direction(ecs::Registry& r, HandGrip& grip) {
     if (!grip.holds_direction) return;
@@ -42,7 +50,7 @@ void release_hold(ecs::Registry& r, HandGrip& grip) {
 void GrabSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
     r.view<const HandCube, const HandInput, const HandProxy, HandGrip>().each(
-        [&](ecs::Entity, const HandCube& cube, const HandInput& input, const HandProxy& proxy, HandGrip& grip) {
+        [&](ecs::Entity hand, const HandCube& cube, const HandInput& input, const HandProxy& proxy, HandGrip& grip) {
             const bool pressed = (input.buttons & 1u) != 0;
             const bool was_pressed = (input.previous_buttons & 1u) != 0;
             if (!input.connected || !pressed) {
@@ -67,6 +75,7 @@ void GrabSystem::operator()(sched::SystemContext& ctx) {
                 });
                 if (!grip.held.is_null()) {
                     if (auto* grasp = r.try_get<Grasp>(grip.held)) ++grasp->hands;
+                    if (const auto* history = r.try_get<const InsertionHistory>(grip.held)) grip.cuts_seen = history->cuts;
                     // The point stays where it was in the hand: snapping it to the cube's centre would
                     // stretch the stem's stiff springs by millimetres in one tick (a knock in the hand).
                     grip.held_offset_m = r.get<const StemPoints>(grip.held).position_m[grip.held_point] - proxy.position_m;
@@ -88,6 +97,18 @@ void GrabSystem::operator()(sched::SystemContext& ctx) {
             const auto* grasp = r.try_get<const Grasp>(grip.held);
             const bool alone = !grasp || grasp->hands <= 1;
             if (!alone) let_go_of_direction(r, grip);
+            // A cut laid the stem's points anew along it: the hand takes the point now nearest it, where it is.
+            if (const auto* history = r.try_get<const InsertionHistory>(grip.held); history && history->cuts != grip.cuts_seen) {
+                grip.cuts_seen = history->cuts;
+                let_go_of_direction(r, grip);
+                if (!held_by_another_hand(r, grip, grip.held_point)) points->pinned[grip.held_point] = 0;
+                std::uint32_t nearest = 0;
+                for (std::uint32_t i = 1; i < points->position_m.size(); ++i) {
+                    if (glm::length(points->position_m[i] - proxy.position_m) < glm::length(points->position_m[nearest] - proxy.position_m)) nearest = i;
+                }
+                grip.held_point = nearest;
+                grip.held_offset_m = points->position_m[nearest] - proxy.position_m;
+            }
             if (alone && !grip.holds_direction && points->position_m.size() >= 2) {
                 // The neighbour nearer the hand: the grip spans the stem inside the fist. Taken where it is
                 // now, so that a second hand letting go leaves the stem in the direction the two gave it.
@@ -96,11 +117,27 @@ void GrabSystem::operator()(sched::SystemContext& ctx) {
                 const std::uint32_t above = grip.held_point < last ? grip.held_point + 1 : grip.held_point - 1;
                 const auto& x = points->position_m;
                 grip.second_point = glm::length(x[below] - proxy.position_m) <= glm::length(x[above] - proxy.position_m) ? below : above;
+                // Both offsets as they are now, unturned: from here the grip turns with the device.
+                grip.held_offset_m = x[grip.held_point] - proxy.position_m;
                 grip.second_offset_m = x[grip.second_point] - proxy.position_m;
                 grip.holds_direction = true;
+                grip.rotation_at_grip_rad = input.rotation_rad;
+                grip.turned = glm::dquat{1, 0, 0, 0};
             }
-            pin(grip.held_point, grip.held_offset_m);
-            if (grip.holds_direction && grip.second_point < points->position_m.size()) pin(grip.second_point, grip.second_offset_m);
+            if (grip.holds_direction) {
+                // Toward the device's turn since the grip, at most max_turn_rad_s.
+                const auto* map = r.try_get<const WorkspaceMapping>(hand);
+                const double yaw = map ? map->yaw_rad : 0.0;
+                const glm::dquat wanted = device_turn(input.rotation_rad, yaw) * glm::conjugate(device_turn(grip.rotation_at_grip_rad, yaw));
+                const double dot = std::clamp(std::abs(glm::dot(grip.turned, wanted)), 0.0, 1.0);
+                const double gap = 2.0 * std::acos(dot);
+                const double step = max_turn_rad_s * ctx.dt_s;
+                grip.turned = gap <= step || gap < 1e-12 ? wanted : glm::slerp(grip.turned, wanted, step / gap);
+                pin(grip.held_point, grip.turned * grip.held_offset_m);
+                if (grip.second_point < points->position_m.size()) pin(grip.second_point, grip.turned * grip.second_offset_m);
+            } else {
+                pin(grip.held_point, grip.held_offset_m);
+            }
         });
 }
 

@@ -7,6 +7,8 @@
 // the stem's direction) live here and nowhere else.
 #include <string_view>
 
+#include <glm/gtc/quaternion.hpp>
+
 #include "components/hand.hpp"
 #include "components/insertion.hpp"
 #include "components/stem.hpp"
@@ -19,11 +21,20 @@ struct GrabSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<components::HandCube, components::HandInput, components::HandProxy, components::StemRestShape>;
+    using reads = sched::Components<components::HandCube, components::HandInput, components::HandProxy, components::StemRestShape,
+                                    components::WorkspaceMapping, components::InsertionHistory>;
     using writes = sched::Components<components::HandGrip, components::StemPoints, components::Grasp>;
 
     void operator()(sched::SystemContext& ctx);
+
+    // How fast a held stem turns after the device (a wrist turns a stem about this fast): a mouse
+    // drag that jumps is followed over several ticks, not in one.
+    double max_turn_rad_s = 6.0;
 };
+
+// The turn of a device reporting (roll, pitch, yaw) = rotation_rad: about x (right), then y (away
+// from the viewer), then z (up), in the device's frame; `yaw_rad` turns that frame with the camera.
+glm::dquat device_turn(glm::dvec3 rotation_rad, double yaw_rad);
 
 // Lets go of whatever the grip holds (on release and on disconnect).
 void release_hold(ecs::Registry& registry, components::HandGrip& grip);

@@ -43,8 +43,10 @@ void KenzanGripSystem::operator()(sched::SystemContext& ctx) {
             if (!grip.engaged) {
                 grip.engaged = true;
                 grip.fallen = false;
+                grip.fall_reason = FallReason::none;
                 grip.yielded = false;
                 grip.entry_axis = glm::normalize(x.back() - x[0]);
+                grip.release_height_m = x.back().z - x[0].z;
                 clamp = StemClamp{true, x[0], first, root_stiffness};
             }
             grip.holding_moment_nm = engagement.holding_moment_nm;
@@ -60,9 +62,16 @@ void KenzanGripSystem::operator()(sched::SystemContext& ctx) {
                     }
                 }
             }
-            if (!grip.fallen && angle_between(grip.entry_axis, glm::normalize(x.back() - x[0])) > fall_angle_rad) {
-                grip.fallen = true;
-                grip.fell_at_us = ctx.time_us;
+            if (!grip.fallen) {
+                const glm::dvec3 axis = glm::normalize(x.back() - x[0]);
+                const double height = x.back().z - x[0].z;
+                if (angle_between(axis, glm::dvec3{0.0, 0.0, 1.0}) >= lying_angle_rad) grip.fall_reason = FallReason::lies_flat;
+                else if (angle_between(grip.entry_axis, axis) > fall_angle_rad) grip.fall_reason = FallReason::tipped;
+                else if (grip.release_height_m > 0.0 && height < dropped_fraction * grip.release_height_m) grip.fall_reason = FallReason::dropped;
+                if (grip.fall_reason != FallReason::none) {
+                    grip.fallen = true;
+                    grip.fell_at_us = ctx.time_us;
+                }
             }
         });
 }

@@ -23,8 +23,13 @@ struct KenzanGripSystem {
 
     void operator()(sched::SystemContext& ctx);
 
-    // Tipped this far from where it was released counts as fallen.
+    // A stem has fallen when it tipped this far from where it was released, ...
     double fall_angle_rad = 0.4363; // 25 degrees
+    // ... when its line from bottom to top is this far from the vertical (it lies rather than stands:
+    // a stem pushed in nearly flat has fallen from the start; the lessons' lowest stems lean 75°) ...
+    double lying_angle_rad = 1.396; // 80 degrees
+    // ... or when its top sank below this fraction of its height when released (a stem that bends over).
+    double dropped_fraction = 0.5;
 };
 
 } // namespace ikebana::systems

@@ -1,9 +1,13 @@
 #pragma once
-// Keeps stem points above the table: a point that ends a step below the surface is put back on it,
-// loses its velocity into the table, and slides with Coulomb friction. A position correction after the
-// implicit step, so the stiff contact costs nothing in stability.
+// Keeps stem points out of the rigid things they rest on: the table, the kenzan's base plate and a
+// container's floor and wall. A point that ends a step inside one is put back on its surface, loses
+// its velocity into it, and (on a floor) slides with Coulomb friction. A position correction after the
+// implicit step, so the stiff contact costs nothing in stability. (The pins are the insertion
+// systems'; the plate under them is here: a stem pushed through the pins stops on it.)
+#include <optional>
 #include <string_view>
 
+#include "components/kenzan.hpp"
 #include "components/physics.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/system.hpp"
@@ -15,10 +19,18 @@ struct TableSupportSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "constraints";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<components::Table, components::StemRestShape, components::PhysicsSettings>;
+    using reads = sched::Components<components::Table, components::Container, components::Kenzan, components::StemRestShape,
+                                    components::PhysicsSettings>;
     using writes = sched::Components<components::StemPoints>;
 
     void operator()(sched::SystemContext& ctx);
 };
+
+// The floor under (x, y) for a point of a stem of `radius_m`: the table, or the container's floor, or
+// the kenzan's plate, whichever is highest there. Exposed for tests.
+// `end_drop_m`: for the stem's bottom point, how far its end face's lowest edge is below the point
+// (the radius times the sine of its tilt); the point of any other part rests on its side, a radius up.
+double support_floor_m(const components::Table* table, const components::Container* container, const components::Kenzan* kenzan,
+                       glm::dvec2 xy, double radius_m, std::optional<double> end_drop_m);
 
 } // namespace ikebana::systems

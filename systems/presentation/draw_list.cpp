@@ -31,6 +31,44 @@ glm::mat4 segment(const glm::dvec3& p, const glm::dvec3& q, double radius) {
     return frame_matrix(a * radius, b * radius, d, p);
 }
 
+// A container: its bottom, its wall as a ring of thin boxes (a closed cylinder would hide what is in
+// it), and its water, translucent, over the kenzan.
+void add_container(render::DrawList& list, const Container& c) {
+    const glm::vec4 glaze{0.16f, 0.22f, 0.27f, 1.0f};
+    const double height = c.rim_z_m - c.floor_z_m + c.wall_m;
+    const double bottom_z = c.floor_z_m - c.wall_m;
+    const glm::dvec3 centre{c.centre_m, bottom_z};
+    auto& boxes = list.batch("cube").instances;
+    if (c.round) {
+        const double r = c.half_extent_m.x + 0.5 * c.wall_m;
+        list.batch("cylinder").instances.push_back(
+            {frame_matrix({c.half_extent_m.x, 0, 0}, {0, c.half_extent_m.x, 0}, {0, 0, c.wall_m}, centre), glaze});
+        const int pieces = 48;
+        const double chord = 2.0 * r * std::sin(3.14159265358979323846 / pieces) * 1.05;
+        for (int i = 0; i < pieces; ++i) {
+            const double a = 2.0 * 3.14159265358979323846 * (i + 0.5) / pieces;
+            const glm::dvec3 radial{std::cos(a), std::sin(a), 0.0};
+            const glm::dvec3 along{-std::sin(a), std::cos(a), 0.0};
+            boxes.push_back({frame_matrix(radial * c.wall_m, along * chord, {0, 0, height}, centre + radial * r + glm::dvec3{0, 0, 0.5 * height}), glaze});
+        }
+    } else {
+        const glm::dvec2 h = c.half_extent_m;
+        const glm::dvec3 mid = centre + glm::dvec3{0, 0, 0.5 * height};
+        boxes.push_back({frame_matrix({2 * h.x, 0, 0}, {0, 2 * h.y, 0}, {0, 0, c.wall_m}, centre + glm::dvec3{0, 0, 0.5 * c.wall_m}), glaze});
+        for (const double side : {-1.0, 1.0}) {
+            boxes.push_back({frame_matrix({c.wall_m, 0, 0}, {0, 2 * (h.y + c.wall_m), 0}, {0, 0, height}, mid + glm::dvec3{side * (h.x + 0.5 * c.wall_m), 0, 0}), glaze});
+            boxes.push_back({frame_matrix({2 * h.x, 0, 0}, {0, c.wall_m, 0}, {0, 0, height}, mid + glm::dvec3{0, side * (h.y + 0.5 * c.wall_m), 0}), glaze});
+        }
+    }
+    if (c.water_z_m > c.floor_z_m) {
+        auto& surface = list.batch(c.round ? "cylinder" : "cube", true);
+        const glm::dvec3 at{c.centre_m, c.water_z_m - 0.0005};
+        surface.instances.push_back({c.round ? frame_matrix({c.half_extent_m.x, 0, 0}, {0, c.half_extent_m.x, 0}, {0, 0, 0.001}, at)
+                                             : frame_matrix({2 * c.half_extent_m.x, 0, 0}, {0, 2 * c.half_extent_m.y, 0}, {0, 0, 0.001}, at),
+                                     {0.45f, 0.62f, 0.75f, 0.35f}});
+    }
+}
+
 } // namespace
 
 render::DrawList build_draw_list(const FrameSnapshot& frame) {
@@ -39,6 +77,7 @@ render::DrawList build_draw_list(const FrameSnapshot& frame) {
         list.batch("plane").instances.push_back(
             {frame_matrix({1.2, 0, 0}, {0, 0.8, 0}, {0, 0, 1}, {0.0, 0.0, *frame.table_height_m}), {0.62f, 0.5f, 0.36f, 1.0f}});
     }
+    if (frame.container) add_container(list, *frame.container);
     if (frame.kenzan) {
         const Kenzan& k = *frame.kenzan;
         const double w = (k.columns + 1) * k.pitch_m, d = (k.rows + 1) * k.pitch_m;

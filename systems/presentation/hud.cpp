@@ -15,7 +15,14 @@ std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const
     for (const auto& f : frame.flowers) {
         std::string state;
         if (f.fallen) {
-            state = "FELL";
+            // Never a holding margin without the reason: a fallen stem leans on more pins.
+            if (f.fall_yield_gravity_nm > 0.0) {
+                std::snprintf(text, sizeof text, "FELL: %s (the pins gave way holding %.1fx its weight's moment)", components::fall_words(f.fall_reason),
+                              f.fall_yield_holding_nm / f.fall_yield_gravity_nm);
+            } else {
+                std::snprintf(text, sizeof text, "FELL: %s", components::fall_words(f.fall_reason));
+            }
+            state = text;
         } else if (f.in_kenzan && f.holding_moment_nm < f.gravity_moment_nm) {
             std::snprintf(text, sizeof text, "tipping: the pins hold %.1fx its weight's moment", f.holding_moment_nm / f.gravity_moment_nm);
             state = text;

@@ -27,6 +27,9 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
             status.bottom_broken = false;
             status.in_kenzan = false;
             status.fallen = false;
+            status.fall_reason = FallReason::none;
+            status.fall_yield_holding_nm = 0.0;
+            status.fall_yield_gravity_nm = 0.0;
             status.holding_moment_nm = 0.0;
             status.gravity_moment_nm = 0.0;
             if (const auto* h = r.try_get<const InsertionHistory>(e)) {
@@ -38,7 +41,14 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
                 status.holding_moment_nm = engagement->holding_moment_nm;
                 status.gravity_moment_nm = engagement->gravity_moment_nm;
             }
-            if (const auto* grip = r.try_get<const KenzanGrip>(e)) status.fallen = grip->fallen;
+            if (const auto* grip = r.try_get<const KenzanGrip>(e)) {
+                status.fallen = grip->fallen;
+                status.fall_reason = grip->fall_reason;
+                if (grip->yielded) {
+                    status.fall_yield_holding_nm = grip->yield_holding_nm;
+                    status.fall_yield_gravity_nm = grip->yield_gravity_nm;
+                }
+            }
             status.parts.clear();
             if (const auto* children = r.try_get<const ecs::Children>(e)) {
                 for (const ecs::Entity child : children->entities) {
@@ -62,6 +72,8 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
     frame.kenzan = kenzan ? std::optional<Kenzan>(*kenzan) : std::nullopt;
     const auto* table = r.resource<const Table>();
     frame.table_height_m = table ? std::optional<double>(table->height_m) : std::nullopt;
+    const auto* container = r.single<const Container>();
+    frame.container = container ? std::optional<Container>(*container) : std::nullopt;
     (*channel)->buffer.publish();
 }
 

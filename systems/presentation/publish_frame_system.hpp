@@ -26,7 +26,7 @@ struct PublishFrameSystem {
                                     components::FlowerLook, components::Part, ecs::Children, components::Contacts,
                                     components::HandCube, components::HandInput, components::HandProxy, components::HandGrip,
                                     components::HandForce, components::InsertionHistory, components::PinEngagement,
-                                    components::KenzanGrip, components::Kenzan, components::Table>;
+                                    components::KenzanGrip, components::Kenzan, components::Table, components::Container>;
     using writes = sched::Components<>;
 
     void operator()(sched::SystemContext& ctx);

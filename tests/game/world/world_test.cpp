@@ -106,6 +106,11 @@ TEST(World, DefaultSceneStaysPutAndFinite) {
     const auto s = summarize(**world);
     EXPECT_EQ(s.flowers, 2u);
     EXPECT_LT(s.kinetic_j, 1e-6) << "everything has settled";
-    EXPECT_GT(s.highest_point_m, 0.15) << "the inserted sunflower still stands";
+    // It sags from 30 to about 50 degrees while the pins give way (its bottom stands on the kenzan's
+    // plate, 13 mm deep), then they hold it: it stands, its top about 150 mm up.
+    ASSERT_FALSE(s.flower_states.empty());
+    EXPECT_TRUE(s.flower_states[0].in_kenzan);
+    EXPECT_FALSE(s.flower_states[0].fallen) << "the inserted sunflower still stands";
+    EXPECT_GT(s.highest_point_m, 0.13);
     EXPECT_EQ(s.frames_received, 150u) << "the main lane received every published frame";
 }

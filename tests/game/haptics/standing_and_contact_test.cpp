@@ -1,0 +1,171 @@
+// One definition of standing and falling (the HUD, the `sim` summary and the score read the same
+// KenzanGrip), a stem held in one hand turning with the hand, and stems kept out of the kenzan's plate
+// and a container's floor and wall.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "components/hand.hpp"
+#include "components/insertion.hpp"
+#include "components/physics.hpp"
+#include "components/snapshot.hpp"
+#include "components/stem.hpp"
+#include "engine/sched/clocks.hpp"
+#include "game/world/summary.hpp"
+#include "game/world/world.hpp"
+#include "scripted_hands.hpp"
+#include "systems/physics/table_support_system.hpp"
+#include "systems/presentation/hud.hpp"
+
+using namespace ikebana;
+using namespace ikebana::game;
+using namespace ikebana::components;
+
+namespace {
+constexpr double deg = 3.14159265358979323846 / 180.0;
+
+SceneDef scene_with(const std::string& species, double tilt_deg) {
+    SceneDef scene{};
+    scene.seed = 1;
+    scene.gravity_m_s2 = {0, 0, -9.80665};
+    scene.kenzan_layout = "standard";
+    scene.kenzan_position_m = {0, 0, 0.008};
+    scene.flowers.push_back({species, Placement::inserted, {-0.006, 0.0, 0.010}, {std::sin(tilt_deg * deg), 0.0, std::cos(tilt_deg * deg)}, 0.013});
+    scene.hands.push_back({0, {-0.12, -0.06, 0.15}, 0.02, ""});
+    scene.hands.push_back({1, {0.12, -0.06, 0.15}, 0.02, ""});
+    return scene;
+}
+
+std::unique_ptr<World> make(const SceneDef& scene) {
+    auto world = World::create(scene);
+    EXPECT_TRUE(world) << (world ? "" : world.error().message);
+    return std::move(world).value();
+}
+
+const std::vector<glm::dvec3>& points(World& w, std::size_t flower = 0) { return w.sim.get<StemPoints>(w.flowers[flower].entity).position_m; }
+
+double tilt_of(const std::vector<glm::dvec3>& x) { return std::acos(glm::normalize(x.back() - x.front()).z); }
+} // namespace
+
+TEST(Standing, AStemThatSinksToLyingIsFellLiesFlatInTheHudAndTheSummary) {
+    // A sunflower released at 75 degrees: its head takes it down to the table.
+    auto w = make(scene_with("sunflower", 75));
+    sched::DeterministicClock clock(w->schedule);
+    bool said_stands_while_flat = false;
+    for (int step = 0; step < 50; ++step) {
+        clock.run_for_us(100'000);
+        const auto s = summarize(*w);
+        const auto& f = s.flower_states.at(0);
+        const auto text = format_summary(s, 0.1 * (step + 1));
+        if (tilt_of(points(*w)) >= 80 * deg && text.find("-> stands") != std::string::npos) said_stands_while_flat = true;
+    }
+    EXPECT_FALSE(said_stands_while_flat) << "never 'stands' for a stem lying flat";
+    const auto s = summarize(*w);
+    const auto& f = s.flower_states.at(0);
+    ASSERT_TRUE(f.fallen);
+    EXPECT_EQ(f.fall_reason, FallReason::lies_flat);
+    EXPECT_NE(format_summary(s, 5.0).find("FELL at "), std::string::npos);
+    EXPECT_NE(format_summary(s, 5.0).find(": lies flat"), std::string::npos) << format_summary(s, 5.0);
+    // The HUD reads the same grip, through the snapshot.
+    const auto& frame = w->main.resource<const systems::ReceivedFrames>()->latest();
+    ASSERT_EQ(frame.flowers.size(), 1u);
+    EXPECT_TRUE(frame.flowers[0].fallen);
+    const auto lines = systems::hud_lines(frame, HudInfo{});
+    ASSERT_GE(lines.size(), 2u);
+    EXPECT_NE(lines[1].find("FELL: lies flat"), std::string::npos) << lines[1];
+    EXPECT_EQ(lines[1].find("stands"), std::string::npos) << lines[1];
+}
+
+TEST(Standing, AFallenStemsHoldingMarginNeverShowsWithoutTheReason) {
+    FrameSnapshot frame{};
+    FlowerStatus f{};
+    f.species = "chrysanthemum";
+    f.in_kenzan = true;
+    f.fallen = true;
+    f.fall_reason = FallReason::tipped;
+    f.holding_moment_nm = 0.05; // leaning on more pins now: a positive margin
+    f.gravity_moment_nm = 0.03;
+    f.fall_yield_holding_nm = 0.0017;
+    f.fall_yield_gravity_nm = 0.004;
+    frame.flowers.push_back(f);
+    const auto lines = systems::hud_lines(frame, HudInfo{});
+    EXPECT_NE(lines[1].find("FELL: tipped over (the pins gave way holding 0.4x its weight's moment)"), std::string::npos) << lines[1];
+}
+
+TEST(Contact, AStemPushedThroughThePinsStopsOnTheKenzansPlate) {
+    auto w = make(scene_with("sunflower", 0));
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(500'000);
+    const glm::dvec3 grip = points(*w)[10];
+    // Grab halfway up and push 25 mm further down than the pins are tall.
+    w->attach_device(1, test::script({{0.5, grip.x + 0.03, grip.y, grip.z, 0}, {0.8, grip.x, grip.y, grip.z, 0}, {0.9, grip.x, grip.y, grip.z, 1},
+                                      {1.9, grip.x, grip.y, grip.z - 0.025, 1}, {3.0, grip.x, grip.y, grip.z - 0.025, 1}}));
+    double lowest = 1.0;
+    for (int step = 0; step < 25; ++step) {
+        clock.run_for_us(100'000);
+        lowest = std::min(lowest, points(*w)[0].z);
+    }
+    const auto& kenzan = *w->sim.single<Kenzan>();
+    EXPECT_GE(lowest, kenzan.origin_m.z - 1e-4) << "the stem's end stops on the plate's top";
+    EXPECT_LE(w->sim.get<PinEngagement>(w->flowers[0].entity).depth_m, kenzan.pin_height_m() + 2e-4) << "never deeper than the pins are tall";
+}
+
+TEST(Contact, AContainerHoldsAStemOnItsFloorAndInsideItsWall) {
+    SceneDef scene = scene_with("chrysanthemum", 0);
+    scene.flowers[0].placement = Placement::lying;
+    scene.flowers[0].base_m = {-0.06, 0.02, 0.06};
+    scene.flowers[0].direction = {1, 0, 0};
+    scene.flowers[0].length_m = 0.16; // shorter than the suiban is wide
+    ContainerDef box;
+    box.shape = ContainerShape::round;
+    box.width_m = box.front_to_back_m = 0.24;
+    box.depth_m = 0.05;
+    box.water_depth_m = 0.04;
+    scene.container = box;
+    scene.kenzan_position_m = {0.05, 0.05, 0.006 + 0.008};
+    auto w = make(scene);
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(3'000'000);
+    const auto& c = *w->sim.single<Container>();
+    const double radius = 0.0025;
+    for (const auto& p : points(*w)) {
+        EXPECT_GE(p.z, c.floor_z_m + radius - 1e-4) << "on the container's floor, not on the table through it";
+        EXPECT_LE(glm::length(glm::dvec2(p) - c.centre_m), c.half_extent_m.x - radius + 1e-4) << "inside the wall";
+    }
+    // Just outside the wall, low down, a point is pushed out; inside, in.
+    const Table table{0.0, 0.6};
+    EXPECT_DOUBLE_EQ(systems::support_floor_m(&table, &c, nullptr, {0.0, 0.0}, radius, std::nullopt), c.floor_z_m + radius);
+    EXPECT_DOUBLE_EQ(systems::support_floor_m(&table, &c, nullptr, {0.3, 0.0}, radius, std::nullopt), radius);
+}
+
+TEST(OneHand, ATurnedDeviceTiltsTheHeldStemAboutTheGrip) {
+    auto w = make(scene_with("sunflower", 0));
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(500'000);
+    const glm::dvec3 grip = points(*w)[10];
+    // Grab halfway up, lift it out of the pins, then turn the device 40 degrees about y (toward +x) and back.
+    std::ostringstream csv;
+    csv << "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n";
+    const auto key = [&](double t, double dz, double ry, int b) {
+        csv << t << "," << grip.x << "," << grip.y << "," << grip.z + dz << ",0," << ry << ",0," << b << "\n";
+    };
+    key(0.5, 0.0, 0.0, 0);
+    key(0.6, 0.0, 0.0, 1);
+    key(1.4, 0.05, 0.0, 1);
+    key(2.4, 0.05, 40 * deg, 1);
+    key(3.4, 0.05, 40 * deg, 1);
+    auto keys = devices::parse_trajectory(csv.str(), "turn");
+    ASSERT_TRUE(keys);
+    w->attach_device(1, std::make_unique<devices::ScriptedDevice>(std::move(keys).value(), devices::ScriptedDevice::Mode::interpolate));
+    clock.run_for_us(900'000);
+    ASSERT_FALSE(test::hand_view(*w, 1).held.is_null());
+    const double before = tilt_of(points(*w));
+    clock.run_for_us(2'000'000);
+    const auto& x = points(*w);
+    const glm::dvec3 axis = glm::normalize(x[12] - x[8]);
+    EXPECT_LT(before, 5 * deg) << "lifted upright";
+    EXPECT_NEAR(std::acos(axis.z), 40 * deg, 5 * deg) << "the grip turned the stem with the device";
+    EXPECT_GT(axis.x, 0.0) << "a turn about y tips the top toward +x";
+    const auto hand = test::hand_view(*w, 1);
+    EXPECT_LT(glm::length(x[hand.held_point] - hand.proxy_m), 0.012) << "about the grip: the held point stays in the hand";
+}
