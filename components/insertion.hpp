@@ -107,7 +107,7 @@ enum class FallReason : std::uint8_t {
     none,
     tipped,    // tipped more than the fall angle from where it was released
     lies_flat, // its line from bottom to top is within the lying angle of level: it lies, it does not stand
-    dropped,   // its top sank below a fraction of the height it had when released
+    dropped,   // its top is hardly higher than its bottom (a tenth of its length): it hangs over
 };
 
 // The words the HUD and the summary use for it.
@@ -115,7 +115,7 @@ inline const char* fall_words(FallReason reason) {
     switch (reason) {
     case FallReason::tipped: return "tipped over";
     case FallReason::lies_flat: return "lies flat";
-    case FallReason::dropped: return "its top sank below half its height";
+    case FallReason::dropped: return "it hangs over, its top hardly above its bottom";
     case FallReason::none: break;
     }
     return "";

@@ -14,6 +14,12 @@ double angle_between(glm::dvec3 a, glm::dvec3 b) {
     return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
 }
 
+double stem_length(const std::vector<glm::dvec3>& x) {
+    double length = 0.0;
+    for (std::size_t i = 1; i < x.size(); ++i) length += glm::length(x[i] - x[i - 1]);
+    return length;
+}
+
 // Rotates `from` towards `to` so that the angle between them becomes `angle` (<= current).
 glm::dvec3 rotate_towards(glm::dvec3 from, glm::dvec3 to, double angle) {
     const glm::dvec3 axis = glm::cross(to, from);
@@ -67,7 +73,7 @@ void KenzanGripSystem::operator()(sched::SystemContext& ctx) {
                 const double height = x.back().z - x[0].z;
                 if (angle_between(axis, glm::dvec3{0.0, 0.0, 1.0}) >= lying_angle_rad) grip.fall_reason = FallReason::lies_flat;
                 else if (angle_between(grip.entry_axis, axis) > fall_angle_rad) grip.fall_reason = FallReason::tipped;
-                else if (grip.release_height_m > 0.0 && height < dropped_fraction * grip.release_height_m) grip.fall_reason = FallReason::dropped;
+                else if (height < dropped_fraction * stem_length(x)) grip.fall_reason = FallReason::dropped;
                 if (grip.fall_reason != FallReason::none) {
                     grip.fallen = true;
                     grip.fell_at_us = ctx.time_us;

@@ -26,10 +26,11 @@ struct KenzanGripSystem {
     // A stem has fallen when it tipped this far from where it was released, ...
     double fall_angle_rad = 0.4363; // 25 degrees
     // ... when its line from bottom to top is this far from the vertical (it lies rather than stands:
-    // a stem pushed in nearly flat has fallen from the start; the lessons' lowest stems lean 75°) ...
-    double lying_angle_rad = 1.396; // 80 degrees
-    // ... or when its top sank below this fraction of its height when released (a stem that bends over).
-    double dropped_fraction = 0.5;
+    // a stem pushed in nearly flat has fallen from the start; the lessons' lowest stems lean 75° ± 10°) ...
+    double lying_angle_rad = 1.4835; // 85 degrees
+    // ... or when its top is no higher above its bottom than this fraction of its length (a stem bent
+    // over by its head, hanging down: its line may still look tilted less than the lying angle).
+    double dropped_fraction = 0.1;
 };
 
 } // namespace ikebana::systems
