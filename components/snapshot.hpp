@@ -43,6 +43,7 @@ struct HandStatus {
     glm::dvec3 force_n; // what it feels (before the device's safety layer)
     glm::dvec3 position_m; // where its cube is
     double edge_m;
+    std::int32_t held_flower = -1; // which of the frame's flowers it holds (-1: none)
 };
 
 struct FrameSnapshot {

@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 #include "engine/assets/files.hpp"
@@ -10,6 +12,8 @@
 #include "game/kenzan/kenzan_layout.hpp"
 #include "game/lesson/form_score.hpp"
 #include "game/lesson/lesson.hpp"
+#include "game/lesson/lesson_demo.hpp"
+#include "game/lesson/lesson_scene.hpp"
 #include "game/scene/scene.hpp"
 
 namespace ikebana::game {
@@ -21,11 +25,6 @@ std::string roles_of(const LessonDef& l) {
     return l.scoring == "sample" ? "against " + l.scene + "'s sample" : roles;
 }
 
-Result<KenzanFootprint> footprint_of(const LessonDef& l) {
-    auto k = load_kenzan(l.kenzan_layout);
-    if (!k) return std::move(k).error();
-    return KenzanFootprint{{(k->columns + 1) * k->pitch_m, (k->rows + 1) * k->pitch_m}, k->base_thickness_m};
-}
 } // namespace
 
 int list_lessons(bool json) {
@@ -137,6 +136,49 @@ int print_model(const std::string& lesson_name) {
     return 0;
 }
 
+int demo_lesson(const std::string& lesson_name, const std::string& json_out) {
+    const std::string who = "ikebana lesson demo: ";
+    if (!json_out.empty() && json_out != "-") {
+        if (auto ok = assets::check_output_path(json_out); !ok) {
+            std::cerr << who << "--json: " << ok.error().message << "\n";
+            return 2;
+        }
+    }
+    const auto lesson = load_lesson(lesson_name);
+    if (!lesson) {
+        std::cerr << who << lesson.error().message << "\n";
+        return 2;
+    }
+    DemoOptions options;
+    const bool tty = isatty(fileno(stderr)) != 0;
+    if (tty) {
+        options.progress = [](std::size_t done, std::size_t of, const std::string& step) {
+            std::fprintf(stderr, "\r\033[K[%zu/%zu] %s", done, of, step.c_str());
+        };
+    }
+    const auto demo = run_lesson_demo(*lesson, options);
+    if (tty) std::fprintf(stderr, "\r\033[K");
+    if (!demo) {
+        std::cerr << who << demo.error().message << "\n";
+        return 2;
+    }
+    if (json_out == "-") {
+        std::printf("%s", demo->score.json().c_str());
+        return 0;
+    }
+    std::printf("%s, demonstrated in %.1f s of simulated time through one hand: %zu steps\n", lesson->title.c_str(), demo->simulated_s, demo->steps.size());
+    for (const auto& step : demo->steps) std::printf("  %5.1f s  %s\n", step.at_s, step.what.c_str());
+    for (const auto& line : demo->score.lines()) std::printf("%s\n", line.c_str());
+    if (!json_out.empty()) {
+        if (auto w = assets::write_text_file(json_out, demo->score.json()); !w) {
+            std::cerr << who << w.error().message << "\n";
+            return 2;
+        }
+        std::printf("every criterion, tip and the measured arrangement in %s\n", json_out.c_str());
+    }
+    return 0;
+}
+
 void add_lesson_command(CLI::App& app, int& exit_code) {
     auto* lesson = app.add_subcommand("lesson", "The school forms a trainee practises (assets/lessons/*.json)");
     lesson->require_subcommand(1);
@@ -154,6 +196,12 @@ void add_lesson_command(CLI::App& app, int& exit_code) {
     auto* model = lesson->add_subcommand("model", "Print the form's model arrangement as JSON (what --arrangement accepts)");
     model->add_option("lesson", *model_of, "Lesson id or file")->required();
     model->callback([model_of, &exit_code] { exit_code = print_model(*model_of); });
+
+    auto demo_args = std::make_shared<std::pair<std::string, std::string>>();
+    auto* demo = lesson->add_subcommand("demo", "The teacher's demonstration: a scripted trainee arranges the form through the hands, cuts and insertions a trainee uses");
+    demo->add_option("lesson", demo_args->first, "Lesson id or file")->required();
+    demo->add_option("--json", demo_args->second, "Also write the result (with the measured arrangement) as JSON here (- : only the JSON)");
+    demo->callback([demo_args, &exit_code] { exit_code = demo_lesson(demo_args->first, demo_args->second); });
 
     struct ScoreArgs {
         std::string lesson, arrangement, json;

@@ -11,6 +11,7 @@ namespace ikebana::game {
 int list_lessons(bool json);
 int check_lesson_files(const std::vector<std::string>& files);
 int print_model(const std::string& lesson);
+int demo_lesson(const std::string& lesson, const std::string& json_out);
 int score_lesson(const std::string& lesson, const std::string& arrangement, const std::string& json_out);
 void add_lesson_command(CLI::App& app, int& exit_code);
 

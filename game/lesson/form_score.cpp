@@ -356,8 +356,24 @@ void assign_roles(const LessonDef& l, Arrangement& a, const KenzanFootprint& k) 
             a.stems[free_stems[i - 1]].role = "supporting";
         }
     }
+    // A role no standing stem plays goes to the fallen stem nearest to it, so that its tips say it fell
+    // rather than that nothing plays it.
+    for (std::size_t r = 0; r < n_roles; ++r) {
+        if (taken[r] || (best_mask & (std::size_t{1} << r))) continue;
+        std::optional<std::size_t> nearest;
+        double least = inf;
+        for (std::size_t i = 0; i < a.stems.size(); ++i) {
+            if (!a.stems[i].role.empty() || a.stems[i].standing) continue;
+            const RoleCost rc = role_cost(l, r, a.stems[i], k);
+            if (rc.allowed && rc.cost < least) {
+                least = rc.cost;
+                nearest = i;
+            }
+        }
+        if (nearest) a.stems[*nearest].role = l.stems[r].role;
+    }
     for (auto& s : a.stems) {
-        if (s.role.empty()) s.role = "supporting"; // fallen stems with no role given
+        if (s.role.empty()) s.role = "supporting"; // fallen stems no role is missing
     }
 }
 
@@ -386,7 +402,7 @@ void score_stem(const LessonDef& l, std::size_t r, const ArrangementStem* s, con
     Criterion region{who, "region_mm", 0.0, 0.0, {}, 0.0, l.region_points, {}};
     const bool present = s && s->standing;
     if (!s || !present) {
-        const std::string why = !s ? fmt("no stem plays %s", who.c_str()) : fmt("%s fell", who.c_str());
+        const std::string why = !s ? "no stem plays it" : "it fell";
         const std::string todo = !s ? fmt("choose a material for it and cut it to %.0f mm above the kenzan", length_target_mm)
                                     : "push it deeper into the pins, or lean it less";
         length.tip = fmt("%s: %s: %s", who.c_str(), why.c_str(), todo.c_str());
@@ -768,8 +784,9 @@ Arrangement model_arrangement(const LessonDef& l, const KenzanFootprint& k) {
             s.role = "supporting";
             s.species = filler;
             s.base_m = {x, -0.5 * k.size_m.y + 0.006};
-            s.length_m = 0.45 * shortest;
-            s.tilt_rad = 70.0 * 3.14159265358979323846 / 180.0;
+            // Short and not too low: a flower's head bends a long low stem over.
+            s.length_m = std::min(0.12, 0.35 * shortest);
+            s.tilt_rad = 55.0 * 3.14159265358979323846 / 180.0;
             s.azimuth_rad = 0.0;
             a.stems.push_back(std::move(s));
         }

@@ -221,6 +221,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     r.set_resource<Contacts>();
     r.set_resource<systems::FrameChannel*>(&w->channel);
     r.set_resource<systems::ViewChannel*>(&w->view);
+    r.set_resource<systems::TraineeChannel*>(&w->trainee);
     w->main.set_resource<systems::FrameChannel*>(&w->channel);
     w->main.set_resource<systems::ReceivedFrames>();
     w->main.set_resource<HudInfo>();

@@ -18,6 +18,7 @@
 #include "engine/sched/schedule.hpp"
 #include "game/scene/scene.hpp"
 #include "game/species/species.hpp"
+#include "systems/haptics/trainee_command_system.hpp"
 #include "systems/haptics/workspace_view_system.hpp"
 #include "systems/presentation/frame_channel.hpp"
 
@@ -46,6 +47,7 @@ public:
     sched::Schedule schedule;
     systems::FrameChannel channel; // simulation -> main thread: what to draw and show
     systems::ViewChannel view;     // main thread -> simulation: where the camera looks
+    systems::TraineeChannel trainee; // main thread (or a scripted trainee) -> simulation: cut the held stem
     std::map<std::string, SpeciesDef> species;
     std::vector<SpawnedFlower> flowers;
     std::array<std::unique_ptr<devices::HapticDevice>, 2> hand_devices;

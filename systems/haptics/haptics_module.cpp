@@ -5,6 +5,7 @@
 #include "systems/haptics/grab_system.hpp"
 #include "systems/haptics/hand_force_system.hpp"
 #include "systems/haptics/hand_input_system.hpp"
+#include "systems/haptics/trainee_command_system.hpp"
 #include "systems/haptics/workspace_view_system.hpp"
 
 namespace ikebana::systems {
@@ -15,7 +16,8 @@ Result<void> install_haptics(sched::Schedule& s, ForceScheme scheme) {
     std::vector<sched::SystemDesc> descs{describe(WorkspaceViewSystem{}),
                                          describe(HandInputSystem{}, {std::string(WorkspaceViewSystem::name)}),
                                          describe(GrabSystem{}, {std::string(HandInputSystem::name)}),
-                                         describe(BendingSystem{}, {std::string(GrabSystem::name)})};
+                                         describe(BendingSystem{}, {std::string(GrabSystem::name)}),
+                                         describe(TraineeCommandSystem{}, {std::string(BendingSystem::name)})};
     if (scheme == ForceScheme::paper) {
         descs.push_back(describe(ForceCheckSystem{}));
         descs.push_back(describe(ForceEstimateSystem{}, {std::string(ForceCheckSystem::name)}));

@@ -15,10 +15,12 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
     auto& frame = (*channel)->buffer.write_buffer();
     frame.sim_time_us = ctx.time_us;
     std::size_t count = 0;
+    std::vector<ecs::Entity> order; // flower entities by their index in the frame
     r.view<const Flower, const StemPoints, const StemRestShape, const FlowerLook>().each(
         [&](ecs::Entity e, const Flower& flower, const StemPoints& points, const StemRestShape& rest, const FlowerLook& look) {
             if (frame.flowers.size() <= count) frame.flowers.emplace_back();
             auto& status = frame.flowers[count++];
+            order.push_back(e);
             status.species = flower.species;
             status.points_m = points.position_m;
             status.diameter_m = rest.diameter_m;
@@ -58,12 +60,16 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
             }
         });
     frame.flowers.resize(count);
-    for (auto& h : frame.hands) h = HandStatus{false, false, 0, false, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.0};
+    for (auto& h : frame.hands) h = HandStatus{false, false, 0, false, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.0, -1};
     r.view<const HandCube, const HandInput, const HandProxy, const HandGrip, const HandForce>().each(
         [&](ecs::Entity, const HandCube& cube, const HandInput& input, const HandProxy& proxy, const HandGrip& grip, const HandForce& force) {
             if (cube.hand < 2) {
+                std::int32_t held = -1;
+                for (std::size_t i = 0; i < order.size(); ++i) {
+                    if (order[i] == grip.held) held = static_cast<std::int32_t>(i);
+                }
                 frame.hands[cube.hand] = HandStatus{true, input.connected, input.disconnects, !grip.held.is_null(), force.force_n,
-                                                    proxy.position_m, cube.edge_m};
+                                                    proxy.position_m, cube.edge_m, held};
             }
         });
     const auto* contacts = r.resource<const Contacts>();

@@ -65,3 +65,8 @@ file(READ ${out}/target.txt kept)
 if(NOT kept STREQUAL "keep")
   message(FATAL_ERROR "--json wrote through a symbolic link")
 endif()
+
+# The demonstration, headless: its steps said, its arrangement scored.
+expect_success("the Ohara demonstration" "subject: cut it to 438 mm (425 above the kenzan, 13 in the pins)" ${IKEBANA} lesson demo ohara_rising_form)
+expect_refusal("a demonstration of free practice" "ikebana lesson demo: free_practice copies its scene's sample; it has no form to demonstrate"
+               ${IKEBANA} lesson demo free_practice)

@@ -10,6 +10,7 @@
 #include "engine/assets/files.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
 #include "game/lesson/form_score.hpp"
+#include "game/lesson/lesson_demo.hpp"
 #include "game/lesson/lesson.hpp"
 #include "game/scene/scene.hpp"
 #include "game/asset_paths.hpp"
@@ -252,7 +253,7 @@ TEST(FormScore, AFallenStemEarnsNothingAndTheTipSaysItFell) {
     for (const auto& c : scored->criteria) {
         if (c.stem == "hikae") {
             EXPECT_EQ(c.points, 0.0) << c.name;
-            EXPECT_NE(c.tip.find("hikae fell"), std::string::npos) << c.tip;
+            EXPECT_EQ(c.tip.rfind("hikae: it fell", 0), 0u) << c.tip;
         }
     }
     const RuleResult* odd = rule(*scored, "odd_main_stems");
@@ -269,7 +270,7 @@ TEST(FormScore, AMissingRoleIsNamedWithTheLengthToCutItTo) {
     const Criterion* length = criterion(*scored, "shin", "length_mm");
     ASSERT_NE(length, nullptr);
     EXPECT_FALSE(length->measured.has_value());
-    EXPECT_EQ(length->tip, "shin: no stem plays shin: choose a material for it and cut it to 435 mm above the kenzan");
+    EXPECT_EQ(length->tip, "shin: no stem plays it: choose a material for it and cut it to 435 mm above the kenzan");
 }
 
 TEST(FormScore, CrossingStemsAndACentredKenzanBreakTheirRules) {
@@ -374,4 +375,27 @@ TEST(FormScore, FreePracticeIsScoredAgainstItsSceneAsTheSampleComparisonDoes) {
     double points = 0.0;
     for (const auto& c : worse.criteria) points += c.points;
     EXPECT_NEAR(points, worse.score, 1e-9) << "the criteria's points add up to the score";
+}
+
+// The teacher's demonstration goes through one hand: grab, cut, turn, push, let go; what the physics
+// leaves is measured and scored. (Not every shipped form reaches 90 yet: see issue 13's note.)
+TEST(LessonDemo, TheOharaDemoStandsSubjectAndObjectThroughTheHandAndScoresThem) {
+    const LessonDef l = lesson("ohara_rising_form");
+    const auto demo = run_lesson_demo(l);
+    ASSERT_TRUE(demo.ok()) << demo.error().message;
+    bool cut = false;
+    for (const auto& step : demo->steps) cut = cut || step.what.find("subject: cut it to 438 mm") != std::string::npos;
+    EXPECT_TRUE(cut) << "the willow was cut to the subject's length through the cutting system";
+    for (const char* role : {"subject", "object"}) {
+        for (const auto& c : demo->score.criteria) {
+            if (c.stem == role) EXPECT_EQ(c.points, c.max_points) << c.tip;
+        }
+    }
+    // The measured arrangement is what `lesson score --arrangement` reads, and scores the same.
+    const auto again = parse_arrangement(demo->score.json(), "demo.json");
+    ASSERT_TRUE(again.ok()) << again.error().message;
+    const auto rescored = score_form(l, *again, footprint(l));
+    ASSERT_TRUE(rescored.ok());
+    EXPECT_NEAR(rescored->score, demo->score.score, 0.5);
+    EXPECT_GE(demo->score.score, 80.0);
 }

@@ -1,0 +1,248 @@
+#include "game/lesson/lesson_demo.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include "components/hand.hpp"
+#include "components/insertion.hpp"
+#include "components/kenzan.hpp"
+#include "components/stem.hpp"
+#include "engine/sched/clocks.hpp"
+#include "game/lesson/lesson_scene.hpp"
+#include "game/world/world.hpp"
+#include "systems/haptics/grab_system.hpp"
+#include "systems/presentation/frame_channel.hpp"
+
+namespace ikebana::game {
+
+using namespace components;
+
+PuppetDevice::PuppetDevice(std::shared_ptr<Pose> pose) : pose_(std::move(pose)) {
+    caps_.name = "the teacher's hand (scripted)";
+    caps_.reports_position = true;
+    caps_.on_timeline = true;
+    caps_.workspace_half_extent_m = glm::dvec3{1.0};
+}
+
+Result<devices::DeviceSample> PuppetDevice::poll(std::int64_t now_us) {
+    devices::DeviceSample s;
+    s.time_us = now_us;
+    s.position = pose_->position_m;
+    s.rotation = pose_->rotation_rad;
+    s.buttons = pose_->buttons;
+    return s;
+}
+
+namespace {
+
+constexpr double hand_speed_m_s = 0.25;
+constexpr double step_s = 0.01;
+
+// Device angles (about x, then y, then z: systems::device_turn's order) for a turn.
+glm::dvec3 device_angles(const glm::dquat& q) {
+    const glm::dmat3 m = glm::mat3_cast(q); // m[column][row]
+    const double y = std::asin(std::clamp(-m[0][2], -1.0, 1.0));
+    const double x = std::atan2(m[1][2], m[2][2]);
+    const double z = std::atan2(m[0][1], m[0][0]);
+    return {x, y, z};
+}
+
+// The turn taking unit vector a onto unit vector b by the shortest way.
+glm::dquat turn_between(glm::dvec3 a, glm::dvec3 b) {
+    const glm::dvec3 axis = glm::cross(a, b);
+    const double s = glm::length(axis);
+    const double c = glm::dot(a, b);
+    if (s < 1e-12) return c > 0 ? glm::dquat{1, 0, 0, 0} : glm::angleAxis(3.14159265358979323846, glm::dvec3{0, 0, 1});
+    return glm::angleAxis(std::atan2(s, c), axis / s);
+}
+
+class Teacher {
+public:
+    Teacher(World& world, std::shared_ptr<PuppetDevice::Pose> pose, sched::DeterministicClock& clock, DemoResult& result, const DemoOptions& options,
+            std::size_t total_steps)
+        : w_(world), pose_(std::move(pose)), clock_(clock), result_(result), options_(options), total_(total_steps) {}
+
+    void say(const std::string& what) {
+        result_.steps.push_back({now_s(), what});
+        if (options_.progress) options_.progress(result_.steps.size(), total_, what);
+    }
+    double now_s() const { return static_cast<double>(clock_.now_us()) * 1e-6; }
+    void wait(double seconds) { clock_.run_for_us(static_cast<std::int64_t>(seconds * 1e6)); }
+
+    void move_to(glm::dvec3 target, double speed = hand_speed_m_s) {
+        const glm::dvec3 from = pose_->position_m;
+        const double distance = glm::length(target - from);
+        const int steps = std::max(1, static_cast<int>(std::ceil(distance / (speed * step_s))));
+        for (int i = 1; i <= steps; ++i) {
+            pose_->position_m = from + (target - from) * (static_cast<double>(i) / steps);
+            wait(step_s);
+        }
+    }
+    void turn_to(glm::dvec3 angles, double seconds) {
+        const glm::dvec3 from = pose_->rotation_rad;
+        const int steps = std::max(1, static_cast<int>(seconds / step_s));
+        for (int i = 1; i <= steps; ++i) {
+            pose_->rotation_rad = from + (angles - from) * (static_cast<double>(i) / steps);
+            wait(step_s);
+        }
+    }
+    void press(bool down) {
+        pose_->buttons = down ? 1u : 0u;
+        wait(0.05);
+    }
+
+    const std::vector<glm::dvec3>& points(ecs::Entity flower) const { return w_.sim.get<StemPoints>(flower).position_m; }
+    glm::dvec3 proxy() const { return w_.sim.get<HandProxy>(w_.hands[1]).position_m; }
+    ecs::Entity held() const { return w_.sim.get<HandGrip>(w_.hands[1]).held; }
+    double length_of(ecs::Entity flower) const {
+        const auto& rest = w_.sim.get<StemRestShape>(flower).segment_length_m;
+        return std::accumulate(rest.begin(), rest.end(), 0.0);
+    }
+
+    // One stem of the model: from the table, cut, turned, into the kenzan at its place, let go.
+    bool place(ecs::Entity flower, const std::string& role, const ArrangementStem& target, const Kenzan& kenzan) {
+        const double in_pins = kenzan.pin_height_m();
+        const double keep = target.length_m + in_pins;
+        const double cut = length_of(flower) - keep;
+        // Take it a little above where its new bottom will be: a hand holds a stem near its base to push it in.
+        const double grip_from_new_bottom = std::min(0.06, 0.3 * keep);
+        // On the stem as it lies (a branch's curve lifts it off the line between its ends).
+        const auto& lying = points(flower);
+        double to_go = std::max(0.0, cut) + grip_from_new_bottom;
+        glm::dvec3 grip_at = lying.back();
+        for (std::size_t i = 1; i < lying.size(); ++i) {
+            const double segment = glm::length(lying[i] - lying[i - 1]);
+            if (to_go <= segment) {
+                grip_at = lying[i - 1] + (lying[i] - lying[i - 1]) * (to_go / segment);
+                break;
+            }
+            to_go -= segment;
+        }
+        say(role + ": take the " + target.species + " from the table");
+        move_to(grip_at + glm::dvec3{0, 0, 0.06});
+        move_to(grip_at);
+        press(true);
+        if (held() != flower) {
+            say(role + ": missed the " + target.species);
+            press(false);
+            return false;
+        }
+        move_to(pose_->position_m + glm::dvec3{0, 0, 0.22});
+        if (cut > 0.001) {
+            char what[160];
+            std::snprintf(what, sizeof what, "%s: cut it to %.0f mm (%.0f above the kenzan, %.0f in the pins)", role.c_str(), keep * 1e3, target.length_m * 1e3,
+                          in_pins * 1e3);
+            say(what);
+            w_.trainee.push({systems::TraineeCommand::Kind::cut, 1, keep});
+            wait(0.3);
+        }
+        // Turn it: first the held stem's own direction onto the role's, then correct by what it shows
+        // (a head bends a stem, a branch has its curve).
+        const glm::dvec3 want = lesson_direction(target.tilt_rad, target.azimuth_rad);
+        char what[160];
+        std::snprintf(what, sizeof what, "%s: tilt it %.0f° toward the %s", role.c_str(), target.tilt_rad * 180 / 3.14159265358979323846,
+                      direction_words(target.azimuth_rad).c_str());
+        say(what);
+        glm::dquat turn = systems::device_turn(pose_->rotation_rad, 0.0);
+        for (int round = 0; round < 4; ++round) {
+            const auto& x = points(flower);
+            const glm::dvec3 now = glm::normalize(x.back() - x.front());
+            turn = turn_between(now, want) * turn;
+            turn_to(device_angles(turn), round == 0 ? 1.5 : 0.5);
+            wait(0.4);
+        }
+        // Over its place, just above the pins; then straight down into them.
+        const glm::dvec3 base = glm::dvec3(kenzan.origin_m) + glm::dvec3(target.base_m, 0.0);
+        say(role + ": over its place in the kenzan");
+        for (int round = 0; round < 3; ++round) {
+            const glm::dvec3 bottom = points(flower).front();
+            const glm::dvec3 goal = base + glm::dvec3{0, 0, in_pins + 0.008};
+            move_to(pose_->position_m + (goal - bottom), 0.15);
+            wait(0.2);
+        }
+        say(role + ": push it into the pins");
+        const double down = points(flower).front().z - (kenzan.origin_m.z + 0.0005);
+        move_to(pose_->position_m - glm::dvec3{0, 0, down}, 0.03);
+        wait(0.3);
+        say(role + ": let go");
+        press(false);
+        // Away sideways from the stem, then up.
+        const glm::dvec3 side = glm::normalize(glm::cross(want, glm::dvec3{0, 0, 1}) + glm::dvec3{1e-9, 0, 0});
+        move_to(pose_->position_m + side * 0.04, 0.1);
+        move_to(pose_->position_m + glm::dvec3{0, 0, 0.1}, 0.2);
+        wait(1.0);
+        // What the physics made of it, said as the HUD would.
+        const auto& engagement = w_.sim.get<PinEngagement>(flower);
+        const auto& grip = w_.sim.get<KenzanGrip>(flower);
+        const auto& x = points(flower);
+        const glm::dvec3 bottom = x.front() - glm::dvec3(kenzan.origin_m);
+        const double tilt = std::acos(std::clamp(glm::normalize(x.back() - x.front()).z, -1.0, 1.0)) * 180 / 3.14159265358979323846;
+        if (grip.fallen) std::snprintf(what, sizeof what, "%s: FELL: %s", role.c_str(), fall_words(grip.fall_reason));
+        else if (engagement.in_kenzan) std::snprintf(what, sizeof what, "%s: stands in the kenzan, %.0f mm deep in %zu pins, %.0f° from vertical", role.c_str(), engagement.depth_m * 1e3, engagement.pins.size(), tilt);
+        else std::snprintf(what, sizeof what, "%s: not in the pins: its bottom is at [%.0f, %.0f, %.0f] mm from the kenzan's centre", role.c_str(), bottom.x * 1e3, bottom.y * 1e3, bottom.z * 1e3);
+        say(what);
+        return engagement.in_kenzan && !grip.fallen;
+    }
+
+private:
+    World& w_;
+    std::shared_ptr<PuppetDevice::Pose> pose_;
+    sched::DeterministicClock& clock_;
+    DemoResult& result_;
+    const DemoOptions& options_;
+    std::size_t total_;
+};
+
+} // namespace
+
+Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& options) {
+    if (lesson.scoring != "form") return make_error(ErrorCode::invalid_argument, lesson.id + " copies its scene's sample; it has no form to demonstrate");
+    auto scene = scene_for_lesson(lesson);
+    if (!scene) return std::move(scene).error();
+    const auto footprint = footprint_of(lesson);
+    if (!footprint) return std::move(footprint).error();
+    auto world = World::create(*scene);
+    if (!world) return std::move(world).error();
+    World& w = **world;
+    auto pose = std::make_shared<PuppetDevice::Pose>();
+    pose->position_m = w.sim.get<HandProxy>(w.hands[1]).position_m;
+    w.attach_device(1, std::make_unique<PuppetDevice>(pose));
+    sched::DeterministicClock clock(w.schedule);
+    DemoResult result;
+    const Arrangement model = model_arrangement(lesson, *footprint);
+    Teacher teacher(w, pose, clock, result, options, model.stems.size() * 6 + 1);
+    teacher.wait(0.5); // the materials settle on the table
+    const Kenzan kenzan = *w.sim.single<Kenzan>();
+    std::vector<bool> used(w.flowers.size(), false);
+    for (const auto& target : model.stems) {
+        // The shortest unused material of the species that is long enough.
+        std::optional<std::size_t> pick;
+        for (std::size_t i = 0; i < w.flowers.size(); ++i) {
+            if (used[i] || w.flowers[i].species != target.species) continue;
+            if (teacher.length_of(w.flowers[i].entity) < target.length_m + kenzan.pin_height_m()) continue;
+            if (!pick || teacher.length_of(w.flowers[i].entity) < teacher.length_of(w.flowers[*pick].entity)) pick = i;
+        }
+        if (!pick) {
+            teacher.say(target.role + ": no " + target.species + " long enough is left on the table");
+            continue;
+        }
+        used[*pick] = true;
+        teacher.place(w.flowers[*pick].entity, target.role, target, kenzan);
+    }
+    teacher.say("done: let the arrangement settle");
+    teacher.wait(2.0);
+    // What the simulation shows, measured as the app and `sim` see it.
+    const auto& frame = w.main.resource<const systems::ReceivedFrames>()->latest();
+    Arrangement measured = measure_arrangement(frame);
+    auto scored = score_form(lesson, measured, *footprint, "demo");
+    if (!scored) return std::move(scored).error();
+    result.score = std::move(scored).value();
+    result.simulated_s = teacher.now_s();
+    return result;
+}
+
+} // namespace ikebana::game

@@ -1,0 +1,57 @@
+#pragma once
+// The teacher's demonstration: a scripted trainee arranges the lesson's model form through the same
+// hands, grips, cuts and insertions a trainee uses. It holds one hand's device (a puppet the script
+// moves between simulation steps), picks each material off the table, cuts it to length, turns it to
+// the role's tilt and direction, pushes it into the kenzan where the role enters it and lets go; then
+// the arrangement is measured from the simulation and scored. Nothing places a stem: where the
+// physics leaves one is what is scored.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/core/result.hpp"
+#include "engine/devices/haptic_device.hpp"
+#include "game/lesson/form_score.hpp"
+#include "game/lesson/lesson.hpp"
+
+namespace ikebana::game {
+
+class World;
+
+struct DemoStep {
+    double at_s;       // simulated time the step began
+    std::string what;  // "shin: grab the willow_branch", ...
+};
+
+struct DemoResult {
+    FormScore score;
+    std::vector<DemoStep> steps;
+    double simulated_s = 0.0;
+};
+
+struct DemoOptions {
+    std::string record_dir;                                     // the hand's device samples, for `replay:` (empty: none)
+    std::function<void(std::size_t done, std::size_t of, const std::string& step)> progress; // each step, as it starts
+};
+
+// A device whose pose a script sets between simulation steps (the demo's hand).
+class PuppetDevice final : public devices::HapticDevice {
+public:
+    struct Pose {
+        glm::dvec3 position_m{0.0};
+        glm::dvec3 rotation_rad{0.0};
+        std::uint32_t buttons = 0;
+    };
+    explicit PuppetDevice(std::shared_ptr<Pose> pose);
+    const devices::DeviceCapabilities& capabilities() const override { return caps_; }
+    Result<devices::DeviceSample> poll(std::int64_t now_us) override;
+    Result<void> send_force(glm::dvec3) override { return {}; }
+
+private:
+    std::shared_ptr<Pose> pose_;
+    devices::DeviceCapabilities caps_;
+};
+
+Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& options = {});
+
+} // namespace ikebana::game

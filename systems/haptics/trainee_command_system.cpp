@@ -1,0 +1,29 @@
+#include "systems/haptics/trainee_command_system.hpp"
+
+#include <numeric>
+
+#include "engine/ecs/registry.hpp"
+
+namespace ikebana::systems {
+
+using namespace components;
+
+void TraineeCommandSystem::operator()(sched::SystemContext& ctx) {
+    auto& r = ctx.registry;
+    auto* const* channel = r.resource<TraineeChannel* const>();
+    if (!channel || !*channel) return;
+    for (const auto& command : (*channel)->take()) {
+        r.view<const HandCube, const HandGrip>().each([&](ecs::Entity, const HandCube& cube, const HandGrip& grip) {
+            if (cube.hand != command.hand || grip.held.is_null()) return;
+            const auto* rest = r.try_get<const StemRestShape>(grip.held);
+            if (!rest) return;
+            const double length = std::accumulate(rest->segment_length_m.begin(), rest->segment_length_m.end(), 0.0);
+            // Only shorter: a cut cannot lengthen a stem (the cutting system refuses what leaves too little).
+            if (command.kind == TraineeCommand::Kind::cut && command.keep_length_m > 0.0 && command.keep_length_m < length) {
+                r.commands().emplace<CutRequest>(grip.held, CutRequest{length - command.keep_length_m});
+            }
+        });
+    }
+}
+
+} // namespace ikebana::systems
