@@ -147,11 +147,17 @@ public:
         std::snprintf(what, sizeof what, "%s: tilt it %.0f° toward the %s", role.c_str(), target.tilt_rad * 180 / 3.14159265358979323846,
                       direction_words(target.azimuth_rad).c_str());
         say(what);
-        glm::dquat turn = systems::device_turn(pose_->rotation_rad, 0.0);
+        // A branch's curve, which lay bowing up on the table, is turned to hang down: a curve held any
+        // other way rolls down under its own weight once let go (a stem has no stiffness against
+        // twisting in the model), so that is where it settles. The stem's axis lay along +x, its curve
+        // rising toward +z: x goes to the role's direction, z to straight down across it.
+        glm::dvec3 down = glm::dvec3{0, 0, -1} - glm::dot(glm::dvec3{0, 0, -1}, want) * want;
+        down = glm::length(down) > 1e-6 ? glm::normalize(down) : glm::dvec3{0, -1, 0};
+        glm::dquat turn = glm::quat_cast(glm::dmat3(want, glm::cross(down, want), down));
         for (int round = 0; round < 4; ++round) {
             const auto& x = points(flower);
             const glm::dvec3 now = glm::normalize(x.back() - x.front());
-            turn = turn_between(now, want) * turn;
+            if (round > 0) turn = turn_between(now, want) * turn;
             turn_to(device_angles(turn), round == 0 ? 1.5 : 0.5);
             wait(0.4);
         }
@@ -165,9 +171,19 @@ public:
             wait(0.2);
         }
         say(role + ": push it into the pins");
-        const double down = points(flower).front().z - (kenzan.origin_m.z + 0.0005);
-        move_to(pose_->position_m - glm::dvec3{0, 0, down}, 0.03);
-        wait(0.3);
+        // Until its end's lowest edge is a hair above the plate: pushed further, the hand would bend the
+        // stem against the plate, and it would spring when let go.
+        const double radius = 0.5 * w_.sim.get<StemRestShape>(flower).diameter_m;
+        for (int round = 0; round < 3; ++round) {
+            const auto& x = points(flower);
+            const glm::dvec3 axis = glm::normalize(x[1] - x[0]);
+            const double edge_drop = radius * std::sqrt(std::max(0.0, 1.0 - axis.z * axis.z));
+            const double down = x.front().z - edge_drop - (kenzan.origin_m.z + 0.0003);
+            if (down < 0.0005) break;
+            move_to(pose_->position_m - glm::dvec3{0, 0, down}, 0.03);
+            wait(0.2);
+        }
+        wait(1.0);
         say(role + ": let go");
         press(false);
         // Away sideways from the stem, then up.

@@ -129,7 +129,14 @@ void stem_forces(const StemPoints& points, const StemRestShape& rest, const Stem
         const glm::dvec3 e_out = d_out / l_out;
         const Bend bend = bend_between(e_in, e_out);
         if (!bend.has_plane) continue; // straight: zero torque at theta0 = 0, undefined plane otherwise
-        const double torque = springs.hinge_nm_per_rad[i - 1] * (bend.angle - rest.hinge_angle_rad[i - 1]);
+        double torque = springs.hinge_nm_per_rad[i - 1] * (bend.angle - rest.hinge_angle_rad[i - 1]);
+        // A naturally bent hinge (a branch's curve) pulled nearly straight: its plane, the direction of
+        // the torque, turns arbitrarily as the angle goes to zero, while the torque toward the rest bend
+        // stays large. Pushed in a new direction each step, the stem gained energy until it flew (a
+        // cherry branch held at 45 degrees with its curve down). Below half its rest angle the torque
+        // fades with the angle, to none when straight, where the plane is undefined.
+        const double rest_angle = rest.hinge_angle_rad[i - 1];
+        if (rest_angle > 0.0 && bend.angle < 0.5 * rest_angle) torque *= bend.angle / (0.5 * rest_angle);
         const glm::dvec3 f_prev = torque * glm::cross(bend.normal, -e_in) / l_in;
         const glm::dvec3 f_next = -torque * glm::cross(bend.normal, e_out) / l_out;
         f[i - 1] += f_prev;

@@ -86,9 +86,11 @@ void TableSupportSystem::operator()(sched::SystemContext& ctx) {
     const auto* settings = reg.resource<const PhysicsSettings>();
     const double g = settings ? std::abs(settings->gravity_m_s2.z) : 9.80665;
     const double friction = table ? table->friction : 0.6;
-    reg.view<StemPoints, const StemRestShape>().each([&](ecs::Entity, StemPoints& points, const StemRestShape& rest) {
+    reg.view<StemPoints, const StemRestShape>().each([&](ecs::Entity e, StemPoints& points, const StemRestShape& rest) {
         const double radius = 0.5 * rest.diameter_m;
+        const auto* clamp = reg.try_get<const StemClamp>(e);
         for (std::size_t i = 0; i < points.position_m.size(); ++i) {
+            if (points.pinned[i] != 0 || (i == 0 && clamp && clamp->engaged)) continue;
             auto& x = points.position_m[i];
             auto& v = points.velocity_m_s[i];
             if (!std::isfinite(x.x + x.y + x.z)) continue; // the physics' own guard deals with it

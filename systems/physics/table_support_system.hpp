@@ -1,4 +1,8 @@
 #pragma once
+// Points something else holds are left to it: a hand's (pinned) and the bottom the kenzan's clamp
+// holds where it entered (moving it here would fight the clamp: lifting the bottom tilts the first
+// segment, which lifts the floor under the end's edge, which lifts the bottom... and the stem gains
+// energy until it flies).
 // Keeps stem points out of the rigid things they rest on: the table, the kenzan's base plate and a
 // container's floor and wall. A point that ends a step inside one is put back on its surface, loses
 // its velocity into it, and (on a floor) slides with Coulomb friction. A position correction after the
@@ -20,7 +24,7 @@ struct TableSupportSystem {
     static constexpr std::string_view phase = "constraints";
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::Table, components::Container, components::Kenzan, components::StemRestShape,
-                                    components::PhysicsSettings>;
+                                    components::StemClamp, components::PhysicsSettings>;
     using writes = sched::Components<components::StemPoints>;
 
     void operator()(sched::SystemContext& ctx);

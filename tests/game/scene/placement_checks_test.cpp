@@ -169,8 +169,13 @@ TEST(Summary, AHapticRateTooLowForAStemIsNamedAndItsRunawayEnergyWarned) {
     EXPECT_NE(warnings[1].find("the sunflower's stiffness needs"), std::string::npos) << warnings[1];
     sched::DeterministicClock clock((*world)->schedule);
     clock.run_for_us(3'000'000);
-    const auto summary = summarize(**world);
+    auto summary = summarize(**world);
+    // The branch's energy once ran away at 1 Hz: its natural curve's hinges, pulled straight, pushed
+    // in a plane that turned every step. With that torque fading near straight it stays bounded...
+    EXPECT_LT(summary.flower_states[1].elastic_j, summary.flower_states[1].elastic_ceiling_j) << "the implicit step holds even at 1 Hz";
+    EXPECT_EQ(format_summary(summary, 3.0).find("warning: cherry_branch's springs hold"), std::string::npos);
+    // ... and should a stem's energy run away, the summary says so.
+    summary.flower_states[1].elastic_j = 2.0 * summary.flower_states[1].elastic_ceiling_j;
     const auto text = format_summary(summary, 3.0);
-    EXPECT_GT(summary.flower_states[1].elastic_j, summary.flower_states[1].elastic_ceiling_j) << "at 1 Hz the branch's energy runs away";
     EXPECT_NE(text.find("warning: cherry_branch's springs hold"), std::string::npos) << text;
 }
