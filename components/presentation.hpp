@@ -15,6 +15,7 @@ namespace ikebana::components {
 struct HudInfo {
     std::array<std::string, 2> device{"", ""};
     std::vector<std::string> result;
+    std::vector<std::string> lesson; // the lesson's keys and what the held stem is doing against its role
 };
 
 // Drawn every frame beside the world, fixed for the session: the scene's sample arrangement.

@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
     app.add_option("--env", environment, "Environment covariate for extended species in the app, name=value (repeatable)");
     std::string app_scene = (ikebana::game::asset_dir() / "scenes" / "default.json").string();
     app.add_option("--scene", app_scene, "The scene the app opens")->capture_default_str();
+    app.add_option("--lesson", app_options.lesson, "Open a lesson (see `ikebana lesson list`): its container, materials and form; Enter scores against the form");
     app.add_option("--rate", app_options.rates, "Change a rate in the app, e.g. --rate render=60 (haptic, position_estimate, position_check, render)");
     ikebana::game::add_sim_command(app, exit_code);
     ikebana::game::add_species_command(app, exit_code);

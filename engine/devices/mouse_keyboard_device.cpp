@@ -36,7 +36,16 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
     if (now.switch_hand && !tab_was_down_) active_ ^= 1u;
     tab_was_down_ = now.switch_hand;
     // A right-button drag turns the camera; the hand stays where it is meanwhile.
-    if (started_ && !now.orbit_button) {
+    if (started_ && !now.orbit_button && now.tilt_modifier) {
+        // Ctrl: the hand stays, the held stem turns about the grip (right: its top to the right; up:
+        // its top away from the viewer; the wheel: about the vertical).
+        const glm::dvec2 moved = now.cursor_px - last_.cursor_px;
+        glm::dvec3& r = rotation_[active_];
+        r.y += moved.x / now.window_px.x * config_.tilt_per_window_rad;
+        r.x -= moved.y / now.window_px.y * config_.tilt_per_window_rad;
+        r.z += (now.scroll - last_.scroll) * config_.turn_per_scroll_rad;
+        r = glm::clamp(r, glm::dvec3{-6.0}, glm::dvec3{6.0});
+    } else if (started_ && !now.orbit_button) {
         const glm::dvec2 moved = now.cursor_px - last_.cursor_px;
         const double mx = moved.x / now.window_px.x * config_.workspace_width_m;
         const double my = -moved.y / now.window_px.y * config_.workspace_height_m; // screen y grows downwards
@@ -45,7 +54,7 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
         if (now.depth_modifier) p.y += my;
         else p.z += my;
         p.y += (now.scroll - last_.scroll) * config_.depth_per_scroll_m;
-        p = glm::clamp(p, glm::dvec3{-0.15, -0.15, 0.0}, glm::dvec3{0.15, 0.15, 0.3});
+        p = glm::clamp(p, config_.reach_min_m, config_.reach_max_m);
     }
     buttons_[active_] = now.grab_button ? 1u : 0u;
     last_ = now;
@@ -57,6 +66,7 @@ DeviceSample MouseKeyboardHands::sample(std::uint8_t which, std::int64_t now_us)
     s.time_us = now_us;
     s.position = position_[which & 1u];
     s.buttons = buttons_[which & 1u];
+    s.rotation = rotation_[which & 1u];
     return s;
 }
 

@@ -18,6 +18,11 @@ public:
         double workspace_width_m = 0.30;  // the window's width spans this much (device space)
         double workspace_height_m = 0.25;
         double depth_per_scroll_m = 0.01;
+        // Where the hands may go (device space): a table's reach by default; a lesson's is larger.
+        glm::dvec3 reach_min_m{-0.15, -0.15, 0.0};
+        glm::dvec3 reach_max_m{0.15, 0.15, 0.3};
+        double tilt_per_window_rad = 3.14159265358979323846; // Ctrl-drag across the whole window: half a turn
+        double turn_per_scroll_rad = 0.1;
     };
     explicit MouseKeyboardHands(platform::PointerSource& source) : MouseKeyboardHands(source, Config{}) {}
     MouseKeyboardHands(platform::PointerSource& source, Config config);
@@ -25,6 +30,8 @@ public:
     // A device for hand 0 or 1; both share this object (which must outlive them).
     [[nodiscard]] std::unique_ptr<HapticDevice> hand(std::uint8_t which);
     [[nodiscard]] std::uint8_t active_hand() const noexcept { return active_; }
+    // Where a hand starts (a scene's hands, near what they are to pick up). Before the session runs.
+    void place(std::uint8_t which, glm::dvec3 position_m) { position_[which & 1u] = position_m; }
 
     // Reads the pointer once per tick, however many hands poll.
     void update(std::int64_t now_us);
@@ -40,6 +47,7 @@ private:
     platform::PointerState last_{};
     std::array<glm::dvec3, 2> position_{glm::dvec3{-0.06, 0.0, 0.12}, glm::dvec3{0.06, 0.0, 0.12}};
     std::array<std::uint32_t, 2> buttons_{0, 0};
+    std::array<glm::dvec3, 2> rotation_{glm::dvec3{0.0}, glm::dvec3{0.0}}; // (about x, y, z), as devices report it
 };
 
 } // namespace ikebana::devices

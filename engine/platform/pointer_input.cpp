@@ -32,6 +32,10 @@ PointerState GlfwPointerSource::read() {
     s.arrows = {key(GLFW_KEY_RIGHT) - key(GLFW_KEY_LEFT), key(GLFW_KEY_UP) - key(GLFW_KEY_DOWN)};
     s.finish_key = key(GLFW_KEY_ENTER) > 0.0 || key(GLFW_KEY_KP_ENTER) > 0.0;
     s.quit_key = key(GLFW_KEY_ESCAPE) > 0.0;
+    s.tilt_modifier = key(GLFW_KEY_LEFT_CONTROL) > 0.0 || key(GLFW_KEY_RIGHT_CONTROL) > 0.0;
+    s.cut_key = key(GLFW_KEY_C) > 0.0;
+    s.ghost_key = key(GLFW_KEY_G) > 0.0;
+    s.reset_key = key(GLFW_KEY_R) > 0.0;
     return s;
 }
 

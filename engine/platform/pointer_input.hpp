@@ -24,6 +24,12 @@ struct PointerState {
     glm::dvec2 arrows{0.0};     // x: right minus left, y: up minus down (each -1, 0 or 1)
     bool finish_key = false;    // Enter
     bool quit_key = false;      // Escape
+    // Lessons: Ctrl held, mouse motion tilts the held stem instead of moving the hand (left-right
+    // tilts it left-right, up-down toward or away from the viewer; the wheel turns it about the vertical).
+    bool tilt_modifier = false;  // Ctrl
+    bool cut_key = false;        // C: cut the held stem to the length its role wants
+    bool ghost_key = false;      // G: show or hide the form's targets over the kenzan
+    bool reset_key = false;      // R: start the lesson again
 };
 
 class PointerSource {

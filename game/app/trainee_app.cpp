@@ -33,6 +33,9 @@
 #include "game/world/summary.hpp"
 #include "game/world/world.hpp"
 #include "game/devices/force_watchdogs.hpp"
+#include "game/lesson/form_score.hpp"
+#include "game/lesson/lesson.hpp"
+#include "game/lesson/lesson_scene.hpp"
 #include "systems/presentation/receive_frame_system.hpp"
 
 namespace ikebana::game {
@@ -81,7 +84,7 @@ struct WindowInputSystem {
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "render"; // frames at the scheduler's render rate (30 Hz by default)
     using reads = sched::Components<systems::ReceivedFrames>;
-    using writes = sched::Components<components::HudInfo>;
+    using writes = sched::Components<components::HudInfo, components::Scenery>;
     std::function<void(sched::SystemContext&)> body;
     void operator()(sched::SystemContext& ctx) { body(ctx); }
 };
@@ -108,6 +111,7 @@ public:
     int open();
     [[nodiscard]] bool is_open() const noexcept { return world_ != nullptr; }
     int run_and_finish();
+    int run_once();
 
 private:
     struct SurfaceGuard {
@@ -121,12 +125,19 @@ private:
         }
     };
     void input(sched::SystemContext& main_lane);
+    void lesson_keys(const platform::PointerState& in, sched::SystemContext& main_lane);
+    int build_world();
     void draw(sched::SystemContext& main_lane);
     void fail(const std::string& message, int exit_code);
     void print_frame_times() const;
 
     const TraineeAppOptions& o_;
     std::optional<SceneDef> scene_;
+    std::optional<LessonDef> lesson_;
+    KenzanFootprint footprint_;
+    bool ghosts_ = false, cut_was_down_ = false, ghost_was_down_ = false, reset_was_down_ = false;
+    std::atomic<bool> restart_{false};
+    render::DrawList sample_scenery_;
     std::array<std::unique_ptr<devices::HapticDevice>, 2> picked_;
     std::array<std::string, 2> device_names_;
     std::unique_ptr<platform::Window> window_;
@@ -164,6 +175,16 @@ void TraineeSession::fail(const std::string& message, int exit_code) {
 
 int TraineeSession::open() {
     auto scene = load_scene(o_.scene);
+    if (!o_.lesson.empty()) {
+        auto lesson = load_lesson(o_.lesson);
+        if (!lesson) {
+            std::cerr << "ikebana: --lesson: " << lesson.error().message << "\n";
+            return 2;
+        }
+        lesson_ = std::move(lesson).value();
+        scene = scene_for_lesson(*lesson_);
+        if (auto f = footprint_of(*lesson_); f) footprint_ = *f;
+    }
     if (!scene) {
         std::cerr << "ikebana: " << scene.error().message << "\n";
         return 2;
@@ -242,9 +263,39 @@ int TraineeSession::open() {
     renderer_ = std::move(renderer).value();
     window_pointer_ = std::make_unique<platform::GlfwPointerSource>(window_->glfw());
     pointer_ = o_.pointer ? o_.pointer : window_pointer_.get();
-    mouse_ = std::make_unique<devices::MouseKeyboardHands>(shared_pointer_);
+    devices::MouseKeyboardHands::Config mouse_config;
+    if (lesson_) {
+        // A lesson's table: the materials in front of the container, the tallest stem's height above it.
+        mouse_config.workspace_width_m = 0.7;
+        mouse_config.workspace_height_m = 0.6;
+        mouse_config.reach_min_m = {-0.45, -0.5, 0.0};
+        mouse_config.reach_max_m = {0.45, 0.4, 0.6};
+    }
+    mouse_ = std::make_unique<devices::MouseKeyboardHands>(shared_pointer_, mouse_config);
+    for (const auto& h : scene_->hands) mouse_->place(h.hand, h.position_m); // the mouse's hands start where the scene puts them
     base_rig_ = rig_of(scene_->display);
 
+    if (const int code = build_world(); code != 0) return code;
+    std::printf("ikebana: %s on %s (%s); arrows or right-drag orbit the camera, Tab switches hands, Esc ends\n",
+                render::stereo_mode_name(mode_), ctx_->device_name().c_str(), renderer_->multiview() ? "multiview" : "one pass per eye");
+    std::fflush(stdout);
+    return 0;
+}
+
+// The world of the session, built at the start and again when the trainee starts the lesson over
+// (R): the same scene, the devices the hands had (their safety layer with them), the hands where the
+// scene puts them.
+int TraineeSession::build_world() {
+    std::array<std::unique_ptr<devices::HapticDevice>, 2> kept;
+    if (world_) {
+        for (std::uint8_t hand = 0; hand < 2; ++hand) {
+            if (device_names_[hand] != "mouse and keyboard") kept[hand] = std::move(world_->hand_devices[hand]);
+        }
+        world_.reset();
+        for (const auto& h : scene_->hands) mouse_->place(h.hand, h.position_m);
+    } else {
+        for (std::uint8_t hand = 0; hand < 2; ++hand) kept[hand] = std::move(picked_[hand]);
+    }
     WindowInputSystem input_system;
     input_system.body = [this](sched::SystemContext& c) { input(c); };
     WindowDrawSystem draw_system;
@@ -258,12 +309,11 @@ int TraineeSession::open() {
     }
     world_ = std::move(world).value();
     for (const auto& warning : stability_warnings(*world_)) std::cerr << "ikebana: " << warning << "\n";
-    for (std::uint8_t hand = 0; hand < 2; ++hand) world_->attach_device(hand, picked_[hand] ? std::move(picked_[hand]) : mouse_->hand(hand));
+    for (std::uint8_t hand = 0; hand < 2; ++hand) world_->attach_device(hand, kept[hand] ? std::move(kept[hand]) : mouse_->hand(hand));
     world_->main.resource<components::HudInfo>()->device = device_names_;
     kenzan_at_ = kenzan_origin(*world_);
-    std::printf("ikebana: %s on %s (%s); arrows or right-drag orbit the camera, Tab switches hands, Esc ends\n",
-                render::stereo_mode_name(mode_), ctx_->device_name().c_str(), renderer_->multiview() ? "multiview" : "one pass per eye");
-    std::fflush(stdout);
+    sample_scenery_ = world_->main.resource<components::Scenery>()->list;
+    ghosts_ = false;
     return 0;
 }
 
@@ -298,15 +348,85 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     pitch_ = std::clamp(pitch_, -0.5, 1.0);
     // "Forward" on the device stays "away from the viewer".
     world_->view.yaw_rad.store(yaw_, std::memory_order_relaxed);
+    if (lesson_) lesson_keys(in, main_lane);
     const bool enter = in.finish_key;
     if ((enter && !enter_was_down_) || (o_.finish_at_frame > 0 && presented_ + 1 == o_.finish_at_frame)) {
         const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
         auto& hud = *main_lane.registry.resource<components::HudInfo>();
-        const auto result = score_arrangement(arranged_stems(latest), scene_->sample, kenzan_at_);
-        hud.result = scene_->sample.empty() ? std::vector<std::string>{"RESULT: free practice (this scene has no sample)"} : result.lines();
+        if (lesson_ && lesson_->scoring == "form") {
+            // The form's score, criterion by criterion, of what stands in the kenzan now.
+            const auto result = score_form(*lesson_, measure_arrangement(latest), footprint_);
+            hud.result = result ? result->lines() : std::vector<std::string>{"RESULT: " + result.error().message};
+        } else {
+            const auto result = score_arrangement(arranged_stems(latest), scene_->sample, kenzan_at_);
+            hud.result = scene_->sample.empty() ? std::vector<std::string>{"RESULT: free practice (this scene has no sample)"} : result.lines();
+        }
         for (const auto& line : hud.result) std::printf("%s\n", line.c_str());
     }
     enter_was_down_ = enter;
+}
+
+// Words into lines of at most `width` characters (a longer word stands alone).
+std::vector<std::string> wrap_words(const std::string& text, std::size_t width) {
+    std::vector<std::string> lines;
+    std::string line, word;
+    const auto flush_word = [&] {
+        if (word.empty()) return;
+        if (!line.empty() && line.size() + 1 + word.size() > width) {
+            lines.push_back(line);
+            line = "  ";
+        }
+        line += (line.empty() || line == "  " ? "" : " ") + word;
+        word.clear();
+    };
+    for (const char ch : text) {
+        if (ch == ' ') flush_word();
+        else word += ch;
+    }
+    flush_word();
+    if (!line.empty()) lines.push_back(line);
+    return lines;
+}
+
+// A lesson's keys (C cuts the held stem for its role, G shows the form's targets, R starts over) and
+// what the HUD says about the stem in the hand.
+void TraineeSession::lesson_keys(const platform::PointerState& in, sched::SystemContext& main_lane) {
+    const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
+    auto& hud = *main_lane.registry.resource<components::HudInfo>();
+    const std::uint8_t hand = mouse_->active_hand();
+    hud.lesson.clear();
+    // Short lines: in side by side each eye's panel is half the window wide.
+    const auto say = [&](const std::string& text) {
+        for (const auto& line : wrap_words(text, 56)) hud.lesson.push_back(line);
+    };
+    say(lesson_->school + ": " + lesson_->title);
+    say(std::string("Mouse: ") + (hand ? "right" : "left") + " hand (Tab: other). Left button: hold. Shift or wheel: depth. Ctrl+drag: tilt. "
+                                                         "C: cut for its role. G: targets. R: start again. Enter: score.");
+    HeldStemAdvice advice;
+    if (lesson_->scoring == "form") advice = advise_held_stem(*lesson_, footprint_, latest, hand);
+    for (const auto& line : advice.lines) say("> " + line);
+    if (in.cut_key && !cut_was_down_ && advice.keep_length_m > 0.0) {
+        world_->trainee.push({systems::TraineeCommand::Kind::cut, hand, advice.keep_length_m});
+        std::printf("ikebana: cut for %s to %.0f mm\n", advice.role.c_str(), advice.keep_length_m * 1e3);
+    }
+    cut_was_down_ = in.cut_key;
+    if (in.ghost_key && !ghost_was_down_ && lesson_->scoring == "form") {
+        ghosts_ = !ghosts_;
+        auto& scenery = *main_lane.registry.resource<components::Scenery>();
+        scenery.list = sample_scenery_;
+        if (ghosts_) add_form_ghosts(scenery.list, *lesson_, footprint_, kenzan_at_);
+    }
+    ghost_was_down_ = in.ghost_key;
+    if (ghosts_) {
+        std::string legend = "  targets (G):";
+        for (std::size_t i = 0; i < lesson_->stems.size(); ++i) legend += " " + lesson_->stems[i].role + " " + ghost_colour_name(i);
+        hud.lesson.push_back(legend);
+    }
+    if (in.reset_key && !reset_was_down_) {
+        restart_.store(true);
+        stop_.store(true);
+    }
+    reset_was_down_ = in.reset_key;
 }
 
 // Presents what the prepare phase made of this frame.
@@ -353,6 +473,17 @@ void TraineeSession::print_frame_times() const {
 }
 
 int TraineeSession::run_and_finish() {
+    for (;;) {
+        const int code = run_once();
+        if (!restart_.exchange(false) || code_ != 0) return code;
+        // R: the lesson again from the start, in the same window.
+        stop_.store(false);
+        if (const int built = build_world(); built != 0) return built;
+        std::printf("ikebana: started over\n");
+    }
+}
+
+int TraineeSession::run_once() {
     World& w = *world_;
     // The hands' first reading is the pointer as it is now, not an empty state (that would look like
     // a jump of the cursor from the corner).

@@ -20,6 +20,7 @@ namespace ikebana::game {
 
 struct TraineeAppOptions {
     std::string scene;
+    std::string lesson; // a lesson id or file: its scene, its keys, and Enter scores against its form
     std::string left_device = "auto";
     std::string right_device = "auto";
     std::vector<std::string> env;

@@ -58,8 +58,8 @@ Result<SceneDef> scene_for_lesson(const LessonDef& l) {
     double tallest = 0.0;
     for (std::size_t i = 0; i < l.stems.size(); ++i) tallest = std::max(tallest, nominal_length_m(l, i));
     const double height = std::max(0.3, tallest + rim);
-    s.display.camera_target_m = glm::dvec3{0.0, front * 0.5, 0.4 * height};
-    s.display.camera_position_m = glm::dvec3{0.0, front - 1.3 * height, 0.9 * height};
+    s.display.camera_target_m = glm::dvec3{0.0, front - 0.05, 0.3 * height};
+    s.display.camera_position_m = glm::dvec3{0.0, front - 0.05 - 1.5 * height, 0.95 * height};
     s.display.screen_distance_m = glm::length(*s.display.camera_position_m - *s.display.camera_target_m);
     s.rates_hz = {{"haptic", 1000}, {"position_estimate", 100}, {"position_check", 16}, {"render", 30}};
     return s;
@@ -105,6 +105,113 @@ Arrangement measure_arrangement(const components::FrameSnapshot& frame) {
         a.stems.push_back(std::move(s));
     }
     return a;
+}
+
+} // namespace ikebana::game
+
+namespace ikebana::game {
+
+HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footprint, const components::FrameSnapshot& frame, std::size_t hand) {
+    HeldStemAdvice advice;
+    if (hand >= 2 || !frame.kenzan || l.scoring != "form") return advice;
+    const auto& h = frame.hands[hand];
+    if (h.held_flower < 0 || static_cast<std::size_t>(h.held_flower) >= frame.flowers.size()) return advice;
+    const auto& f = frame.flowers[static_cast<std::size_t>(h.held_flower)];
+    const auto& x = f.points_m;
+    if (x.size() < 2) return advice;
+    double length = 0.0;
+    for (std::size_t i = 1; i < x.size(); ++i) length += glm::length(x[i] - x[i - 1]);
+    const glm::dvec3 chord = x.back() - x.front();
+    const double tilt = std::acos(std::clamp(glm::normalize(chord).z, -1.0, 1.0));
+    const double azimuth = std::atan2(-chord.x, -chord.y);
+    constexpr double deg = 180.0 / 3.14159265358979323846;
+    char text[240];
+    std::snprintf(text, sizeof text, "holding a %s: %.0f mm long, %.0f° from vertical toward the %s", f.species.c_str(), length * 1e3, tilt * deg,
+                  direction_words(azimuth).c_str());
+    advice.lines.emplace_back(text);
+    // The roles already played by standing stems, as the score assigns them.
+    const auto placed = score_form(l, measure_arrangement(frame), footprint);
+    std::vector<std::string> played;
+    if (placed) {
+        for (const auto& s : placed->arrangement.stems) {
+            if (s.standing && s.role != "supporting") played.push_back(s.role);
+        }
+    }
+    for (std::size_t r = 0; r < l.stems.size(); ++r) {
+        const auto& m = l.stems[r];
+        if (std::find(played.begin(), played.end(), m.role) != played.end()) continue;
+        if (!m.species.empty() && std::find(m.species.begin(), m.species.end(), f.species) == m.species.end()) continue;
+        // The length: of the container, or of the stem that plays the role it follows, as it stands.
+        double base = m.length_of.kind == LengthBase::Kind::container_height ? l.container.depth_m : l.container.size_m();
+        if (m.length_of.kind == LengthBase::Kind::role) {
+            base = nominal_length_m(l, m.length_of.role);
+            if (placed) {
+                for (const auto& s : placed->arrangement.stems) {
+                    if (s.standing && s.role == l.stems[m.length_of.role].role) base = s.length_m;
+                }
+            }
+        }
+        const double target = base * m.length_ratio.target;
+        const double pins = frame.kenzan->pin_height_m();
+        advice.role = m.role;
+        advice.keep_length_m = target + pins;
+        std::string lean = m.azimuth_rad ? " toward the " + direction_words(m.azimuth_rad->target) : "";
+        if (length > advice.keep_length_m + 0.002) {
+            std::snprintf(text, sizeof text, "for %s: C cuts it to %.0f mm (%.0f above the kenzan, %.0f in the pins); then Ctrl+drag to tilt it %.0f°%s",
+                          m.role.c_str(), advice.keep_length_m * 1e3, target * 1e3, pins * 1e3, m.tilt_rad.target * deg, lean.c_str());
+        } else {
+            std::snprintf(text, sizeof text, "for %s (%.0f mm above the kenzan): tilt it %.0f° ±%.0f°%s (Ctrl+drag), put it in %s of the kenzan", m.role.c_str(),
+                          target * 1e3, m.tilt_rad.target * deg, m.tilt_rad.tolerance * deg, lean.c_str(), region_words(m.region).c_str());
+        }
+        advice.lines.emplace_back(text);
+        return advice;
+    }
+    advice.lines.emplace_back("every role this species may play stands already: it can support (jushi), shorter than " +
+                              (l.supporting.shorter_than_role ? l.stems[*l.supporting.shorter_than_role].role : std::string("the main stems")));
+    return advice;
+}
+
+} // namespace ikebana::game
+
+namespace ikebana::game {
+
+namespace {
+struct GhostColour {
+    const char* name;
+    glm::vec3 rgb;
+};
+constexpr GhostColour ghost_colours[] = {{"red", {0.85f, 0.15f, 0.12f}},   {"green", {0.1f, 0.6f, 0.2f}},   {"blue", {0.15f, 0.3f, 0.85f}},
+                                         {"orange", {0.9f, 0.55f, 0.1f}}, {"purple", {0.55f, 0.2f, 0.7f}}, {"teal", {0.1f, 0.6f, 0.6f}},
+                                         {"brown", {0.5f, 0.3f, 0.15f}},  {"grey", {0.4f, 0.4f, 0.4f}}};
+
+glm::mat4 rod(const glm::dvec3& p, const glm::dvec3& q, double radius) {
+    const glm::dvec3 d = q - p;
+    const glm::dvec3 axis = glm::length(d) > 1e-12 ? glm::normalize(d) : glm::dvec3{0, 0, 1};
+    const glm::dvec3 a = std::abs(axis.x) < 0.9 ? glm::normalize(glm::cross(axis, glm::dvec3{1, 0, 0})) : glm::normalize(glm::cross(axis, glm::dvec3{0, 1, 0}));
+    const glm::dvec3 b = glm::cross(axis, a);
+    return glm::mat4(glm::vec4(glm::vec3(a * radius), 0), glm::vec4(glm::vec3(b * radius), 0), glm::vec4(glm::vec3(d), 0), glm::vec4(glm::vec3(p), 1));
+}
+} // namespace
+
+std::string ghost_colour_name(std::size_t role) { return ghost_colours[role % std::size(ghost_colours)].name; }
+
+void add_form_ghosts(render::DrawList& list, const LessonDef& l, const KenzanFootprint& kenzan, const glm::dvec3& origin) {
+    if (l.scoring != "form") return;
+    const Arrangement model = model_arrangement(l, kenzan);
+    auto& rods = list.batch("cylinder", true).instances;
+    auto& tips = list.batch("cube", true).instances;
+    for (const auto& s : model.stems) {
+        const auto it = std::find_if(l.stems.begin(), l.stems.end(), [&](const MainStemDef& m) { return m.role == s.role; });
+        if (it == l.stems.end()) continue;
+        const auto& colour = ghost_colours[static_cast<std::size_t>(it - l.stems.begin()) % std::size(ghost_colours)];
+        std::vector<glm::dvec3> line{origin + glm::dvec3(s.base_m, 0.0)};
+        if (s.path_m.empty()) line.push_back(line.front() + lesson_direction(s.tilt_rad, s.azimuth_rad) * s.length_m);
+        for (const auto& p : s.path_m) line.push_back(origin + p);
+        for (std::size_t i = 1; i < line.size(); ++i) rods.push_back({rod(line[i - 1], line[i], 0.004), glm::vec4(colour.rgb, 0.4f)});
+        const glm::dvec3 tip = line.back();
+        tips.push_back({glm::mat4(glm::vec4(0.018f, 0, 0, 0), glm::vec4(0, 0.018f, 0, 0), glm::vec4(0, 0, 0.018f, 0), glm::vec4(glm::vec3(tip), 1)),
+                        glm::vec4(colour.rgb, 0.5f)});
+    }
 }
 
 } // namespace ikebana::game

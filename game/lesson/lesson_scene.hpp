@@ -22,3 +22,29 @@ Result<KenzanFootprint> footprint_of(const LessonDef& lesson);
 Arrangement measure_arrangement(const components::FrameSnapshot& frame);
 
 } // namespace ikebana::game
+
+namespace ikebana::game {
+
+// What the trainee is told about the stem a hand holds: which role it is heading for (the first of the
+// form's roles its species may play that no standing stem plays yet), the length to cut it to for that
+// role (its length above the kenzan plus what the pins hold), and its tilt and direction now against
+// the role's.
+struct HeldStemAdvice {
+    std::string role;
+    double keep_length_m = 0.0; // cut to this (0: no role left for it)
+    std::vector<std::string> lines;
+};
+HeldStemAdvice advise_held_stem(const LessonDef& lesson, const KenzanFootprint& kenzan, const components::FrameSnapshot& frame, std::size_t hand);
+
+} // namespace ikebana::game
+
+#include "engine/render/draw_list.hpp"
+
+namespace ikebana::game {
+
+// The form's targets over the kenzan, translucent: each main stem of the model arrangement at its
+// nominal length, tilt and direction from its place, in its role's colour (ghost_colour_name).
+void add_form_ghosts(render::DrawList& list, const LessonDef& lesson, const KenzanFootprint& kenzan, const glm::dvec3& kenzan_origin_m);
+[[nodiscard]] std::string ghost_colour_name(std::size_t role);
+
+} // namespace ikebana::game

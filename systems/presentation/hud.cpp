@@ -12,6 +12,7 @@ std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const
     std::snprintf(text, sizeof text, "IKEBANA  %.1f s   Enter: finish   arrows/right-drag: look around   Tab: other hand   Esc: quit",
                   static_cast<double>(frame.sim_time_us) * 1e-6);
     lines.emplace_back(text);
+    for (const auto& l : info.lesson) lines.push_back(l);
     for (const auto& f : frame.flowers) {
         std::string state;
         if (f.fallen) {
