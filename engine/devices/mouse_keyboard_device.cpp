@@ -36,17 +36,20 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
     if (now.switch_hand && !tab_was_down_) active_ ^= 1u;
     tab_was_down_ = now.switch_hand;
     // A right-button drag turns the camera; the hand stays where it is meanwhile.
+    // The cursor's motion since the last reading (up to where the reader put it back in the middle).
+    // The same reading again (the window reads the mouse once a frame, the hands a thousand times a
+    // second) has not moved; a warp counts once.
+    const bool same_reading = now.cursor_px == last_.cursor_px && now.warped_from_px == last_.warped_from_px;
+    const glm::dvec2 moved = same_reading ? glm::dvec2{0.0} : (now.warped_from_px.x >= 0.0 ? now.warped_from_px : now.cursor_px) - last_.cursor_px;
     if (started_ && !now.orbit_button && now.tilt_modifier) {
         // Ctrl: the hand stays, the held stem turns about the grip (right: its top to the right; up:
         // its top away from the viewer; the wheel: about the vertical).
-        const glm::dvec2 moved = now.cursor_px - last_.cursor_px;
         glm::dvec3& r = rotation_[active_];
         r.y += moved.x / now.window_px.x * config_.tilt_per_window_rad;
         r.x -= moved.y / now.window_px.y * config_.tilt_per_window_rad;
         r.z += (now.scroll - last_.scroll) * config_.turn_per_scroll_rad;
         r = glm::clamp(r, glm::dvec3{-6.0}, glm::dvec3{6.0});
     } else if (started_ && !now.orbit_button) {
-        const glm::dvec2 moved = now.cursor_px - last_.cursor_px;
         const double mx = moved.x / now.window_px.x * config_.workspace_width_m;
         const double my = -moved.y / now.window_px.y * config_.workspace_height_m; // screen y grows downwards
         glm::dvec3& p = position_[active_];

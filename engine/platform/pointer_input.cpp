@@ -5,6 +5,8 @@
 namespace ikebana::platform {
 
 GlfwPointerSource::GlfwPointerSource(GLFWwindow* window) : window_(window) {
+    // A key tapped between two frames' readings still counts once (C, G, R, Enter are taps).
+    glfwSetInputMode(window, GLFW_STICKY_KEYS, GLFW_TRUE);
     glfwSetWindowUserPointer(window_, this);
     glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double y) {
         if (auto* self = static_cast<GlfwPointerSource*>(glfwGetWindowUserPointer(w))) self->scroll_ += y;
@@ -36,6 +38,18 @@ PointerState GlfwPointerSource::read() {
     s.cut_key = key(GLFW_KEY_C) > 0.0;
     s.ghost_key = key(GLFW_KEY_G) > 0.0;
     s.reset_key = key(GLFW_KEY_R) > 0.0;
+    // The hands follow the cursor's motion, and a cursor stops at the window's edge: one that reaches
+    // it (a hand carried far to a side, a long Ctrl+drag) is put back in the middle, its motion up to
+    // the edge still counted (the hand does not jump, and it can go on).
+    const double margin = 24.0;
+    const bool inside = s.cursor_px.x >= 0.0 && s.cursor_px.y >= 0.0 && s.cursor_px.x <= s.window_px.x && s.cursor_px.y <= s.window_px.y;
+    const bool at_edge = s.cursor_px.x < margin || s.cursor_px.y < margin || s.cursor_px.x > s.window_px.x - margin || s.cursor_px.y > s.window_px.y - margin;
+    if (recentre_at_edges_ && inside && at_edge && s.window_px.x > 4 * margin && s.window_px.y > 4 * margin &&
+        glfwGetWindowAttrib(window_, GLFW_FOCUSED) == GLFW_TRUE) {
+        s.warped_from_px = s.cursor_px;
+        s.cursor_px = 0.5 * s.window_px;
+        glfwSetCursorPos(window_, s.cursor_px.x, s.cursor_px.y);
+    }
     return s;
 }
 

@@ -30,6 +30,9 @@ struct PointerState {
     bool cut_key = false;        // C: cut the held stem to the length its role wants
     bool ghost_key = false;      // G: show or hide the form's targets over the kenzan
     bool reset_key = false;      // R: start the lesson again
+    // Set when the reader put the cursor back in the window's middle this reading: where it was then
+    // (the motion up to there still counts); negative when it was not moved.
+    glm::dvec2 warped_from_px{-1.0, -1.0};
 };
 
 class PointerSource {
@@ -42,6 +45,8 @@ public:
 class GlfwPointerSource final : public PointerSource {
 public:
     explicit GlfwPointerSource(GLFWwindow* window);
+    // Lessons reach further than the window is wide: the cursor is put back in the middle at the edges.
+    void recentre_at_edges(bool on) noexcept { recentre_at_edges_ = on; }
     ~GlfwPointerSource() override;
     GlfwPointerSource(const GlfwPointerSource&) = delete;
     GlfwPointerSource& operator=(const GlfwPointerSource&) = delete;
@@ -50,6 +55,7 @@ public:
 private:
     GLFWwindow* window_;
     double scroll_ = 0.0;
+    bool recentre_at_edges_ = false;
 };
 
 // The pointer handed across threads: GLFW may only be read on the main thread, but the hands are read

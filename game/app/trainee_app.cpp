@@ -262,6 +262,7 @@ int TraineeSession::open() {
     }
     renderer_ = std::move(renderer).value();
     window_pointer_ = std::make_unique<platform::GlfwPointerSource>(window_->glfw());
+    window_pointer_->recentre_at_edges(lesson_.has_value());
     pointer_ = o_.pointer ? o_.pointer : window_pointer_.get();
     devices::MouseKeyboardHands::Config mouse_config;
     if (lesson_) {
@@ -272,7 +273,11 @@ int TraineeSession::open() {
         mouse_config.reach_max_m = {0.45, 0.4, 0.6};
     }
     mouse_ = std::make_unique<devices::MouseKeyboardHands>(shared_pointer_, mouse_config);
-    for (const auto& h : scene_->hands) mouse_->place(h.hand, h.position_m); // the mouse's hands start where the scene puts them
+    // In a lesson the mouse's hands start where the lesson puts them, beside the materials. (Scenes
+    // keep the mouse's own start, over the kenzan, which the window tests' gestures are measured from.)
+    if (lesson_) {
+        for (const auto& h : scene_->hands) mouse_->place(h.hand, h.position_m);
+    }
     base_rig_ = rig_of(scene_->display);
 
     if (const int code = build_world(); code != 0) return code;
@@ -280,6 +285,36 @@ int TraineeSession::open() {
                 render::stereo_mode_name(mode_), ctx_->device_name().c_str(), renderer_->multiview() ? "multiview" : "one pass per eye");
     std::fflush(stdout);
     return 0;
+}
+
+// The HUD's font is ASCII: degrees and plus-minus are spelt out there (the terminal keeps them).
+std::string ascii_for_hud(std::string text) {
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"°", " deg"}, {"±", "+-"}, {"×", "x"}}) {
+        for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
+    }
+    return text;
+}
+
+// Words into lines of at most `width` characters (a longer word stands alone).
+std::vector<std::string> wrap_words(const std::string& text, std::size_t width) {
+    std::vector<std::string> lines;
+    std::string line, word;
+    const auto flush_word = [&] {
+        if (word.empty()) return;
+        if (!line.empty() && line.size() + 1 + word.size() > width) {
+            lines.push_back(line);
+            line = "  ";
+        }
+        line += (line.empty() || line == "  " ? "" : " ") + word;
+        word.clear();
+    };
+    for (const char ch : text) {
+        if (ch == ' ') flush_word();
+        else word += ch;
+    }
+    flush_word();
+    if (!line.empty()) lines.push_back(line);
+    return lines;
 }
 
 // The world of the session, built at the start and again when the trainee starts the lesson over
@@ -292,7 +327,9 @@ int TraineeSession::build_world() {
             if (device_names_[hand] != "mouse and keyboard") kept[hand] = std::move(world_->hand_devices[hand]);
         }
         world_.reset();
-        for (const auto& h : scene_->hands) mouse_->place(h.hand, h.position_m);
+        if (lesson_) {
+            for (const auto& h : scene_->hands) mouse_->place(h.hand, h.position_m);
+        }
     } else {
         for (std::uint8_t hand = 0; hand < 2; ++hand) kept[hand] = std::move(picked_[hand]);
     }
@@ -362,30 +399,15 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
             hud.result = scene_->sample.empty() ? std::vector<std::string>{"RESULT: free practice (this scene has no sample)"} : result.lines();
         }
         for (const auto& line : hud.result) std::printf("%s\n", line.c_str());
+        if (lesson_) {
+            std::vector<std::string> shown;
+            for (const auto& line : hud.result) {
+                for (const auto& part : wrap_words(ascii_for_hud(line), 56)) shown.push_back(part);
+            }
+            hud.result = std::move(shown);
+        }
     }
     enter_was_down_ = enter;
-}
-
-// Words into lines of at most `width` characters (a longer word stands alone).
-std::vector<std::string> wrap_words(const std::string& text, std::size_t width) {
-    std::vector<std::string> lines;
-    std::string line, word;
-    const auto flush_word = [&] {
-        if (word.empty()) return;
-        if (!line.empty() && line.size() + 1 + word.size() > width) {
-            lines.push_back(line);
-            line = "  ";
-        }
-        line += (line.empty() || line == "  " ? "" : " ") + word;
-        word.clear();
-    };
-    for (const char ch : text) {
-        if (ch == ' ') flush_word();
-        else word += ch;
-    }
-    flush_word();
-    if (!line.empty()) lines.push_back(line);
-    return lines;
 }
 
 // A lesson's keys (C cuts the held stem for its role, G shows the form's targets, R starts over) and
@@ -397,7 +419,7 @@ void TraineeSession::lesson_keys(const platform::PointerState& in, sched::System
     hud.lesson.clear();
     // Short lines: in side by side each eye's panel is half the window wide.
     const auto say = [&](const std::string& text) {
-        for (const auto& line : wrap_words(text, 56)) hud.lesson.push_back(line);
+        for (const auto& line : wrap_words(ascii_for_hud(text), 56)) hud.lesson.push_back(line);
     };
     say(lesson_->school + ": " + lesson_->title);
     say(std::string("Mouse: ") + (hand ? "right" : "left") + " hand (Tab: other). Left button: hold. Shift or wheel: depth. Ctrl+drag: tilt. "

@@ -207,7 +207,7 @@ void add_form_ghosts(render::DrawList& list, const LessonDef& l, const KenzanFoo
         std::vector<glm::dvec3> line{origin + glm::dvec3(s.base_m, 0.0)};
         if (s.path_m.empty()) line.push_back(line.front() + lesson_direction(s.tilt_rad, s.azimuth_rad) * s.length_m);
         for (const auto& p : s.path_m) line.push_back(origin + p);
-        for (std::size_t i = 1; i < line.size(); ++i) rods.push_back({rod(line[i - 1], line[i], 0.004), glm::vec4(colour.rgb, 0.4f)});
+        for (std::size_t i = 1; i < line.size(); ++i) rods.push_back({rod(line[i - 1], line[i], 0.006), glm::vec4(colour.rgb, 0.55f)});
         const glm::dvec3 tip = line.back();
         tips.push_back({glm::mat4(glm::vec4(0.018f, 0, 0, 0), glm::vec4(0, 0.018f, 0, 0), glm::vec4(0, 0, 0.018f, 0), glm::vec4(glm::vec3(tip), 1)),
                         glm::vec4(colour.rgb, 0.5f)});

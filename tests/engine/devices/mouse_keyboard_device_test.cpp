@@ -116,3 +116,35 @@ TEST(SharedPointer, CrossesThreadsWithoutTearingOrGoingBack) {
     main_thread.join();
     EXPECT_EQ(shared.read().scroll, 20000.0);
 }
+
+TEST(MouseKeyboard, ACursorPutBackInTheMiddleMovesTheHandOnceByWhatItMovedBefore) {
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto right = hands.hand(1);
+    const auto start = right->poll(0)->position;
+    // The cursor reached x = 10 (390 px left) and the window put it back at 400.
+    pointer.state.warped_from_px = {10.0, 300.0};
+    pointer.state.cursor_px = {400.0, 300.0};
+    const double moved = right->poll(1000)->position.x - start.x;
+    EXPECT_NEAR(moved, -390.0 / 800.0 * 0.30, 1e-12);
+    // The hands read the same frame again and again: a warp counts once.
+    for (std::int64_t t = 2000; t < 40'000; t += 1000) EXPECT_NEAR(right->poll(t)->position.x - start.x, moved, 1e-12);
+    // Then it goes on from the middle.
+    pointer.state.warped_from_px = {-1.0, -1.0};
+    pointer.state.cursor_px.x -= 100.0;
+    EXPECT_NEAR(right->poll(50'000)->position.x - start.x, moved - 100.0 / 800.0 * 0.30, 1e-12);
+}
+
+TEST(MouseKeyboard, CtrlDragTurnsTheHandInsteadOfMovingIt) {
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto right = hands.hand(1);
+    const auto start = right->poll(0)->position;
+    pointer.state.tilt_modifier = true;
+    pointer.state.cursor_px.x -= 400.0; // half the window: a quarter turn
+    pointer.state.cursor_px.y -= 300.0; // half its height up: a quarter turn about x, the other way
+    const auto s = *right->poll(1000);
+    EXPECT_EQ(s.position, start) << "the hand stays";
+    EXPECT_NEAR(s.rotation.y, -M_PI / 2, 1e-12);
+    EXPECT_NEAR(s.rotation.x, M_PI / 2, 1e-12);
+}

@@ -11,6 +11,14 @@
 #include "game/kenzan/kenzan_layout.hpp"
 #include "game/lesson/form_score.hpp"
 #include "game/lesson/lesson_demo.hpp"
+#include "game/lesson/lesson_scene.hpp"
+#include "game/world/world.hpp"
+#include "components/hand.hpp"
+#include "components/stem.hpp"
+#include "engine/devices/mouse_keyboard_device.hpp"
+#include "engine/platform/pointer_input.hpp"
+#include "engine/sched/clocks.hpp"
+#include "../haptics/scripted_hands.hpp"
 #include "game/lesson/lesson.hpp"
 #include "game/scene/scene.hpp"
 #include "game/asset_paths.hpp"
@@ -18,6 +26,7 @@
 
 using namespace ikebana;
 using namespace ikebana::game;
+using namespace ikebana::components;
 
 namespace {
 constexpr double deg = 3.14159265358979323846 / 180.0;
@@ -398,4 +407,75 @@ TEST(LessonDemo, TheOharaDemoStandsSubjectAndObjectThroughTheHandAndScoresThem) 
     ASSERT_TRUE(rescored.ok());
     EXPECT_NEAR(rescored->score, demo->score.score, 0.5);
     EXPECT_GE(demo->score.score, 80.0);
+}
+
+namespace {
+struct LessonPointer : platform::PointerSource {
+    platform::PointerState state = [] {
+        platform::PointerState s;
+        s.cursor_px = {600.0, 337.0};
+        s.window_px = {1200.0, 675.0};
+        return s;
+    }();
+    platform::PointerState read() override { return state; }
+};
+} // namespace
+
+// The mouse in a lesson, as the window drives it: take the willow, cut it for shin, Ctrl+drag it
+// upright; the stem turns with the hand.
+TEST(LessonWithTheMouse, CtrlDragTiltsTheHeldStemUpright) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    auto scene = scene_for_lesson(l);
+    ASSERT_TRUE(scene.ok());
+    auto world = World::create(*scene);
+    ASSERT_TRUE(world.ok()) << world.error().message;
+    World& w = **world;
+    LessonPointer pointer;
+    devices::MouseKeyboardHands::Config config;
+    config.workspace_width_m = 0.7;
+    config.workspace_height_m = 0.6;
+    config.reach_min_m = {-0.45, -0.5, 0.0};
+    config.reach_max_m = {0.45, 0.4, 0.6};
+    devices::MouseKeyboardHands mouse(pointer, config);
+    for (const auto& h : scene->hands) mouse.place(h.hand, h.position_m);
+    w.attach_device(0, mouse.hand(0));
+    w.attach_device(1, mouse.hand(1));
+    sched::DeterministicClock clock(w.schedule);
+    const auto willow = w.flowers[0].entity;
+    ASSERT_EQ(w.flowers[0].species, "willow_branch");
+    const auto& x = w.sim.get<StemPoints>(willow).position_m;
+    clock.run_for_us(300'000);
+    // The hand onto the willow, 60 mm from its bottom end, in frame-sized steps.
+    const glm::dvec3 hand = w.sim.get<HandProxy>(w.hands[1]).position_m;
+    const glm::dvec3 target = x.front() + glm::normalize(x.back() - x.front()) * 0.062;
+    auto& s = pointer.state;
+    const auto frames = [&](int n, glm::dvec2 per_frame_px, bool depth) {
+        for (int i = 0; i < n; ++i) {
+            s.cursor_px += per_frame_px;
+            s.depth_modifier = depth;
+            clock.run_for_us(33'333);
+        }
+        s.depth_modifier = false;
+    };
+    const double px_per_m_x = 1200.0 / 0.7, px_per_m_y = 675.0 / 0.6;
+    frames(10, {(target.x - hand.x) * px_per_m_x / 10, 0.0}, false);
+    frames(10, {0.0, -(target.y - hand.y) * px_per_m_y / 10}, true);
+    frames(10, {0.0, -(target.z - hand.z) * px_per_m_y / 10}, false);
+    s.grab_button = true;
+    frames(3, {0, 0}, false);
+    ASSERT_EQ(test::hand_view(w, 1).held, willow) << "one press took it";
+    frames(10, {0.0, -0.2 * px_per_m_y / 10}, false); // lift 200 mm
+    w.trainee.push({systems::TraineeCommand::Kind::cut, 1, 0.448});
+    frames(3, {0, 0}, false);
+    double length = 0.0;
+    for (const double l_m : w.sim.get<StemRestShape>(willow).segment_length_m) length += l_m;
+    EXPECT_NEAR(length, 0.448, 1e-6) << "cut for shin";
+    const double lying = std::acos(glm::normalize(x.back() - x.front()).z);
+    s.tilt_modifier = true;
+    frames(20, {-30.0, 0.0}, false); // 600 px left: a quarter turn, its top up
+    s.tilt_modifier = false;
+    frames(30, {0, 0}, false);
+    const double now = std::acos(glm::normalize(x.back() - x.front()).z);
+    EXPECT_GT(lying, 75 * deg);
+    EXPECT_LT(now, 25 * deg) << "Ctrl+drag stood it up";
 }
