@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include <unistd.h>
 
@@ -26,6 +27,40 @@ std::string roles_of(const LessonDef& l) {
 }
 
 } // namespace
+
+// What score and demo share: the output checked before any work, the lesson loaded; then the result
+// said on the terminal and, with --json, written (or only printed, with --json -).
+std::optional<LessonDef> lesson_for(const std::string& who, const std::string& lesson_name, const std::string& json_out) {
+    if (!json_out.empty() && json_out != "-") {
+        if (auto ok = assets::check_output_path(json_out); !ok) {
+            std::cerr << who << "--json: " << ok.error().message << "\n";
+            return std::nullopt;
+        }
+    }
+    auto lesson = load_lesson(lesson_name);
+    if (!lesson) {
+        std::cerr << who << lesson.error().message << "\n";
+        return std::nullopt;
+    }
+    return std::move(lesson).value();
+}
+
+int report(const std::string& who, const FormScore& result, const std::string& json_out, const std::vector<std::string>& before) {
+    if (json_out == "-") {
+        std::printf("%s", result.json().c_str());
+        return 0;
+    }
+    for (const auto& line : before) std::printf("%s\n", line.c_str());
+    for (const auto& line : result.lines()) std::printf("%s\n", line.c_str());
+    if (!json_out.empty()) {
+        if (auto w = assets::write_text_file(json_out, result.json()); !w) {
+            std::cerr << who << w.error().message << "\n";
+            return 2;
+        }
+        std::printf("every criterion, tip and the arrangement in %s\n", json_out.c_str());
+    }
+    return 0;
+}
 
 int list_lessons(bool json) {
     auto lessons = load_shipped_lessons();
@@ -65,17 +100,8 @@ int check_lesson_files(const std::vector<std::string>& files) {
 
 int score_lesson(const std::string& lesson_name, const std::string& arrangement_file, const std::string& json_out) {
     const std::string who = "ikebana lesson score: ";
-    if (!json_out.empty() && json_out != "-") {
-        if (auto ok = assets::check_output_path(json_out); !ok) {
-            std::cerr << who << "--json: " << ok.error().message << "\n";
-            return 2;
-        }
-    }
-    const auto lesson = load_lesson(lesson_name);
-    if (!lesson) {
-        std::cerr << who << lesson.error().message << "\n";
-        return 2;
-    }
+    const auto lesson = lesson_for(who, lesson_name, json_out);
+    if (!lesson) return 2;
     const auto arrangement = load_arrangement(arrangement_file);
     if (!arrangement) {
         std::cerr << who << arrangement.error().message << "\n";
@@ -102,19 +128,7 @@ int score_lesson(const std::string& lesson_name, const std::string& arrangement_
         }
         result = std::move(scored).value();
     }
-    if (json_out == "-") {
-        std::printf("%s", result.json().c_str());
-        return 0;
-    }
-    for (const auto& line : result.lines()) std::printf("%s\n", line.c_str());
-    if (!json_out.empty()) {
-        if (auto w = assets::write_text_file(json_out, result.json()); !w) {
-            std::cerr << who << w.error().message << "\n";
-            return 2;
-        }
-        std::printf("every criterion, tip and the arrangement in %s\n", json_out.c_str());
-    }
-    return 0;
+    return report(who, result, json_out, {});
 }
 
 int print_model(const std::string& lesson_name) {
@@ -138,17 +152,8 @@ int print_model(const std::string& lesson_name) {
 
 int demo_lesson(const std::string& lesson_name, const std::string& json_out) {
     const std::string who = "ikebana lesson demo: ";
-    if (!json_out.empty() && json_out != "-") {
-        if (auto ok = assets::check_output_path(json_out); !ok) {
-            std::cerr << who << "--json: " << ok.error().message << "\n";
-            return 2;
-        }
-    }
-    const auto lesson = load_lesson(lesson_name);
-    if (!lesson) {
-        std::cerr << who << lesson.error().message << "\n";
-        return 2;
-    }
+    const auto lesson = lesson_for(who, lesson_name, json_out);
+    if (!lesson) return 2;
     DemoOptions options;
     const bool tty = isatty(fileno(stderr)) != 0;
     if (tty) {
@@ -162,21 +167,16 @@ int demo_lesson(const std::string& lesson_name, const std::string& json_out) {
         std::cerr << who << demo.error().message << "\n";
         return 2;
     }
-    if (json_out == "-") {
-        std::printf("%s", demo->score.json().c_str());
-        return 0;
+    char heading[200];
+    std::snprintf(heading, sizeof heading, "%s, demonstrated in %.1f s of simulated time through one hand: %zu steps", lesson->title.c_str(), demo->simulated_s,
+                  demo->steps.size());
+    std::vector<std::string> before{heading};
+    for (const auto& step : demo->steps) {
+        char line[300];
+        std::snprintf(line, sizeof line, "  %5.1f s  %s", step.at_s, step.what.c_str());
+        before.emplace_back(line);
     }
-    std::printf("%s, demonstrated in %.1f s of simulated time through one hand: %zu steps\n", lesson->title.c_str(), demo->simulated_s, demo->steps.size());
-    for (const auto& step : demo->steps) std::printf("  %5.1f s  %s\n", step.at_s, step.what.c_str());
-    for (const auto& line : demo->score.lines()) std::printf("%s\n", line.c_str());
-    if (!json_out.empty()) {
-        if (auto w = assets::write_text_file(json_out, demo->score.json()); !w) {
-            std::cerr << who << w.error().message << "\n";
-            return 2;
-        }
-        std::printf("every criterion, tip and the measured arrangement in %s\n", json_out.c_str());
-    }
-    return 0;
+    return report(who, demo->score, json_out, before);
 }
 
 void add_lesson_command(CLI::App& app, int& exit_code) {

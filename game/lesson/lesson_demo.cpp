@@ -178,9 +178,9 @@ public:
             const auto& x = points(flower);
             const glm::dvec3 axis = glm::normalize(x[1] - x[0]);
             const double edge_drop = radius * std::sqrt(std::max(0.0, 1.0 - axis.z * axis.z));
-            const double down = x.front().z - edge_drop - (kenzan.origin_m.z + 0.0003);
-            if (down < 0.0005) break;
-            move_to(pose_->position_m - glm::dvec3{0, 0, down}, 0.03);
+            const double lower_by = x.front().z - edge_drop - (kenzan.origin_m.z + 0.0003);
+            if (lower_by < 0.0005) break;
+            move_to(pose_->position_m - glm::dvec3{0, 0, lower_by}, 0.03);
             wait(0.2);
         }
         wait(1.0);

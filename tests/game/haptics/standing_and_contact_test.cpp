@@ -55,7 +55,6 @@ TEST(Standing, AStemThatSinksOverIsFellInTheHudAndTheSummaryNeverStands) {
     for (int step = 0; step < 50; ++step) {
         clock.run_for_us(100'000);
         const auto s = summarize(*w);
-        const auto& f = s.flower_states.at(0);
         const auto text = format_summary(s, 0.1 * (step + 1));
         const auto& x = points(*w);
         const bool flat = tilt_of(x) >= 85 * deg || x.back().z - x.front().z < 0.1 * 0.23;

@@ -397,7 +397,9 @@ TEST(LessonDemo, TheOharaDemoStandsSubjectAndObjectThroughTheHandAndScoresThem) 
     EXPECT_TRUE(cut) << "the willow was cut to the subject's length through the cutting system";
     for (const char* role : {"subject", "object"}) {
         for (const auto& c : demo->score.criteria) {
-            if (c.stem == role) EXPECT_EQ(c.points, c.max_points) << c.tip;
+            if (c.stem == role) {
+                EXPECT_EQ(c.points, c.max_points) << c.tip;
+            }
         }
     }
     // The measured arrangement is what `lesson score --arrangement` reads, and scores the same.
