@@ -5,6 +5,7 @@
 // same with 6 sides instead of 12, for thin things by the hundred), "plane"
 // (unit square at z = 0, facing +z); any other name is a glTF file (a missing or broken one is drawn
 // as a placeholder, with a warning naming the file).
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -28,7 +29,9 @@ struct DrawBatch {
 };
 
 struct DrawList {
-    std::vector<DrawBatch> batches;
+    // A deque: a batch's reference stays good while others are added (a vector moved them, and a
+    // container's wall was written through a dangling reference once a cylinder batch was added).
+    std::deque<DrawBatch> batches;
     glm::vec3 light_direction{-0.4f, 0.3f, -1.0f}; // towards which the light shines
     glm::vec3 background{0.93f, 0.92f, 0.88f};
     glm::vec3 shadow_centre{0.0f, 0.0f, 0.1f};     // what the shadow map covers

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "engine/render/stereo_renderer.hpp"
 
@@ -215,4 +216,14 @@ TEST_F(StereoRendererTest, BatchesThatCastNoShadowLeaveNone) {
     };
     EXPECT_GT(brightness(without->composed), brightness(with_shadow->composed) * 1.001) << "no shadow on the plane: brighter";
     EXPECT_EQ(shared_context()->validation_errors(), 0u);
+}
+
+TEST(DrawListTest, ABatchStaysWhereItIsWhileOthersAreAdded) {
+    DrawList list;
+    auto& cubes = list.batch("cube").instances;
+    for (int i = 0; i < 40; ++i) list.batch("mesh" + std::to_string(i), i % 2 == 0);
+    cubes.push_back(cube_at({0.0f, 0.0f, 0.0f}, 1.0f, {1, 1, 1, 1}));
+    EXPECT_EQ(&list.batch("cube").instances, &cubes) << "a reference held across batch() must not dangle";
+    EXPECT_EQ(list.batch("cube").instances.size(), 1u);
+    EXPECT_EQ(list.batches.size(), 41u);
 }
