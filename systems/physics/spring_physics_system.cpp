@@ -12,7 +12,12 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
         [&](ecs::Entity e, components::StemPoints& points, const components::StemRestShape& rest,
             const components::StemSprings& springs, components::StemLoads& loads) {
             const auto* clamp = registry.try_get<const components::StemClamp>(e);
-            if (physics::step_stem(points, rest, springs, clamp, gravity, ctx.dt_s, scratch)) {
+            // A stiff stem's tick in equal parts (see stable_substeps); the others' external forces act
+            // through all of them. The last part's end forces are what a hand feels.
+            const std::size_t parts = physics::stable_substeps(points, rest, springs, clamp, ctx.dt_s);
+            bool finite = true;
+            for (std::size_t part = 0; part < parts && finite; ++part) finite = physics::step_stem(points, rest, springs, clamp, gravity, ctx.dt_s / static_cast<double>(parts), scratch);
+            if (finite) {
                 // The stem's own forces of this step (springs, hinges, clamp, gravity: without what other
                 // systems pushed), for whatever else needs them (a hand that holds the stem): computed once
                 // a tick, here.

@@ -182,6 +182,24 @@ StemEnergy stem_energy(const StemPoints& points, const StemRestShape& rest, cons
     return energy;
 }
 
+std::size_t stable_substeps(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs, const StemClamp* clamp, double dt) {
+    // The diagonal of M^-1 H for the hinges (each pulls its middle point with k (1/l_in + 1/l_out)^2)
+    // bounds the fastest bending mode from below within a factor of about 2: enough to choose a count.
+    double omega_squared = 0.0;
+    const std::size_t count = points.position_m.size();
+    for (std::size_t i = 1; i + 1 < count && i - 1 < springs.hinge_nm_per_rad.size(); ++i) {
+        const double c = 1.0 / rest.segment_length_m[i - 1] + 1.0 / rest.segment_length_m[i];
+        if (points.mass_kg[i] > 0.0) omega_squared = std::max(omega_squared, springs.hinge_nm_per_rad[i - 1] * c * c / points.mass_kg[i]);
+    }
+    if (clamp_active(clamp) && count >= 2 && points.mass_kg[1] > 0.0) {
+        const double c = 1.0 / rest.segment_length_m[0];
+        omega_squared = std::max(omega_squared, clamp->hinge_nm_per_rad * c * c / points.mass_kg[1]);
+    }
+    const double steps = std::ceil(std::sqrt(omega_squared) * dt / max_omega_dt);
+    if (!std::isfinite(steps) || steps <= 1.0) return 1;
+    return std::min(max_substeps, static_cast<std::size_t>(steps));
+}
+
 bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings& springs, const StemClamp* clamp,
                glm::dvec3 gravity, double dt, StemSolverScratch& scratch) {
     auto& x = points.position_m;

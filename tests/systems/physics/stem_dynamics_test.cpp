@@ -178,3 +178,15 @@ TEST(StemDynamics, RandomBoundedInputNeverProducesNaN) {
         EXPECT_LT(farthest, 1.5 * spec.length_m);
     }
 }
+
+TEST(StemDynamics, AStiffBranchsTickIsCutIntoPartsAndASoftStemsIsNot) {
+    const BuiltStem soft = build_stem(sunflower_spec());
+    StemSpec cherry = branch_spec();
+    cherry.diameter_m = 0.008; // the shipped cherry branch: fastest hinge mode about 55,000 rad/s
+    const BuiltStem stiff = build_stem(cherry);
+    EXPECT_EQ(stable_substeps(soft.points, soft.rest, soft.springs, nullptr, dt), 1u);
+    const std::size_t parts = stable_substeps(stiff.points, stiff.rest, stiff.springs, nullptr, dt);
+    EXPECT_GE(parts, 3u);
+    EXPECT_LE(parts, max_substeps);
+    EXPECT_LT(stable_substeps(stiff.points, stiff.rest, stiff.springs, nullptr, dt / 4), parts) << "a shorter tick needs fewer parts";
+}
