@@ -105,7 +105,7 @@ namespace ikebana::components {
 // Why a stem counts as fallen: one definition for the HUD, the `sim` summary and the score.
 enum class FallReason : std::uint8_t {
     none,
-    tipped,    // tipped more than the fall angle from where it was released
+    tipped,    // the pins gave way: its end, or its whole line while they gave, turned past the fall angle
     lies_flat, // its line from bottom to top is within the lying angle of level: it lies, it does not stand
     dropped,   // its top is hardly higher than its bottom (a tenth of its length): it hangs over
 };
@@ -126,7 +126,12 @@ inline const char* fall_words(FallReason reason) {
 // the cap the hinge yields and the stem tips over about the kenzan (Eq. 7 made dynamic).
 struct KenzanGrip {
     bool engaged;
-    glm::dvec3 entry_axis;       // the stem's direction when it was released in the kenzan
+    // Its end's direction in the pins when it was released. Tipped is measured from this to the root
+    // hinge's direction now, which moves only where the pins give way: a flower whose own stem sags
+    // under its head (a hikae at 70 degrees sinks 15 degrees between its end and its top) has not
+    // tipped; if it sinks to level it lies flat.
+    glm::dvec3 entry_axis;
+    glm::dvec3 entry_line;       // its line from bottom to top then
     double holding_moment_nm;    // the cap, from the pins
     bool fallen;                 // see fall_reason
     FallReason fall_reason;

@@ -51,7 +51,8 @@ void KenzanGripSystem::operator()(sched::SystemContext& ctx) {
                 grip.fallen = false;
                 grip.fall_reason = FallReason::none;
                 grip.yielded = false;
-                grip.entry_axis = glm::normalize(x.back() - x[0]);
+                grip.entry_axis = first;
+                grip.entry_line = glm::normalize(x.back() - x[0]);
                 grip.release_height_m = x.back().z - x[0].z;
                 clamp = StemClamp{true, x[0], first, root_stiffness};
             }
@@ -72,7 +73,9 @@ void KenzanGripSystem::operator()(sched::SystemContext& ctx) {
                 const glm::dvec3 axis = glm::normalize(x.back() - x[0]);
                 const double height = x.back().z - x[0].z;
                 if (angle_between(axis, glm::dvec3{0.0, 0.0, 1.0}) >= lying_angle_rad) grip.fall_reason = FallReason::lies_flat;
-                else if (angle_between(grip.entry_axis, axis) > fall_angle_rad) grip.fall_reason = FallReason::tipped;
+                else if (angle_between(grip.entry_axis, clamp.direction) > fall_angle_rad ||
+                         (grip.yielded && angle_between(grip.entry_line, axis) > fall_angle_rad))
+                    grip.fall_reason = FallReason::tipped;
                 else if (height < dropped_fraction * stem_length(x)) grip.fall_reason = FallReason::dropped;
                 if (grip.fall_reason != FallReason::none) {
                     grip.fallen = true;

@@ -23,7 +23,8 @@ struct KenzanGripSystem {
 
     void operator()(sched::SystemContext& ctx);
 
-    // A stem has fallen when it tipped this far from where it was released, ...
+    // A stem has fallen when its end in the pins turned this far from where it was released (the pins
+    // gave way), ...
     double fall_angle_rad = 0.4363; // 25 degrees
     // ... when its line from bottom to top is this far from the vertical (it lies rather than stands:
     // a stem pushed in nearly flat has fallen from the start; the lessons' lowest stems lean 75° ± 10°) ...

@@ -3,6 +3,7 @@
 // and a container's floor and wall.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "components/hand.hpp"
@@ -191,4 +192,20 @@ TEST(Standing, AStemPushedInNearlyFlatHasFallenFromTheStart) {
     clock.run_for_us(2'000);
     EXPECT_TRUE(grip.fallen);
     EXPECT_EQ(grip.fall_reason, FallReason::lies_flat) << "never 'stands, holding 1.4x' for a stem lying flat";
+}
+
+TEST(Standing, AFlowerWhoseStemSagsUnderItsHeadHasNotTipped) {
+    // A chrysanthemum at 65 degrees: its head bends its own stem down, while the pins keep its end
+    // where it went in. Tipped means the pins gave way, measured at the end, not along the bent line.
+    auto w = make(scene_with("chrysanthemum", 65));
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(2'000'000);
+    const auto& grip = w->sim.get<KenzanGrip>(w->flowers[0].entity);
+    const auto& clamp = w->sim.get<StemClamp>(w->flowers[0].entity);
+    const auto& x = points(*w);
+    const double end_turned = std::acos(std::clamp(glm::dot(grip.entry_axis, clamp.direction), -1.0, 1.0));
+    const double line_below_end = tilt_of(x) - std::acos(glm::normalize(x[1] - x[0]).z);
+    EXPECT_GT(line_below_end / deg, 4.0) << "the stem sags between its end and its top";
+    EXPECT_LT(end_turned / deg, 25.0);
+    EXPECT_NE(grip.fall_reason, FallReason::tipped);
 }
