@@ -387,7 +387,8 @@ TEST(FormScore, FreePracticeIsScoredAgainstItsSceneAsTheSampleComparisonDoes) {
 }
 
 // The teacher's demonstration goes through one hand: grab, cut, turn, push, let go; what the physics
-// leaves is measured and scored. (Not every shipped form reaches 90 yet: see issue 13's note.)
+// leaves is measured and scored. (Ikenobo's shoka does not reach 90 yet: its stems would have to be
+// bent to rise as one line above the water; see issue 13's note.)
 TEST(LessonDemo, TheOharaDemoStandsSubjectAndObjectThroughTheHandAndScoresThem) {
     const LessonDef l = lesson("ohara_rising_form");
     const auto demo = run_lesson_demo(l);
@@ -396,11 +397,14 @@ TEST(LessonDemo, TheOharaDemoStandsSubjectAndObjectThroughTheHandAndScoresThem) 
     for (const auto& step : demo->steps) cut = cut || step.what.find("subject: cut it to 438 mm") != std::string::npos;
     EXPECT_TRUE(cut) << "the willow was cut to the subject's length through the cutting system";
     for (const char* role : {"subject", "object"}) {
+        double points = 0.0, max_points = 0.0;
         for (const auto& c : demo->score.criteria) {
-            if (c.stem == role) {
-                EXPECT_EQ(c.points, c.max_points) << c.tip;
-            }
+            if (c.stem != role) continue;
+            points += c.points;
+            max_points += c.max_points;
+            EXPECT_GT(c.points, 0.0) << c.tip;
         }
+        EXPECT_GE(points, 0.9 * max_points) << role;
     }
     // The measured arrangement is what `lesson score --arrangement` reads, and scores the same.
     const auto again = parse_arrangement(demo->score.json(), "demo.json");
@@ -408,7 +412,19 @@ TEST(LessonDemo, TheOharaDemoStandsSubjectAndObjectThroughTheHandAndScoresThem) 
     const auto rescored = score_form(l, *again, footprint(l));
     ASSERT_TRUE(rescored.ok());
     EXPECT_NEAR(rescored->score, demo->score.score, 0.5);
-    EXPECT_GE(demo->score.score, 80.0);
+    EXPECT_GE(demo->score.score, 90.0);
+}
+
+TEST(LessonDemo, TheSogetsuBasicUprightDemoStandsAllThreeAndScoresNinety) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    const auto demo = run_lesson_demo(l);
+    ASSERT_TRUE(demo.ok()) << demo.error().message;
+    std::size_t standing = 0;
+    for (const auto& s : demo->score.arrangement.stems) standing += s.standing ? 1 : 0;
+    EXPECT_EQ(standing, 3u) << "shin (a willow), soe (a cherry branch at 45 degrees) and hikae (a chrysanthemum, low)";
+    std::string why;
+    for (const auto& line : demo->score.lines()) why += line + "\n";
+    EXPECT_GE(demo->score.score, 90.0) << why;
 }
 
 namespace {
