@@ -34,6 +34,7 @@
 #include "game/world/world.hpp"
 #include "game/devices/force_watchdogs.hpp"
 #include "game/lesson/form_score.hpp"
+#include "game/lesson/lesson_controls.hpp"
 #include "game/lesson/lesson.hpp"
 #include "game/lesson/lesson_scene.hpp"
 #include "systems/presentation/receive_frame_system.hpp"
@@ -126,6 +127,7 @@ private:
     };
     void input(sched::SystemContext& main_lane);
     void lesson_keys(const platform::PointerState& in, sched::SystemContext& main_lane);
+    void show_result(const std::vector<std::string>& lines, components::HudInfo& hud) const;
     int build_world();
     void draw(sched::SystemContext& main_lane);
     void fail(const std::string& message, int exit_code);
@@ -135,7 +137,7 @@ private:
     std::optional<SceneDef> scene_;
     std::optional<LessonDef> lesson_;
     KenzanFootprint footprint_;
-    bool ghosts_ = false, cut_was_down_ = false, ghost_was_down_ = false, reset_was_down_ = false;
+    std::optional<LessonControls> controls_; // a lesson's keys, rebuilt with the world
     std::atomic<bool> restart_{false};
     render::DrawList sample_scenery_;
     std::array<std::unique_ptr<devices::HapticDevice>, 2> picked_;
@@ -264,15 +266,7 @@ int TraineeSession::open() {
     window_pointer_ = std::make_unique<platform::GlfwPointerSource>(window_->glfw());
     window_pointer_->recentre_at_edges(lesson_.has_value());
     pointer_ = o_.pointer ? o_.pointer : window_pointer_.get();
-    devices::MouseKeyboardHands::Config mouse_config;
-    if (lesson_) {
-        // A lesson's table: the materials in front of the container, the tallest stem's height above it.
-        mouse_config.workspace_width_m = 0.7;
-        mouse_config.workspace_height_m = 0.6;
-        mouse_config.reach_min_m = {-0.45, -0.5, 0.0};
-        mouse_config.reach_max_m = {0.45, 0.4, 0.6};
-    }
-    mouse_ = std::make_unique<devices::MouseKeyboardHands>(shared_pointer_, mouse_config);
+    mouse_ = std::make_unique<devices::MouseKeyboardHands>(shared_pointer_, lesson_ ? lesson_mouse_config() : devices::MouseKeyboardHands::Config{});
     // In a lesson the mouse's hands start where the lesson puts them, beside the materials. (Scenes
     // keep the mouse's own start, over the kenzan, which the window tests' gestures are measured from.)
     if (lesson_) {
@@ -287,35 +281,6 @@ int TraineeSession::open() {
     return 0;
 }
 
-// The HUD's font is ASCII: degrees and plus-minus are spelt out there (the terminal keeps them).
-std::string ascii_for_hud(std::string text) {
-    for (const auto& [from, to] : {std::pair<std::string, std::string>{"°", " deg"}, {"±", "+-"}, {"×", "x"}}) {
-        for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
-    }
-    return text;
-}
-
-// Words into lines of at most `width` characters (a longer word stands alone).
-std::vector<std::string> wrap_words(const std::string& text, std::size_t width) {
-    std::vector<std::string> lines;
-    std::string line, word;
-    const auto flush_word = [&] {
-        if (word.empty()) return;
-        if (!line.empty() && line.size() + 1 + word.size() > width) {
-            lines.push_back(line);
-            line = "  ";
-        }
-        line += (line.empty() || line == "  " ? "" : " ") + word;
-        word.clear();
-    };
-    for (const char ch : text) {
-        if (ch == ' ') flush_word();
-        else word += ch;
-    }
-    flush_word();
-    if (!line.empty()) lines.push_back(line);
-    return lines;
-}
 
 // The world of the session, built at the start and again when the trainee starts the lesson over
 // (R): the same scene, the devices the hands had (their safety layer with them), the hands where the
@@ -350,7 +315,7 @@ int TraineeSession::build_world() {
     world_->main.resource<components::HudInfo>()->device = device_names_;
     kenzan_at_ = kenzan_origin(*world_);
     sample_scenery_ = world_->main.resource<components::Scenery>()->list;
-    ghosts_ = false;
+    if (lesson_) controls_.emplace(*lesson_, footprint_);
     return 0;
 }
 
@@ -385,70 +350,51 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     pitch_ = std::clamp(pitch_, -0.5, 1.0);
     // "Forward" on the device stays "away from the viewer".
     world_->view.yaw_rad.store(yaw_, std::memory_order_relaxed);
-    if (lesson_) lesson_keys(in, main_lane);
-    const bool enter = in.finish_key;
-    if ((enter && !enter_was_down_) || (o_.finish_at_frame > 0 && presented_ + 1 == o_.finish_at_frame)) {
+    platform::PointerState keys = in;
+    if (o_.finish_at_frame > 0 && presented_ + 1 == o_.finish_at_frame) keys.finish_key = true; // a test's Enter
+    if (lesson_) lesson_keys(keys, main_lane); // a form lesson's Enter is scored there
+    const bool form = lesson_ && lesson_->scoring == "form";
+    if (!form && keys.finish_key && !enter_was_down_) {
         const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
-        auto& hud = *main_lane.registry.resource<components::HudInfo>();
-        if (lesson_ && lesson_->scoring == "form") {
-            // The form's score, criterion by criterion, of what stands in the kenzan now.
-            const auto result = score_form(*lesson_, measure_arrangement(latest), footprint_);
-            hud.result = result ? result->lines() : std::vector<std::string>{"RESULT: " + result.error().message};
-        } else {
-            const auto result = score_arrangement(arranged_stems(latest), scene_->sample, kenzan_at_);
-            hud.result = scene_->sample.empty() ? std::vector<std::string>{"RESULT: free practice (this scene has no sample)"} : result.lines();
-        }
-        for (const auto& line : hud.result) std::printf("%s\n", line.c_str());
-        if (lesson_) {
-            std::vector<std::string> shown;
-            for (const auto& line : hud.result) {
-                for (const auto& part : wrap_words(ascii_for_hud(line), 56)) shown.push_back(part);
-            }
-            hud.result = std::move(shown);
-        }
+        const auto result = score_arrangement(arranged_stems(latest), scene_->sample, kenzan_at_);
+        show_result(scene_->sample.empty() ? std::vector<std::string>{"RESULT: free practice (this scene has no sample)"} : result.lines(),
+                    *main_lane.registry.resource<components::HudInfo>());
     }
-    enter_was_down_ = enter;
+    enter_was_down_ = keys.finish_key;
 }
 
-// A lesson's keys (C cuts the held stem for its role, G shows the form's targets, R starts over) and
-// what the HUD says about the stem in the hand.
+// A result on the terminal and on screen (where a lesson's long tips are wrapped to an eye's half).
+void TraineeSession::show_result(const std::vector<std::string>& lines, components::HudInfo& hud) const {
+    for (const auto& line : lines) std::printf("%s\n", line.c_str());
+    std::fflush(stdout);
+    hud.result.clear();
+    for (const auto& line : lines) {
+        if (!lesson_) {
+            hud.result.push_back(line);
+            continue;
+        }
+        for (auto& part : hud_lines_of(line)) hud.result.push_back(std::move(part));
+    }
+}
+
+// A lesson's keys (LessonControls: the same object a scripted mouse drives) and what the HUD says
+// about the lesson and the stem in the hand.
 void TraineeSession::lesson_keys(const platform::PointerState& in, sched::SystemContext& main_lane) {
     const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
     auto& hud = *main_lane.registry.resource<components::HudInfo>();
-    const std::uint8_t hand = mouse_->active_hand();
-    hud.lesson.clear();
-    // Short lines: in side by side each eye's panel is half the window wide.
-    const auto say = [&](const std::string& text) {
-        for (const auto& line : wrap_words(ascii_for_hud(text), 56)) hud.lesson.push_back(line);
-    };
-    say(lesson_->school + ": " + lesson_->title);
-    say(std::string("Mouse: ") + (hand ? "right" : "left") + " hand (Tab: other). Left button: hold. Shift or wheel: depth. Ctrl+drag: tilt. "
-                                                         "C: cut for its role. G: targets. R: start again. Enter: score.");
-    HeldStemAdvice advice;
-    if (lesson_->scoring == "form") advice = advise_held_stem(*lesson_, footprint_, latest, hand);
-    for (const auto& line : advice.lines) say("> " + line);
-    if (in.cut_key && !cut_was_down_ && advice.keep_length_m > 0.0) {
-        world_->trainee.push({systems::TraineeCommand::Kind::cut, hand, advice.keep_length_m});
-        std::printf("ikebana: cut for %s to %.0f mm\n", advice.role.c_str(), advice.keep_length_m * 1e3);
-    }
-    cut_was_down_ = in.cut_key;
-    if (in.ghost_key && !ghost_was_down_ && lesson_->scoring == "form") {
-        ghosts_ = !ghosts_;
+    const auto effects = controls_->update(in, mouse_->active_hand(), latest, world_->trainee);
+    hud.lesson = controls_->hud_lines();
+    if (!effects.cut_for.empty()) std::printf("ikebana: cut for %s to %.0f mm\n", effects.cut_for.c_str(), effects.cut_to_m * 1e3);
+    if (effects.ghosts_toggled) {
         auto& scenery = *main_lane.registry.resource<components::Scenery>();
         scenery.list = sample_scenery_;
-        if (ghosts_) add_form_ghosts(scenery.list, *lesson_, footprint_, kenzan_at_);
+        if (controls_->ghosts()) add_form_ghosts(scenery.list, *lesson_, footprint_, kenzan_at_);
     }
-    ghost_was_down_ = in.ghost_key;
-    if (ghosts_) {
-        std::string legend = "  targets (G):";
-        for (std::size_t i = 0; i < lesson_->stems.size(); ++i) legend += " " + lesson_->stems[i].role + " " + ghost_colour_name(i);
-        hud.lesson.push_back(legend);
-    }
-    if (in.reset_key && !reset_was_down_) {
+    if (effects.score) show_result(effects.score->ok() ? (*effects.score)->lines() : std::vector<std::string>{"RESULT: " + effects.score->error().message}, hud);
+    if (effects.restart) {
         restart_.store(true);
         stop_.store(true);
     }
-    reset_was_down_ = in.reset_key;
 }
 
 // Presents what the prepare phase made of this frame.

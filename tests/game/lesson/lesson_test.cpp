@@ -10,9 +10,12 @@
 #include "engine/assets/files.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
 #include "game/lesson/form_score.hpp"
+#include "game/lesson/lesson_controls.hpp"
 #include "game/lesson/lesson_demo.hpp"
 #include "game/lesson/lesson_scene.hpp"
 #include "game/world/world.hpp"
+#include "systems/haptics/trainee_command_system.hpp"
+#include "systems/presentation/frame_channel.hpp"
 #include "components/hand.hpp"
 #include "components/stem.hpp"
 #include "engine/devices/mouse_keyboard_device.hpp"
@@ -496,4 +499,88 @@ TEST(LessonWithTheMouse, CtrlDragTiltsTheHeldStemUpright) {
     const double now = std::acos(glm::normalize(x.back() - x.front()).z);
     EXPECT_GT(lying, 75 * deg);
     EXPECT_LT(now, 25 * deg) << "Ctrl+drag stood it up";
+}
+
+// The Sogetsu lesson through the mouse, as the window reads it: the same MouseKeyboardHands and the
+// same lesson keys (C cuts for the role, Enter scores), in whole pixels and wheel clicks, one motion
+// per reading. Not a device: the hand is wherever the mouse took it.
+TEST(LessonWithTheMouse, TheSogetsuBasicUprightLessonScoresNinetyThroughTheMouse) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    DemoOptions options;
+    options.through_mouse = true;
+    const auto session = run_lesson_demo(l, options);
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    std::string steps;
+    for (const auto& s : session->steps) steps += s.what + "\n";
+    for (const char* cut : {"shin: cut it to 448 mm", "soe: cut it to 339 mm", "hikae: cut it to 258 mm"}) EXPECT_NE(steps.find(cut), std::string::npos) << cut;
+    EXPECT_EQ(steps.find("it was cut to"), std::string::npos) << "C cut each to what its role wants:\n" << steps;
+    EXPECT_EQ(steps.find("missed"), std::string::npos) << steps;
+    std::string why;
+    for (const auto& line : session->score.lines()) why += line + "\n";
+    EXPECT_GE(session->score.score, 90.0) << why;
+}
+
+TEST(LessonWithTheMouse, ShinLeftAtFortyFiveLosesPointsOnShinsTiltWithATipNamingShin) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    DemoOptions options;
+    options.through_mouse = true;
+    options.tilt_deg["shin"] = 45.0;
+    const auto session = run_lesson_demo(l, options);
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    EXPECT_LT(session->score.score, 90.0);
+    bool shin_tilt_lost = false;
+    for (const auto& c : session->score.criteria) {
+        if (c.stem == "shin" && c.name == "tilt_deg") {
+            shin_tilt_lost = c.points < 0.5 * c.max_points;
+            EXPECT_NE(c.tip.find("shin"), std::string::npos) << c.tip;
+            ASSERT_TRUE(c.measured.has_value());
+            EXPECT_NEAR(*c.measured, 45.0, 8.0);
+        } else if (c.name == "tilt_deg") {
+            EXPECT_GE(c.points, 0.8 * c.max_points) << c.stem << ": only shin was held wrong; " << c.tip;
+        }
+    }
+    EXPECT_TRUE(shin_tilt_lost);
+}
+
+// The keys the window and the scripted mouse share act once per press: R asks once to start over, G
+// turns the targets on and off, Enter scores, C with nothing in the hand cuts nothing.
+TEST(LessonControls, EachKeyActsOncePerPress) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    auto scene = scene_for_lesson(l);
+    ASSERT_TRUE(scene.ok());
+    auto world = World::create(*scene);
+    ASSERT_TRUE(world.ok());
+    World& w = **world;
+    sched::DeterministicClock clock(w.schedule);
+    clock.run_for_us(100'000);
+    const auto& frame = w.main.resource<const systems::ReceivedFrames>()->latest();
+    LessonControls controls(l, footprint(l));
+    platform::PointerState in;
+    const auto press = [&](bool platform::PointerState::*key) {
+        in.*key = true;
+        const auto down = controls.update(in, 1, frame, w.trainee);
+        const auto held = controls.update(in, 1, frame, w.trainee);
+        in.*key = false;
+        controls.update(in, 1, frame, w.trainee);
+        return std::pair{down, held};
+    };
+    const auto [restart, restart_held] = press(&platform::PointerState::reset_key);
+    EXPECT_TRUE(restart.restart);
+    EXPECT_FALSE(restart_held.restart) << "held down, it does not ask again";
+    EXPECT_FALSE(controls.ghosts());
+    EXPECT_TRUE(press(&platform::PointerState::ghost_key).first.ghosts_toggled);
+    EXPECT_TRUE(controls.ghosts());
+    bool legend = false;
+    for (const auto& line : controls.hud_lines()) legend = legend || line.find("targets (G): shin") != std::string::npos;
+    EXPECT_TRUE(legend);
+    press(&platform::PointerState::ghost_key);
+    EXPECT_FALSE(controls.ghosts());
+    const auto [enter, enter_held] = press(&platform::PointerState::finish_key);
+    ASSERT_TRUE(enter.score.has_value());
+    ASSERT_TRUE(enter.score->ok());
+    EXPECT_LT((*enter.score)->score, 20.0) << "nothing in the kenzan yet: only rules such as the kenzan off centre hold";
+    EXPECT_FALSE(enter_held.score.has_value());
+    EXPECT_TRUE(press(&platform::PointerState::cut_key).first.cut_for.empty()) << "nothing held, nothing cut";
+    EXPECT_TRUE(w.trainee.take().empty());
+    EXPECT_NE(controls.hud_lines().front().find("Sogetsu: Basic Upright Style"), std::string::npos) << controls.hud_lines().front();
 }

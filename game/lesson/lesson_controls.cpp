@@ -1,0 +1,86 @@
+#include "game/lesson/lesson_controls.hpp"
+
+#include <utility>
+
+#include "game/lesson/lesson_scene.hpp"
+#include "systems/haptics/trainee_command_system.hpp"
+
+namespace ikebana::game {
+
+std::string ascii_for_hud(std::string text) {
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"°", " deg"}, {"±", "+-"}, {"×", "x"}}) {
+        for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
+    }
+    return text;
+}
+
+std::vector<std::string> wrap_words(const std::string& text, std::size_t width) {
+    std::vector<std::string> lines;
+    std::string line, word;
+    const auto flush_word = [&] {
+        if (word.empty()) return;
+        if (!line.empty() && line.size() + 1 + word.size() > width) {
+            lines.push_back(line);
+            line = "  ";
+        }
+        line += (line.empty() || line == "  " ? "" : " ") + word;
+        word.clear();
+    };
+    for (const char ch : text) {
+        if (ch == ' ') flush_word();
+        else word += ch;
+    }
+    flush_word();
+    if (!line.empty()) lines.push_back(line);
+    return lines;
+}
+
+std::vector<std::string> hud_lines_of(const std::string& text) { return wrap_words(ascii_for_hud(text), 56); }
+
+devices::MouseKeyboardHands::Config lesson_mouse_config() {
+    devices::MouseKeyboardHands::Config c;
+    c.workspace_width_m = 0.7;
+    c.workspace_height_m = 0.6;
+    c.reach_min_m = {-0.45, -0.5, 0.0};
+    c.reach_max_m = {0.45, 0.4, 0.6};
+    return c;
+}
+
+LessonControls::Effects LessonControls::update(const platform::PointerState& in, std::uint8_t hand, const components::FrameSnapshot& latest,
+                                               systems::TraineeChannel& trainee) {
+    Effects effects;
+    lines_.clear();
+    const auto say = [&](const std::string& text) {
+        for (auto& line : hud_lines_of(text)) lines_.push_back(std::move(line));
+    };
+    say(lesson_.school + ": " + lesson_.title);
+    say(std::string("Mouse: ") + (hand ? "right" : "left") + " hand (Tab: other). Left button: hold. Shift or wheel: depth. Ctrl+drag: tilt. "
+                                                         "C: cut for its role. G: targets. R: start again. Enter: score.");
+    const bool form = lesson_.scoring == "form";
+    HeldStemAdvice advice;
+    if (form) advice = advise_held_stem(lesson_, footprint_, latest, hand);
+    for (const auto& line : advice.lines) say("> " + line);
+    if (in.cut_key && !cut_was_down_ && advice.keep_length_m > 0.0) {
+        trainee.push({systems::TraineeCommand::Kind::cut, hand, advice.keep_length_m});
+        effects.cut_for = advice.role;
+        effects.cut_to_m = advice.keep_length_m;
+    }
+    cut_was_down_ = in.cut_key;
+    if (in.ghost_key && !ghost_was_down_ && form) {
+        ghosts_ = !ghosts_;
+        effects.ghosts_toggled = true;
+    }
+    ghost_was_down_ = in.ghost_key;
+    if (ghosts_) {
+        std::string legend = "  targets (G):";
+        for (std::size_t i = 0; i < lesson_.stems.size(); ++i) legend += " " + lesson_.stems[i].role + " " + ghost_colour_name(i);
+        lines_.push_back(legend);
+    }
+    effects.restart = in.reset_key && !reset_was_down_;
+    reset_was_down_ = in.reset_key;
+    if (in.finish_key && !enter_was_down_ && form) effects.score = score_form(lesson_, measure_arrangement(latest), footprint_);
+    enter_was_down_ = in.finish_key;
+    return effects;
+}
+
+} // namespace ikebana::game

@@ -1,0 +1,61 @@
+#pragma once
+// A lesson's keys, one object for the window and for a scripted mouse: C cuts the held stem to what
+// its role wants (through the trainee channel, the cutting system does the cut), G shows or hides the
+// form's targets, R asks to start over, Enter scores the form. Each reading of the pointer also gives
+// the lines the HUD shows about the lesson and the stem in the hand. Keys act when pressed, not while
+// held.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "components/snapshot.hpp"
+#include "engine/devices/mouse_keyboard_device.hpp"
+#include "engine/platform/pointer_input.hpp"
+#include "game/lesson/form_score.hpp"
+#include "game/lesson/lesson.hpp"
+
+namespace ikebana::systems {
+class TraineeChannel;
+}
+
+namespace ikebana::game {
+
+// The HUD's font is ASCII: degrees, plus-minus and times are spelt out there (a terminal keeps them).
+[[nodiscard]] std::string ascii_for_hud(std::string text);
+// Words into lines of at most `width` characters (a longer word stands alone; later lines indented).
+[[nodiscard]] std::vector<std::string> wrap_words(const std::string& text, std::size_t width);
+// Both, at the width of one eye's half in side by side.
+[[nodiscard]] std::vector<std::string> hud_lines_of(const std::string& text);
+
+// The mouse on a lesson's table: the window's width spans 0.7 m, its height 0.6 m; the hands reach
+// the materials in front of the container and the tallest stem's height above it.
+[[nodiscard]] devices::MouseKeyboardHands::Config lesson_mouse_config();
+
+class LessonControls {
+public:
+    LessonControls(const LessonDef& lesson, KenzanFootprint footprint) : lesson_(lesson), footprint_(footprint) {}
+
+    struct Effects {
+        std::string cut_for;               // the role a cut was made for (empty: none this reading)
+        double cut_to_m = 0.0;
+        bool ghosts_toggled = false;
+        bool restart = false;
+        std::optional<Result<FormScore>> score; // Enter, in a form lesson
+    };
+    // One reading of the pointer and keys, with the latest frame and the hand the mouse drives.
+    Effects update(const platform::PointerState& in, std::uint8_t hand, const components::FrameSnapshot& latest, systems::TraineeChannel& trainee);
+
+    [[nodiscard]] bool ghosts() const noexcept { return ghosts_; }
+    // What the HUD says about the lesson now (ASCII, wrapped for half a window).
+    [[nodiscard]] const std::vector<std::string>& hud_lines() const noexcept { return lines_; }
+
+private:
+    const LessonDef& lesson_;
+    KenzanFootprint footprint_;
+    bool ghosts_ = false;
+    bool cut_was_down_ = false, ghost_was_down_ = false, reset_was_down_ = false, enter_was_down_ = false;
+    std::vector<std::string> lines_;
+};
+
+} // namespace ikebana::game
