@@ -1,5 +1,6 @@
 #include "game/cli/lesson_command.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -150,11 +151,30 @@ int print_model(const std::string& lesson_name) {
     return 0;
 }
 
-int demo_lesson(const std::string& lesson_name, const std::string& json_out) {
+struct DemoArgs {
+    std::string lesson, json_out;
+    bool mouse = false;
+    std::vector<std::string> tilts; // role=degrees
+};
+
+int demo_lesson(const DemoArgs& args) {
     const std::string who = "ikebana lesson demo: ";
-    const auto lesson = lesson_for(who, lesson_name, json_out);
+    const auto lesson = lesson_for(who, args.lesson, args.json_out);
     if (!lesson) return 2;
     DemoOptions options;
+    options.through_mouse = args.mouse;
+    for (const auto& t : args.tilts) {
+        const auto eq = t.find('=');
+        const auto role = t.substr(0, eq);
+        const bool known = std::any_of(lesson->stems.begin(), lesson->stems.end(), [&](const MainStemDef& m) { return m.role == role; });
+        char* end = nullptr;
+        const double deg = eq == std::string::npos ? 0.0 : std::strtod(t.c_str() + eq + 1, &end);
+        if (eq == std::string::npos || !known || end == t.c_str() + eq + 1 || *end != '\0' || !(deg >= 0.0 && deg <= 90.0)) {
+            std::cerr << who << "--tilt: '" << t << "': expected ROLE=DEGREES with a role of " << lesson->id << " and 0-90 degrees\n";
+            return 2;
+        }
+        options.tilt_deg[role] = deg;
+    }
     const bool tty = isatty(fileno(stderr)) != 0;
     if (tty) {
         options.progress = [](std::size_t done, std::size_t of, const std::string& step) {
@@ -168,15 +188,15 @@ int demo_lesson(const std::string& lesson_name, const std::string& json_out) {
         return 2;
     }
     char heading[200];
-    std::snprintf(heading, sizeof heading, "%s, demonstrated in %.1f s of simulated time through one hand: %zu steps", lesson->title.c_str(), demo->simulated_s,
-                  demo->steps.size());
+    std::snprintf(heading, sizeof heading, "%s, demonstrated in %.1f s of simulated time through %s: %zu steps", lesson->title.c_str(), demo->simulated_s,
+                  args.mouse ? "the mouse" : "one hand", demo->steps.size());
     std::vector<std::string> before{heading};
     for (const auto& step : demo->steps) {
         char line[300];
         std::snprintf(line, sizeof line, "  %5.1f s  %s", step.at_s, step.what.c_str());
         before.emplace_back(line);
     }
-    return report(who, demo->score, json_out, before);
+    return report(who, demo->score, args.json_out, before);
 }
 
 void add_lesson_command(CLI::App& app, int& exit_code) {
@@ -197,11 +217,13 @@ void add_lesson_command(CLI::App& app, int& exit_code) {
     model->add_option("lesson", *model_of, "Lesson id or file")->required();
     model->callback([model_of, &exit_code] { exit_code = print_model(*model_of); });
 
-    auto demo_args = std::make_shared<std::pair<std::string, std::string>>();
+    auto demo_args = std::make_shared<DemoArgs>();
     auto* demo = lesson->add_subcommand("demo", "The teacher's demonstration: a scripted trainee arranges the form through the hands, cuts and insertions a trainee uses");
-    demo->add_option("lesson", demo_args->first, "Lesson id or file")->required();
-    demo->add_option("--json", demo_args->second, "Also write the result (with the measured arrangement) as JSON here (- : only the JSON)");
-    demo->callback([demo_args, &exit_code] { exit_code = demo_lesson(demo_args->first, demo_args->second); });
+    demo->add_option("lesson", demo_args->lesson, "Lesson id or file")->required();
+    demo->add_option("--json", demo_args->json_out, "Also write the result (with the measured arrangement) as JSON here (- : only the JSON)");
+    demo->add_flag("--mouse", demo_args->mouse, "Through the mouse and the lesson's keys as the window reads them, not a device");
+    demo->add_option("--tilt", demo_args->tilts, "ROLE=DEGREES: hold that role at another tilt (how a mistake scores); repeatable");
+    demo->callback([demo_args, &exit_code] { exit_code = demo_lesson(*demo_args); });
 
     struct ScoreArgs {
         std::string lesson, arrangement, json;

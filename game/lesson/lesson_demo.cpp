@@ -11,7 +11,9 @@
 #include "components/insertion.hpp"
 #include "components/kenzan.hpp"
 #include "components/stem.hpp"
+#include "engine/devices/mouse_keyboard_device.hpp"
 #include "engine/sched/clocks.hpp"
+#include "game/lesson/lesson_controls.hpp"
 #include "game/lesson/lesson_scene.hpp"
 #include "game/world/world.hpp"
 #include "systems/haptics/grab_system.hpp"
@@ -63,38 +65,149 @@ glm::dquat turn_between(glm::dvec3 a, glm::dvec3 b) {
 // From this tilt on, a stem is set at its band's upper edge (see run_lesson_demo).
 constexpr double low_stem_rad = 60.0 * 3.14159265358979323846 / 180.0;
 
+// The hand the teacher works through: a puppet device, or the mouse as the window reads it.
+class TeacherHand {
+public:
+    virtual ~TeacherHand() = default;
+    [[nodiscard]] virtual glm::dvec3 position() const = 0;
+    [[nodiscard]] virtual glm::dvec3 angles() const = 0;
+    virtual void go(glm::dvec3 position_m) = 0;
+    virtual void turn(glm::dvec3 angles_rad) = 0;
+    virtual void grab(bool down) = 0;
+    virtual void cut(double keep_m) = 0;
+    virtual void after_wait() {}
+};
+
+class PuppetHand final : public TeacherHand {
+public:
+    PuppetHand(std::shared_ptr<PuppetDevice::Pose> pose, World& world) : pose_(std::move(pose)), w_(world) {}
+    glm::dvec3 position() const override { return pose_->position_m; }
+    glm::dvec3 angles() const override { return pose_->rotation_rad; }
+    void go(glm::dvec3 position_m) override { pose_->position_m = position_m; }
+    void turn(glm::dvec3 angles_rad) override { pose_->rotation_rad = angles_rad; }
+    void grab(bool down) override { pose_->buttons = down ? 1u : 0u; }
+    void cut(double keep_m) override { w_.trainee.push({systems::TraineeCommand::Kind::cut, 1, keep_m}); }
+
+private:
+    std::shared_ptr<PuppetDevice::Pose> pose_;
+    World& w_;
+};
+
+// A pointer the script sets, read by the same MouseKeyboardHands and LessonControls as the window's.
+struct ScriptedPointer final : platform::PointerSource {
+    platform::PointerState state = [] {
+        platform::PointerState s;
+        s.window_px = {1200.0, 675.0};
+        s.cursor_px = 0.5 * s.window_px;
+        return s;
+    }();
+    platform::PointerState read() override { return state; }
+};
+
+// The mouse: whole pixels and wheel clicks, one motion per reading (plain, with Shift for depth, with
+// Ctrl to tilt), and the lesson's keys.
+class MouseHand final : public TeacherHand {
+public:
+    MouseHand(World& world, sched::DeterministicClock& clock, devices::MouseKeyboardHands& mouse, ScriptedPointer& pointer, LessonControls& controls)
+        : w_(world), clock_(clock), mouse_(mouse), pointer_(pointer), controls_(controls), config_(lesson_mouse_config()) {}
+    glm::dvec3 position() const override { return mouse_.sample(1, clock_.now_us()).position; }
+    glm::dvec3 angles() const override { return mouse_.sample(1, clock_.now_us()).rotation; }
+    void go(glm::dvec3 position_m) override {
+        auto& s = pointer_.state;
+        const glm::dvec2 px_per_m{s.window_px.x / config_.workspace_width_m, s.window_px.y / config_.workspace_height_m};
+        const glm::dvec3 d = position_m - position();
+        motion({std::round(d.x * px_per_m.x), std::round(-d.z * px_per_m.y)}, false, false);
+        const glm::dvec3 d2 = position_m - position();
+        motion({0.0, std::round(-d2.y * px_per_m.y)}, true, false);
+    }
+    void turn(glm::dvec3 angles_rad) override {
+        auto& s = pointer_.state;
+        const glm::dvec3 d = angles_rad - angles();
+        const double clicks = std::round(d.z / config_.turn_per_scroll_rad);
+        s.scroll += clicks;
+        motion({std::round(d.y / config_.tilt_per_window_rad * s.window_px.x), std::round(-d.x / config_.tilt_per_window_rad * s.window_px.y)}, false, true);
+    }
+    void grab(bool down) override { pointer_.state.grab_button = down; }
+    void cut(double) override {
+        // C, as the window reads it: LessonControls cuts the held stem for the role it is heading for.
+        pointer_.state.cut_key = true;
+        clock_.run_for_us(40'000);
+        after_wait();
+        pointer_.state.cut_key = false;
+        clock_.run_for_us(40'000);
+        after_wait();
+    }
+    void after_wait() override {
+        const auto& latest = w_.main.resource<const systems::ReceivedFrames>()->latest();
+        last_ = controls_.update(pointer_.state, mouse_.active_hand(), latest, w_.trainee);
+    }
+    void press_enter() {
+        pointer_.state.finish_key = true;
+        clock_.run_for_us(40'000);
+        after_wait();
+        score_ = last_.score;
+        pointer_.state.finish_key = false;
+        clock_.run_for_us(40'000);
+        after_wait();
+    }
+    const std::optional<Result<FormScore>>& score() const { return score_; }
+
+private:
+    // One reading of the pointer with this motion and these keys held, then a tick to read it.
+    void motion(glm::dvec2 px, bool shift, bool ctrl) {
+        if (px == glm::dvec2{0.0} && !ctrl) return;
+        auto& s = pointer_.state;
+        s.depth_modifier = shift;
+        s.tilt_modifier = ctrl;
+        s.cursor_px += px;
+        clock_.run_for_us(1000);
+        s.depth_modifier = false;
+        s.tilt_modifier = false;
+    }
+    World& w_;
+    sched::DeterministicClock& clock_;
+    devices::MouseKeyboardHands& mouse_;
+    ScriptedPointer& pointer_;
+    LessonControls& controls_;
+    devices::MouseKeyboardHands::Config config_;
+    LessonControls::Effects last_;
+    std::optional<Result<FormScore>> score_;
+};
+
 class Teacher {
 public:
-    Teacher(World& world, std::shared_ptr<PuppetDevice::Pose> pose, sched::DeterministicClock& clock, DemoResult& result, const DemoOptions& options,
-            std::size_t total_steps)
-        : w_(world), pose_(std::move(pose)), clock_(clock), result_(result), options_(options), total_(total_steps) {}
+    Teacher(World& world, TeacherHand& hand, sched::DeterministicClock& clock, DemoResult& result, const DemoOptions& options, std::size_t total_steps)
+        : w_(world), hand_(hand), clock_(clock), result_(result), options_(options), total_(total_steps) {}
 
     void say(const std::string& what) {
         result_.steps.push_back({now_s(), what});
         if (options_.progress) options_.progress(result_.steps.size(), total_, what);
     }
     double now_s() const { return static_cast<double>(clock_.now_us()) * 1e-6; }
-    void wait(double seconds) { clock_.run_for_us(static_cast<std::int64_t>(seconds * 1e6)); }
+    void wait(double seconds) {
+        clock_.run_for_us(static_cast<std::int64_t>(seconds * 1e6));
+        hand_.after_wait();
+    }
 
     void move_to(glm::dvec3 target, double speed = hand_speed_m_s) {
-        const glm::dvec3 from = pose_->position_m;
+        const glm::dvec3 from = hand_.position();
         const double distance = glm::length(target - from);
         const int steps = std::max(1, static_cast<int>(std::ceil(distance / (speed * step_s))));
         for (int i = 1; i <= steps; ++i) {
-            pose_->position_m = from + (target - from) * (static_cast<double>(i) / steps);
+            hand_.go(from + (target - from) * (static_cast<double>(i) / steps));
             wait(step_s);
         }
     }
     void turn_to(glm::dvec3 angles, double seconds) {
-        const glm::dvec3 from = pose_->rotation_rad;
+        const glm::dvec3 from = hand_.angles();
         const int steps = std::max(1, static_cast<int>(seconds / step_s));
         for (int i = 1; i <= steps; ++i) {
-            pose_->rotation_rad = from + (angles - from) * (static_cast<double>(i) / steps);
+            hand_.turn(from + (angles - from) * (static_cast<double>(i) / steps));
             wait(step_s);
         }
     }
     void press(bool down) {
-        pose_->buttons = down ? 1u : 0u;
+        hand_.grab(down);
         wait(0.05);
     }
 
@@ -134,14 +247,18 @@ public:
             press(false);
             return false;
         }
-        move_to(pose_->position_m + glm::dvec3{0, 0, 0.22});
+        move_to(hand_.position() + glm::dvec3{0, 0, 0.22});
         if (cut > 0.001) {
             char what[160];
             std::snprintf(what, sizeof what, "%s: cut it to %.0f mm (%.0f above the kenzan, %.0f in the pins)", role.c_str(), keep * 1e3, target.length_m * 1e3,
                           in_pins * 1e3);
             say(what);
-            w_.trainee.push({systems::TraineeCommand::Kind::cut, 1, keep});
+            hand_.cut(keep);
             wait(0.3);
+            if (std::abs(length_of(flower) - keep) > 0.002) {
+                std::snprintf(what, sizeof what, "%s: it was cut to %.0f mm, not %.0f", role.c_str(), length_of(flower) * 1e3, keep * 1e3);
+                say(what);
+            }
         }
         // Turn it: first the held stem's own direction onto the role's, then correct by what it shows
         // (a head bends a stem, a branch has its curve).
@@ -170,7 +287,7 @@ public:
         for (int round = 0; round < 3; ++round) {
             const glm::dvec3 bottom = points(flower).front();
             const glm::dvec3 goal = base + glm::dvec3{0, 0, in_pins + 0.008};
-            move_to(pose_->position_m + (goal - bottom), 0.15);
+            move_to(hand_.position() + (goal - bottom), 0.15);
             wait(0.2);
         }
         say(role + ": push it into the pins");
@@ -183,16 +300,17 @@ public:
             const double edge_drop = radius * std::sqrt(std::max(0.0, 1.0 - axis.z * axis.z));
             const double lower_by = x.front().z - edge_drop - (kenzan.origin_m.z + 0.0003);
             if (lower_by < 0.0005) break;
-            move_to(pose_->position_m - glm::dvec3{0, 0, lower_by}, 0.03);
+            move_to(hand_.position() - glm::dvec3{0, 0, lower_by}, 0.03);
             wait(0.2);
         }
         wait(1.0);
         say(role + ": let go");
         press(false);
-        // Away sideways from the stem, then up.
+        // Away sideways from the stem, clear of its leaves (a hand drawn through them tipped a short
+        // chrysanthemum), then up.
         const glm::dvec3 side = glm::normalize(glm::cross(want, glm::dvec3{0, 0, 1}) + glm::dvec3{1e-9, 0, 0});
-        move_to(pose_->position_m + side * 0.04, 0.1);
-        move_to(pose_->position_m + glm::dvec3{0, 0, 0.1}, 0.2);
+        move_to(hand_.position() + side * 0.08, 0.1);
+        move_to(hand_.position() + glm::dvec3{0, 0, 0.1}, 0.2);
         wait(1.0);
         // What the physics made of it, said as the HUD would.
         const auto& engagement = w_.sim.get<PinEngagement>(flower);
@@ -212,7 +330,7 @@ public:
 
 private:
     World& w_;
-    std::shared_ptr<PuppetDevice::Pose> pose_;
+    TeacherHand& hand_;
     sched::DeterministicClock& clock_;
     DemoResult& result_;
     const DemoOptions& options_;
@@ -230,13 +348,26 @@ Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& o
     auto world = World::create(*scene);
     if (!world) return std::move(world).error();
     World& w = **world;
+    sched::DeterministicClock clock(w.schedule);
+    // The puppet device, or the mouse with the window's settings and keys.
     auto pose = std::make_shared<PuppetDevice::Pose>();
     pose->position_m = w.sim.get<HandProxy>(w.hands[1]).position_m;
-    w.attach_device(1, std::make_unique<PuppetDevice>(pose));
-    sched::DeterministicClock clock(w.schedule);
+    PuppetHand puppet(pose, w);
+    ScriptedPointer pointer;
+    devices::MouseKeyboardHands mouse(pointer, lesson_mouse_config());
+    LessonControls controls(lesson, *footprint);
+    MouseHand mouse_hand(w, clock, mouse, pointer, controls);
+    if (options.through_mouse) {
+        for (const auto& h : scene->hands) mouse.place(h.hand, h.position_m);
+        w.attach_device(0, mouse.hand(0));
+        w.attach_device(1, mouse.hand(1));
+    } else {
+        w.attach_device(1, std::make_unique<PuppetDevice>(pose));
+    }
+    TeacherHand& hand = options.through_mouse ? static_cast<TeacherHand&>(mouse_hand) : static_cast<TeacherHand&>(puppet);
     DemoResult result;
     const Arrangement model = model_arrangement(lesson, *footprint);
-    Teacher teacher(w, pose, clock, result, options, model.stems.size() * 6 + 1);
+    Teacher teacher(w, hand, clock, result, options, model.stems.size() * 6 + 1);
     teacher.wait(0.5); // the materials settle on the table
     const Kenzan kenzan = *w.sim.single<Kenzan>();
     std::vector<bool> used(w.flowers.size(), false);
@@ -260,22 +391,32 @@ Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& o
         ArrangementStem aimed = target;
         const auto role = std::find_if(lesson.stems.begin(), lesson.stems.end(), [&](const MainStemDef& m) { return m.role == target.role; });
         if (role != lesson.stems.end() && role->tilt_rad.target >= low_stem_rad) aimed.tilt_rad = role->tilt_rad.target - 1.5 * role->tilt_rad.tolerance;
+        const auto held_at = options.tilt_deg.find(target.role);
+        if (held_at != options.tilt_deg.end()) aimed.tilt_rad = held_at->second * 3.14159265358979323846 / 180;
         if (aimed.tilt_rad != target.tilt_rad) {
             char why[160];
-            std::snprintf(why, sizeof why, "%s: a low stem sinks once let go: held at %.0f° for the form's %.0f°", target.role.c_str(),
-                          aimed.tilt_rad * 180 / 3.14159265358979323846, target.tilt_rad * 180 / 3.14159265358979323846);
+            std::snprintf(why, sizeof why, "%s: %s: held at %.0f° for the form's %.0f°", target.role.c_str(),
+                          held_at != options.tilt_deg.end() ? "as asked" : "a low stem sinks once let go", aimed.tilt_rad * 180 / 3.14159265358979323846,
+                          target.tilt_rad * 180 / 3.14159265358979323846);
             teacher.say(why);
         }
         teacher.place(w.flowers[*pick].entity, target.role, aimed, kenzan);
     }
     teacher.say("done: let the arrangement settle");
     teacher.wait(2.0);
-    // What the simulation shows, measured as the app and `sim` see it.
-    const auto& frame = w.main.resource<const systems::ReceivedFrames>()->latest();
-    Arrangement measured = measure_arrangement(frame);
-    auto scored = score_form(lesson, measured, *footprint, "demo");
-    if (!scored) return std::move(scored).error();
-    result.score = std::move(scored).value();
+    // What the simulation shows, measured as the app and `sim` see it (with the mouse: Enter, as the
+    // window scores it).
+    std::optional<Result<FormScore>> scored;
+    if (options.through_mouse) {
+        mouse_hand.press_enter();
+        scored = mouse_hand.score();
+        if (!scored) return make_error(ErrorCode::invalid_argument, "Enter gave no score");
+    } else {
+        const auto& frame = w.main.resource<const systems::ReceivedFrames>()->latest();
+        scored = score_form(lesson, measure_arrangement(frame), *footprint, "demo");
+    }
+    if (!scored->ok()) return std::move(*scored).error();
+    result.score = std::move(*scored).value();
     result.simulated_s = teacher.now_s();
     return result;
 }

@@ -6,6 +6,7 @@
 // the arrangement is measured from the simulation and scored. Nothing places a stem: where the
 // physics leaves one is what is scored.
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,11 @@ struct DemoResult {
 };
 
 struct DemoOptions {
+    // Through the mouse and the lesson's keys, as the window reads them (whole pixels, Shift for
+    // depth, Ctrl+drag to tilt, the wheel to turn, C to cut, Enter to score), not a device.
+    bool through_mouse = false;
+    // A role held at another tilt than the form's (degrees): how a trainee's mistake scores.
+    std::map<std::string, double> tilt_deg;
     std::string record_dir;                                     // the hand's device samples, for `replay:` (empty: none)
     std::function<void(std::size_t done, std::size_t of, const std::string& step)> progress; // each step, as it starts
 };

@@ -166,6 +166,28 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
         advice.lines.emplace_back(text);
         return advice;
     }
+    // A supporting stem (jushi): the next of the model arrangement's that no standing stem plays yet.
+    std::size_t supporting_placed = 0;
+    if (placed) {
+        for (const auto& s : placed->arrangement.stems) supporting_placed += s.standing && s.role == "supporting" ? 1 : 0;
+    }
+    const Arrangement model = model_arrangement(l, footprint);
+    std::size_t seen = 0;
+    for (const auto& s : model.stems) {
+        if (s.role != "supporting" || seen++ < supporting_placed) continue;
+        const double pins = frame.kenzan->pin_height_m();
+        advice.role = "supporting";
+        advice.keep_length_m = s.length_m + pins;
+        if (length > advice.keep_length_m + 0.002) {
+            std::snprintf(text, sizeof text, "as a supporting stem (jushi): C cuts it to %.0f mm (%.0f above the kenzan); then Ctrl+drag to tilt it %.0f° toward the %s",
+                          advice.keep_length_m * 1e3, s.length_m * 1e3, s.tilt_rad * deg, direction_words(s.azimuth_rad).c_str());
+        } else {
+            std::snprintf(text, sizeof text, "as a supporting stem (jushi, %.0f mm above the kenzan): tilt it %.0f° toward the %s, low in front of the kenzan",
+                          s.length_m * 1e3, s.tilt_rad * deg, direction_words(s.azimuth_rad).c_str());
+        }
+        advice.lines.emplace_back(text);
+        return advice;
+    }
     advice.lines.emplace_back("every role this species may play stands already: it can support (jushi), shorter than " +
                               (l.supporting.shorter_than_role ? l.stems[*l.supporting.shorter_than_role].role : std::string("the main stems")));
     return advice;

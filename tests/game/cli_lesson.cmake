@@ -68,5 +68,9 @@ endif()
 
 # The demonstration, headless: its steps said, its arrangement scored.
 expect_success("the Ohara demonstration" "subject: cut it to 438 mm (425 above the kenzan, 13 in the pins)" ${IKEBANA} lesson demo ohara_rising_form)
+expect_refusal("a tilt for a role the form has not" "ikebana lesson demo: --tilt: 'tai=45': expected ROLE=DEGREES with a role of sogetsu_basic_upright and 0-90 degrees"
+               ${IKEBANA} lesson demo sogetsu_basic_upright --tilt tai=45)
+expect_refusal("a tilt past level" "ikebana lesson demo: --tilt: 'shin=120': expected ROLE=DEGREES with a role of sogetsu_basic_upright and 0-90 degrees"
+               ${IKEBANA} lesson demo sogetsu_basic_upright --tilt shin=120)
 expect_refusal("a demonstration of free practice" "ikebana lesson demo: free_practice copies its scene's sample; it has no form to demonstrate"
                ${IKEBANA} lesson demo free_practice)

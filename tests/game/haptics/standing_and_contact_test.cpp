@@ -117,7 +117,7 @@ TEST(Contact, AStemPushedThroughThePinsStopsOnTheKenzansPlate) {
 TEST(Contact, AContainerHoldsAStemOnItsFloorAndInsideItsWall) {
     SceneDef scene = scene_with("chrysanthemum", 0);
     scene.flowers[0].placement = Placement::lying;
-    scene.flowers[0].base_m = {-0.06, 0.02, 0.06};
+    scene.flowers[0].base_m = {-0.06, -0.05, 0.06}; // in front of the kenzan, not over it
     scene.flowers[0].direction = {1, 0, 0};
     scene.flowers[0].length_m = 0.16; // shorter than the suiban is wide
     ContainerDef box;
@@ -131,9 +131,10 @@ TEST(Contact, AContainerHoldsAStemOnItsFloorAndInsideItsWall) {
     sched::DeterministicClock clock(w->schedule);
     clock.run_for_us(3'000'000);
     const auto& c = *w->sim.single<Container>();
-    const double radius = 0.0025;
+    const double radius = 0.5 * w->sim.get<StemRestShape>(w->flowers[0].entity).diameter_m;
     for (const auto& p : points(*w)) {
         EXPECT_GE(p.z, c.floor_z_m + radius - 1e-4) << "on the container's floor, not on the table through it";
+        EXPECT_LT(p.z, c.rim_z_m) << "it lies in the container";
         EXPECT_LE(glm::length(glm::dvec2(p) - c.centre_m), c.half_extent_m.x - radius + 1e-4) << "inside the wall";
     }
     // Just outside the wall, low down, a point is pushed out; inside, in.
