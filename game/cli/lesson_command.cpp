@@ -154,6 +154,7 @@ int print_model(const std::string& lesson_name) {
 struct DemoArgs {
     std::string lesson, json_out;
     bool mouse = false;
+    std::string xdotool;
     std::vector<std::string> tilts; // role=degrees
 };
 
@@ -162,7 +163,14 @@ int demo_lesson(const DemoArgs& args) {
     const auto lesson = lesson_for(who, args.lesson, args.json_out);
     if (!lesson) return 2;
     DemoOptions options;
-    options.through_mouse = args.mouse;
+    options.through_mouse = args.mouse || !args.xdotool.empty();
+    options.xdotool_script = args.xdotool;
+    if (!args.xdotool.empty()) {
+        if (auto ok = assets::check_output_path(args.xdotool); !ok) {
+            std::cerr << who << "--xdotool: " << ok.error().message << "\n";
+            return 2;
+        }
+    }
     for (const auto& t : args.tilts) {
         const auto eq = t.find('=');
         const auto role = t.substr(0, eq);
@@ -222,6 +230,7 @@ void add_lesson_command(CLI::App& app, int& exit_code) {
     demo->add_option("lesson", demo_args->lesson, "Lesson id or file")->required();
     demo->add_option("--json", demo_args->json_out, "Also write the result (with the measured arrangement) as JSON here (- : only the JSON)");
     demo->add_flag("--mouse", demo_args->mouse, "Through the mouse and the lesson's keys as the window reads them, not a device");
+    demo->add_option("--xdotool", demo_args->xdotool, "With --mouse: also write the session as an xdotool script, to replay against the window (ikebana --lesson LESSON)");
     demo->add_option("--tilt", demo_args->tilts, "ROLE=DEGREES: hold that role at another tilt (how a mistake scores); repeatable");
     demo->callback([demo_args, &exit_code] { exit_code = demo_lesson(*demo_args); });
 

@@ -11,6 +11,7 @@
 #include "components/insertion.hpp"
 #include "components/kenzan.hpp"
 #include "components/stem.hpp"
+#include "engine/assets/files.hpp"
 #include "engine/devices/mouse_keyboard_device.hpp"
 #include "engine/sched/clocks.hpp"
 #include "game/lesson/lesson_controls.hpp"
@@ -104,12 +105,86 @@ struct ScriptedPointer final : platform::PointerSource {
     platform::PointerState read() override { return state; }
 };
 
+// The mouse session as an xdotool script, to replay against the window under X: motion gathered
+// into seconds (plain, then with Shift, then with Ctrl, each modifier held over whole frames so
+// that the window reads it with its motion), buttons and keys in order, and sleeps that keep the
+// script's time with the simulation's.
+class XdoScript {
+public:
+    explicit XdoScript(std::string path) : path_(std::move(path)) {
+        // The cursor must be in the window's middle before the window opens (a jump once it reads the
+        // cursor would move the hand): the script starts with the session.
+        if (!path_.empty()) text_ = "sleep 0.5\n";
+    }
+    [[nodiscard]] bool on() const { return !path_.empty(); }
+    void motion(glm::dvec2 px, bool shift, bool ctrl, double now_s) {
+        if (plain_ == glm::dvec2{0.0} && shift_ == glm::dvec2{0.0} && ctrl_ == glm::dvec2{0.0}) {
+            catch_up(now_s);
+            gathering_from_s_ = now_s;
+        }
+        (ctrl ? ctrl_ : shift ? shift_ : plain_) += px;
+        if (now_s - gathering_from_s_ >= 1.0) flush();
+    }
+    void event(const std::string& command, double now_s) {
+        flush();
+        catch_up(now_s);
+        text_ += command + "\n";
+    }
+    void flush() {
+        if (!on()) return;
+        moves(plain_, "");
+        moves(shift_, "shift");
+        moves(ctrl_, "ctrl");
+        plain_ = shift_ = ctrl_ = glm::dvec2{0.0};
+    }
+    // Sleeps until the script's time is the simulation's (the motions themselves take time too).
+    void catch_up(double now_s) {
+        if (!on() || now_s <= script_s_) return;
+        char line[64];
+        std::snprintf(line, sizeof line, "sleep %.3f\n", now_s - script_s_);
+        text_ += line;
+        script_s_ = now_s;
+    }
+    Result<void> write(double now_s) {
+        flush();
+        catch_up(now_s);
+        return assets::write_text_file(path_, text_);
+    }
+
+private:
+    void moves(glm::dvec2 px, const char* modifier) {
+        if (px == glm::dvec2{0.0}) return;
+        // The window reads keys and cursor once a frame (a few frames a second on lavapipe under Xvfb):
+        // a modifier is held a quarter second either side of its motion.
+        if (*modifier) add(std::string("keydown ") + modifier + "\nsleep 0.25\n", 0.25);
+        // At most 4 pixels a piece: the X server doubles a relative motion beyond its threshold (4 by
+        // default), and a replay through XTest would overshoot.
+        const int pieces = std::max(1, static_cast<int>(std::ceil(std::max(std::abs(px.x), std::abs(px.y)) / 4.0)));
+        int done_x = 0, done_y = 0;
+        for (int i = 1; i <= pieces; ++i) {
+            const int x = static_cast<int>(std::lround(px.x * i / pieces)) - done_x, y = static_cast<int>(std::lround(px.y * i / pieces)) - done_y;
+            done_x += x;
+            done_y += y;
+            add("mousemove_relative -- " + std::to_string(x) + " " + std::to_string(y) + "\nsleep 0.004\n", 0.004);
+        }
+        if (*modifier) add("sleep 0.25\nkeyup " + std::string(modifier) + "\nsleep 0.25\n", 0.5);
+    }
+    void add(const std::string& text, double seconds) {
+        text_ += text;
+        script_s_ += seconds;
+    }
+    std::string path_, text_;
+    glm::dvec2 plain_{0.0}, shift_{0.0}, ctrl_{0.0};
+    double gathering_from_s_ = 0.0, script_s_ = 0.0;
+};
+
 // The mouse: whole pixels and wheel clicks, one motion per reading (plain, with Shift for depth, with
 // Ctrl to tilt), and the lesson's keys.
 class MouseHand final : public TeacherHand {
 public:
-    MouseHand(World& world, sched::DeterministicClock& clock, devices::MouseKeyboardHands& mouse, ScriptedPointer& pointer, LessonControls& controls)
-        : w_(world), clock_(clock), mouse_(mouse), pointer_(pointer), controls_(controls), config_(lesson_mouse_config()) {}
+    MouseHand(World& world, sched::DeterministicClock& clock, devices::MouseKeyboardHands& mouse, ScriptedPointer& pointer, LessonControls& controls,
+              XdoScript& script)
+        : w_(world), clock_(clock), mouse_(mouse), pointer_(pointer), controls_(controls), script_(script), config_(lesson_mouse_config()) {}
     glm::dvec3 position() const override { return mouse_.sample(1, clock_.now_us()).position; }
     glm::dvec3 angles() const override { return mouse_.sample(1, clock_.now_us()).rotation; }
     void go(glm::dvec3 position_m) override {
@@ -125,11 +200,16 @@ public:
         const glm::dvec3 d = angles_rad - angles();
         const double clicks = std::round(d.z / config_.turn_per_scroll_rad);
         s.scroll += clicks;
+        for (int c = 0; c < static_cast<int>(std::abs(clicks)); ++c) script_.event("keydown ctrl\nsleep 0.08\nclick " + std::string(clicks > 0 ? "4" : "5") + "\nsleep 0.08\nkeyup ctrl\nsleep 0.08", now_s());
         motion({std::round(d.y / config_.tilt_per_window_rad * s.window_px.x), std::round(-d.x / config_.tilt_per_window_rad * s.window_px.y)}, false, true);
     }
-    void grab(bool down) override { pointer_.state.grab_button = down; }
+    void grab(bool down) override {
+        pointer_.state.grab_button = down;
+        script_.event(down ? "mousedown 1" : "mouseup 1", now_s());
+    }
     void cut(double) override {
         // C, as the window reads it: LessonControls cuts the held stem for the role it is heading for.
+        script_.event("key c", now_s());
         pointer_.state.cut_key = true;
         clock_.run_for_us(40'000);
         after_wait();
@@ -142,6 +222,7 @@ public:
         last_ = controls_.update(pointer_.state, mouse_.active_hand(), latest, w_.trainee);
     }
     void press_enter() {
+        script_.event("key Return", now_s());
         pointer_.state.finish_key = true;
         clock_.run_for_us(40'000);
         after_wait();
@@ -153,9 +234,11 @@ public:
     const std::optional<Result<FormScore>>& score() const { return score_; }
 
 private:
+    double now_s() const { return static_cast<double>(clock_.now_us()) * 1e-6; }
     // One reading of the pointer with this motion and these keys held, then a tick to read it.
     void motion(glm::dvec2 px, bool shift, bool ctrl) {
         if (px == glm::dvec2{0.0} && !ctrl) return;
+        script_.motion(px, shift, ctrl, now_s());
         auto& s = pointer_.state;
         s.depth_modifier = shift;
         s.tilt_modifier = ctrl;
@@ -169,6 +252,7 @@ private:
     devices::MouseKeyboardHands& mouse_;
     ScriptedPointer& pointer_;
     LessonControls& controls_;
+    XdoScript& script_;
     devices::MouseKeyboardHands::Config config_;
     LessonControls::Effects last_;
     std::optional<Result<FormScore>> score_;
@@ -356,7 +440,8 @@ Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& o
     ScriptedPointer pointer;
     devices::MouseKeyboardHands mouse(pointer, lesson_mouse_config());
     LessonControls controls(lesson, *footprint);
-    MouseHand mouse_hand(w, clock, mouse, pointer, controls);
+    XdoScript script(options.xdotool_script);
+    MouseHand mouse_hand(w, clock, mouse, pointer, controls, script);
     if (options.through_mouse) {
         for (const auto& h : scene->hands) mouse.place(h.hand, h.position_m);
         w.attach_device(0, mouse.hand(0));
@@ -410,6 +495,9 @@ Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& o
     if (options.through_mouse) {
         mouse_hand.press_enter();
         scored = mouse_hand.score();
+        if (script.on()) {
+            if (auto written = script.write(teacher.now_s() + 2.0); !written) return std::move(written).error();
+        }
         if (!scored) return make_error(ErrorCode::invalid_argument, "Enter gave no score");
     } else {
         const auto& frame = w.main.resource<const systems::ReceivedFrames>()->latest();

@@ -34,6 +34,8 @@ struct DemoOptions {
     // Through the mouse and the lesson's keys, as the window reads them (whole pixels, Shift for
     // depth, Ctrl+drag to tilt, the wheel to turn, C to cut, Enter to score), not a device.
     bool through_mouse = false;
+    // With the mouse: also write the session as an xdotool script, to replay against the window.
+    std::string xdotool_script;
     // A role held at another tilt than the form's (degrees): how a trainee's mistake scores.
     std::map<std::string, double> tilt_deg;
     std::string record_dir;                                     // the hand's device samples, for `replay:` (empty: none)
