@@ -1,7 +1,7 @@
 # What every CLI refusal test expects: a refusal (exit 1 or 2, or CLI11's 105 for a bad option, never
 # a signal) whose output says `expected_text`. Included by the cli_*.cmake scripts.
 function(expect_refusal what expected_text)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE text ERROR_VARIABLE text TIMEOUT 60)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE text ERROR_VARIABLE text TIMEOUT 600)
   if(NOT rc MATCHES "^(1|2|105)$")
     message(FATAL_ERROR "${what}: expected a refusal (exit 1, 2 or 105), got '${rc}':\n${text}")
   endif()
