@@ -30,6 +30,8 @@ struct FlowerStatus {
     double fall_yield_gravity_nm;
     double holding_moment_nm;           // what the pins can hold
     double gravity_moment_nm;           // what its weight asks of them
+    std::uint32_t pins_engaged;         // pins touching its end
+    double depth_m;                     // its end below the pin tips (in the kenzan)
     double diameter_m;                  // the stem's
     FlowerLook look;
     std::vector<Part> parts;            // petals and leaves (the stem is drawn from its points)
@@ -44,6 +46,7 @@ struct HandStatus {
     glm::dvec3 position_m; // where its cube is
     double edge_m;
     std::int32_t held_flower = -1; // which of the frame's flowers it holds (-1: none)
+    glm::dvec3 device_m{0.0};      // where its device puts it (the cube stops above the table; this does not)
 };
 
 struct FrameSnapshot {

@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
     app.add_option("--screenshot", app_options.screenshot, "Write the app's last frame to this PNG");
     app.add_flag("--validation", app_options.validation, "Run the app with the Vulkan validation layer");
     app.add_option("--finish-at-frame", app_options.finish_at_frame, "Finish the training at this frame, as Enter does (demos, tests)");
+    app.add_option("--state-out", app_options.state_out, "Write what the window shows as JSON each frame (for scripts that work the window)");
     app.add_option("--env", environment, "Environment covariate for extended species in the app, name=value (repeatable)");
     std::string app_scene = (ikebana::game::asset_dir() / "scenes" / "default.json").string();
     app.add_option("--scene", app_scene, "The scene the app opens")->capture_default_str();

@@ -212,6 +212,24 @@ public:
     // --- state hash ---------------------------------------------------------------------------------
     // Independent of the order in which types were first used and of the order of the dense arrays:
     // storages are visited by component name and entities by handle.
+    // Each component type's share of the state hash, by name: where two runs that should agree part.
+    [[nodiscard]] std::vector<std::pair<std::string, std::uint64_t>> component_hashes() const {
+        std::vector<std::pair<std::string, std::uint64_t>> out;
+        for (const auto& pool : pools_) {
+            if (!pool || pool->size() == 0) continue;
+            StateHasher hasher;
+            auto entities = pool->entities();
+            std::sort(entities.begin(), entities.end());
+            for (const Entity e : entities) {
+                hasher.scalar(e.bits());
+                pool->hash_component(hasher, e);
+            }
+            out.emplace_back(std::string(pool->component_name()), hasher.digest());
+        }
+        std::sort(out.begin(), out.end());
+        return out;
+    }
+
     [[nodiscard]] std::uint64_t state_hash() const {
         std::vector<const SparseSet*> pools;
         for (const auto& pool : pools_) {

@@ -37,6 +37,7 @@
 #include "game/lesson/lesson_controls.hpp"
 #include "game/lesson/lesson.hpp"
 #include "game/lesson/lesson_scene.hpp"
+#include "game/lesson/window_state.hpp"
 #include "systems/presentation/receive_frame_system.hpp"
 
 namespace ikebana::game {
@@ -138,6 +139,7 @@ private:
     std::optional<LessonDef> lesson_;
     KenzanFootprint footprint_;
     std::optional<LessonControls> controls_; // a lesson's keys, rebuilt with the world
+    WindowState state_;                      // --state-out's, kept from frame to frame (the last result)
     std::atomic<bool> restart_{false};
     render::DrawList sample_scenery_;
     std::array<std::unique_ptr<devices::HapticDevice>, 2> picked_;
@@ -325,6 +327,7 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     if (o_.each_frame) o_.each_frame(presented_, window_->glfw());
     window_->poll_events();
     const platform::PointerState in = pointer_->read();
+    const auto read_at = std::chrono::steady_clock::now();
     shared_pointer_.store(in);
     if (in.quit_key) window_->request_close();
     if (window_->should_close()) {
@@ -361,6 +364,14 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
                     *main_lane.registry.resource<components::HudInfo>());
     }
     enter_was_down_ = keys.finish_key;
+    if (!o_.state_out.empty()) {
+        state_.frame += 1;
+        state_.input_read_at_us = std::chrono::duration_cast<std::chrono::microseconds>(read_at.time_since_epoch()).count();
+        state_.window_px = in.window_px;
+        state_.cursor_px = in.cursor_px;
+        take_snapshot(state_, main_lane.registry.resource<const systems::ReceivedFrames>()->latest());
+        if (auto written = write_window_state(o_.state_out, state_); !written) fail("--state-out: " + written.error().message, 2);
+    }
 }
 
 // A result on the terminal and on screen (where a lesson's long tips are wrapped to an eye's half).
@@ -389,6 +400,10 @@ void TraineeSession::lesson_keys(const platform::PointerState& in, sched::System
         auto& scenery = *main_lane.registry.resource<components::Scenery>();
         scenery.list = sample_scenery_;
         if (controls_->ghosts()) add_form_ghosts(scenery.list, *lesson_, footprint_, kenzan_at_);
+    }
+    if (effects.score && effects.score->ok()) {
+        state_.results += 1;
+        state_.result_json = (*effects.score)->json(-1);
     }
     if (effects.score) show_result(effects.score->ok() ? (*effects.score)->lines() : std::vector<std::string>{"RESULT: " + effects.score->error().message}, hud);
     if (effects.restart) {

@@ -36,6 +36,9 @@ struct TraineeAppOptions {
     bool validation = true; // the validation layer is always on in debug builds
 #endif
     std::uint32_t finish_at_frame = 0; // as if Enter were pressed then (tests, demos)
+    // Each frame, what the window shows as data (game/lesson/window_state.hpp), for a script that works
+    // the window from outside (`ikebana lesson demo --window`). Empty: not written.
+    std::string state_out;
     // Called before each frame with the frames presented so far (tests drive the window with it:
     // resize it, minimise it). Nothing when empty.
     std::function<void(std::uint32_t presented, GLFWwindow* window)> each_frame;

@@ -1,5 +1,6 @@
 #include "game/cli/lesson_command.hpp"
 
+#include <cinttypes>
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
@@ -15,6 +16,7 @@
 #include "game/lesson/form_score.hpp"
 #include "game/lesson/lesson.hpp"
 #include "game/lesson/lesson_demo.hpp"
+#include "game/lesson/lesson_session.hpp"
 #include "game/lesson/lesson_scene.hpp"
 #include "game/scene/scene.hpp"
 
@@ -154,7 +156,8 @@ int print_model(const std::string& lesson_name) {
 struct DemoArgs {
     std::string lesson, json_out;
     bool mouse = false;
-    std::string xdotool;
+    bool window = false;
+    std::string xdotool, record;
     std::vector<std::string> tilts; // role=degrees
 };
 
@@ -189,7 +192,16 @@ int demo_lesson(const DemoArgs& args) {
             std::fprintf(stderr, "\r\033[K[%zu/%zu] %s", done, of, step.c_str());
         };
     }
-    const auto demo = run_lesson_demo(*lesson, options);
+    options.record_dir = args.record;
+    if (args.window && !args.record.empty()) {
+        std::cerr << who << "--record records the headless demonstration (the window's session runs on the wall clock and would not replay to the same state)\n";
+        return 2;
+    }
+    if (args.window && (args.mouse || !args.xdotool.empty())) {
+        std::cerr << who << "--window works the window with the X pointer itself; --mouse and --xdotool are for the headless demonstration\n";
+        return 2;
+    }
+    const auto demo = args.window ? run_lesson_demo_in_window(*lesson, options) : run_lesson_demo(*lesson, options);
     if (tty) std::fprintf(stderr, "\r\033[K");
     if (!demo) {
         std::cerr << who << demo.error().message << "\n";
@@ -197,14 +209,49 @@ int demo_lesson(const DemoArgs& args) {
     }
     char heading[200];
     std::snprintf(heading, sizeof heading, "%s, demonstrated in %.1f s of simulated time through %s: %zu steps", lesson->title.c_str(), demo->simulated_s,
-                  args.mouse ? "the mouse" : "one hand", demo->steps.size());
+                  args.window ? "the X pointer in the window" : args.mouse ? "the mouse" : "one hand", demo->steps.size());
     std::vector<std::string> before{heading};
     for (const auto& step : demo->steps) {
         char line[300];
         std::snprintf(line, sizeof line, "  %5.1f s  %s", step.at_s, step.what.c_str());
         before.emplace_back(line);
     }
-    return report(who, demo->score, args.json_out, before);
+    const int code = report(who, demo->score, args.json_out, before);
+    if (code == 0 && !args.record.empty() && args.json_out != "-")
+        std::printf("the session is on record in %s (replay: ikebana lesson replay %s)\n", args.record.c_str(), args.record.c_str());
+    return code;
+}
+
+int replay_session(const std::string& folder, const std::string& json_out) {
+    const std::string who = "ikebana lesson replay: ";
+    if (!json_out.empty() && json_out != "-") {
+        if (auto ok = assets::check_output_path(json_out); !ok) {
+            std::cerr << who << "--json: " << ok.error().message << "\n";
+            return 2;
+        }
+    }
+    const auto replayed = replay_lesson_session(folder);
+    if (!replayed) {
+        std::cerr << who << replayed.error().message << "\n";
+        return 2;
+    }
+    char heading[200];
+    std::snprintf(heading, sizeof heading, "%s replayed: %.1f s of simulated time", replayed->kind.c_str(), replayed->seconds);
+    const int code = report(who, replayed->score, json_out, {heading});
+    if (code != 0) return code;
+    const bool same_hash = replayed->state_hash == replayed->recorded_state_hash;
+    const bool same_score = std::abs(replayed->score.score - replayed->recorded_score) < 1e-6;
+    if (json_out != "-") {
+        std::printf("state-hash: %016" PRIx64 " (%s)\n", replayed->state_hash, same_hash ? "as recorded" : "the recording ended elsewhere");
+    }
+    if (!same_hash || !same_score) {
+        std::cerr << who << "the replay does not reach the recorded session: score " << replayed->score.score << " against " << replayed->recorded_score
+                  << (same_hash ? "" : ", another final state");
+        for (std::size_t i = 0; i < replayed->parted.size(); ++i) std::cerr << (i ? ", " : " (it parts in ") << replayed->parted[i] << (i + 1 == replayed->parted.size() ? ")" : "");
+        std::cerr << "\n";
+        return 1;
+    }
+    return 0;
 }
 
 void add_lesson_command(CLI::App& app, int& exit_code) {
@@ -231,8 +278,16 @@ void add_lesson_command(CLI::App& app, int& exit_code) {
     demo->add_option("--json", demo_args->json_out, "Also write the result (with the measured arrangement) as JSON here (- : only the JSON)");
     demo->add_flag("--mouse", demo_args->mouse, "Through the mouse and the lesson's keys as the window reads them, not a device");
     demo->add_option("--xdotool", demo_args->xdotool, "With --mouse: also write the session as an xdotool script, to replay against the window (ikebana --lesson LESSON)");
+    demo->add_flag("--window", demo_args->window, "In the trainee window, worked from outside through the X pointer and keys (needs a display and xdotool); its result is the window's");
+    demo->add_option("--record", demo_args->record, "Put the session on record in this folder (device samples, cuts, score, state hash), for `lesson replay`");
     demo->add_option("--tilt", demo_args->tilts, "ROLE=DEGREES: hold that role at another tilt (how a mistake scores); repeatable");
     demo->callback([demo_args, &exit_code] { exit_code = demo_lesson(*demo_args); });
+
+    auto replay_args = std::make_shared<std::pair<std::string, std::string>>();
+    auto* replay = lesson->add_subcommand("replay", "Play a recorded lesson session back on the deterministic clock: the same score and final state hash, or an error");
+    replay->add_option("folder", replay_args->first, "The folder `lesson demo --record` wrote")->required();
+    replay->add_option("--json", replay_args->second, "Also write the result as JSON here (- : only the JSON)");
+    replay->callback([replay_args, &exit_code] { exit_code = replay_session(replay_args->first, replay_args->second); });
 
     struct ScoreArgs {
         std::string lesson, arrangement, json;

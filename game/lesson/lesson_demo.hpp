@@ -28,6 +28,7 @@ struct DemoResult {
     FormScore score;
     std::vector<DemoStep> steps;
     double simulated_s = 0.0;
+    std::uint64_t state_hash = 0; // the world's at the end (headless only)
 };
 
 struct DemoOptions {
@@ -38,7 +39,7 @@ struct DemoOptions {
     std::string xdotool_script;
     // A role held at another tilt than the form's (degrees): how a trainee's mistake scores.
     std::map<std::string, double> tilt_deg;
-    std::string record_dir;                                     // the hand's device samples, for `replay:` (empty: none)
+    std::string record_dir; // headless: the session on record (lesson_session.hpp), for `lesson replay` (empty: none)
     std::function<void(std::size_t done, std::size_t of, const std::string& step)> progress; // each step, as it starts
 };
 
@@ -61,5 +62,9 @@ private:
 };
 
 Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& options = {});
+// The same teacher working the trainee window from outside, through the X pointer and keyboard
+// (xdotool), as a person would: needs an X display. The window's own result (Enter) is returned.
+// The tilt options apply; the mouse and xdotool options do not (this is the mouse).
+Result<DemoResult> run_lesson_demo_in_window(const LessonDef& lesson, const DemoOptions& options = {});
 
 } // namespace ikebana::game

@@ -1,5 +1,6 @@
 #include "systems/haptics/trainee_command_system.hpp"
 
+#include <cstdio>
 #include <numeric>
 
 #include "engine/ecs/registry.hpp"
@@ -13,6 +14,11 @@ void TraineeCommandSystem::operator()(sched::SystemContext& ctx) {
     auto* const* channel = r.resource<TraineeChannel* const>();
     if (!channel || !*channel) return;
     for (const auto& command : (*channel)->take()) {
+        if ((*channel)->log) {
+            char line[96];
+            std::snprintf(line, sizeof line, "%lld,cut,%u,%.17g\n", static_cast<long long>(ctx.time_us), command.hand, command.keep_length_m);
+            *(*channel)->log << line << std::flush;
+        }
         r.view<const HandCube, const HandGrip>().each([&](ecs::Entity, const HandCube& cube, const HandGrip& grip) {
             if (cube.hand != command.hand || grip.held.is_null()) return;
             const auto* rest = r.try_get<const StemRestShape>(grip.held);

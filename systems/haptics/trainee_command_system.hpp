@@ -5,6 +5,7 @@
 // (the cutting system does the cut: section 1's cutting, the same for every caller).
 #include <cstdint>
 #include <mutex>
+#include <ostream>
 #include <utility>
 #include <string_view>
 #include <vector>
@@ -34,6 +35,9 @@ public:
         const std::lock_guard lock(mutex_);
         return std::exchange(pending_, {});
     }
+    // When set (before the session runs): each command as the simulation takes it, one CSV line
+    // "time_us,cut,hand,keep_length_m", so that a replay gives it at the same tick.
+    std::ostream* log = nullptr;
 
 private:
     std::mutex mutex_;

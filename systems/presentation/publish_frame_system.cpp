@@ -34,6 +34,8 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
             status.fall_yield_gravity_nm = 0.0;
             status.holding_moment_nm = 0.0;
             status.gravity_moment_nm = 0.0;
+            status.pins_engaged = 0;
+            status.depth_m = 0.0;
             if (const auto* h = r.try_get<const InsertionHistory>(e)) {
                 status.insertions = h->insertions_total;
                 status.bottom_broken = h->bottom_broken;
@@ -42,6 +44,8 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
                 status.in_kenzan = engagement->in_kenzan;
                 status.holding_moment_nm = engagement->holding_moment_nm;
                 status.gravity_moment_nm = engagement->gravity_moment_nm;
+                status.pins_engaged = static_cast<std::uint32_t>(engagement->pins.size());
+                status.depth_m = engagement->depth_m;
             }
             if (const auto* grip = r.try_get<const KenzanGrip>(e)) {
                 status.fallen = grip->fallen;
@@ -60,7 +64,7 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
             }
         });
     frame.flowers.resize(count);
-    for (auto& h : frame.hands) h = HandStatus{false, false, 0, false, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.0, -1};
+    for (auto& h : frame.hands) h = HandStatus{false, false, 0, false, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.0, -1, glm::dvec3{0.0}};
     r.view<const HandCube, const HandInput, const HandProxy, const HandGrip, const HandForce>().each(
         [&](ecs::Entity, const HandCube& cube, const HandInput& input, const HandProxy& proxy, const HandGrip& grip, const HandForce& force) {
             if (cube.hand < 2) {
@@ -69,7 +73,7 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
                     if (order[i] == grip.held) held = static_cast<std::int32_t>(i);
                 }
                 frame.hands[cube.hand] = HandStatus{true, input.connected, input.disconnects, !grip.held.is_null(), force.force_n,
-                                                    proxy.position_m, cube.edge_m, held};
+                                                    proxy.position_m, cube.edge_m, held, input.device_m};
             }
         });
     const auto* contacts = r.resource<const Contacts>();

@@ -74,5 +74,13 @@ expect_refusal("a tilt for a role the form has not" "ikebana lesson demo: --tilt
                ${IKEBANA} lesson demo sogetsu_basic_upright --tilt tai=45)
 expect_refusal("a tilt past level" "ikebana lesson demo: --tilt: 'shin=120': expected ROLE=DEGREES with a role of sogetsu_basic_upright and 0-90 degrees"
                ${IKEBANA} lesson demo sogetsu_basic_upright --tilt shin=120)
+# A demonstration on record replays to the same state; a window's session is not recorded (wall clock).
+file(REMOVE_RECURSE ${out}/session)
+expect_success("a demonstration on record" "the session is on record in ${out}/session" ${IKEBANA} lesson demo sogetsu_basic_upright --record ${out}/session)
+expect_success("its replay" "(as recorded)" ${IKEBANA} lesson replay ${out}/session)
+file(WRITE ${out}/session/commands.csv "100,cut,1,0.3\n50,cut,1,0.2\n")
+expect_refusal("a replay with its cuts out of order" "commands.csv: line 2: expected time_us,cut,hand,keep_length_m" ${IKEBANA} lesson replay ${out}/session)
+expect_refusal("the window's session on record" "ikebana lesson demo: --record records the headless demonstration"
+               ${IKEBANA} lesson demo sogetsu_basic_upright --window --record ${out}/never)
 expect_refusal("a demonstration of free practice" "ikebana lesson demo: free_practice copies its scene's sample; it has no form to demonstrate"
                ${IKEBANA} lesson demo free_practice)

@@ -13,6 +13,8 @@
 #include "game/lesson/lesson_controls.hpp"
 #include "game/lesson/lesson_demo.hpp"
 #include "game/lesson/lesson_scene.hpp"
+#include "game/lesson/lesson_session.hpp"
+#include "game/lesson/window_state.hpp"
 #include "game/world/world.hpp"
 #include "systems/haptics/trainee_command_system.hpp"
 #include "systems/presentation/frame_channel.hpp"
@@ -583,4 +585,104 @@ TEST(LessonControls, EachKeyActsOncePerPress) {
     EXPECT_TRUE(press(&platform::PointerState::cut_key).first.cut_for.empty()) << "nothing held, nothing cut";
     EXPECT_TRUE(w.trainee.take().empty());
     EXPECT_NE(controls.hud_lines().front().find("Sogetsu: Basic Upright Style"), std::string::npos) << controls.hud_lines().front();
+}
+
+// A demonstration on record (device samples, the cuts as the simulation took them) replays on the
+// deterministic clock to the same score and the same final state, component by component.
+TEST(LessonSession, ADemonstrationOnRecordReplaysToTheSameScoreAndStateHash) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    const auto dir = std::filesystem::temp_directory_path() / "ikebana-session-test";
+    std::filesystem::remove_all(dir);
+    DemoOptions options;
+    options.record_dir = dir.string();
+    const auto demo = run_lesson_demo(l, options);
+    ASSERT_TRUE(demo.ok()) << demo.error().message;
+    const auto replayed = replay_lesson_session(dir);
+    ASSERT_TRUE(replayed.ok()) << replayed.error().message;
+    EXPECT_EQ(replayed->score.score, demo->score.score);
+    EXPECT_EQ(replayed->recorded_state_hash, demo->state_hash);
+    EXPECT_EQ(replayed->state_hash, demo->state_hash);
+    EXPECT_TRUE(replayed->parted.empty());
+    EXPECT_EQ(replayed->kind, "demonstration");
+    // Three cuts, one per role, on record.
+    const auto commands = assets::read_text_file(dir / "commands.csv");
+    ASSERT_TRUE(commands.ok());
+    EXPECT_EQ(std::count(commands->begin(), commands->end(), '\n'), 3);
+    // Without its cuts the replay is another session: it says where it parts.
+    ASSERT_TRUE(assets::write_text_file(dir / "commands.csv", "").ok());
+    const auto uncut = replay_lesson_session(dir);
+    ASSERT_TRUE(uncut.ok()) << uncut.error().message;
+    EXPECT_NE(uncut->state_hash, demo->state_hash);
+    EXPECT_FALSE(uncut->parted.empty());
+    std::filesystem::remove_all(dir);
+}
+
+TEST(LessonSession, ACommandLineOutOfOrderOrNotACutIsRefusedWithItsFileAndLine) {
+    const auto ok = parse_session_commands("100,cut,1,0.3\n200,cut,0,0.25\n", "c.csv");
+    ASSERT_TRUE(ok.ok()) << ok.error().message;
+    ASSERT_EQ(ok->size(), 2u);
+    EXPECT_EQ((*ok)[1].at_us, 200);
+    EXPECT_EQ((*ok)[1].command.hand, 0);
+    const auto backwards = parse_session_commands("100,cut,1,0.3\n50,cut,1,0.2\n", "c.csv");
+    ASSERT_FALSE(backwards.ok());
+    EXPECT_EQ(backwards.error().message.rfind("c.csv: line 2: expected time_us,cut,hand,keep_length_m", 0), 0u) << backwards.error().message;
+    const auto bend = parse_session_commands("100,bend,1,0.3\n", "c.csv");
+    ASSERT_FALSE(bend.ok());
+    EXPECT_NE(bend.error().message.find("c.csv: line 1:"), std::string::npos);
+    EXPECT_FALSE(parse_session_commands("100,cut,2,0.3\n", "c.csv").ok());    // a third hand
+    EXPECT_FALSE(parse_session_commands("100,cut,1,-0.3\n", "c.csv").ok());   // no length
+    EXPECT_FALSE(parse_session_commands("100,cut,1,0.3 x\n", "c.csv").ok());  // trailing words
+}
+
+TEST(LessonSession, ASessionFileNamesTheFieldItLacks) {
+    const auto missing = parse_session(R"({"format": "ikebana-session/1", "lesson": "x", "kind": "practice", "scored_at_us": 0, "end_us": 10, "score": 50})", "s.json");
+    ASSERT_FALSE(missing.ok());
+    EXPECT_NE(missing.error().message.find("s.json"), std::string::npos);
+    EXPECT_NE(missing.error().message.find("state_hash"), std::string::npos) << missing.error().message;
+    const auto order = parse_session(
+        R"({"format": "ikebana-session/1", "lesson": "x", "kind": "practice", "scored_at_us": 20, "end_us": 10, "score": 50, "state_hash": "00000000000000ff"})", "s.json");
+    ASSERT_FALSE(order.ok());
+    EXPECT_NE(order.error().message.find("/scored_at_us"), std::string::npos) << order.error().message;
+}
+
+// What the window writes each frame for a script that works it is read back the same.
+TEST(WindowState, WhatTheWindowWritesIsReadBackTheSame) {
+    WindowState s;
+    s.frame = 42;
+    s.input_read_at_us = 123456789;
+    s.sim_time_us = 5'000'000;
+    s.window_px = {1200, 675};
+    s.cursor_px = {600.5, 300};
+    s.hands[1] = {true, 1, {0.1, -0.2, 0.3}, {0.1, -0.2, 0.25}};
+    WindowState::Flower f;
+    f.species = "cherry_branch";
+    f.points_m = {{0, 0, 0.01}, {0.01, 0, 0.2}};
+    f.in_kenzan = true;
+    f.fallen = true;
+    f.fall_reason = components::FallReason::tipped;
+    f.yield_holding_nm = 0.002;
+    f.pins_engaged = 7;
+    f.depth_m = 0.012;
+    s.flowers = {f};
+    s.kenzan_origin_m = glm::dvec3{0.03, 0.04, 0.005};
+    s.kenzan_pin_height_m = 0.013;
+    s.results = 1;
+    s.result_json = R"({"score":96})";
+    const auto back = parse_window_state(window_state_json(s), "state.json");
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->frame, 42u);
+    EXPECT_EQ(back->input_read_at_us, 123456789);
+    EXPECT_EQ(back->cursor_px, s.cursor_px);
+    EXPECT_EQ(back->hands[1].held_flower, 1);
+    EXPECT_EQ(back->hands[1].device_m, s.hands[1].device_m);
+    ASSERT_EQ(back->flowers.size(), 1u);
+    EXPECT_EQ(back->flowers[0].points_m, f.points_m);
+    EXPECT_EQ(back->flowers[0].fall_reason, components::FallReason::tipped);
+    EXPECT_EQ(back->flowers[0].pins_engaged, 7u);
+    ASSERT_TRUE(back->kenzan_origin_m.has_value());
+    EXPECT_EQ(*back->kenzan_origin_m, *s.kenzan_origin_m);
+    EXPECT_EQ(nlohmann::json::parse(back->result_json)["score"], 96);
+    const auto broken = parse_window_state(R"({"frame": 1, "input_read_at_us": 0, "sim_time_us": 0, "window_px": [1, 1], "cursor_px": [0, 0], "hands": []})", "state.json");
+    ASSERT_FALSE(broken.ok());
+    EXPECT_EQ(broken.error().message, "state.json: field 'hands' should hold two hands");
 }

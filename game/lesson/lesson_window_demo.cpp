@@ -1,0 +1,340 @@
+// The demonstration in the window: the trainee app runs as it does for a trainee, and the teacher
+// works it from outside with the X pointer and keyboard (xdotool), reading what the window shows
+// from its --state-out file as a person reads the screen. Nothing reaches the simulation but the
+// mouse and the keys; the window scores the arrangement on Enter.
+//
+// Every motion waits until the window has read it (its state says when it last read input): the
+// window reads the mouse once a frame, a few frames a second on lavapipe under Xvfb, and a modifier
+// or a key must be down while a frame reads it.
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <thread>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/assets/files.hpp"
+#include "game/lesson/lesson_controls.hpp"
+#include "game/lesson/lesson_demo.hpp"
+#include "game/lesson/lesson_scene.hpp"
+#include "game/lesson/teacher.hpp"
+#include "game/lesson/window_state.hpp"
+
+extern char** environ;
+
+namespace ikebana::game {
+
+namespace {
+
+std::int64_t steady_us() {
+    return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+bool on_path(const std::string& program) {
+    const char* path = std::getenv("PATH");
+    if (!path) return false;
+    std::string dirs = path;
+    std::size_t from = 0;
+    while (from <= dirs.size()) {
+        const std::size_t to = std::min(dirs.find(':', from), dirs.size());
+        const auto candidate = std::filesystem::path(dirs.substr(from, to - from)) / program;
+        if (::access(candidate.c_str(), X_OK) == 0) return true;
+        from = to + 1;
+    }
+    return false;
+}
+
+// The window in its own process, worked through X.
+class WindowSession final : public Classroom, public TeacherHand {
+public:
+    WindowSession(std::filesystem::path state, std::filesystem::path log, pid_t app)
+        : state_path_(std::move(state)), log_path_(std::move(log)), app_(app), config_(lesson_mouse_config()) {}
+    ~WindowSession() override {
+        if (app_ > 0) {
+            ::kill(app_, SIGTERM);
+            ::waitpid(app_, nullptr, 0);
+        }
+    }
+    WindowSession(const WindowSession&) = delete;
+    WindowSession& operator=(const WindowSession&) = delete;
+
+    [[nodiscard]] const std::string& failure() const { return failure_; }
+    [[nodiscard]] const WindowState& state() const { return state_; }
+
+    // Until the window has shown its first frame; the hand starts where the window put it.
+    bool start(double timeout_s) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+        while (!refresh() || state_.frame < 3) {
+            if (!failure_.empty()) return false;
+            if (std::chrono::steady_clock::now() > until) return fail("the window showed no frame in " + std::to_string(static_cast<int>(timeout_s)) + " s");
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+        started_ = std::chrono::steady_clock::now();
+        px_per_m_ = {state_.window_px.x / config_.workspace_width_m, state_.window_px.y / config_.workspace_height_m};
+        position_ = state_.hands[1].device_m;
+        return true;
+    }
+
+    // Classroom: what the window's state shows.
+    double now_s() const override { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count(); }
+    void wait(double seconds) override {
+        if (!failure_.empty()) return;
+        std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+        // A moving hand's short waits only take the newest state; a teacher's pause waits until the
+        // window shows what happened.
+        if (seconds >= 0.1) seen(steady_us());
+        else refresh();
+    }
+    std::size_t flower_count() const override { return state_.flowers.size(); }
+    SeenFlower flower(std::size_t i) const override {
+        SeenFlower f;
+        if (i >= state_.flowers.size()) return f;
+        const auto& s = state_.flowers[i];
+        f.species = s.species;
+        f.points_m = s.points_m;
+        for (std::size_t k = 1; k < s.points_m.size(); ++k) f.length_m += glm::length(s.points_m[k] - s.points_m[k - 1]);
+        f.diameter_m = s.diameter_m;
+        f.in_kenzan = s.in_kenzan;
+        f.fallen = s.fallen;
+        f.fall_reason = s.fall_reason;
+        f.yield_holding_nm = s.yield_holding_nm;
+        f.yield_gravity_nm = s.yield_gravity_nm;
+        f.pins = s.pins_engaged;
+        f.depth_m = s.depth_m;
+        return f;
+    }
+    std::optional<std::size_t> held() const override {
+        const auto held = state_.hands[1].held_flower;
+        return held >= 0 ? std::optional<std::size_t>(static_cast<std::size_t>(held)) : std::nullopt;
+    }
+    glm::dvec3 kenzan_origin_m() const override { return state_.kenzan_origin_m.value_or(glm::dvec3{0.0}); }
+    double pin_height_m() const override { return state_.kenzan_pin_height_m; }
+
+    // TeacherHand: the X pointer. Where the hand is, as this session has moved it (the window
+    // follows every pixel); look() takes it from the window again before each stem.
+    glm::dvec3 position() const override { return position_; }
+    glm::dvec3 angles() const override { return angles_; }
+    // Small steps, about one a frame: a held stem swung in frame-sized jumps of centimetres hits
+    // the pins on its way. Turns are read a quarter second apart (Ctrl must be seen down each time).
+    double step_s() const override { return 0.05; }
+    double step_m() const override { return 0.01; }
+    double turn_step_s() const override { return 0.2; }
+    void look() override {
+        if (!state_.hands[1].holding) position_ = state_.hands[1].device_m;
+    }
+    void go(glm::dvec3 target) override {
+        const glm::dvec3 d = glm::clamp(target, config_.reach_min_m, config_.reach_max_m) - position_;
+        const int x = static_cast<int>(std::lround(d.x * px_per_m_.x));
+        const int up = static_cast<int>(std::lround(d.z * px_per_m_.y));
+        const int away = static_cast<int>(std::lround(d.y * px_per_m_.y));
+        position_.x += x / px_per_m_.x;
+        position_.z += up / px_per_m_.y;
+        position_.y += away / px_per_m_.y;
+        if (x != 0 || up != 0) {
+            xdo(pieces(x, -up));
+            motion_unseen_ = true;
+        }
+        if (away != 0) held_down("shift", pieces(0, -away));
+    }
+    void turn(glm::dvec3 target) override {
+        const glm::dvec3 d = target - angles_;
+        const int clicks = static_cast<int>(std::lround(d.z / config_.turn_per_scroll_rad));
+        const int x = static_cast<int>(std::lround(d.y / config_.tilt_per_window_rad * state_.window_px.x));
+        const int y = static_cast<int>(std::lround(-d.x / config_.tilt_per_window_rad * state_.window_px.y));
+        if (clicks == 0 && x == 0 && y == 0) return;
+        angles_.z += clicks * config_.turn_per_scroll_rad;
+        angles_.y += x / state_.window_px.x * config_.tilt_per_window_rad;
+        angles_.x -= y / state_.window_px.y * config_.tilt_per_window_rad;
+        std::string what;
+        for (int c = 0; c < std::abs(clicks); ++c) what += std::string(clicks > 0 ? "click 4 " : "click 5 ") + "sleep 0.02 ";
+        held_down("ctrl", what + pieces(x, y));
+    }
+    void grab(bool down) override {
+        xdo(down ? "mousedown 1" : "mouseup 1");
+        seen(steady_us());
+    }
+    void cut(double) override { press_key("c"); }
+
+    void press_key(const std::string& key) {
+        xdo("keydown " + key);
+        seen(steady_us());
+        xdo("keyup " + key);
+        seen(steady_us());
+    }
+    // Enter, and the window's result.
+    bool finish(double timeout_s) {
+        const auto before = state_.results;
+        press_key("Return");
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+        while (failure_.empty() && state_.results == before) {
+            if (std::chrono::steady_clock::now() > until) return fail("Enter showed no result");
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+            refresh();
+        }
+        return failure_.empty();
+    }
+    // Escape; the window closes and the app ends.
+    void close(double timeout_s) {
+        if (app_ <= 0) return;
+        xdo("keydown Escape sleep 0.5 keyup Escape");
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+        while (std::chrono::steady_clock::now() < until) {
+            if (::waitpid(app_, nullptr, WNOHANG) == app_) {
+                app_ = -1;
+                return;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+    }
+
+private:
+    bool fail(const std::string& why) {
+        if (failure_.empty()) {
+            failure_ = why;
+            auto log = assets::read_text_file(log_path_);
+            if (log && !log->empty()) failure_ += " (the window's log, " + log_path_.string() + ", ends: " + log->substr(log->size() > 400 ? log->size() - 400 : 0) + ")";
+        }
+        return false;
+    }
+    // The newest state the window wrote; false while there is none or the app has ended.
+    bool refresh() {
+        if (app_ > 0 && ::waitpid(app_, nullptr, WNOHANG) == app_) {
+            app_ = -1;
+            return fail("the window closed during the demonstration");
+        }
+        auto text = assets::read_text_file(state_path_);
+        if (!text) return false;
+        auto parsed = parse_window_state(*text, state_path_.string());
+        if (!parsed) return false;
+        state_ = std::move(parsed).value();
+        return true;
+    }
+    // Until the window has read its input after `t_us`, and two frames more: the simulation has then
+    // taken it and the snapshot shows what it did.
+    void seen(std::int64_t t_us) {
+        motion_unseen_ = false;
+        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+        std::uint64_t read_in = 0;
+        while (failure_.empty()) {
+            if (refresh()) {
+                if (read_in == 0 && state_.input_read_at_us > t_us) read_in = state_.frame;
+                if (read_in != 0 && state_.frame >= read_in + 2) return;
+            }
+            if (std::chrono::steady_clock::now() > until) {
+                fail("the window read no input for 30 s");
+                return;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+    }
+    // A modifier held while the window reads the motion made under it.
+    void held_down(const std::string& key, const std::string& motion) {
+        // Plain motion not yet read would be read with the modifier down (up-down as depth, or a tilt).
+        if (motion_unseen_) seen(steady_us());
+        xdo("keydown " + key);
+        seen(steady_us());
+        if (!motion.empty()) {
+            xdo(motion);
+            seen(steady_us());
+        }
+        xdo("keyup " + key);
+        seen(steady_us());
+    }
+    // At most 4 pixels a piece: the X server doubles a relative motion beyond its threshold.
+    static std::string pieces(int x, int y) {
+        std::string out;
+        const int n = std::max(1, (std::max(std::abs(x), std::abs(y)) + 3) / 4);
+        int done_x = 0, done_y = 0;
+        for (int i = 1; i <= n; ++i) {
+            const int px = static_cast<int>(std::lround(static_cast<double>(x) * i / n)) - done_x;
+            const int py = static_cast<int>(std::lround(static_cast<double>(y) * i / n)) - done_y;
+            done_x += px;
+            done_y += py;
+            if (px != 0 || py != 0) out += "mousemove_relative -- " + std::to_string(px) + " " + std::to_string(py) + " sleep 0.004 ";
+        }
+        return out;
+    }
+    void xdo(const std::string& commands) {
+        if (!failure_.empty() || commands.empty()) return;
+        const std::string line = "xdotool " + commands + " >/dev/null 2>&1";
+        if (std::system(line.c_str()) != 0) fail("xdotool refused: " + commands.substr(0, 80));
+    }
+
+    std::filesystem::path state_path_, log_path_;
+    pid_t app_;
+    devices::MouseKeyboardHands::Config config_;
+    WindowState state_;
+    std::string failure_;
+    std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+    glm::dvec2 px_per_m_{1.0};
+    glm::dvec3 position_{0.0}, angles_{0.0};
+    bool motion_unseen_ = false; // plain motion sent since the window last showed it had read input
+};
+
+} // namespace
+
+Result<DemoResult> run_lesson_demo_in_window(const LessonDef& lesson, const DemoOptions& options) {
+    if (lesson.scoring != "form") return make_error(ErrorCode::invalid_argument, lesson.id + " copies its scene's sample; it has no form to demonstrate");
+    const auto footprint = footprint_of(lesson);
+    if (!footprint) return std::move(footprint).error();
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !*display) return make_error(ErrorCode::device_error, "--window: no X display (DISPLAY is not set); without --window the demonstration runs headless");
+    if (!on_path("xdotool")) return make_error(ErrorCode::not_found, "--window: xdotool is not installed (Debian: apt install xdotool); it moves the X pointer");
+    std::error_code ec;
+    const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (ec) return make_error(ErrorCode::io_error, "--window: cannot find this program (/proc/self/exe): " + ec.message());
+    const auto folder = std::filesystem::temp_directory_path() / ("ikebana-demo-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(folder, ec);
+    if (ec) return make_error(ErrorCode::io_error, "--window: cannot make " + folder.string() + ": " + ec.message());
+    const auto state = folder / "state.json", log = folder / "window.log";
+    std::filesystem::remove(state, ec);
+    // The window opens at the screen's corner (no window manager under Xvfb): the pointer starts in
+    // its middle, where a trainee's hand would be.
+    constexpr int width = 1200, height = 675;
+    const std::string centre = "xdotool mousemove " + std::to_string(width / 2) + " " + std::to_string(height / 2) + " >/dev/null 2>&1";
+    if (std::system(centre.c_str()) != 0) return make_error(ErrorCode::device_error, std::string("--window: xdotool cannot move the pointer on display ") + display);
+    const std::vector<std::string> args{self.string(), "--lesson", lesson.file.empty() ? lesson.id : lesson.file.string(), "--width", std::to_string(width),
+                                        "--height", std::to_string(height), "--state-out", state.string()};
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+    pid_t pid = -1;
+    const int spawned = posix_spawn(&pid, self.c_str(), &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (spawned != 0) return make_error(ErrorCode::io_error, "--window: cannot start the window: " + std::string(std::strerror(spawned)));
+
+    WindowSession window(state, log, pid);
+    DemoResult result;
+    if (window.start(60.0)) teach(lesson, model_arrangement(lesson, *footprint), window, window, result, options);
+    if (window.failure().empty()) window.finish(20.0);
+    if (!window.failure().empty()) return make_error(ErrorCode::device_error, "--window: " + window.failure());
+    const std::string shown = window.state().result_json;
+    result.simulated_s = static_cast<double>(window.state().sim_time_us) * 1e-6;
+    window.close(30.0);
+    std::filesystem::remove_all(folder, ec); // kept when something went wrong: the error names its log
+    // The window's own result, scored again here from its arrangement: the same function of the same
+    // numbers (rounded as the JSON has them), so the two agree to the rounding.
+    auto arrangement = parse_arrangement(shown, "the window's result");
+    if (!arrangement) return std::move(arrangement).error();
+    auto scored = score_form(lesson, *arrangement, *footprint, "the window's result");
+    if (!scored) return std::move(scored).error();
+    const double window_score = nlohmann::json::parse(shown, nullptr, false).value("score", -1.0);
+    if (std::abs(window_score - scored->score) > 1.0)
+        return make_error(ErrorCode::invalid_argument, "--window: the window scored " + std::to_string(window_score) + ", its arrangement scores " + std::to_string(scored->score));
+    result.score = std::move(scored).value();
+    return result;
+}
+
+} // namespace ikebana::game

@@ -1,0 +1,150 @@
+#include "game/lesson/window_state.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include "engine/assets/files.hpp"
+#include "engine/assets/json_checker.hpp"
+
+namespace ikebana::game {
+
+using Json = nlohmann::json;
+
+void take_snapshot(WindowState& state, const components::FrameSnapshot& frame) {
+    state.sim_time_us = frame.sim_time_us;
+    for (int h = 0; h < 2; ++h) {
+        state.hands[h] = {frame.hands[h].holding, frame.hands[h].held_flower, frame.hands[h].position_m, frame.hands[h].device_m};
+    }
+    state.flowers.resize(frame.flowers.size());
+    for (std::size_t i = 0; i < frame.flowers.size(); ++i) {
+        const auto& f = frame.flowers[i];
+        state.flowers[i] = {f.species, f.points_m, f.diameter_m, f.in_kenzan, f.fallen, f.fall_reason, f.fall_yield_holding_nm, f.fall_yield_gravity_nm,
+                            f.pins_engaged, f.depth_m};
+    }
+    if (frame.kenzan) {
+        state.kenzan_origin_m = frame.kenzan->origin_m;
+        state.kenzan_pin_height_m = frame.kenzan->pin_height_m();
+    }
+}
+
+namespace {
+Json vec(glm::dvec3 v) { return Json::array({v.x, v.y, v.z}); }
+Json vec(glm::dvec2 v) { return Json::array({v.x, v.y}); }
+
+// A reader's helpers: each names the field it could not read.
+struct Reader {
+    std::string error;
+    template <typename T>
+    T get(const Json& j, const char* key, T fallback = {}) {
+        if (!error.empty()) return fallback;
+        if (!j.is_object() || !j.contains(key)) {
+            error = std::string("no field '") + key + "'";
+            return fallback;
+        }
+        try {
+            return j.at(key).get<T>();
+        } catch (const Json::exception&) {
+            error = std::string("field '") + key + "' has the wrong type";
+            return fallback;
+        }
+    }
+    template <int N>
+    glm::vec<N, double> vector(const Json& j, const char* key) {
+        const auto v = get<std::vector<double>>(j, key);
+        glm::vec<N, double> out{0.0};
+        if (!error.empty()) return out;
+        if (v.size() != N) {
+            error = std::string("field '") + key + "' should have " + std::to_string(N) + " numbers";
+            return out;
+        }
+        for (int i = 0; i < N; ++i) out[i] = v[static_cast<std::size_t>(i)];
+        return out;
+    }
+};
+} // namespace
+
+std::string window_state_json(const WindowState& s) {
+    Json j;
+    j["frame"] = s.frame;
+    j["input_read_at_us"] = s.input_read_at_us;
+    j["sim_time_us"] = s.sim_time_us;
+    j["window_px"] = vec(s.window_px);
+    j["cursor_px"] = vec(s.cursor_px);
+    j["hands"] = Json::array();
+    for (const auto& h : s.hands) j["hands"].push_back({{"holding", h.holding}, {"held_flower", h.held_flower}, {"position_m", vec(h.position_m)}, {"device_m", vec(h.device_m)}});
+    j["flowers"] = Json::array();
+    for (const auto& f : s.flowers) {
+        Json points = Json::array();
+        for (const auto& p : f.points_m) points.push_back(vec(p));
+        j["flowers"].push_back({{"species", f.species},
+                                {"points_m", std::move(points)},
+                                {"diameter_m", f.diameter_m},
+                                {"in_kenzan", f.in_kenzan},
+                                {"fallen", f.fallen},
+                                {"fall_reason", static_cast<int>(f.fall_reason)},
+                                {"yield_holding_nm", f.yield_holding_nm},
+                                {"yield_gravity_nm", f.yield_gravity_nm},
+                                {"pins_engaged", f.pins_engaged},
+                                {"depth_m", f.depth_m}});
+    }
+    if (s.kenzan_origin_m) j["kenzan"] = {{"origin_m", vec(*s.kenzan_origin_m)}, {"pin_height_m", s.kenzan_pin_height_m}};
+    j["results"] = s.results;
+    j["result"] = s.result_json.empty() ? Json(nullptr) : Json::parse(s.result_json, nullptr, false);
+    return j.dump();
+}
+
+Result<WindowState> parse_window_state(std::string_view text, const std::string& label) {
+    // Depth first: nlohmann's parser recurses.
+    if (const auto deep = assets::json_nesting_beyond(text, assets::max_json_depth))
+        return make_error(ErrorCode::parse_error, label + ": line " + std::to_string(deep->line) + ", column " + std::to_string(deep->column) + ": nested deeper than " +
+                                                      std::to_string(assets::max_json_depth));
+    const Json j = Json::parse(text, nullptr, false);
+    if (j.is_discarded() || !j.is_object()) return make_error(ErrorCode::parse_error, label + ": not a JSON object");
+    Reader r;
+    WindowState s;
+    s.frame = r.get<std::uint64_t>(j, "frame");
+    s.input_read_at_us = r.get<std::int64_t>(j, "input_read_at_us");
+    s.sim_time_us = r.get<std::int64_t>(j, "sim_time_us");
+    s.window_px = r.vector<2>(j, "window_px");
+    s.cursor_px = r.vector<2>(j, "cursor_px");
+    const auto hands = r.get<Json>(j, "hands");
+    if (r.error.empty() && (!hands.is_array() || hands.size() != 2)) r.error = "field 'hands' should hold two hands";
+    for (std::size_t h = 0; r.error.empty() && h < 2; ++h) {
+        s.hands[h].holding = r.get<bool>(hands[h], "holding");
+        s.hands[h].held_flower = r.get<std::int32_t>(hands[h], "held_flower", -1);
+        s.hands[h].position_m = r.vector<3>(hands[h], "position_m");
+        s.hands[h].device_m = r.vector<3>(hands[h], "device_m");
+    }
+    const auto flowers = r.get<Json>(j, "flowers");
+    if (r.error.empty() && !flowers.is_array()) r.error = "field 'flowers' should be an array";
+    for (std::size_t i = 0; r.error.empty() && i < flowers.size(); ++i) {
+        const Json& f = flowers[i];
+        WindowState::Flower out;
+        out.species = r.get<std::string>(f, "species");
+        for (const auto& p : r.get<std::vector<std::vector<double>>>(f, "points_m")) {
+            if (p.size() != 3) r.error = "a point of flower " + std::to_string(i) + " should have 3 numbers";
+            else out.points_m.emplace_back(p[0], p[1], p[2]);
+        }
+        out.diameter_m = r.get<double>(f, "diameter_m");
+        out.in_kenzan = r.get<bool>(f, "in_kenzan");
+        out.fallen = r.get<bool>(f, "fallen");
+        const int reason = r.get<int>(f, "fall_reason");
+        out.fall_reason = reason >= 0 && reason <= 3 ? static_cast<components::FallReason>(reason) : components::FallReason::none;
+        out.yield_holding_nm = r.get<double>(f, "yield_holding_nm");
+        out.yield_gravity_nm = r.get<double>(f, "yield_gravity_nm");
+        out.pins_engaged = r.get<std::uint32_t>(f, "pins_engaged");
+        out.depth_m = r.get<double>(f, "depth_m");
+        s.flowers.push_back(std::move(out));
+    }
+    if (r.error.empty() && j.contains("kenzan")) {
+        s.kenzan_origin_m = r.vector<3>(j["kenzan"], "origin_m");
+        s.kenzan_pin_height_m = r.get<double>(j["kenzan"], "pin_height_m");
+    }
+    s.results = r.get<std::uint64_t>(j, "results");
+    if (r.error.empty() && j.contains("result") && !j["result"].is_null()) s.result_json = j["result"].dump();
+    if (!r.error.empty()) return make_error(ErrorCode::parse_error, label + ": " + r.error);
+    return s;
+}
+
+Result<void> write_window_state(const std::string& path, const WindowState& state) { return assets::write_file_atomically(path, window_state_json(state)); }
+
+} // namespace ikebana::game

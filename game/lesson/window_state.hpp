@@ -1,0 +1,57 @@
+#pragma once
+// What the trainee window shows, as data for a script that works the window from outside: the app
+// writes it each frame (`ikebana --state-out FILE`), a scripted mouse reads it as a person reads the
+// screen. Plain values only: where the stems are, what each hand holds, when the window last read
+// the mouse and keyboard (so that a script knows its motion has been seen), and the last result.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "components/snapshot.hpp"
+#include "engine/core/result.hpp"
+
+namespace ikebana::game {
+
+struct WindowState {
+    std::uint64_t frame = 0;          // frames the window has read input for
+    std::int64_t input_read_at_us = 0; // steady clock (CLOCK_MONOTONIC, shared by processes) when it read them
+    std::int64_t sim_time_us = 0;     // the snapshot's simulated time
+    glm::dvec2 window_px{0.0};
+    glm::dvec2 cursor_px{0.0};
+    struct Hand {
+        bool holding = false;
+        std::int32_t held_flower = -1;
+        glm::dvec3 position_m{0.0}; // its cube
+        glm::dvec3 device_m{0.0};   // where its device puts it
+    };
+    Hand hands[2];
+    struct Flower {
+        std::string species;
+        std::vector<glm::dvec3> points_m;
+        double diameter_m = 0.0;
+        bool in_kenzan = false;
+        bool fallen = false;
+        components::FallReason fall_reason = components::FallReason::none;
+        double yield_holding_nm = 0.0, yield_gravity_nm = 0.0;
+        std::uint32_t pins_engaged = 0;
+        double depth_m = 0.0;
+    };
+    std::vector<Flower> flowers;
+    std::optional<glm::dvec3> kenzan_origin_m;
+    double kenzan_pin_height_m = 0.0;
+    std::uint64_t results = 0;  // results shown so far (Enter)
+    std::string result_json;    // the last one, as `lesson score --json` writes it (empty: none yet)
+};
+
+// Fills the state's picture of the world from a frame snapshot.
+void take_snapshot(WindowState& state, const components::FrameSnapshot& frame);
+[[nodiscard]] std::string window_state_json(const WindowState& state);
+// Errors name the field; a reader retries on a file caught mid-replace (the writer renames, so it is not).
+Result<WindowState> parse_window_state(std::string_view text, const std::string& label);
+// Writes the file whole (a temporary beside it, then renamed): a reader never sees half of it.
+Result<void> write_window_state(const std::string& path, const WindowState& state);
+
+} // namespace ikebana::game
