@@ -18,6 +18,14 @@ struct HandCube {
     double edge_m;
 };
 
+// Whether a press takes a stem point: inside the cube, grown by the stem's radius, on every axis. The
+// grab and what the window marks as "this is what a press would take" use this one rule.
+[[nodiscard]] inline bool within_grab(glm::dvec3 point_m, glm::dvec3 cube_centre_m, double edge_m, double stem_diameter_m) {
+    const glm::dvec3 d = glm::abs(point_m - cube_centre_m);
+    const double reach = 0.5 * edge_m + 0.5 * stem_diameter_m;
+    return d.x <= reach && d.y <= reach && d.z <= reach;
+}
+
 struct WorkspaceMapping {
     glm::dvec3 centre_m;    // where the device's centre lands in the world
     double scale;           // world metres per device metre (position devices)

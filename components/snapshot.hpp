@@ -47,6 +47,7 @@ struct HandStatus {
     double edge_m;
     std::int32_t held_flower = -1; // which of the frame's flowers it holds (-1: none)
     glm::dvec3 device_m{0.0};      // where its device puts it (the cube stops above the table; this does not)
+    bool grab_button = false;      // its grab button is down (with nothing held: a press that took nothing)
 };
 
 struct FrameSnapshot {

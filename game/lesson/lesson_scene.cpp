@@ -6,6 +6,8 @@
 #include "game/asset_paths.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
 #include "game/species/species.hpp"
+#include "game/world/world.hpp"
+#include "systems/presentation/draw_list.hpp"
 
 namespace ikebana::game {
 
@@ -233,6 +235,64 @@ void add_form_ghosts(render::DrawList& list, const LessonDef& l, const KenzanFoo
         const glm::dvec3 tip = line.back();
         tips.push_back({glm::mat4(glm::vec4(0.018f, 0, 0, 0), glm::vec4(0, 0.018f, 0, 0), glm::vec4(0, 0, 0.018f, 0), glm::vec4(glm::vec3(tip), 1)),
                         glm::vec4(colour.rgb, 0.5f)});
+    }
+}
+
+glm::dvec3 model_plate_origin(const LessonDef& l, const glm::dvec3& kenzan_origin_m) {
+    const glm::dvec3 container_centre = kenzan_origin_m - glm::dvec3(l.kenzan_offset_m, 0.0);
+    return container_centre + glm::dvec3{0.5 * l.container.width_m + 0.07, 0.12, 0.0}; // a little back: in the view, not past its edge
+}
+
+void add_model_flowers(render::DrawList& list, const LessonDef& l, const KenzanFootprint& kenzan, const glm::dvec3& plate_origin_m,
+                       const std::map<std::string, SpeciesDef>& species) {
+    if (l.scoring != "form") return;
+    components::FrameSnapshot model{};
+    const Arrangement arrangement = model_arrangement(l, kenzan);
+    std::vector<glm::vec3> marker_colours;
+    std::vector<glm::dvec3> tips;
+    for (const auto& s : arrangement.stems) {
+        const auto sp = species.find(s.species);
+        if (sp == species.end()) continue;
+        std::vector<glm::dvec3> line{plate_origin_m + glm::dvec3(s.base_m, 0.0)};
+        if (s.path_m.empty()) line.push_back(line.front() + lesson_direction(s.tilt_rad, s.azimuth_rad) * s.length_m);
+        for (const auto& p : s.path_m) line.push_back(plate_origin_m + p);
+        // Twenty segments along the line, as a stem's mass points are.
+        double total = 0.0;
+        for (std::size_t i = 1; i < line.size(); ++i) total += glm::length(line[i] - line[i - 1]);
+        if (total <= 0.0) continue;
+        components::FlowerStatus f{};
+        f.species = s.species;
+        f.diameter_m = sp->second.diameter_m;
+        f.look = look_of(sp->second);
+        constexpr int segments = 20;
+        std::size_t at = 1;
+        double walked = 0.0;
+        for (int k = 0; k <= segments; ++k) {
+            const double want = total * k / segments;
+            while (at + 1 < line.size() && walked + glm::length(line[at] - line[at - 1]) < want) walked += glm::length(line[at] - line[at - 1]), ++at;
+            const double piece = glm::length(line[at] - line[at - 1]);
+            f.points_m.push_back(line[at - 1] + (line[at] - line[at - 1]) * (piece > 0.0 ? std::clamp((want - walked) / piece, 0.0, 1.0) : 0.0));
+        }
+        f.parts = parts_of(sp->second, static_cast<std::uint32_t>(f.points_m.size()));
+        tips.push_back(f.points_m.back());
+        const auto role = std::find_if(l.stems.begin(), l.stems.end(), [&](const MainStemDef& m) { return m.role == s.role; });
+        marker_colours.push_back(role == l.stems.end() ? glm::vec3(0.9f) : ghost_colours[static_cast<std::size_t>(role - l.stems.begin()) % std::size(ghost_colours)].rgb);
+        model.flowers.push_back(std::move(f));
+    }
+    // The flowers as the world's are drawn, then a plate under them and the markers over them.
+    const render::DrawList drawn = systems::build_draw_list(model);
+    for (const auto& b : drawn.batches) {
+        auto& into = list.batch(b.mesh, b.translucent).instances;
+        into.insert(into.end(), b.instances.begin(), b.instances.end());
+    }
+    const auto plate = glm::vec3(kenzan.size_m.x + 0.02, kenzan.size_m.y + 0.02, kenzan.plate_thickness_m);
+    list.batch("cube").instances.push_back({glm::mat4(glm::vec4(plate.x, 0, 0, 0), glm::vec4(0, plate.y, 0, 0), glm::vec4(0, 0, plate.z, 0),
+                                                      glm::vec4(glm::vec3(plate_origin_m - glm::dvec3{0, 0, 0.5 * kenzan.plate_thickness_m}), 1)),
+                                            {0.3f, 0.3f, 0.33f, 1.0f}});
+    for (std::size_t i = 0; i < tips.size(); ++i) {
+        const glm::dvec3 at = tips[i] + glm::dvec3{0, 0, 0.035};
+        list.batch("cube").instances.push_back({glm::mat4(glm::vec4(0.014f, 0, 0, 0), glm::vec4(0, 0.014f, 0, 0), glm::vec4(0, 0, 0.014f, 0), glm::vec4(glm::vec3(at), 1)),
+                                                glm::vec4(marker_colours[i], 1.0f)});
     }
 }
 

@@ -3,11 +3,13 @@
 // in front, the hands beside them, the camera back far enough for the form's height), and the
 // arrangement measured from what the simulation shows, in the lesson's terms (kenzan coordinates,
 // length above the pins, tilt and direction from where each stem enters them).
+#include <map>
 #include "components/snapshot.hpp"
 #include "engine/core/result.hpp"
 #include "game/lesson/form_score.hpp"
 #include "game/lesson/lesson.hpp"
 #include "game/scene/scene.hpp"
+#include "game/species/species.hpp"
 
 namespace ikebana::game {
 
@@ -46,5 +48,13 @@ namespace ikebana::game {
 // nominal length, tilt and direction from its place, in its role's colour (ghost_colour_name).
 void add_form_ghosts(render::DrawList& list, const LessonDef& lesson, const KenzanFootprint& kenzan, const glm::dvec3& kenzan_origin_m);
 [[nodiscard]] std::string ghost_colour_name(std::size_t role);
+// The form's model arrangement as the flowers themselves, on a plate at `plate_origin_m` (beside the
+// container): stems along the model's lines, heads, petals and leaves as the species have them, and
+// over each tip a marker in its role's colour (the HUD's legend names the colours). What a teacher
+// sets beside a trainee's work. Species missing from `species` are left out.
+void add_model_flowers(render::DrawList& list, const LessonDef& lesson, const KenzanFootprint& kenzan, const glm::dvec3& plate_origin_m,
+                       const std::map<std::string, SpeciesDef>& species);
+// Where that plate goes: to the right of the container, at the kenzan's height.
+[[nodiscard]] glm::dvec3 model_plate_origin(const LessonDef& lesson, const glm::dvec3& kenzan_origin_m);
 
 } // namespace ikebana::game

@@ -142,15 +142,22 @@ public:
         }
         say(role + ": push it into the pins");
         // Until its end's lowest edge is a hair above the plate: pushed further, the hand would bend the
-        // stem against the plate, and it would spring when let go.
+        // stem against the plate, and it would spring when let go. The hand never goes lower than where
+        // the stem, hanging free in it now, would touch the plate: the pins hold the stem back while the
+        // hand goes on (in the window the hand moves in frame-sized steps and sees the stem a frame or
+        // two late), and rounds that asked again and again drove the hand centimetres under its stem,
+        // which then bent against the plate and tore out of the pins.
         const double radius = 0.5 * lying.diameter_m;
+        const double hand_above_bottom = hand_.position().z - room_.flower(flower).points_m.front().z;
         for (int round = 0; round < 3; ++round) {
             const auto x = room_.flower(flower).points_m;
             const glm::dvec3 axis = glm::normalize(x[1] - x[0]);
             const double edge_drop = radius * std::sqrt(std::max(0.0, 1.0 - axis.z * axis.z));
             const double lower_by = x.front().z - edge_drop - (kenzan.z + 0.0003);
-            if (lower_by < 0.0005) break;
-            move_to(hand_.position() - glm::dvec3{0, 0, lower_by}, 0.03);
+            const double lowest = kenzan.z + 0.0003 + edge_drop + hand_above_bottom;
+            const double to_z = std::max(hand_.position().z - lower_by, lowest);
+            if (hand_.position().z - to_z < 0.0005) break;
+            move_to({hand_.position().x, hand_.position().y, to_z}, 0.03);
             wait(0.2);
         }
         wait(1.0);
@@ -221,7 +228,11 @@ void teach(const LessonDef& lesson, const Arrangement& model, Classroom& room, T
                           held_at != options.tilt_deg.end() ? "as asked" : "a low stem sinks once let go", aimed.tilt_rad * 180 / pi, target.tilt_rad * 180 / pi);
             teacher.say(why);
         }
-        teacher.place(*pick, target.role, aimed);
+        // A stem that tipped over, or slipped from the hand, is taken again once, as a teacher would.
+        if (!teacher.place(*pick, target.role, aimed)) {
+            teacher.say(target.role + ": it did not stand: take it again");
+            teacher.place(*pick, target.role, aimed);
+        }
     }
     teacher.say("done: let the arrangement settle");
     teacher.wait(2.0);

@@ -89,6 +89,18 @@ components::FlowerLook look_of(const SpeciesDef& sp) {
     return FlowerLook{sp.head_mesh, sp.stem_colour, sp.petal_colour, sp.leaf_colour, sp.head_colour};
 }
 
+std::vector<components::Part> parts_of(const SpeciesDef& sp, std::uint32_t point_count) {
+    std::vector<Part> out;
+    for (const auto& def : sp.parts) {
+        const auto at = static_cast<std::uint32_t>(std::lround(def.position_along_stem * (point_count - 1)));
+        for (std::uint32_t k = 0; k < def.count; ++k) {
+            const double angle = 2.0 * glm::pi<double>() * k / def.count;
+            out.push_back(Part{def.kind, at, 0.5 * def.size_m * glm::dvec3{std::cos(angle), std::sin(angle), 0.0}, def.mesh});
+        }
+    }
+    return out;
+}
+
 components::PinResistance pin_resistance_of(const SpeciesDef& sp) {
     PinResistance m{};
     if (sp.hard) {
@@ -160,13 +172,12 @@ ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPla
         add_collision_tag(r, part, i == 0 ? CollisionClass::active : CollisionClass::passive);
         ecs::attach(r, part, flower);
     }
+    const auto parts = parts_of(sp, point_count);
+    std::size_t next_part = 0;
     for (const auto& def : sp.parts) {
-        const auto at = static_cast<std::uint32_t>(std::lround(def.position_along_stem * (point_count - 1)));
         for (std::uint32_t k = 0; k < def.count; ++k) {
-            const double angle = 2.0 * glm::pi<double>() * k / def.count;
-            const glm::dvec3 offset = 0.5 * def.size_m * glm::dvec3{std::cos(angle), std::sin(angle), 0.0};
             const ecs::Entity part = r.create();
-            r.emplace<Part>(part, def.kind, at, offset, def.mesh);
+            r.emplace<Part>(part, parts[next_part++]);
             r.emplace<Collider>(part, ShapeKind::sphere, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.3 * def.size_m, glm::dvec3{0.0});
             add_collision_tag(r, part, def.collision);
             ecs::attach(r, part, flower);

@@ -65,6 +65,10 @@ private:
 
 // The species' resistance, deterioration and breakage as the insertion systems use them.
 components::FlowerLook look_of(const SpeciesDef& species);
+// A species' petals and leaves on a stem of `point_count` mass points: each part definition's count
+// spread round the stem at its place along it (what a spawned flower carries, and what a drawn model
+// flower shows). In the order of the definitions, then round the stem.
+std::vector<components::Part> parts_of(const SpeciesDef& species, std::uint32_t point_count);
 components::PinResistance pin_resistance_of(const SpeciesDef& species);
 
 // Adds one flower of `species` to `registry`: the flower entity carries the stem physics, and owns one

@@ -61,10 +61,8 @@ void GrabSystem::operator()(sched::SystemContext& ctx) {
                 // Unify with the nearest stem point inside the cube (its half edge plus the stem's radius).
                 double best = std::numeric_limits<double>::infinity();
                 r.view<const StemPoints, const StemRestShape>().each([&](ecs::Entity flower, const StemPoints& points, const StemRestShape& rest) {
-                    const double reach = 0.5 * cube.edge_m + 0.5 * rest.diameter_m;
                     for (std::size_t i = 0; i < points.position_m.size(); ++i) {
-                        const glm::dvec3 d = glm::abs(points.position_m[i] - proxy.position_m);
-                        if (d.x > reach || d.y > reach || d.z > reach) continue;
+                        if (!within_grab(points.position_m[i], proxy.position_m, cube.edge_m, rest.diameter_m)) continue;
                         const double dist = glm::length(points.position_m[i] - proxy.position_m);
                         if (dist < best) {
                             best = dist;

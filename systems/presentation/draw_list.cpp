@@ -1,7 +1,9 @@
 #include "systems/presentation/draw_list.hpp"
 
 #include <cmath>
+#include <limits>
 
+#include "components/hand.hpp"
 #include "systems/physics/part_attachment.hpp"
 
 namespace ikebana::systems {
@@ -129,6 +131,37 @@ render::DrawList build_draw_list(const FrameSnapshot& frame) {
         const glm::vec4 colour = h == 0 ? glm::vec4(0.2f, 0.45f, 0.85f, 1.0f) : glm::vec4(0.85f, 0.3f, 0.25f, 1.0f);
         const double e = hand.edge_m;
         list.batch("cube").instances.push_back({frame_matrix({e, 0, 0}, {0, e, 0}, {0, 0, e}, hand.position_m), hand.connected ? colour : colour * 0.5f});
+        // Depth on a flat screen: a thin line from the cube down to the table and a mark where it lands.
+        const double floor_m = frame.table_height_m.value_or(0.0);
+        const double drop = hand.position_m.z - 0.5 * e - floor_m;
+        if (drop > 0.002) {
+            const glm::dvec3 foot{hand.position_m.x, hand.position_m.y, floor_m + 0.0005};
+            const glm::vec4 dim(glm::vec3(colour) * 0.7f, 1.0f);
+            list.batch("cylinder").instances.push_back({segment(foot, hand.position_m - glm::dvec3{0, 0, 0.5 * e}, 0.0012), dim});
+            list.batch("cube").instances.push_back({frame_matrix({e, 0, 0}, {0, e, 0}, {0, 0, 0.001}, foot), dim});
+        }
+        // What a press would take now: the nearest stem point within the grab's reach (the grab's own
+        // rule), its stem marked yellow either side of it, out past the cube.
+        if (hand.holding) continue;
+        const FlowerStatus* best = nullptr;
+        std::size_t best_i = 0;
+        double best_d = std::numeric_limits<double>::infinity();
+        for (const auto& flower : frame.flowers) {
+            for (std::size_t i = 0; i < flower.points_m.size(); ++i) {
+                if (!within_grab(flower.points_m[i], hand.position_m, e, flower.diameter_m)) continue;
+                const double d = glm::length(flower.points_m[i] - hand.position_m);
+                if (d < best_d) {
+                    best_d = d;
+                    best = &flower;
+                    best_i = i;
+                }
+            }
+        }
+        if (best) {
+            const auto& x = best->points_m;
+            const std::size_t from = best_i > 0 ? best_i - 1 : 0, to = std::min(best_i + 1, x.size() - 1);
+            for (std::size_t i = from; i < to; ++i) list.batch("cylinder").instances.push_back({segment(x[i], x[i + 1], 0.8 * best->diameter_m), glm::vec4(1.0f, 0.85f, 0.1f, 1.0f)});
+        }
     }
     return list;
 }

@@ -45,9 +45,12 @@ std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const
         const char* state = hand.connected ? "" : hand.disconnects > 0 ? " (unplugged)" : " (not answering)";
         const std::string device = info.device[h].empty() || info.device[h] == "no device" ? "no device" : info.device[h];
         if (device == "no device") state = "";
-        std::snprintf(text, sizeof text, "%s hand: %s%s   feels %.2f N%s", h ? "right" : "left", device.c_str(), state,
-                      glm::length(hand.force_n), hand.holding ? "   holding a stem" : "");
+        // A press that took nothing says so (a first-time trainee otherwise presses again and again).
+        const bool took_nothing = !hand.holding && hand.grab_button;
+        std::snprintf(text, sizeof text, "%s hand: %s%s   feels %.2f N%s", h ? "right" : "left", device.c_str(), state, glm::length(hand.force_n),
+                      hand.holding ? "   holding a stem" : took_nothing ? "   took nothing" : "");
         lines.emplace_back(text);
+        if (took_nothing) lines.emplace_back("  nothing in reach: put the cube on a stem (yellow: what it takes)");
     }
     for (const auto& r : info.result) lines.push_back(r);
     return lines;

@@ -64,7 +64,7 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
             }
         });
     frame.flowers.resize(count);
-    for (auto& h : frame.hands) h = HandStatus{false, false, 0, false, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.0, -1, glm::dvec3{0.0}};
+    for (auto& h : frame.hands) h = HandStatus{false, false, 0, false, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.0, -1, glm::dvec3{0.0}, false};
     r.view<const HandCube, const HandInput, const HandProxy, const HandGrip, const HandForce>().each(
         [&](ecs::Entity, const HandCube& cube, const HandInput& input, const HandProxy& proxy, const HandGrip& grip, const HandForce& force) {
             if (cube.hand < 2) {
@@ -73,7 +73,7 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
                     if (order[i] == grip.held) held = static_cast<std::int32_t>(i);
                 }
                 frame.hands[cube.hand] = HandStatus{true, input.connected, input.disconnects, !grip.held.is_null(), force.force_n,
-                                                    proxy.position_m, cube.edge_m, held, input.device_m};
+                                                    proxy.position_m, cube.edge_m, held, input.device_m, (input.buttons & 1u) != 0};
             }
         });
     const auto* contacts = r.resource<const Contacts>();

@@ -16,6 +16,7 @@
 #include "game/world/world.hpp"
 #include "scripted_hands.hpp"
 #include "systems/physics/table_support_system.hpp"
+#include "systems/presentation/draw_list.hpp"
 #include "systems/presentation/hud.hpp"
 
 using namespace ikebana;
@@ -209,4 +210,50 @@ TEST(Standing, AFlowerWhoseStemSagsUnderItsHeadHasNotTipped) {
     EXPECT_GT(line_below_end / deg, 4.0) << "the stem sags between its end and its top";
     EXPECT_LT(end_turned / deg, 25.0);
     EXPECT_NE(grip.fall_reason, FallReason::tipped);
+}
+
+// A first-time trainee's cues: a line from each hand down to the table (depth on a flat screen), the
+// stem a press would take marked yellow (by the grab's own rule), and a press that took nothing says so.
+TEST(ReachCues, ThePointAPressWouldTakeIsMarkedAndAPressThatTookNothingSaysSo) {
+    FrameSnapshot frame{};
+    frame.table_height_m = 0.0;
+    FlowerStatus f{};
+    f.species = "sunflower";
+    f.diameter_m = 0.008;
+    for (int i = 0; i < 6; ++i) f.points_m.push_back({0.02 * i, 0.0, 0.05});
+    frame.flowers.push_back(f);
+    auto& hand = frame.hands[1];
+    hand.present = hand.connected = true;
+    hand.edge_m = 0.02;
+    hand.position_m = {0.041, 0.003, 0.052}; // on the stem's third point
+    const glm::vec4 yellow(1.0f, 0.85f, 0.1f, 1.0f);
+    const auto count = [&](const render::DrawList& list, bool want_yellow) {
+        std::size_t n = 0;
+        for (const auto& b : list.batches) {
+            if (b.mesh != "cylinder") continue;
+            for (const auto& inst : b.instances) n += (inst.colour == yellow) == want_yellow ? 1 : 0;
+        }
+        return n;
+    };
+    const auto over = systems::build_draw_list(frame);
+    EXPECT_EQ(count(over, true), 2u) << "the segments either side of the point a press would take";
+    EXPECT_EQ(count(over, false), 5u + 1u) << "the stem's five segments and the hand's drop line";
+    hand.position_m = {0.041, 0.05, 0.052}; // beside it, out of reach
+    EXPECT_EQ(count(systems::build_draw_list(frame), true), 0u);
+    hand.position_m = {0.041, 0.003, 0.052};
+    hand.holding = true;
+    EXPECT_EQ(count(systems::build_draw_list(frame), true), 0u) << "nothing to mark in a full hand";
+    hand.position_m.z = 0.0101; // resting on the table: no line
+    EXPECT_EQ(count(systems::build_draw_list(frame), false), 5u);
+    // The press that took nothing, on the hand's HUD line; a press that holds says that instead.
+    hand.holding = false;
+    hand.grab_button = true;
+    hand.position_m = {0.041, 0.05, 0.052};
+    std::string said;
+    for (const auto& line : systems::hud_lines(frame, HudInfo{})) said += line + "\n";
+    EXPECT_NE(said.find("right hand: no device   feels 0.00 N   took nothing\n  nothing in reach: put the cube on a stem (yellow: what it takes)"), std::string::npos) << said;
+    hand.holding = true;
+    said.clear();
+    for (const auto& line : systems::hud_lines(frame, HudInfo{})) said += line + "\n";
+    EXPECT_EQ(said.find("nothing in reach"), std::string::npos) << said;
 }

@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
@@ -19,6 +21,7 @@
 #include "systems/haptics/trainee_command_system.hpp"
 #include "systems/presentation/frame_channel.hpp"
 #include "components/hand.hpp"
+#include "components/kenzan.hpp"
 #include "components/stem.hpp"
 #include "engine/devices/mouse_keyboard_device.hpp"
 #include "engine/platform/pointer_input.hpp"
@@ -685,4 +688,57 @@ TEST(WindowState, WhatTheWindowWritesIsReadBackTheSame) {
     const auto broken = parse_window_state(R"({"frame": 1, "input_read_at_us": 0, "sim_time_us": 0, "window_px": [1, 1], "cursor_px": [0, 0], "hands": []})", "state.json");
     ASSERT_FALSE(broken.ok());
     EXPECT_EQ(broken.error().message, "state.json: field 'hands' should hold two hands");
+}
+
+// G shows the form's model beside the container as the flowers themselves (stems along the model's
+// lines, heads, petals and leaves as their species have them), each tip marked in its role's colour.
+TEST(ModelArrangement, TheModelIsDrawnAsItsFlowersBesideTheContainerWithEachTipMarkedInItsRolesColour) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    const auto footprint = footprint_of(l);
+    ASSERT_TRUE(footprint.ok());
+    auto scene = scene_for_lesson(l);
+    ASSERT_TRUE(scene.ok());
+    auto world = World::create(*scene);
+    ASSERT_TRUE(world.ok());
+    const glm::dvec3 kenzan = (*world)->sim.single<components::Kenzan>()->origin_m;
+    const glm::dvec3 plate = model_plate_origin(l, kenzan);
+    const double container_right = kenzan.x - l.kenzan_offset_m.x + 0.5 * l.container.width_m;
+    EXPECT_GT(plate.x, container_right + 0.05) << "beside the container, not in it";
+    render::DrawList list;
+    add_model_flowers(list, l, *footprint, plate, (*world)->species);
+    const Arrangement model = model_arrangement(l, *footprint);
+    std::size_t segments = 0, part_instances = 0, expected_parts = 0;
+    std::map<std::string, std::size_t> per_mesh;
+    for (const auto& b : list.batches) per_mesh[b.mesh] += b.instances.size();
+    segments = per_mesh["cylinder"];
+    EXPECT_EQ(segments, model.stems.size() * 20) << "twenty segments a stem";
+    std::set<std::string> part_meshes;
+    for (const auto& s : model.stems) {
+        const auto& sp = (*world)->species.at(s.species);
+        for (const auto& p : parts_of(sp, 21)) {
+            if (p.mesh.empty()) continue;
+            ++expected_parts;
+            part_meshes.insert(p.mesh);
+        }
+        if (!sp.head_mesh.empty()) {
+            EXPECT_GE(per_mesh[sp.head_mesh], 1u) << s.species << "'s head";
+        }
+    }
+    for (const auto& m : part_meshes) part_instances += per_mesh[m];
+    EXPECT_GE(part_instances, expected_parts) << "every petal and leaf the species have";
+    EXPECT_GT(expected_parts, 0u);
+    // One marker per role in its colour, above the tip of the model stem.
+    for (std::size_t i = 0; i < l.stems.size(); ++i) {
+        std::size_t markers = 0;
+        for (const auto& b : list.batches) {
+            if (b.mesh != "cube") continue;
+            for (const auto& inst : b.instances) {
+                const glm::vec3 c(inst.colour);
+                if (glm::length(c - glm::vec3(0.85f, 0.15f, 0.12f)) < 1e-6f && i == 0) ++markers;
+                if (glm::length(c - glm::vec3(0.1f, 0.6f, 0.2f)) < 1e-6f && i == 1) ++markers;
+                if (glm::length(c - glm::vec3(0.15f, 0.3f, 0.85f)) < 1e-6f && i == 2) ++markers;
+            }
+        }
+        EXPECT_EQ(markers, 1u) << l.stems[i].role << " (" << ghost_colour_name(i) << ")";
+    }
 }

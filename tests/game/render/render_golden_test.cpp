@@ -128,8 +128,11 @@ TEST(RenderGolden, RenderShowsTheSampleAndTheHudLikeTheWindow) {
     for (const auto& b : prepared.list.batches) {
         if (b.mesh == "cylinder") stems = b.instances.size();
     }
-    for (const auto& f : (*world)->main.resource<systems::ReceivedFrames>()->latest().flowers) world_segments += f.points_m.size() - 1;
-    EXPECT_EQ(stems, world_segments + scene->sample.size()) << "every stem segment of the world, and one cylinder per sample stem";
+    const auto& latest = (*world)->main.resource<systems::ReceivedFrames>()->latest();
+    for (const auto& f : latest.flowers) world_segments += f.points_m.size() - 1;
+    std::size_t drop_lines = 0; // each hand above the table shows a line down to it
+    for (const auto& h : latest.hands) drop_lines += h.present && h.position_m.z - 0.5 * h.edge_m > latest.table_height_m.value_or(0.0) + 0.002 ? 1 : 0;
+    EXPECT_EQ(stems, world_segments + scene->sample.size() + drop_lines) << "every stem segment of the world, one cylinder per sample stem, a line under each hand";
 
     if (!render::VulkanContext::create({})) GTEST_SKIP() << "no Vulkan 1.3 device";
     const auto out = std::filesystem::temp_directory_path() / "ikebana_render_hud";
