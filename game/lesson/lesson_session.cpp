@@ -183,9 +183,9 @@ Result<ReplayResult> replay_lesson_session(const std::filesystem::path& folder) 
         std::vector<std::pair<std::string, std::uint64_t>> now;
         for (const auto& [name, h] : w.sim.component_hashes()) now.emplace_back("sim:" + name, h);
         for (const auto& [name, h] : w.main.component_hashes()) now.emplace_back("main:" + name, h);
-        for (const auto& [name, h] : now) {
-            const auto it = std::find_if(info->component_hashes.begin(), info->component_hashes.end(), [&](const auto& p) { return p.first == name; });
-            if (it == info->component_hashes.end() || it->second != hex(h)) result.parted.push_back(name);
+        for (const auto& part : now) { // (not a structured binding: clang 14 cannot capture one in a lambda)
+            const auto it = std::find_if(info->component_hashes.begin(), info->component_hashes.end(), [&](const auto& p) { return p.first == part.first; });
+            if (it == info->component_hashes.end() || it->second != hex(part.second)) result.parted.push_back(part.first);
         }
     }
     result.recorded_state_hash = info->state_hash;

@@ -80,6 +80,7 @@ public:
         started_ = std::chrono::steady_clock::now();
         px_per_m_ = {state_.window_px.x / config_.workspace_width_m, state_.window_px.y / config_.workspace_height_m};
         position_ = state_.hands[1].device_m;
+        cursor_ = state_.cursor_px;
         return true;
     }
 
@@ -138,11 +139,8 @@ public:
         position_.x += x / px_per_m_.x;
         position_.z += up / px_per_m_.y;
         position_.y += away / px_per_m_.y;
-        if (x != 0 || up != 0) {
-            xdo(pieces(x, -up));
-            motion_unseen_ = true;
-        }
-        if (away != 0) held_down("shift", pieces(0, -away));
+        if (x != 0 || up != 0) move_pointer(x, -up);
+        if (away != 0) held_down("shift", [&] { move_pointer(0, -away); });
     }
     void turn(glm::dvec3 target) override {
         const glm::dvec3 d = target - angles_;
@@ -153,9 +151,12 @@ public:
         angles_.z += clicks * config_.turn_per_scroll_rad;
         angles_.y += x / state_.window_px.x * config_.tilt_per_window_rad;
         angles_.x -= y / state_.window_px.y * config_.tilt_per_window_rad;
-        std::string what;
-        for (int c = 0; c < std::abs(clicks); ++c) what += std::string(clicks > 0 ? "click 4 " : "click 5 ") + "sleep 0.02 ";
-        held_down("ctrl", what + pieces(x, y));
+        std::string wheel;
+        for (int c = 0; c < std::abs(clicks); ++c) wheel += std::string(clicks > 0 ? "click 4 " : "click 5 ") + "sleep 0.02 ";
+        held_down("ctrl", [&] {
+            xdo(wheel);
+            move_pointer(x, y);
+        });
     }
     void grab(bool down) override {
         xdo(down ? "mousedown 1" : "mouseup 1");
@@ -226,7 +227,10 @@ private:
         while (failure_.empty()) {
             if (refresh()) {
                 if (read_in == 0 && state_.input_read_at_us > t_us) read_in = state_.frame;
-                if (read_in != 0 && state_.frame >= read_in + 2) return;
+                if (read_in != 0 && state_.frame >= read_in + 2) {
+                    cursor_ = state_.cursor_px; // all motion sent before t_us has been read (and put back in the middle at an edge)
+                    return;
+                }
             }
             if (std::chrono::steady_clock::now() > until) {
                 fail("the window read no input for 30 s");
@@ -236,31 +240,46 @@ private:
         }
     }
     // A modifier held while the window reads the motion made under it.
-    void held_down(const std::string& key, const std::string& motion) {
+    template <typename Motion>
+    void held_down(const std::string& key, Motion&& motion) {
         // Plain motion not yet read would be read with the modifier down (up-down as depth, or a tilt).
         if (motion_unseen_) seen(steady_us());
         xdo("keydown " + key);
         seen(steady_us());
-        if (!motion.empty()) {
-            xdo(motion);
-            seen(steady_us());
-        }
+        motion();
+        if (motion_unseen_) seen(steady_us());
         xdo("keyup " + key);
         seen(steady_us());
     }
-    // At most 4 pixels a piece: the X server doubles a relative motion beyond its threshold.
-    static std::string pieces(int x, int y) {
-        std::string out;
+    // Relative motion, at most 4 pixels a piece (the X server doubles a relative motion beyond its
+    // threshold). The cursor must stay in the window: past its edge the screen's edge stops it and the
+    // motion is lost (the window sits at the screen's top left). The window puts a cursor that comes
+    // within 24 px of its edge back in its middle when it reads it; so the motion stops 14-18 px from
+    // an edge until the window has read it there, then goes on from the middle.
+    void move_pointer(int x, int y) {
         const int n = std::max(1, (std::max(std::abs(x), std::abs(y)) + 3) / 4);
         int done_x = 0, done_y = 0;
+        std::string batch;
+        const auto send = [&] {
+            xdo(batch);
+            batch.clear();
+            motion_unseen_ = true;
+        };
         for (int i = 1; i <= n; ++i) {
             const int px = static_cast<int>(std::lround(static_cast<double>(x) * i / n)) - done_x;
             const int py = static_cast<int>(std::lround(static_cast<double>(y) * i / n)) - done_y;
+            const glm::dvec2 next = cursor_ + glm::dvec2(px, py);
+            if (next.x < 14.0 || next.y < 14.0 || next.x > state_.window_px.x - 14.0 || next.y > state_.window_px.y - 14.0) {
+                if (!batch.empty()) send();
+                seen(steady_us()); // the window reads it at its edge and puts it back in the middle
+                if (!failure_.empty()) return;
+            }
             done_x += px;
             done_y += py;
-            if (px != 0 || py != 0) out += "mousemove_relative -- " + std::to_string(px) + " " + std::to_string(py) + " sleep 0.004 ";
+            cursor_ += glm::dvec2(px, py);
+            if (px != 0 || py != 0) batch += "mousemove_relative -- " + std::to_string(px) + " " + std::to_string(py) + " sleep 0.004 ";
         }
-        return out;
+        if (!batch.empty()) send();
     }
     void xdo(const std::string& commands) {
         if (!failure_.empty() || commands.empty()) return;
@@ -277,6 +296,7 @@ private:
     glm::dvec2 px_per_m_{1.0};
     glm::dvec3 position_{0.0}, angles_{0.0};
     bool motion_unseen_ = false; // plain motion sent since the window last showed it had read input
+    glm::dvec2 cursor_{0.0};     // where the cursor is in the window, with the motion sent since
 };
 
 } // namespace
