@@ -73,6 +73,10 @@ public:
         const double in_pins = room_.pin_height_m();
         const double keep = target.length_m + in_pins;
         const SeenFlower lying = room_.flower(flower);
+        if (lying.points_m.size() < 2) {
+            say(role + ": the " + target.species + " cannot be seen");
+            return false;
+        }
         const double cut = lying.length_m - keep;
         // Take it a little above where its new bottom will be: a hand holds a stem near its base to push it in.
         const double grip_from_new_bottom = std::min(0.06, 0.3 * keep);
