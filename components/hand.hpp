@@ -31,6 +31,9 @@ struct WorkspaceMapping {
     double scale;           // world metres per device metre (position devices)
     double yaw_rad;         // turns with the camera, so "away from me" stays away from the viewer
     double rate_speed_m_s;  // rate devices (a SpaceMouse): hand speed at a full push
+    // Rate devices: turn speed at a full twist. The twist is integrated like the push, so a stem turned
+    // with a SpaceMouse stays turned when the cap is let go (a held angle would spring back to upright).
+    double rate_turn_rad_s;
 };
 
 // A hand is four components, one per step of the chain, each written by one system:

@@ -290,7 +290,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
         r.emplace<HandForce>(hand, HandForce{glm::dvec3{0.0}});
         r.emplace<ForceChecks>(hand);
         // Scripted trajectories are in world coordinates.
-        r.emplace<WorkspaceMapping>(hand, glm::dvec3{0.0}, 1.0, 0.0, 0.3);
+        r.emplace<WorkspaceMapping>(hand, glm::dvec3{0.0}, 1.0, 0.0, 0.3, 1.2);
         if (h.hand < 2) w->hands[h.hand] = hand;
         if (!h.trajectory.empty()) {
             w->attach_device(h.hand, std::make_unique<devices::ScriptedDevice>(std::move(trajectories[hand_index]), devices::ScriptedDevice::Mode::interpolate,

@@ -32,10 +32,14 @@ void HandInputSystem::operator()(sched::SystemContext& ctx) {
             const glm::dvec3 previous_device = input.device_m;
             if (device->capabilities().reports_position) {
                 input.device_m = map.centre_m + turn(map.scale * sample->position);
+                input.rotation_rad = sample->rotation;
             } else {
                 input.device_m += turn(sample->position * map.rate_speed_m_s * ctx.dt_s);
+                // A cap at rest reads a few hundredths off zero: below the dead zone it does not turn the
+                // hand, which would otherwise creep round while nobody touches it.
+                const glm::dvec3 twist = glm::mix(glm::dvec3{0.0}, sample->rotation, glm::greaterThan(glm::abs(sample->rotation), glm::dvec3{rate_dead_zone}));
+                input.rotation_rad = glm::clamp(input.rotation_rad + twist * map.rate_turn_rad_s * ctx.dt_s, glm::dvec3{-2.0 * M_PI}, glm::dvec3{2.0 * M_PI});
             }
-            input.rotation_rad = sample->rotation;
             input.previous_buttons = input.buttons;
             input.buttons = sample->buttons;
             // The proxy: the device position, kept above the table and out of the kenzan's base.

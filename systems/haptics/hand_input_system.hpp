@@ -20,6 +20,9 @@ namespace ikebana::systems {
 // A free hand goes where its device says (a script may place it on a stem at once).
 inline constexpr double max_hand_speed_m_s = 5.0;
 
+// A rate device's twist (normalised, [-1, 1]) below this turns nothing.
+inline constexpr double rate_dead_zone = 0.05;
+
 struct HandInputSystem {
     static constexpr std::string_view name = "hand_input";
     static constexpr std::string_view lane = "sim";
