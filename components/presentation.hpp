@@ -21,6 +21,7 @@ struct HudInfo {
 // Drawn every frame beside the world, fixed for the session: the scene's sample arrangement.
 struct Scenery {
     render::DrawList list;
+    std::vector<render::OverlayPanel> labels; // names on it, anchored to the world (text_overlay.hpp)
 };
 
 // This frame, ready for the renderer: the world's draw list with the scenery, and the HUD's panels.

@@ -238,12 +238,12 @@ void StereoRenderer::draw_overlay(const Frame& frame, const CompositeTarget& tar
         const VkRect2D scissor{{static_cast<std::int32_t>(static_cast<std::uint32_t>(area) * area_width), 0},
                                {std::min(area_width, target.extent.width), target.extent.height}};
         vkCmdSetScissor(cmd, 0, 1, &scissor);
-        for (std::size_t k = 0; k < overlay_.size() && k < frame.overlay_ranges.size(); ++k) {
+        for (std::size_t k = 0; k < overlay_.size() && k < frame.overlay_ranges.size() && k < frame.overlay_origins.size(); ++k) {
             const auto [first, count] = frame.overlay_ranges[k];
-            if (count == 0) continue;
+            const auto& origin = frame.overlay_origins[k][static_cast<std::size_t>(area)];
+            if (count == 0 || !origin) continue;
             const OverlayConstants c{static_cast<float>(target.extent.width), static_cast<float>(target.extent.height),
-                                     overlay_[k].origin_px.x + static_cast<float>(area) * static_cast<float>(options_.eye_width),
-                                     overlay_[k].origin_px.y, overlay_[k].scale};
+                                     origin->x + static_cast<float>(area) * static_cast<float>(options_.eye_width), origin->y, overlay_[k].scale};
             vkCmdPushConstants(cmd, overlay_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof c, &c);
             vkCmdDraw(cmd, count, 1, first, 0);
         }

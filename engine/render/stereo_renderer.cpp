@@ -329,6 +329,14 @@ Result<StereoRenderer::Frame*> StereoRenderer::begin_frame(const DrawList& list,
     std::memcpy(frame.uniforms.mapped, &u, sizeof u);
 
     if (auto o = fill_overlay(frame); !o) return std::move(o).error();
+    const glm::vec2 eye_px{static_cast<float>(options_.eye_width), static_cast<float>(options_.eye_height)};
+    const bool two_areas = options_.mode == StereoMode::side_by_side;
+    const glm::mat4 centre = eye_matrices(rig, 0).view_projection;
+    frame.overlay_origins.clear();
+    for (const auto& panel : overlay_) {
+        frame.overlay_origins.push_back({overlay_origin_px(panel, two_areas ? u.view_projection[0] : centre, eye_px),
+                                         overlay_origin_px(panel, two_areas ? u.view_projection[1] : centre, eye_px)});
+    }
     IKEBANA_VK(vkResetCommandBuffer(frame.cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO, nullptr, VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT, nullptr};
     IKEBANA_VK(vkBeginCommandBuffer(frame.cmd, &begin));

@@ -123,6 +123,9 @@ private:
         VkQueryPool timestamps = VK_NULL_HANDLE;       // start, after shadow, after scene, after composite
         bool timestamps_written = false;
         std::vector<std::pair<std::uint32_t, std::uint32_t>> overlay_ranges; // first vertex, count per panel
+        // Where each panel goes in each area (side by side: the left eye's, the right eye's; else the
+        // centre's), nothing where an anchored panel's point is behind the eye.
+        std::vector<std::array<std::optional<glm::vec2>, 2>> overlay_origins;
     };
     struct CompositeTarget {
         VkImage image;

@@ -49,4 +49,25 @@ std::vector<OverlayVertex> overlay_triangles(const OverlayPanel& panel) {
     return out;
 }
 
+glm::vec2 overlay_extent_px(const OverlayPanel& panel) {
+    if (panel.lines.empty()) return glm::vec2{0.0f};
+    float width = 0.0f;
+    for (const auto& line : panel.lines) width = std::max(width, static_cast<float>(stb_easy_font_width(const_cast<char*>(line.c_str()))));
+    return panel.scale * glm::vec2{width + 8.0f, 12.0f * static_cast<float>(panel.lines.size()) + 8.0f};
+}
+
+std::optional<glm::vec2> overlay_origin_px(const OverlayPanel& panel, const glm::mat4& view_projection, glm::vec2 eye_size_px) {
+    if (!panel.anchor_m) return panel.origin_px;
+    const glm::vec4 clip = view_projection * glm::vec4(*panel.anchor_m, 1.0f);
+    if (clip.w <= 1e-6f) return std::nullopt;
+    // Vulkan's clip y points down, as pixel rows do.
+    const glm::vec2 seen = (glm::vec2(clip.x, clip.y) / clip.w * 0.5f + 0.5f) * eye_size_px;
+    const glm::vec2 size = overlay_extent_px(panel);
+    // The panel's padding is drawn around its origin (4 unscaled pixels each way).
+    glm::vec2 origin = seen + glm::vec2{-0.5f * size.x, -size.y} + glm::vec2{4.0f * panel.scale};
+    // Kept whole in the eye's image sideways (a label cut at the edge cannot be read).
+    origin.x = std::clamp(origin.x, 4.0f * panel.scale, std::max(4.0f * panel.scale, eye_size_px.x - size.x + 4.0f * panel.scale));
+    return origin;
+}
+
 } // namespace ikebana::render

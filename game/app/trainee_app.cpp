@@ -399,9 +399,11 @@ void TraineeSession::lesson_keys(const platform::PointerState& in, sched::System
     if (effects.ghosts_toggled) {
         auto& scenery = *main_lane.registry.resource<components::Scenery>();
         scenery.list = sample_scenery_;
+        scenery.labels.clear();
         if (controls_->ghosts()) {
             add_form_ghosts(scenery.list, *lesson_, footprint_, kenzan_at_);
             add_model_flowers(scenery.list, *lesson_, footprint_, model_plate_origin(*lesson_, kenzan_at_), world_->species);
+            scenery.labels = form_labels(*lesson_, footprint_, kenzan_at_, model_plate_origin(*lesson_, kenzan_at_));
         }
     }
     if (effects.score && effects.score->ok()) {

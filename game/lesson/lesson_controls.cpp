@@ -75,7 +75,7 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
         std::string legend = "  targets (G):";
         for (std::size_t i = 0; i < lesson_.stems.size(); ++i) legend += " " + lesson_.stems[i].role + " " + ghost_colour_name(i);
         lines_.push_back(legend);
-        lines_.push_back("  the model stands right of the container, tips in those colours");
+        lines_.push_back("  the model stands behind the container, right; each stem named");
     }
     effects.restart = in.reset_key && !reset_was_down_;
     reset_was_down_ = in.reset_key;

@@ -1,6 +1,7 @@
 #include "game/lesson/lesson_scene.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 
 #include "game/asset_paths.hpp"
@@ -60,8 +61,11 @@ Result<SceneDef> scene_for_lesson(const LessonDef& l) {
     double tallest = 0.0;
     for (std::size_t i = 0; i < l.stems.size(); ++i) tallest = std::max(tallest, nominal_length_m(l, i));
     const double height = std::max(0.3, tallest + rim);
-    s.display.camera_target_m = glm::dvec3{0.0, front - 0.05, 0.3 * height};
-    s.display.camera_position_m = glm::dvec3{0.0, front - 0.05 - 1.5 * height, 0.95 * height};
+    // The view's middle a little above the form's middle: the HUD's panel covers the top of the view.
+    // Sideways, a little toward the model that G sets behind and right of the container.
+    const double aside = 0.1 * l.container.width_m;
+    s.display.camera_target_m = glm::dvec3{aside, front - 0.05, 0.4 * height};
+    s.display.camera_position_m = glm::dvec3{aside, front - 0.05 - 1.7 * height, 1.0 * height};
     s.display.screen_distance_m = glm::length(*s.display.camera_position_m - *s.display.camera_target_m);
     s.rates_hz = {{"haptic", 1000}, {"position_estimate", 100}, {"position_check", 16}, {"render", 30}};
     return s;
@@ -238,9 +242,38 @@ void add_form_ghosts(render::DrawList& list, const LessonDef& l, const KenzanFoo
     }
 }
 
+std::vector<render::OverlayPanel> form_labels(const LessonDef& l, const KenzanFootprint& kenzan, const glm::dvec3& kenzan_origin_m,
+                                              const glm::dvec3& plate_origin_m) {
+    std::vector<render::OverlayPanel> labels;
+    if (l.scoring != "form") return labels;
+    for (const auto& s : model_arrangement(l, kenzan).stems) {
+        const auto it = std::find_if(l.stems.begin(), l.stems.end(), [&](const MainStemDef& m) { return m.role == s.role; });
+        if (it == l.stems.end()) continue;
+        const glm::vec3 colour = ghost_colours[static_cast<std::size_t>(it - l.stems.begin()) % std::size(ghost_colours)].rgb;
+        // The stem's end from its place (its risen path's end when it has one).
+        const glm::dvec3 tip = s.path_m.empty() ? glm::dvec3(s.base_m, 0.0) + lesson_direction(s.tilt_rad, s.azimuth_rad) * s.length_m : s.path_m.back();
+        render::OverlayPanel name;
+        name.scale = 1.5f;
+        name.panel_colour = glm::vec4(colour * 0.6f, 0.8f);
+        name.lines = {it->label.empty() ? it->role : it->label};
+        name.anchor_m = glm::vec3(plate_origin_m + tip + glm::dvec3{0, 0, 0.05}); // above the marker cube
+        labels.push_back(name);
+        char text[96];
+        std::snprintf(text, sizeof text, "%s %.0f mm, %.0f deg", it->role.c_str(), s.length_m * 1e3, s.tilt_rad * 180.0 / 3.14159265358979323846);
+        name.lines = {text};
+        name.panel_colour.a = 0.6f;
+        name.anchor_m = glm::vec3(kenzan_origin_m + tip + glm::dvec3{0, 0, 0.03});
+        labels.push_back(name);
+    }
+    return labels;
+}
+
 glm::dvec3 model_plate_origin(const LessonDef& l, const glm::dvec3& kenzan_origin_m) {
     const glm::dvec3 container_centre = kenzan_origin_m - glm::dvec3(l.kenzan_offset_m, 0.0);
-    return container_centre + glm::dvec3{0.5 * l.container.width_m + 0.07, 0.12, 0.0}; // a little back: in the view, not past its edge
+    // Behind and right of it, as a teacher's sample stands on the table beyond the trainee's work: in
+    // the view (right of the container, its right-leaning stems ran out of the picture), and clear of
+    // where the trainee's stems go.
+    return container_centre + glm::dvec3{0.5 * l.container.width_m, 0.5 * l.container.front_to_back_m + 0.2, 0.0};
 }
 
 void add_model_flowers(render::DrawList& list, const LessonDef& l, const KenzanFootprint& kenzan, const glm::dvec3& plate_origin_m,

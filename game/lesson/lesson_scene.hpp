@@ -41,6 +41,7 @@ HeldStemAdvice advise_held_stem(const LessonDef& lesson, const KenzanFootprint& 
 } // namespace ikebana::game
 
 #include "engine/render/draw_list.hpp"
+#include "engine/render/text_overlay.hpp"
 
 namespace ikebana::game {
 
@@ -48,13 +49,18 @@ namespace ikebana::game {
 // nominal length, tilt and direction from its place, in its role's colour (ghost_colour_name).
 void add_form_ghosts(render::DrawList& list, const LessonDef& lesson, const KenzanFootprint& kenzan, const glm::dvec3& kenzan_origin_m);
 [[nodiscard]] std::string ghost_colour_name(std::size_t role);
-// The form's model arrangement as the flowers themselves, on a plate at `plate_origin_m` (beside the
+// The form's model arrangement as the flowers themselves, on a plate at `plate_origin_m` (behind the
 // container): stems along the model's lines, heads, petals and leaves as the species have them, and
 // over each tip a marker in its role's colour (the HUD's legend names the colours). What a teacher
 // sets beside a trainee's work. Species missing from `species` are left out.
 void add_model_flowers(render::DrawList& list, const LessonDef& lesson, const KenzanFootprint& kenzan, const glm::dvec3& plate_origin_m,
                        const std::map<std::string, SpeciesDef>& species);
-// Where that plate goes: to the right of the container, at the kenzan's height.
+// Their names, on the world (each eye sees a label at the depth of what it names): over each role's
+// tip in the model by the container, its label ("Shin"); over each ghost's end, the role with its
+// target length and tilt ("shin 630 mm, 15°"). Both in the role's colour.
+[[nodiscard]] std::vector<render::OverlayPanel> form_labels(const LessonDef& lesson, const KenzanFootprint& kenzan, const glm::dvec3& kenzan_origin_m,
+                                                           const glm::dvec3& plate_origin_m);
+// Where that plate goes: behind the container and right, at the kenzan's height.
 [[nodiscard]] glm::dvec3 model_plate_origin(const LessonDef& lesson, const glm::dvec3& kenzan_origin_m);
 
 } // namespace ikebana::game

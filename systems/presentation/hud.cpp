@@ -1,6 +1,8 @@
 #include "systems/presentation/hud.hpp"
 
+#include <algorithm>
 #include <cstdio>
+#include <utility>
 
 namespace ikebana::systems {
 
@@ -13,7 +15,26 @@ std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const
                   static_cast<double>(frame.sim_time_us) * 1e-6);
     lines.emplace_back(text);
     for (const auto& l : info.lesson) lines.push_back(l);
-    for (const auto& f : frame.flowers) {
+    // Flowers nobody has touched yet, lying on the table, make one line: a line each pushed the
+    // lesson's form up behind the panel.
+    const auto touched = [&](std::size_t i) {
+        const auto& f = frame.flowers[i];
+        const auto holds = [&](const components::HandStatus& h) { return h.present && h.held_flower == static_cast<std::int32_t>(i); };
+        return f.in_kenzan || f.fallen || f.insertions > 0 || f.bottom_broken || holds(frame.hands[0]) || holds(frame.hands[1]);
+    };
+    std::vector<std::pair<std::string, int>> lying; // species, how many, in the frame's order
+    for (std::size_t i = 0; i < frame.flowers.size(); ++i) {
+        if (touched(i)) continue;
+        auto it = std::find_if(lying.begin(), lying.end(), [&](const auto& l) { return l.first == frame.flowers[i].species; });
+        if (it == lying.end()) lying.emplace_back(frame.flowers[i].species, 1);
+        else ++it->second;
+    }
+    std::string untouched;
+    for (const auto& [species, n] : lying) untouched += (untouched.empty() ? "" : ", ") + (n > 1 ? std::to_string(n) + " " : "") + species;
+    if (!untouched.empty()) lines.push_back("on the table, not in the kenzan: " + untouched);
+    for (std::size_t i = 0; i < frame.flowers.size(); ++i) {
+        if (!touched(i)) continue;
+        const auto& f = frame.flowers[i];
         std::string state;
         if (f.fallen) {
             // Never a holding margin without the reason: a fallen stem leans on more pins.

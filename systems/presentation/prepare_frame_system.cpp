@@ -13,9 +13,12 @@ void PrepareFrameSystem::operator()(sched::SystemContext& ctx) {
     if (!received || !prepared) return;
     const auto& frame = received->latest();
     prepared->list = build_draw_list(frame);
-    if (const auto* scenery = r.resource<const components::Scenery>()) prepared->list.append(scenery->list);
+    const auto* scenery = r.resource<const components::Scenery>();
+    if (scenery) prepared->list.append(scenery->list);
     const auto* hud = r.resource<const components::HudInfo>();
-    prepared->overlay = hud_panels(frame, hud ? *hud : components::HudInfo{});
+    // The scenery's labels first: the HUD's panel is drawn over them.
+    prepared->overlay = scenery ? scenery->labels : std::vector<render::OverlayPanel>{};
+    for (auto& panel : hud_panels(frame, hud ? *hud : components::HudInfo{})) prepared->overlay.push_back(std::move(panel));
     ++prepared->prepared;
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "engine/render/stereo_camera.hpp"
+#include "engine/render/text_overlay.hpp"
 
 using namespace ikebana::render;
 
@@ -63,4 +64,41 @@ TEST(StereoCamera, OrbitKeepsDistanceAndTarget) {
     EXPECT_GT(glm::distance(turned.position_m, rig.position_m), 0.1);
     const StereoRig over = orbited(rig, 0.0, 10.0);
     EXPECT_LT(glm::dot(glm::normalize(over.position_m - over.target_m), over.up), 0.99) << "pitch stops short of the pole";
+}
+
+TEST(StereoCamera, ALabelSitsOverWhatItNamesInEachEyeAtThatThingsDepth) {
+    StereoRig rig;
+    rig.aspect = 640.0 / 360.0;
+    const glm::vec2 eye{640.0f, 360.0f};
+    const auto left = eye_matrices(rig, -1), right = eye_matrices(rig, +1);
+    OverlayPanel label;
+    label.lines = {"Shin"};
+    label.scale = 2.0f;
+    const glm::vec2 size = overlay_extent_px(label);
+    EXPECT_GT(size.x, 2.0f * 4 * 5) << "four letters, scaled";
+    // Nearer than the screen plane: the left eye sees it further right than the right eye (crossed).
+    const glm::vec3 near_point = glm::vec3(rig.target_m + 0.3 * (rig.position_m - rig.target_m));
+    label.anchor_m = near_point;
+    const auto in_left = overlay_origin_px(label, left.view_projection, eye);
+    const auto in_right = overlay_origin_px(label, right.view_projection, eye);
+    ASSERT_TRUE(in_left && in_right);
+    EXPECT_GT(in_left->x - in_right->x, 5.0f) << "crossed parallax, as the thing itself";
+    EXPECT_NEAR(in_left->y, in_right->y, 0.5f) << "no vertical parallax";
+    // Centred above the point: the panel's middle on the point's column, its bottom edge over it.
+    const glm::dvec2 seen = (ndc(left, glm::dvec3(near_point)) * 0.5 + 0.5) * glm::dvec2(eye);
+    EXPECT_NEAR(in_left->x - 4.0f * label.scale + 0.5f * size.x, seen.x, 0.5);
+    EXPECT_NEAR(in_left->y - 4.0f * label.scale + size.y, seen.y, 0.5);
+    // On the screen plane: the same place in both eyes.
+    label.anchor_m = glm::vec3(rig.target_m);
+    EXPECT_NEAR(overlay_origin_px(label, left.view_projection, eye)->x, overlay_origin_px(label, right.view_projection, eye)->x, 0.5f);
+    // Off the image's left edge: moved in until it is seen whole.
+    label.anchor_m = glm::vec3(rig.target_m + glm::dvec3{-5.0, 0.0, 0.0});
+    EXPECT_NEAR(overlay_origin_px(label, left.view_projection, eye)->x, 4.0f * label.scale, 1e-3f);
+    // Behind the viewer: not drawn.
+    label.anchor_m = glm::vec3(rig.position_m + (rig.position_m - rig.target_m));
+    EXPECT_FALSE(overlay_origin_px(label, left.view_projection, eye).has_value());
+    // A panel without an anchor stays where it was put.
+    label.anchor_m.reset();
+    label.origin_px = {12.0f, 30.0f};
+    EXPECT_EQ(*overlay_origin_px(label, left.view_projection, eye), glm::vec2(12.0f, 30.0f));
 }

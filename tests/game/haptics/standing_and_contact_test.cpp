@@ -97,6 +97,29 @@ TEST(Standing, AFallenStemsHoldingMarginNeverShowsWithoutTheReason) {
     EXPECT_NE(lines[1].find("FELL: tipped over (the pins gave way holding 0.4x its weight's moment)"), std::string::npos) << lines[1];
 }
 
+TEST(Standing, FlowersNobodyHasTouchedShareOneLineAndEveryOtherHasItsOwn) {
+    FrameSnapshot frame{};
+    for (const char* species : {"willow_branch", "cherry_branch", "chrysanthemum", "sunflower", "cherry_branch"}) {
+        FlowerStatus f{};
+        f.species = species;
+        frame.flowers.push_back(f);
+    }
+    frame.flowers[2].in_kenzan = true; // stands
+    frame.hands[1].present = true;
+    frame.hands[1].holding = true;
+    frame.hands[1].held_flower = 3;
+    std::string said;
+    for (const auto& line : systems::hud_lines(frame, HudInfo{})) said += line + "\n";
+    EXPECT_NE(said.find("on the table, not in the kenzan: willow_branch, 2 cherry_branch\n"), std::string::npos) << said;
+    EXPECT_NE(said.find("chrysanthemum  insertions 0   stands upright"), std::string::npos) << said;
+    EXPECT_NE(said.find("sunflower      insertions 0   not in the kenzan"), std::string::npos) << "the held one has its line: " << said;
+    frame.flowers[0].insertions = 1; // it was in, and came out
+    said.clear();
+    for (const auto& line : systems::hud_lines(frame, HudInfo{})) said += line + "\n";
+    EXPECT_NE(said.find("on the table, not in the kenzan: 2 cherry_branch\n"), std::string::npos) << said;
+    EXPECT_NE(said.find("willow_branch  insertions 1   not in the kenzan"), std::string::npos) << said;
+}
+
 TEST(Contact, AStemPushedThroughThePinsStopsOnTheKenzansPlate) {
     auto w = make(scene_with("sunflower", 0));
     sched::DeterministicClock clock(w->schedule);

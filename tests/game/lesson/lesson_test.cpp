@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -690,9 +691,9 @@ TEST(WindowState, WhatTheWindowWritesIsReadBackTheSame) {
     EXPECT_EQ(broken.error().message, "state.json: field 'hands' should hold two hands");
 }
 
-// G shows the form's model beside the container as the flowers themselves (stems along the model's
+// G shows the form's model behind the container as the flowers themselves (stems along the model's
 // lines, heads, petals and leaves as their species have them), each tip marked in its role's colour.
-TEST(ModelArrangement, TheModelIsDrawnAsItsFlowersBesideTheContainerWithEachTipMarkedInItsRolesColour) {
+TEST(ModelArrangement, TheModelIsDrawnAsItsFlowersBehindTheContainerWithEachTipMarkedInItsRolesColour) {
     const LessonDef l = lesson("sogetsu_basic_upright");
     const auto footprint = footprint_of(l);
     ASSERT_TRUE(footprint.ok());
@@ -702,8 +703,9 @@ TEST(ModelArrangement, TheModelIsDrawnAsItsFlowersBesideTheContainerWithEachTipM
     ASSERT_TRUE(world.ok());
     const glm::dvec3 kenzan = (*world)->sim.single<components::Kenzan>()->origin_m;
     const glm::dvec3 plate = model_plate_origin(l, kenzan);
-    const double container_right = kenzan.x - l.kenzan_offset_m.x + 0.5 * l.container.width_m;
-    EXPECT_GT(plate.x, container_right + 0.05) << "beside the container, not in it";
+    const glm::dvec2 centre = glm::dvec2(kenzan) - l.kenzan_offset_m;
+    EXPECT_GT(plate.y, centre.y + 0.5 * l.container.front_to_back_m + 0.1) << "behind the container, not in it";
+    EXPECT_GT(plate.x, centre.x + 0.25 * l.container.width_m) << "and right of it";
     render::DrawList list;
     add_model_flowers(list, l, *footprint, plate, (*world)->species);
     const Arrangement model = model_arrangement(l, *footprint);
@@ -740,5 +742,38 @@ TEST(ModelArrangement, TheModelIsDrawnAsItsFlowersBesideTheContainerWithEachTipM
             }
         }
         EXPECT_EQ(markers, 1u) << l.stems[i].role << " (" << ghost_colour_name(i) << ")";
+    }
+}
+
+TEST(ModelArrangement, EachRoleIsNamedOverItsModelTipAndOverItsGhostWithItsTargetLengthAndTilt) {
+    for (const char* id : {"sogetsu_basic_upright", "ikenobo_shoka_shofutai"}) {
+        const LessonDef l = lesson(id);
+        const auto footprint = footprint_of(l);
+        ASSERT_TRUE(footprint.ok());
+        const glm::dvec3 kenzan{0.01, -0.02, 0.05};
+        const glm::dvec3 plate = model_plate_origin(l, kenzan);
+        const auto labels = form_labels(l, *footprint, kenzan, plate);
+        const Arrangement model = model_arrangement(l, *footprint);
+        ASSERT_EQ(labels.size(), 2 * l.stems.size()) << id << ": a name on the model and one on the ghost, per role";
+        for (std::size_t i = 0; i < l.stems.size(); ++i) {
+            const auto& s = model.stems[i];
+            const glm::dvec3 tip = s.path_m.empty() ? glm::dvec3(s.base_m, 0.0) + lesson_direction(s.tilt_rad, s.azimuth_rad) * s.length_m : s.path_m.back();
+            const auto& on_model = labels[2 * i];
+            const auto& on_ghost = labels[2 * i + 1];
+            ASSERT_TRUE(on_model.anchor_m && on_ghost.anchor_m);
+            EXPECT_EQ(on_model.lines, std::vector<std::string>{l.stems[i].label}) << id;
+            EXPECT_LT(glm::length(glm::dvec3(*on_model.anchor_m) - (plate + tip)), 0.06) << id << " " << l.stems[i].role << ": over the model's tip";
+            EXPECT_GT(on_model.anchor_m->z, (plate + tip).z) << "above it, clear of the marker";
+            EXPECT_LT(glm::length(glm::dvec3(*on_ghost.anchor_m) - (kenzan + tip)), 0.04) << id << " " << l.stems[i].role << ": over the ghost's end";
+            char want[96];
+            std::snprintf(want, sizeof want, "%s %.0f mm, %.0f deg", s.role.c_str(), s.length_m * 1e3, s.tilt_rad * 180.0 / M_PI);
+            EXPECT_EQ(on_ghost.lines, std::vector<std::string>{want});
+            // In the role's colour, darker, so that white text reads on it.
+            const glm::vec3 panel(on_model.panel_colour);
+            for (std::size_t j = 0; j < l.stems.size(); ++j) {
+                if (j == i) continue;
+                EXPECT_GT(glm::length(panel - glm::vec3(labels[2 * j].panel_colour)), 0.1f) << "roles' labels differ in colour";
+            }
+        }
     }
 }
