@@ -1,5 +1,8 @@
 #include "engine/devices/mouse_keyboard_device.hpp"
 
+#include <cmath>
+#include <optional>
+
 namespace ikebana::devices {
 
 namespace {
@@ -33,7 +36,8 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
     if (now_us == last_update_us_) return;
     last_update_us_ = now_us;
     const platform::PointerState now = source_.read();
-    if (now.switch_hand && !tab_was_down_) active_ ^= 1u;
+    if (now.switch_hand && !tab_was_down_) active_.store(active_.load(std::memory_order_relaxed) ^ 1u, std::memory_order_relaxed);
+    const std::uint8_t active = active_.load(std::memory_order_relaxed);
     tab_was_down_ = now.switch_hand;
     // A right-button drag turns the camera; the hand stays where it is meanwhile.
     // The cursor's motion since the last reading (up to where the reader put it back in the middle).
@@ -41,25 +45,53 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
     // second) has not moved; a warp counts once.
     const bool same_reading = now.cursor_px == last_.cursor_px && now.warped_from_px == last_.warped_from_px;
     const glm::dvec2 moved = same_reading ? glm::dvec2{0.0} : (now.warped_from_px.x >= 0.0 ? now.warped_from_px : now.cursor_px) - last_.cursor_px;
+    // Where a ray meets the upright plane at depth y (device space); nothing if it runs along it.
+    const auto at_depth = [](const platform::PointerRay& ray, double y) -> std::optional<glm::dvec3> {
+        if (!ray.valid || std::abs(ray.direction.y) < 1e-6) return std::nullopt;
+        const double t = (y - ray.origin_m.y) / ray.direction.y;
+        if (t <= 0.0) return std::nullopt;
+        return ray.origin_m + t * ray.direction;
+    };
+    // This reading's motion was counted already (the same reading again): the cursor is where it was.
+    const platform::PointerRay& from_ray = same_reading ? now.ray : now.ray_before;
+    const bool aimed = now.ray.valid && from_ray.valid && now.ray.eye == from_ray.eye;
+    const double wheel = now.scroll - last_.scroll;
     if (started_ && !now.orbit_button && now.tilt_modifier) {
         // Ctrl: the hand stays, the held stem turns about the grip (right: its top to the right; up:
         // its top away from the viewer; the wheel: about the vertical).
-        glm::dvec3& r = rotation_[active_];
+        glm::dvec3& r = rotation_[active];
         r.y += moved.x / now.window_px.x * config_.tilt_per_window_rad;
         r.x -= moved.y / now.window_px.y * config_.tilt_per_window_rad;
-        r.z += (now.scroll - last_.scroll) * config_.turn_per_scroll_rad;
+        r.z += wheel * config_.turn_per_scroll_rad;
         r = glm::clamp(r, glm::dvec3{-6.0}, glm::dvec3{6.0});
+    } else if (started_ && !now.orbit_button && now.ray.valid) {
+        // The cursor went into the other eye's image, or runs along the hand's plane: the hand stays (the
+        // window puts the cursor back on it).
+        glm::dvec3& p = position_[active];
+        const auto was = aimed ? at_depth(from_ray, p.y) : std::nullopt;
+        const auto is = aimed ? at_depth(now.ray, p.y) : std::nullopt;
+        if (was && is && now.depth_modifier) {
+            // Shift: the cursor's way up at the hand's depth takes the hand that far away from the viewer.
+            p.x += is->x - was->x;
+            p.y += is->z - was->z;
+        } else if (was && is) {
+            // Under the cursor at its depth (the wheel's depth), as far off it as it was.
+            const double y = p.y + wheel * config_.depth_per_scroll_m;
+            if (const auto there = at_depth(now.ray, y)) p = *there + (p - *was);
+            else p += *is - *was;
+        }
+        p = glm::clamp(p, config_.reach_min_m, config_.reach_max_m);
     } else if (started_ && !now.orbit_button) {
         const double mx = moved.x / now.window_px.x * config_.workspace_width_m;
         const double my = -moved.y / now.window_px.y * config_.workspace_height_m; // screen y grows downwards
-        glm::dvec3& p = position_[active_];
+        glm::dvec3& p = position_[active];
         p.x += mx;
         if (now.depth_modifier) p.y += my;
         else p.z += my;
-        p.y += (now.scroll - last_.scroll) * config_.depth_per_scroll_m;
+        p.y += wheel * config_.depth_per_scroll_m;
         p = glm::clamp(p, config_.reach_min_m, config_.reach_max_m);
     }
-    buttons_[active_] = now.grab_button ? 1u : 0u;
+    buttons_[active] = now.grab_button ? 1u : 0u;
     last_ = now;
     started_ = true;
 }

@@ -3,8 +3,13 @@
 // active hand; Tab switches hands (the other keeps its place and its grip, so both stay reachable).
 // Horizontal motion moves the hand left-right, vertical motion up-down; with Shift held, vertical
 // motion moves it in depth instead, and the wheel moves it in depth too. The left button grabs.
+// When the pointer comes with a ray through the cursor (PointerState::ray: the window knows its
+// camera), the hand moves as the point under the cursor moves at the hand's depth, and the wheel moves
+// it along the ray: a hand under the cursor stays under it, in any view. Without one, the window's
+// width and height span the Config's workspace.
 // No force output: the window shows what a force device would make felt.
 #include <array>
+#include <atomic>
 #include <memory>
 
 #include "engine/devices/haptic_device.hpp"
@@ -29,7 +34,8 @@ public:
 
     // A device for hand 0 or 1; both share this object (which must outlive them).
     [[nodiscard]] std::unique_ptr<HapticDevice> hand(std::uint8_t which);
-    [[nodiscard]] std::uint8_t active_hand() const noexcept { return active_; }
+    // Read by the window's thread too (its HUD names the hand the mouse drives).
+    [[nodiscard]] std::uint8_t active_hand() const noexcept { return active_.load(std::memory_order_relaxed); }
     // Where a hand starts (a scene's hands, near what they are to pick up). Before the session runs.
     void place(std::uint8_t which, glm::dvec3 position_m) { position_[which & 1u] = position_m; }
 
@@ -40,7 +46,7 @@ public:
 private:
     platform::PointerSource& source_;
     Config config_;
-    std::uint8_t active_ = 1; // the right hand first
+    std::atomic<std::uint8_t> active_{1}; // the right hand first
     std::int64_t last_update_us_ = -1;
     bool tab_was_down_ = false;
     bool started_ = false;

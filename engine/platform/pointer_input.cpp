@@ -53,6 +53,8 @@ PointerState GlfwPointerSource::read() {
     return s;
 }
 
+void GlfwPointerSource::put_cursor(glm::dvec2 px) { glfwSetCursorPos(window_, px.x, px.y); }
+
 void SharedPointerSource::store(const PointerState& state) {
     buffer_.write_buffer() = state;
     buffer_.publish();

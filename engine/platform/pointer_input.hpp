@@ -11,6 +11,16 @@ struct GLFWwindow;
 
 namespace ikebana::platform {
 
+// A line from the viewer's eye through the cursor, in the hands' device space, from whoever knows the
+// camera (the trainee window). With it the hand moves as the point under the cursor moves at the
+// hand's depth, so a hand put under the cursor stays under it.
+struct PointerRay {
+    glm::dvec3 origin_m{0.0};
+    glm::dvec3 direction{0.0};
+    int eye = 0;        // whose image the cursor is in (-1 left, 1 right, 0 one image for both)
+    bool valid = false; // none: the hands follow the cursor's motion with the Config's scales
+};
+
 struct PointerState {
     glm::dvec2 cursor_px{0.0};
     glm::dvec2 window_px{1.0, 1.0};
@@ -33,6 +43,10 @@ struct PointerState {
     // Set when the reader put the cursor back in the window's middle this reading: where it was then
     // (the motion up to there still counts); negative when it was not moved.
     glm::dvec2 warped_from_px{-1.0, -1.0};
+    // Through the cursor now, and through where it was at the reader's last reading (both through this
+    // reading's camera, so turning the camera alone moves no hand).
+    PointerRay ray;
+    PointerRay ray_before;
 };
 
 class PointerSource {
@@ -47,6 +61,8 @@ public:
     explicit GlfwPointerSource(GLFWwindow* window);
     // Lessons reach further than the window is wide: the cursor is put back in the middle at the edges.
     void recentre_at_edges(bool on) noexcept { recentre_at_edges_ = on; }
+    // Moves the cursor (window pixels): onto the hand it drives, when the hand has gone elsewhere.
+    void put_cursor(glm::dvec2 px);
     ~GlfwPointerSource() override;
     GlfwPointerSource(const GlfwPointerSource&) = delete;
     GlfwPointerSource& operator=(const GlfwPointerSource&) = delete;

@@ -56,6 +56,43 @@ EyeMatrices eye_matrices(const StereoRig& rig, int eye) {
     return m;
 }
 
+namespace {
+// The screen rectangle both eyes look through: its centre, its right and up unit vectors, half sizes.
+struct Screen {
+    glm::dvec3 centre, right, up, forward;
+    double half_w, half_h;
+};
+Screen screen_of(const StereoRig& rig) {
+    Screen s;
+    s.forward = glm::normalize(rig.target_m - rig.position_m);
+    s.right = glm::normalize(glm::cross(s.forward, rig.up));
+    s.up = glm::cross(s.right, s.forward);
+    s.centre = rig.position_m + s.forward * rig.screen_distance_m;
+    s.half_h = rig.screen_distance_m * std::tan(0.5 * rig.vertical_fov_rad);
+    s.half_w = s.half_h * rig.aspect;
+    return s;
+}
+glm::dvec3 eye_position(const StereoRig& rig, const Screen& s, int eye) {
+    return rig.position_m + 0.5 * rig.eye_separation_m * static_cast<double>(std::clamp(eye, -1, 1)) * s.right;
+}
+} // namespace
+
+ViewRay eye_ray(const StereoRig& rig, int eye, glm::dvec2 uv) {
+    const Screen s = screen_of(rig);
+    const glm::dvec3 from = eye_position(rig, s, eye);
+    const glm::dvec3 on_screen = s.centre + s.right * ((2.0 * uv.x - 1.0) * s.half_w) + s.up * ((1.0 - 2.0 * uv.y) * s.half_h);
+    return {from, glm::normalize(on_screen - from)};
+}
+
+std::optional<glm::dvec2> eye_uv(const StereoRig& rig, int eye, const glm::dvec3& point_m) {
+    const Screen s = screen_of(rig);
+    const glm::dvec3 from = eye_position(rig, s, eye);
+    const double ahead = glm::dot(point_m - from, s.forward);
+    if (ahead <= 1e-9) return std::nullopt;
+    const glm::dvec3 on_screen = from + (point_m - from) * (rig.screen_distance_m / ahead) - s.centre;
+    return glm::dvec2{0.5 * (glm::dot(on_screen, s.right) / s.half_w + 1.0), 0.5 * (1.0 - glm::dot(on_screen, s.up) / s.half_h)};
+}
+
 StereoRig orbited(const StereoRig& rig, double yaw_rad, double pitch_rad) {
     StereoRig out = rig;
     const glm::dvec3 up = glm::normalize(rig.up);

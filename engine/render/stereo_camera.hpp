@@ -4,6 +4,8 @@
 // at `screen_distance_m`. Points on that plane have zero parallax; nearer points cross. Toe-in (rotating
 // each eye towards the target) would add vertical parallax at the image edges and is not used.
 // Matrices are for Vulkan: right-handed view space, clip y pointing down, depth 0..1.
+#include <optional>
+
 #include <glm/glm.hpp>
 
 namespace ikebana::render {
@@ -33,6 +35,16 @@ EyeMatrices eye_matrices(const StereoRig& rig, int eye);
 
 // An off-axis perspective projection for Vulkan from the near-plane rectangle.
 glm::mat4 off_axis_projection(double left, double right, double bottom, double top, double near_m, double far_m);
+
+// Where an eye's image shows things, for a pointer: uv in [0, 1] across the eye's image, (0, 0) at
+// its top left. The ray from the eye through the point of its image at uv (unit direction), and the
+// uv at which the eye sees a point (nothing for a point level with or behind the eye).
+struct ViewRay {
+    glm::dvec3 origin_m{0.0};
+    glm::dvec3 direction{0.0, 1.0, 0.0};
+};
+ViewRay eye_ray(const StereoRig& rig, int eye, glm::dvec2 uv);
+std::optional<glm::dvec2> eye_uv(const StereoRig& rig, int eye, const glm::dvec3& point_m);
 
 // Orbits the rig about its target: yaw about `up`, pitch towards it, keeping the distance.
 StereoRig orbited(const StereoRig& rig, double yaw_rad, double pitch_rad);

@@ -18,6 +18,7 @@
 #include "components/insertion.hpp"
 #include "engine/devices/mouse_keyboard_device.hpp"
 #include "engine/platform/pointer_input.hpp"
+#include "game/app/pointer_aim.hpp"
 #include "engine/platform/window.hpp"
 #include "engine/render/stereo_renderer.hpp"
 #include "engine/render/swapchain.hpp"
@@ -159,6 +160,8 @@ private:
     glm::dvec3 kenzan_at_{0.0};
     render::StereoRig base_rig_;
     double yaw_ = 0.0, pitch_ = 0.0;
+    PointerAim aim_;
+    [[nodiscard]] PointerView pointer_view() const { return {render::orbited(base_rig_, yaw_, pitch_), mode_, yaw_}; }
     std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
     glm::dvec2 drag_from_{0.0};
     bool dragging_ = false;
@@ -266,7 +269,8 @@ int TraineeSession::open() {
     }
     renderer_ = std::move(renderer).value();
     window_pointer_ = std::make_unique<platform::GlfwPointerSource>(window_->glfw());
-    window_pointer_->recentre_at_edges(lesson_.has_value());
+    // The window's own pointer is aimed through the camera (PointerAim), which keeps a Ctrl+drag off
+    // the window's edge itself.
     pointer_ = o_.pointer ? o_.pointer : window_pointer_.get();
     mouse_ = std::make_unique<devices::MouseKeyboardHands>(shared_pointer_, lesson_ ? lesson_mouse_config() : devices::MouseKeyboardHands::Config{});
     // In a lesson the mouse's hands start where the lesson puts them, beside the materials. (Scenes
@@ -297,6 +301,7 @@ int TraineeSession::build_world() {
         if (lesson_) {
             for (const auto& h : scene_->hands) mouse_->place(h.hand, h.position_m);
         }
+        aim_ = PointerAim{mouse_->active_hand()}; // the cursor goes onto the hand again where it starts
     } else {
         for (std::uint8_t hand = 0; hand < 2; ++hand) kept[hand] = std::move(picked_[hand]);
     }
@@ -326,9 +331,8 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     if (stop_.load()) return;
     if (o_.each_frame) o_.each_frame(presented_, window_->glfw());
     window_->poll_events();
-    const platform::PointerState in = pointer_->read();
+    platform::PointerState in = pointer_->read();
     const auto read_at = std::chrono::steady_clock::now();
-    shared_pointer_.store(in);
     if (in.quit_key) window_->request_close();
     if (window_->should_close()) {
         stop_.store(true);
@@ -353,6 +357,18 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     pitch_ = std::clamp(pitch_, -0.5, 1.0);
     // "Forward" on the device stays "away from the viewer".
     world_->view.yaw_rad.store(yaw_, std::memory_order_relaxed);
+    // The cursor aimed through the camera as drawn this frame, and kept on the hand it drives (a
+    // test's scripted pointer moves the hands by the window's size instead).
+    const PointerView view = pointer_view();
+    if (pointer_ == window_pointer_.get()) {
+        const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
+        std::array<std::optional<glm::dvec3>, 2> hands;
+        for (std::size_t h = 0; h < 2; ++h) {
+            if (latest.hands[h].present) hands[h] = latest.hands[h].device_m;
+        }
+        aim_.aim(in, view, hands, [&](glm::dvec2 px) { window_pointer_->put_cursor(px); });
+    }
+    shared_pointer_.store(in);
     platform::PointerState keys = in;
     if (o_.finish_at_frame > 0 && presented_ + 1 == o_.finish_at_frame) keys.finish_key = true; // a test's Enter
     if (lesson_) lesson_keys(keys, main_lane); // a form lesson's Enter is scored there
@@ -370,6 +386,12 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         state_.window_px = in.window_px;
         state_.cursor_px = in.cursor_px;
         take_snapshot(state_, main_lane.registry.resource<const systems::ReceivedFrames>()->latest());
+        state_.active_hand = aim_.active_hand();
+        state_.px_per_m = glm::dvec2{0.0};
+        if (in.ray.valid) {
+            const auto gain = px_per_m_at(view, in.window_px, in.ray.eye, state_.hands[state_.active_hand].device_m);
+            if (gain) state_.px_per_m = *gain;
+        }
         if (auto written = write_window_state(o_.state_out, state_); !written) fail("--state-out: " + written.error().message, 2);
     }
 }

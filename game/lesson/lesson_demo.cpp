@@ -1,6 +1,7 @@
 #include "game/lesson/lesson_demo.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
@@ -14,6 +15,8 @@
 #include "engine/assets/files.hpp"
 #include "engine/devices/mouse_keyboard_device.hpp"
 #include "engine/sched/clocks.hpp"
+#include "game/app/pointer_aim.hpp"
+#include "game/cli/render_command.hpp"
 #include "game/lesson/lesson_controls.hpp"
 #include "game/lesson/lesson_scene.hpp"
 #include "game/lesson/lesson_session.hpp"
@@ -148,13 +151,21 @@ private:
 class MouseHand final : public TeacherHand {
 public:
     MouseHand(World& world, sched::DeterministicClock& clock, devices::MouseKeyboardHands& mouse, ScriptedPointer& pointer, LessonControls& controls,
-              XdoScript& script)
-        : w_(world), clock_(clock), mouse_(mouse), pointer_(pointer), controls_(controls), script_(script), config_(lesson_mouse_config()) {}
+              XdoScript& script, PointerView view)
+        : w_(world), clock_(clock), mouse_(mouse), pointer_(pointer), controls_(controls), script_(script), config_(lesson_mouse_config()), view_(view) {}
     glm::dvec3 position() const override { return mouse_.sample(1, clock_.now_us()).position; }
     glm::dvec3 angles() const override { return mouse_.sample(1, clock_.now_us()).rotation; }
+    // The window's first frames: the cursor goes onto the hand.
+    void start() {
+        aim();
+        clock_.run_for_us(1000);
+    }
     void go(glm::dvec3 position_m) override {
         auto& s = pointer_.state;
-        const glm::dvec2 px_per_m{s.window_px.x / config_.workspace_width_m, s.window_px.y / config_.workspace_height_m};
+        // The cursor's pixels for a metre of the hand where it is, as the window aims it.
+        const int eye = eye_spot(view_.mode, s.window_px, s.cursor_px).eye;
+        const glm::dvec2 px_per_m = px_per_m_at(view_, s.window_px, eye, position()).value_or(
+            glm::dvec2{s.window_px.x / config_.workspace_width_m, s.window_px.y / config_.workspace_height_m});
         const glm::dvec3 d = position_m - position();
         motion({std::round(d.x * px_per_m.x), std::round(-d.z * px_per_m.y)}, false, false);
         const glm::dvec3 d2 = position_m - position();
@@ -202,7 +213,15 @@ public:
 
 private:
     double now_s() const { return static_cast<double>(clock_.now_us()) * 1e-6; }
-    // One reading of the pointer with this motion and these keys held, then a tick to read it.
+    // The window's reading of the pointer: aimed through its camera, the cursor put back on the hand
+    // when it is to go there (the hands exactly where the mouse put them: device space is the world's
+    // at the lesson's unturned camera).
+    void aim() {
+        std::array<std::optional<glm::dvec3>, 2> hands{mouse_.sample(0, clock_.now_us()).position, mouse_.sample(1, clock_.now_us()).position};
+        aim_.aim(pointer_.state, view_, hands, [](glm::dvec2) {});
+    }
+    // One reading of the pointer with this motion and these keys held, then a tick to read it; a
+    // modifier let go is read too (the window then puts the cursor back on the hand).
     void motion(glm::dvec2 px, bool shift, bool ctrl) {
         if (px == glm::dvec2{0.0} && !ctrl) return;
         script_.motion(px, shift, ctrl, now_s());
@@ -210,9 +229,14 @@ private:
         s.depth_modifier = shift;
         s.tilt_modifier = ctrl;
         s.cursor_px += px;
+        aim();
         clock_.run_for_us(1000);
-        s.depth_modifier = false;
-        s.tilt_modifier = false;
+        if (shift || ctrl) {
+            s.depth_modifier = false;
+            s.tilt_modifier = false;
+            aim();
+            clock_.run_for_us(1000);
+        }
     }
     World& w_;
     sched::DeterministicClock& clock_;
@@ -221,6 +245,8 @@ private:
     LessonControls& controls_;
     XdoScript& script_;
     devices::MouseKeyboardHands::Config config_;
+    PointerView view_;
+    PointerAim aim_;
     LessonControls::Effects last_;
     std::optional<Result<FormScore>> score_;
     std::int64_t scored_at_us_ = 0;
@@ -294,11 +320,13 @@ Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& o
     devices::MouseKeyboardHands mouse(pointer, lesson_mouse_config());
     LessonControls controls(lesson, *footprint);
     XdoScript script(options.xdotool_script);
-    MouseHand mouse_hand(w, clock, mouse, pointer, controls, script);
+    // The window's camera at its start, and its size (the window demonstration's).
+    MouseHand mouse_hand(w, clock, mouse, pointer, controls, script, PointerView{rig_of(scene->display), render::StereoMode::side_by_side, 0.0});
     if (options.through_mouse) {
         for (const auto& h : scene->hands) mouse.place(h.hand, h.position_m);
         w.attach_device(0, mouse.hand(0));
         w.attach_device(1, mouse.hand(1));
+        mouse_hand.start();
     } else {
         w.attach_device(1, std::make_unique<PuppetDevice>(pose));
     }

@@ -78,7 +78,8 @@ public:
             std::this_thread::sleep_for(std::chrono::milliseconds(50));
         }
         started_ = std::chrono::steady_clock::now();
-        px_per_m_ = {state_.window_px.x / config_.workspace_width_m, state_.window_px.y / config_.workspace_height_m};
+        // The window has put the cursor on the hand; wait until it shows so.
+        seen(steady_us());
         position_ = state_.hands[1].device_m;
         cursor_ = state_.cursor_px;
         return true;
@@ -132,13 +133,19 @@ public:
         if (!state_.hands[1].holding) position_ = state_.hands[1].device_m;
     }
     void go(glm::dvec3 target) override {
+        // How far the cursor moves for a metre of the hand, where the hand is now (the window aims the
+        // cursor through its camera: nearer things move further on screen); without aiming, the
+        // window's size spans the workspace.
+        const glm::dvec2 px_per_m = state_.px_per_m.x > 0.0 && state_.px_per_m.y > 0.0
+                                        ? state_.px_per_m
+                                        : glm::dvec2{state_.window_px.x / config_.workspace_width_m, state_.window_px.y / config_.workspace_height_m};
         const glm::dvec3 d = glm::clamp(target, config_.reach_min_m, config_.reach_max_m) - position_;
-        const int x = static_cast<int>(std::lround(d.x * px_per_m_.x));
-        const int up = static_cast<int>(std::lround(d.z * px_per_m_.y));
-        const int away = static_cast<int>(std::lround(d.y * px_per_m_.y));
-        position_.x += x / px_per_m_.x;
-        position_.z += up / px_per_m_.y;
-        position_.y += away / px_per_m_.y;
+        const int x = static_cast<int>(std::lround(d.x * px_per_m.x));
+        const int up = static_cast<int>(std::lround(d.z * px_per_m.y));
+        const int away = static_cast<int>(std::lround(d.y * px_per_m.y));
+        position_.x += x / px_per_m.x;
+        position_.z += up / px_per_m.y;
+        position_.y += away / px_per_m.y;
         if (x != 0 || up != 0) move_pointer(x, -up);
         if (away != 0) held_down("shift", [&] { move_pointer(0, -away); });
     }
@@ -253,9 +260,11 @@ private:
     }
     // Relative motion, at most 4 pixels a piece (the X server doubles a relative motion beyond its
     // threshold). The cursor must stay in the window: past its edge the screen's edge stops it and the
-    // motion is lost (the window sits at the screen's top left). The window puts a cursor that comes
-    // within 24 px of its edge back in its middle when it reads it; so the motion stops 14-18 px from
-    // an edge until the window has read it there, then goes on from the middle.
+    // motion is lost (the window sits at the screen's top left). During a Ctrl+drag the window puts a
+    // cursor that comes within 24 px of its edge back in the middle of its eye's image when it reads
+    // it; so the motion stops 14-18 px from an edge until the window has read it there, then goes on
+    // from where the window shows the cursor. (Plain motion keeps the hand under the cursor, and the
+    // lesson's places are all in view.)
     void move_pointer(int x, int y) {
         const int n = std::max(1, (std::max(std::abs(x), std::abs(y)) + 3) / 4);
         int done_x = 0, done_y = 0;
@@ -293,7 +302,6 @@ private:
     WindowState state_;
     std::string failure_;
     std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
-    glm::dvec2 px_per_m_{1.0};
     glm::dvec3 position_{0.0}, angles_{0.0};
     bool motion_unseen_ = false; // plain motion sent since the window last showed it had read input
     glm::dvec2 cursor_{0.0};     // where the cursor is in the window, with the motion sent since

@@ -69,6 +69,7 @@ std::string window_state_json(const WindowState& s) {
     j["sim_time_us"] = s.sim_time_us;
     j["window_px"] = vec(s.window_px);
     j["cursor_px"] = vec(s.cursor_px);
+    j["pointer"] = {{"active_hand", s.active_hand}, {"px_per_m", vec(s.px_per_m)}};
     j["hands"] = Json::array();
     for (const auto& h : s.hands) j["hands"].push_back({{"holding", h.holding}, {"held_flower", h.held_flower}, {"position_m", vec(h.position_m)}, {"device_m", vec(h.device_m)}});
     j["flowers"] = Json::array();
@@ -106,6 +107,12 @@ Result<WindowState> parse_window_state(std::string_view text, const std::string&
     s.sim_time_us = r.get<std::int64_t>(j, "sim_time_us");
     s.window_px = r.vector<2>(j, "window_px");
     s.cursor_px = r.vector<2>(j, "cursor_px");
+    if (r.error.empty() && j.contains("pointer")) {
+        const int active = r.get<int>(j["pointer"], "active_hand");
+        if (r.error.empty() && (active < 0 || active > 1)) r.error = "field 'active_hand' should be 0 or 1";
+        s.active_hand = static_cast<std::uint8_t>(active & 1);
+        s.px_per_m = r.vector<2>(j["pointer"], "px_per_m");
+    }
     const auto hands = r.get<Json>(j, "hands");
     if (r.error.empty() && (!hands.is_array() || hands.size() != 2)) r.error = "field 'hands' should hold two hands";
     for (std::size_t h = 0; r.error.empty() && h < 2; ++h) {

@@ -21,6 +21,10 @@ struct WindowState {
     std::int64_t sim_time_us = 0;     // the snapshot's simulated time
     glm::dvec2 window_px{0.0};
     glm::dvec2 cursor_px{0.0};
+    // The hand the mouse drives, and how far the cursor moves for a metre of it there (sideways, up),
+    // when the pointer is aimed through the camera (0, 0: it is not; the hands follow motion instead).
+    std::uint8_t active_hand = 1;
+    glm::dvec2 px_per_m{0.0};
     struct Hand {
         bool holding = false;
         std::int32_t held_flower = -1;

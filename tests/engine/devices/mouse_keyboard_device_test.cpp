@@ -10,7 +10,12 @@ using namespace ikebana::devices;
 
 namespace {
 struct FakePointer : platform::PointerSource {
-    platform::PointerState state{{400, 300}, {800, 600}, false, false, false, 0.0};
+    platform::PointerState state = [] {
+        platform::PointerState s;
+        s.cursor_px = {400, 300};
+        s.window_px = {800, 600};
+        return s;
+    }();
     platform::PointerState read() override { return state; }
 };
 } // namespace
@@ -147,4 +152,76 @@ TEST(MouseKeyboard, CtrlDragTurnsTheHandInsteadOfMovingIt) {
     EXPECT_EQ(s.position, start) << "the hand stays";
     EXPECT_NEAR(s.rotation.y, -M_PI / 2, 1e-12);
     EXPECT_NEAR(s.rotation.x, M_PI / 2, 1e-12);
+}
+
+namespace {
+// A ray from an eye through a point (device space), as the window aims the cursor.
+platform::PointerRay ray_to(glm::dvec3 eye, glm::dvec3 through, int which_eye = -1) {
+    platform::PointerRay r;
+    r.origin_m = eye;
+    r.direction = glm::normalize(through - eye);
+    r.eye = which_eye;
+    r.valid = true;
+    return r;
+}
+// Distance of a point from a ray.
+double off_ray(const platform::PointerRay& r, glm::dvec3 p) { return glm::length(glm::cross(p - r.origin_m, r.direction)); }
+
+// The right hand with the cursor aimed at it from an eye, read once.
+struct AimedRightHand {
+    FakePointer pointer;
+    MouseKeyboardHands hands{pointer};
+    std::unique_ptr<HapticDevice> right = hands.hand(1);
+    glm::dvec3 eye, start;
+    explicit AimedRightHand(glm::dvec3 eye_m) : eye(eye_m), start(right->poll(0)->position) {
+        pointer.state.ray = pointer.state.ray_before = ray_to(eye, start);
+        EXPECT_TRUE(right->poll(1000).ok());
+    }
+    // The cursor moved by px onto where `through` is seen.
+    void move(glm::dvec2 px, glm::dvec3 through) {
+        pointer.state.cursor_px += px;
+        pointer.state.ray_before = pointer.state.ray;
+        pointer.state.ray = ray_to(eye, through);
+    }
+};
+} // namespace
+
+TEST(MouseKeyboard, AnAimedCursorTakesTheHandWhereThePointUnderItGoesAtTheHandsDepth) {
+    AimedRightHand a({0.03, -0.6, 0.35});
+    auto& right = a.right;
+    auto& pointer = a.pointer;
+    EXPECT_EQ(right->poll(1000)->position, a.start) << "a cursor on the hand moves nothing";
+    // The cursor goes to where a point 4 cm right and 3 cm up of the hand, at its depth, is seen.
+    const glm::dvec3 goal = a.start + glm::dvec3{0.04, 0.0, 0.03};
+    a.move({20.0, -15.0}, goal);
+    EXPECT_LT(glm::length(right->poll(2000)->position - goal), 1e-9) << "under the cursor, at its depth";
+    // Read again (the window reads once a frame, the hands every tick): no further.
+    EXPECT_LT(glm::length(right->poll(3000)->position - goal), 1e-9);
+    // The wheel: along the ray, 1 cm deeper a click, still under the cursor.
+    pointer.state.scroll += 2.0;
+    const glm::dvec3 deeper = right->poll(4000)->position;
+    EXPECT_NEAR(deeper.y - goal.y, 0.02, 1e-9);
+    EXPECT_LT(off_ray(pointer.state.ray, deeper), 1e-9);
+    EXPECT_LT(deeper.z, goal.z) << "along a ray that falls away from an eye above the hand";
+}
+
+TEST(MouseKeyboard, AnAimedShiftDragTakesTheHandAwayAsFarAsTheCursorWentUpAtItsDepth) {
+    AimedRightHand a({0.0, -0.6, 0.35});
+    a.pointer.state.depth_modifier = true;
+    a.move({0.0, -30.0}, a.start + glm::dvec3{0.0, 0.0, 0.05});
+    const glm::dvec3 after = a.right->poll(2000)->position;
+    EXPECT_NEAR(after.y - a.start.y, 0.05, 1e-9) << "5 cm up at its depth: 5 cm away";
+    EXPECT_NEAR(after.z, a.start.z, 1e-12);
+}
+
+TEST(MouseKeyboard, AnAimedCursorThatCrossesIntoTheOtherEyesImageMovesNoHand) {
+    AimedRightHand a({-0.03, -0.6, 0.35});
+    a.eye = {0.03, -0.6, 0.35};
+    a.move({300.0, 0.0}, a.start + glm::dvec3{-0.25, 0.0, 0.0});
+    a.pointer.state.ray.eye = 1; // the right eye's image; the cursor was in the left's
+    EXPECT_EQ(a.right->poll(2000)->position, a.start) << "the window puts the cursor back on the hand instead";
+    // A camera that turned under a still cursor: the window aims both rays through the new camera.
+    a.pointer.state.ray_before = a.pointer.state.ray = ray_to({0.2, -0.5, 0.35}, a.start + glm::dvec3{0.1, 0.0, 0.0}, 1);
+    a.pointer.state.cursor_px.x += 1.0;
+    EXPECT_EQ(a.right->poll(3000)->position, a.start);
 }

@@ -102,3 +102,26 @@ TEST(StereoCamera, ALabelSitsOverWhatItNamesInEachEyeAtThatThingsDepth) {
     label.origin_px = {12.0f, 30.0f};
     EXPECT_EQ(*overlay_origin_px(label, left.view_projection, eye), glm::vec2(12.0f, 30.0f));
 }
+
+TEST(StereoCamera, ThePointersRayThroughAnEyesImagePassesThroughWhatThatEyeShowsThere) {
+    StereoRig rig;
+    rig.aspect = 600.0 / 675.0;
+    for (int eye : {-1, 0, 1}) {
+        const auto m = eye_matrices(rig, eye);
+        for (const glm::dvec3 p : {rig.target_m, glm::dvec3{0.12, 0.05, 0.02}, glm::dvec3{-0.2, -0.1, 0.3}}) {
+            // Where the eye's projection draws the point, as uv of its image.
+            const glm::dvec2 drawn = ndc(m, p) * 0.5 + 0.5;
+            const auto uv = eye_uv(rig, eye, p);
+            ASSERT_TRUE(uv);
+            EXPECT_NEAR(uv->x, drawn.x, 1e-5) << eye;
+            EXPECT_NEAR(uv->y, drawn.y, 1e-5) << eye;
+            // The ray through that uv passes through the point.
+            const ViewRay ray = eye_ray(rig, eye, *uv);
+            EXPECT_NEAR(glm::length(ray.direction), 1.0, 1e-12);
+            const glm::dvec3 to = p - ray.origin_m;
+            EXPECT_NEAR(glm::length(glm::cross(to, ray.direction)), 0.0, 1e-9) << "the point lies on the ray";
+            EXPECT_GT(glm::dot(to, ray.direction), 0.0) << "in front of the eye";
+        }
+    }
+    EXPECT_FALSE(eye_uv(rig, 0, rig.position_m - (rig.target_m - rig.position_m)).has_value()) << "behind the eye";
+}

@@ -1,0 +1,109 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <optional>
+#include <vector>
+
+#include "game/app/pointer_aim.hpp"
+
+using namespace ikebana;
+using namespace ikebana::game;
+
+namespace {
+
+// A 1200x675 side-by-side window with the default camera.
+struct Window {
+    PointerView view{render::StereoRig{}, render::StereoMode::side_by_side, 0.0};
+    platform::PointerState in = [] {
+        platform::PointerState s;
+        s.window_px = {1200.0, 675.0};
+        s.cursor_px = {300.0, 300.0};
+        return s;
+    }();
+    std::array<std::optional<glm::dvec3>, 2> hands{glm::dvec3{-0.08, -0.05, 0.05}, glm::dvec3{0.06, 0.0, 0.08}};
+    PointerAim aim;
+    std::vector<glm::dvec2> put; // where the cursor was put
+    platform::PointerState read() {
+        platform::PointerState s = in;
+        aim.aim(s, view, hands, [&](glm::dvec2 px) { put.push_back(px); });
+        in.cursor_px = s.cursor_px; // the window's cursor is where it was put
+        return s;
+    }
+    double off(const platform::PointerRay& ray, glm::dvec3 p) const { return glm::length(glm::cross(p - ray.origin_m, ray.direction)); }
+};
+
+} // namespace
+
+TEST(PointerAim, TheCursorStartsOnTheHandItDrivesAndItsRayPassesThroughThatHand) {
+    Window w;
+    const auto s = w.read();
+    ASSERT_EQ(w.put.size(), 1u);
+    EXPECT_LT(w.put[0].x, 600.0) << "in the left eye's image, where the cursor was";
+    ASSERT_TRUE(s.ray.valid);
+    EXPECT_EQ(s.ray.eye, -1);
+    EXPECT_LT(w.off(s.ray, *w.hands[1]), 1e-6) << "the right hand is under the cursor";
+    EXPECT_LT(w.off(s.ray_before, *w.hands[1]), 1e-6) << "and the cursor put there moves no hand";
+}
+
+TEST(PointerAim, TabCtrlAndTheOtherEyeEachPutTheCursorBackOnTheHand) {
+    Window w;
+    (void)w.read();
+    const auto on = [&](int hand) { return w.off(w.read().ray, *w.hands[static_cast<std::size_t>(hand)]); };
+    // Plain motion: the cursor is the trainee's; nothing put.
+    w.in.cursor_px += glm::dvec2{5.0, 0.0};
+    (void)w.read();
+    (void)w.read();
+    (void)w.read();
+    const std::size_t settled = w.put.size();
+    w.in.cursor_px += glm::dvec2{12.0, -7.0};
+    const auto moved = w.read();
+    EXPECT_EQ(w.put.size(), settled) << "a moving cursor is left alone";
+    EXPECT_GT(w.off(moved.ray, *w.hands[1]), 1e-3);
+    // Tab: onto the left hand.
+    w.in.switch_hand = true;
+    EXPECT_LT(on(0), 1e-6);
+    EXPECT_EQ(w.aim.active_hand(), 0);
+    w.in.switch_hand = false;
+    // A Ctrl+drag moves the cursor but not the hand; let go, the cursor is on the hand again.
+    w.in.tilt_modifier = true;
+    w.in.cursor_px += glm::dvec2{40.0, 10.0};
+    EXPECT_GT(on(0), 1e-3);
+    w.in.tilt_modifier = false;
+    EXPECT_LT(on(0), 1e-6);
+    // Into the right eye's image: onto the hand as that eye shows it.
+    w.in.cursor_px = {900.0, 300.0};
+    const auto crossed = w.read();
+    EXPECT_EQ(crossed.ray.eye, 1);
+    EXPECT_GT(crossed.cursor_px.x, 600.0);
+    EXPECT_LT(w.off(crossed.ray, *w.hands[0]), 1e-6);
+}
+
+TEST(PointerAim, ACameraTurnedUnderAStillCursorMovesNoHandAndThenTheCursorGoesBackOnIt) {
+    Window w;
+    (void)w.read();
+    w.in.orbit_button = true;
+    w.view.rig = render::orbited(w.view.rig, 0.3, 0.1);
+    w.view.yaw_rad = 0.3;
+    const auto turning = w.read();
+    EXPECT_EQ(turning.ray.origin_m, turning.ray_before.origin_m);
+    EXPECT_EQ(turning.ray.direction, turning.ray_before.direction) << "both through the new camera: no motion";
+    w.in.orbit_button = false;
+    const auto after = w.read();
+    // Device space is the world turned back by the camera's yaw.
+    const double c = std::cos(-0.3), s = std::sin(-0.3);
+    const glm::dvec3 h = *w.hands[1];
+    EXPECT_LT(w.off(after.ray, {c * h.x - s * h.y, s * h.x + c * h.y, h.z}), 1e-6);
+}
+
+TEST(PointerAim, PixelsPerMetreAreLargerForANearerHand) {
+    const PointerView view{render::StereoRig{}, render::StereoMode::side_by_side, 0.0};
+    const auto near = px_per_m_at(view, {1200.0, 675.0}, -1, {0.0, -0.2, 0.1});
+    const auto far = px_per_m_at(view, {1200.0, 675.0}, -1, {0.0, 0.2, 0.1});
+    ASSERT_TRUE(near && far);
+    EXPECT_GT(near->x, far->x * 1.2);
+    EXPECT_GT(near->y, far->y);
+    // Equal scaling: across and up about the same near the middle of the view.
+    const auto middle = px_per_m_at(view, {1200.0, 675.0}, -1, render::StereoRig{}.target_m);
+    ASSERT_TRUE(middle);
+    EXPECT_NEAR(middle->x / middle->y, 1.0, 0.25);
+}
