@@ -117,6 +117,11 @@ Arrangement measure_arrangement(const components::FrameSnapshot& frame) {
 
 namespace ikebana::game {
 
+namespace {
+// Held further than this from its bottom end (and than a third of its length), a stem is taken again.
+constexpr double far_from_end_m = 0.1;
+} // namespace
+
 HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footprint, const components::FrameSnapshot& frame, std::size_t hand) {
     HeldStemAdvice advice;
     if (hand >= 2 || !frame.kenzan || l.scoring != "form") return advice;
@@ -135,6 +140,18 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
     std::snprintf(text, sizeof text, "holding a %s: %.0f mm long, %.0f° from vertical toward the %s", f.species.c_str(), length * 1e3, tilt * deg,
                   direction_words(azimuth).c_str());
     advice.lines.emplace_back(text);
+    // Held far from its bottom end (a trainee takes a lying stem where the cursor happens to be), it
+    // cannot be pushed into the pins: turning it swings the long end into the table.
+    std::size_t nearest = 0;
+    for (std::size_t i = 1; i < x.size(); ++i) {
+        if (glm::length(x[i] - h.position_m) < glm::length(x[nearest] - h.position_m)) nearest = i;
+    }
+    double held_from_bottom = 0.0;
+    for (std::size_t i = 1; i <= nearest; ++i) held_from_bottom += glm::length(x[i] - x[i - 1]);
+    if (held_from_bottom > std::max(far_from_end_m, 0.35 * length)) {
+        std::snprintf(text, sizeof text, "held %.0f mm from its bottom end: to push it in, let go and take it near that end", held_from_bottom * 1e3);
+        advice.lines.emplace_back(text);
+    }
     // The roles already played by standing stems, as the score assigns them.
     const auto placed = score_form(l, measure_arrangement(frame), footprint);
     std::vector<std::string> played;

@@ -30,7 +30,7 @@ namespace ikebana::game {
 // What the trainee is told about the stem a hand holds: which role it is heading for (the first of the
 // form's roles its species may play that no standing stem plays yet), the length to cut it to for that
 // role (its length above the kenzan plus what the pins hold), and its tilt and direction now against
-// the role's.
+// the role's; and, held far from its bottom end, to take it again near that end.
 struct HeldStemAdvice {
     std::string role;
     double keep_length_m = 0.0; // cut to this (0: no role left for it)

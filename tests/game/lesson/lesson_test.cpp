@@ -591,6 +591,32 @@ TEST(LessonControls, EachKeyActsOncePerPress) {
     EXPECT_NE(controls.hud_lines().front().find("Sogetsu: Basic Upright Style"), std::string::npos) << controls.hud_lines().front();
 }
 
+// A first-time trainee takes a lying stem wherever the cursor is; held near its top it cannot be pushed
+// in (turned, its long end swings into the table): the HUD says to take it near its bottom end.
+TEST(LessonControls, AStemHeldFarFromItsBottomEndIsToBeTakenAgainNearThatEnd) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    components::FrameSnapshot frame{};
+    frame.kenzan = components::Kenzan{};
+    components::FlowerStatus f{};
+    f.species = "cherry_branch";
+    for (int i = 0; i <= 20; ++i) f.points_m.push_back({-0.2 + 0.017 * i, -0.15, 0.1}); // 340 mm, lying along x
+    frame.flowers.push_back(f);
+    frame.hands[1].present = true;
+    frame.hands[1].holding = true;
+    frame.hands[1].held_flower = 0;
+    const auto says = [&](glm::dvec3 hand) {
+        frame.hands[1].position_m = hand;
+        std::string all;
+        for (const auto& line : advise_held_stem(l, footprint(l), frame, 1).lines) all += line + "\n";
+        return all;
+    };
+    const std::string near_top = says(f.points_m[17]);
+    EXPECT_NE(near_top.find("held 289 mm from its bottom end: to push it in, let go and take it near that end"), std::string::npos) << near_top;
+    const std::string near_bottom = says(f.points_m[3]);
+    EXPECT_EQ(near_bottom.find("from its bottom end"), std::string::npos) << near_bottom;
+    EXPECT_NE(near_bottom.find("holding a cherry_branch: 340 mm long"), std::string::npos) << near_bottom;
+}
+
 // A demonstration on record (device samples, the cuts as the simulation took them) replays on the
 // deterministic clock to the same score and the same final state, component by component.
 TEST(LessonSession, ADemonstrationOnRecordReplaysToTheSameScoreAndStateHash) {
