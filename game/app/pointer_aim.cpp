@@ -5,6 +5,11 @@
 namespace ikebana::game {
 
 namespace {
+// A resting cursor this far from the hand it drives (window pixels), after this many readings at rest,
+// goes back onto the hand.
+constexpr double stray_px = 20.0;
+constexpr int readings_to_catch_up = 3;
+
 // Device space from world space and back: turned by the camera's yaw about the vertical.
 glm::dvec3 turned(const glm::dvec3& v, double yaw) {
     const double c = std::cos(yaw), s = std::sin(yaw);
@@ -72,7 +77,15 @@ void PointerAim::aim(platform::PointerState& in, const PointerView& view, const 
     const int eye = eye_spot(view.mode, in.window_px, in.cursor_px).eye;
     // The trainee moved the cursor since it was put on the hand: no more settling.
     if (put_at_px_ && in.cursor_px != *put_at_px_) settle_ = 0;
-    const bool home = !held && (!put_at_px_ || tab || was_held_ || eye != last_eye_ || settle_ > 0);
+    // A cursor that has gone on where the hand could not (past the edge of its reach, into the table)
+    // and rests there: once the hand has had readings to catch up, the cursor goes back onto it.
+    still_ = started_ && in.cursor_px == last_cursor_px_ ? still_ + 1 : 0;
+    bool strayed = false;
+    if (const auto& hand = hands_m[active_ & 1u]; hand && still_ >= readings_to_catch_up) {
+        const auto px = drawn_px(view, in.window_px, eye, *hand);
+        strayed = px && glm::length(*px - in.cursor_px) > stray_px;
+    }
+    const bool home = !held && (!put_at_px_ || tab || was_held_ || eye != last_eye_ || settle_ > 0 || strayed);
     if (home) {
         if (const auto& hand = hands_m[active_ & 1u]) {
             if (const auto px = drawn_px(view, in.window_px, eye, *hand); px && px->x >= 0.0 && px->y >= 0.0 && px->x < in.window_px.x && px->y < in.window_px.y) {

@@ -4,7 +4,8 @@
 // point under the cursor does, at the hand's depth, in whichever eye's image the cursor is. And the
 // cursor is put back on that hand whenever the hand has gone from under it: at the start, after Tab
 // (the other hand), after a Ctrl or Shift drag (the hand stayed, or went in depth, while the cursor
-// moved), after the camera turned, and when the cursor crosses into the other eye's image.
+// moved), after the camera turned, when the cursor crosses into the other eye's image, and when it
+// rests away from a hand that could not follow it (at the edge of its reach, on the table).
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -61,6 +62,7 @@ private:
     glm::dvec2 last_cursor_px_{0.0};
     std::optional<glm::dvec2> put_at_px_; // where it last put the cursor (none yet: it goes onto the hand once the hand shows)
     int settle_ = 0;              // readings left to put it there again, from newer frames
+    int still_ = 0;               // readings the cursor has not moved
 };
 
 } // namespace ikebana::game

@@ -107,3 +107,18 @@ TEST(PointerAim, PixelsPerMetreAreLargerForANearerHand) {
     ASSERT_TRUE(middle);
     EXPECT_NEAR(middle->x / middle->y, 1.0, 0.25);
 }
+
+TEST(PointerAim, ACursorRestingAwayFromAHandThatCouldNotFollowGoesBackOntoIt) {
+    Window w;
+    (void)w.read();
+    const std::size_t before = w.put.size();
+    // The cursor goes on 60 px down; the hand stops at the table (it stays where it was here).
+    w.in.cursor_px += glm::dvec2{0.0, 60.0};
+    (void)w.read();
+    (void)w.read();
+    EXPECT_EQ(w.put.size(), before) << "a moment's rest is the trainee's";
+    (void)w.read();
+    const auto s = w.read();
+    EXPECT_GT(w.put.size(), before) << "resting away from it, the cursor goes back onto the hand";
+    EXPECT_LT(w.off(s.ray, *w.hands[1]), 1e-6);
+}
