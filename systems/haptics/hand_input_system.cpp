@@ -8,6 +8,15 @@ namespace ikebana::systems {
 
 using namespace components;
 
+namespace {
+// Within the plate's outline (a pitch beyond the outer pins, as the cube's own stop above).
+bool on_kenzan_plate(const Kenzan& k, const glm::dvec3& p) {
+    const glm::dvec3 lo = k.pin_base(0, 0) - glm::dvec3{k.pitch_m};
+    const glm::dvec3 hi = k.pin_base(k.columns - 1, k.rows - 1) + glm::dvec3{k.pitch_m};
+    return p.x > lo.x && p.x < hi.x && p.y > lo.y && p.y < hi.y;
+}
+} // namespace
+
 void HandInputSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
     const auto* devices = r.resource<const HandDevices>();
@@ -51,6 +60,22 @@ void HandInputSystem::operator()(sched::SystemContext& ctx) {
                 const glm::dvec3 hi = kenzan->pin_base(kenzan->columns - 1, kenzan->rows - 1) + glm::dvec3{kenzan->pitch_m};
                 if (at.x > lo.x - half && at.x < hi.x + half && at.y > lo.y - half && at.y < hi.y + half) {
                     at.z = std::max(at.z, kenzan->origin_m.z + half);
+                }
+            }
+            // A held stem whose end stands on the kenzan's plate (or the table) stops the hand from going
+            // lower: pushed on, the hand bent the stem against the plate between its grip and its end
+            // (a trainee's cherry branch, let go, kept a segment stretched to twice its length and sank
+            // from 51 to 73 degrees). The gap to the device is felt as the plate pushing back.
+            if (const auto* grip = r.try_get<const HandGrip>(e); grip && !grip->held.is_null() && at.z < proxy.position_m.z) {
+                const auto* stem = r.try_get<const StemPoints>(grip->held);
+                const auto* rest = r.try_get<const StemRestShape>(grip->held);
+                if (stem && rest && stem->position_m.size() >= 2) {
+                    const glm::dvec3 end = stem->position_m.front();
+                    const glm::dvec3 axis = glm::normalize(stem->position_m[1] - end);
+                    const double end_drop = 0.5 * rest->diameter_m * std::sqrt(std::max(0.0, 1.0 - axis.z * axis.z));
+                    double floor = table ? table->height_m : -1e9;
+                    if (kenzan && on_kenzan_plate(*kenzan, end)) floor = std::max(floor, kenzan->origin_m.z);
+                    if (end.z - end_drop <= floor + end_on_floor_m) at.z = proxy.position_m.z;
                 }
             }
             // No faster than a hand: the proxy closes a bigger jump over several ticks.

@@ -9,6 +9,7 @@
 #include "components/hand.hpp"
 #include "components/kenzan.hpp"
 #include "components/physics.hpp"
+#include "components/stem.hpp"
 #include "engine/sched/system.hpp"
 #include "systems/haptics/hand_devices.hpp"
 
@@ -23,13 +24,16 @@ inline constexpr double max_hand_speed_m_s = 5.0;
 // A rate device's twist (normalised, [-1, 1]) below this turns nothing.
 inline constexpr double rate_dead_zone = 0.05;
 
+// A held stem's end this close above the plate (or the table) stands on it: the hand goes no lower.
+inline constexpr double end_on_floor_m = 0.001;
+
 struct HandInputSystem {
     static constexpr std::string_view name = "hand_input";
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<HandDevices, components::WorkspaceMapping, components::HandCube, components::HandGrip,
-                                    components::Kenzan, components::Table>;
+                                    components::Kenzan, components::Table, components::StemPoints, components::StemRestShape>;
     using writes = sched::Components<components::HandInput, components::HandProxy, components::Collider>;
 
     void operator()(sched::SystemContext& ctx);

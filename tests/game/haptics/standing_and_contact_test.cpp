@@ -136,6 +136,13 @@ TEST(Contact, AStemPushedThroughThePinsStopsOnTheKenzansPlate) {
     const auto& kenzan = *w->sim.single<Kenzan>();
     EXPECT_GE(lowest, kenzan.origin_m.z - 1e-4) << "the stem's end stops on the plate's top";
     EXPECT_LE(w->sim.get<PinEngagement>(w->flowers[0].entity).depth_m, kenzan.pin_height_m() + 2e-4) << "never deeper than the pins are tall";
+    // And the hand stops with it: the stem is not bent between the grip and the plate.
+    const auto& rest = w->sim.get<StemRestShape>(w->flowers[0].entity);
+    const auto& x = points(*w);
+    for (std::size_t i = 1; i < x.size(); ++i) {
+        EXPECT_NEAR(glm::length(x[i] - x[i - 1]), rest.segment_length_m[i - 1], 0.05 * rest.segment_length_m[i - 1]) << "segment " << i;
+    }
+    EXPECT_GT(test::hand_view(*w, 1).proxy_m.z - test::hand_view(*w, 1).device_m.z, 0.015) << "the device went on; the cube stayed where the plate stopped the stem";
 }
 
 TEST(Contact, AContainerHoldsAStemOnItsFloorAndInsideItsWall) {
