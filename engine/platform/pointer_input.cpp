@@ -5,9 +5,10 @@
 namespace ikebana::platform {
 
 GlfwPointerSource::GlfwPointerSource(GLFWwindow* window) : window_(window) {
-    // A key tapped between two frames' readings still counts once (C, G, R, Enter are taps).
-    glfwSetInputMode(window, GLFW_STICKY_KEYS, GLFW_TRUE);
     glfwSetWindowUserPointer(window_, this);
+    glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int) {
+        if (auto* self = static_cast<GlfwPointerSource*>(glfwGetWindowUserPointer(w))) self->on_key(key, action);
+    });
     glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double y) {
         if (auto* self = static_cast<GlfwPointerSource*>(glfwGetWindowUserPointer(w))) self->scroll_ += y;
     });
@@ -15,7 +16,25 @@ GlfwPointerSource::GlfwPointerSource(GLFWwindow* window) : window_(window) {
 
 GlfwPointerSource::~GlfwPointerSource() {
     glfwSetScrollCallback(window_, nullptr);
+    glfwSetKeyCallback(window_, nullptr);
     glfwSetWindowUserPointer(window_, nullptr);
+}
+
+void GlfwPointerSource::on_key(int key, int action) {
+    int tap = -1;
+    switch (key) {
+    case GLFW_KEY_ENTER:
+    case GLFW_KEY_KP_ENTER: tap = enter; break;
+    case GLFW_KEY_ESCAPE: tap = escape; break;
+    case GLFW_KEY_TAB: tap = tab; break;
+    case GLFW_KEY_C: tap = cut; break;
+    case GLFW_KEY_G: tap = ghost; break;
+    case GLFW_KEY_R: tap = reset; break;
+    default: return;
+    }
+    if (action == GLFW_PRESS) taps_[tap].press();
+    else if (action == GLFW_RELEASE) taps_[tap].release();
+    // GLFW_REPEAT: a held key is one press.
 }
 
 PointerState GlfwPointerSource::read() {
@@ -27,17 +46,17 @@ PointerState GlfwPointerSource::read() {
     s.window_px = {width > 0 ? width : 1, height > 0 ? height : 1};
     s.grab_button = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
     s.depth_modifier = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
-    s.switch_hand = glfwGetKey(window_, GLFW_KEY_TAB) == GLFW_PRESS;
+    s.switch_hand = taps_[tab].report();
     s.scroll = scroll_;
     auto key = [&](int k) { return glfwGetKey(window_, k) == GLFW_PRESS ? 1.0 : 0.0; };
     s.orbit_button = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
     s.arrows = {key(GLFW_KEY_RIGHT) - key(GLFW_KEY_LEFT), key(GLFW_KEY_UP) - key(GLFW_KEY_DOWN)};
-    s.finish_key = key(GLFW_KEY_ENTER) > 0.0 || key(GLFW_KEY_KP_ENTER) > 0.0;
-    s.quit_key = key(GLFW_KEY_ESCAPE) > 0.0;
+    s.finish_key = taps_[enter].report();
+    s.quit_key = taps_[escape].report();
     s.tilt_modifier = key(GLFW_KEY_LEFT_CONTROL) > 0.0 || key(GLFW_KEY_RIGHT_CONTROL) > 0.0;
-    s.cut_key = key(GLFW_KEY_C) > 0.0;
-    s.ghost_key = key(GLFW_KEY_G) > 0.0;
-    s.reset_key = key(GLFW_KEY_R) > 0.0;
+    s.cut_key = taps_[cut].report();
+    s.ghost_key = taps_[ghost].report();
+    s.reset_key = taps_[reset].report();
     // The hands follow the cursor's motion, and a cursor stops at the window's edge: one that reaches
     // it (a hand carried far to a side, a long Ctrl+drag) is put back in the middle, its motion up to
     // the edge still counted (the hand does not jump, and it can go on).

@@ -49,13 +49,45 @@ struct PointerState {
     PointerRay ray_before;
 };
 
+// A key's presses as events, reported as readings: each press gives one reading with the key down
+// after one with it up, however short the tap and however many taps came between two readings (two
+// taps of C in one frame are two cuts). Between presses the reading follows the key as it is.
+class KeyTaps {
+public:
+    void press() noexcept {
+        down_ = true;
+        ++pending_;
+    }
+    void release() noexcept { down_ = false; }
+    [[nodiscard]] bool report() noexcept {
+        if (pending_ > 0) {
+            if (reported_down_) {
+                reported_down_ = false; // the next press needs an edge: up first
+            } else {
+                reported_down_ = true;
+                --pending_;
+            }
+            return reported_down_;
+        }
+        reported_down_ = down_;
+        return reported_down_;
+    }
+
+private:
+    bool down_ = false;
+    bool reported_down_ = false;
+    unsigned pending_ = 0;
+};
+
 class PointerSource {
 public:
     virtual ~PointerSource() = default;
     [[nodiscard]] virtual PointerState read() = 0;
 };
 
-// Polls a GLFW window (cursor, buttons, keys) and accumulates its scroll wheel.
+// Reads a GLFW window: the cursor and buttons as they are, the scroll wheel accumulated, and the keys
+// that act when pressed (Enter, Esc, Tab, C, G, R) from GLFW's key events, so no tap is lost between
+// two frames. Held keys (Ctrl, Shift, the arrows) are read as they are.
 class GlfwPointerSource final : public PointerSource {
 public:
     explicit GlfwPointerSource(GLFWwindow* window);
@@ -63,14 +95,23 @@ public:
     void recentre_at_edges(bool on) noexcept { recentre_at_edges_ = on; }
     // Moves the cursor (window pixels): onto the hand it drives, when the hand has gone elsewhere.
     void put_cursor(glm::dvec2 px);
+    // Drops the key presses not yet read (letters typed into a text field are no cuts).
+    void forget_taps() noexcept {
+        for (auto& t : taps_) t = KeyTaps{};
+    }
     ~GlfwPointerSource() override;
     GlfwPointerSource(const GlfwPointerSource&) = delete;
     GlfwPointerSource& operator=(const GlfwPointerSource&) = delete;
     [[nodiscard]] PointerState read() override;
 
+    // The keys read from events; an index into taps_.
+    enum Tap : int { enter, escape, tab, cut, ghost, reset, tap_count };
+
 private:
+    void on_key(int key, int action);
     GLFWwindow* window_;
     double scroll_ = 0.0;
+    KeyTaps taps_[tap_count];
     bool recentre_at_edges_ = false;
 };
 

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <vector>
 
 #include <GLFW/glfw3.h>
 
@@ -26,6 +27,68 @@ TEST(GlfwPointer, ReadsTheCursorOfARealWindow) {
         EXPECT_EQ(s.window_px, glm::dvec2(320, 240));
         EXPECT_FALSE(s.grab_button);
         EXPECT_FALSE(s.switch_hand);
+    }
+    glfwDestroyWindow(window);
+    glfwTerminate();
+}
+
+TEST(KeyTaps, ATapBetweenTwoReadingsIsReadOnce) {
+    KeyTaps c;
+    EXPECT_FALSE(c.report());
+    c.press();
+    c.release(); // down and up before the frame read it
+    EXPECT_TRUE(c.report());
+    EXPECT_FALSE(c.report());
+    EXPECT_FALSE(c.report());
+}
+
+TEST(KeyTaps, TwoTapsInOneFrameAreTwoPressesWithAnUpBetween) {
+    KeyTaps c;
+    c.press();
+    c.release();
+    c.press();
+    c.release();
+    std::vector<bool> readings;
+    for (int i = 0; i < 5; ++i) readings.push_back(c.report());
+    EXPECT_EQ(readings, (std::vector<bool>{true, false, true, false, false}));
+}
+
+TEST(KeyTaps, AHeldKeyIsDownUntilItIsLetGo) {
+    KeyTaps ctrl;
+    ctrl.press();
+    EXPECT_TRUE(ctrl.report());
+    EXPECT_TRUE(ctrl.report());
+    EXPECT_TRUE(ctrl.report());
+    ctrl.release();
+    EXPECT_FALSE(ctrl.report());
+}
+
+// GLFW's key events reach the reading (the window's own callback, called as GLFW calls it).
+TEST(GlfwPointer, AKeyTappedBetweenFramesIsReadFromItsEvent) {
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !*display) GTEST_SKIP() << "no display (ctest runs this under xvfb-run)";
+    if (glfwInit() != GLFW_TRUE) GTEST_SKIP() << "GLFW cannot start here";
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    GLFWwindow* window = glfwCreateWindow(320, 240, "ikebana key test", nullptr, nullptr);
+    ASSERT_NE(window, nullptr);
+    {
+        GlfwPointerSource pointer(window);
+        const GLFWkeyfun installed = glfwSetKeyCallback(window, nullptr);
+        ASSERT_NE(installed, nullptr) << "the reader listens to no key events";
+        glfwSetKeyCallback(window, installed);
+        installed(window, GLFW_KEY_C, 0, GLFW_PRESS, 0);
+        installed(window, GLFW_KEY_C, 0, GLFW_RELEASE, 0);
+        installed(window, GLFW_KEY_ENTER, 0, GLFW_PRESS, 0);
+        installed(window, GLFW_KEY_ENTER, 0, GLFW_REPEAT, 0);
+        const auto first = pointer.read();
+        EXPECT_TRUE(first.cut_key);
+        EXPECT_TRUE(first.finish_key);
+        EXPECT_FALSE(first.ghost_key);
+        const auto second = pointer.read();
+        EXPECT_FALSE(second.cut_key) << "one tap, one reading";
+        EXPECT_TRUE(second.finish_key) << "Enter is still held";
+        installed(window, GLFW_KEY_ENTER, 0, GLFW_RELEASE, 0);
+        EXPECT_FALSE(pointer.read().finish_key);
     }
     glfwDestroyWindow(window);
     glfwTerminate();
