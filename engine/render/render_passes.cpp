@@ -6,6 +6,7 @@
 
 #include "engine/render/renderer_internal.hpp"
 #include "engine/render/stereo_renderer.hpp"
+#include "engine/render/ui_layer.hpp"
 
 namespace ikebana::render {
 
@@ -69,6 +70,8 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
     record_eye_passes(frame, list, draws);
     write_timestamp(frame.cmd, frame.timestamps, 2);
     const VkImageLayout eyes_layout = record_composite(frame, target);
+    // The interface over the window's image (its own render pass: Dear ImGui's Vulkan backend wants one).
+    if (ui_ && target.present) ui_->record(frame.cmd, target.view, target.extent);
     write_timestamp(frame.cmd, frame.timestamps, 3);
     if (frame.timestamps) frame.timestamps_written = true;
     record_hand_over(frame, target, eyes_layout);

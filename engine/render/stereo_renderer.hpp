@@ -28,6 +28,8 @@
 
 namespace ikebana::render {
 
+class UiLayer;
+
 class GraphicsPipelineBuilder;
 
 enum class StereoMode { side_by_side, rows, anaglyph, mono };
@@ -94,6 +96,8 @@ public:
     Result<PresentedFrame> present(Swapchain& swapchain, const DrawList& list, const StereoRig& rig, bool screenshot = false);
     // Heads-up panels drawn over every following frame (in each eye's area) until replaced.
     void set_overlay(std::vector<OverlayPanel> panels) { overlay_ = std::move(panels); }
+    // Dear ImGui's interface over the window's frames (null: none). Not owned.
+    void set_ui(UiLayer* ui) { ui_ = ui; }
     [[nodiscard]] VkExtent2D output_extent() const noexcept;
     [[nodiscard]] bool multiview() const noexcept { return multiview_; }
     // Placeholder meshes drawn since the last call, each naming its file and why.
@@ -201,6 +205,7 @@ private:
     std::map<VkFormat, VkPipeline> overlay_pipelines_;
     VkPipelineLayout overlay_layout_ = VK_NULL_HANDLE;
     std::vector<OverlayPanel> overlay_;
+    UiLayer* ui_ = nullptr;
     std::vector<VkSemaphore> render_finished_; // one per window image
     std::vector<std::string> warnings_;
 };
