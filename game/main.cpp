@@ -7,9 +7,11 @@
 
 #include "game/app/trainee_app.hpp"
 #include "game/asset_paths.hpp"
+#include "game/progress/progress_db.hpp"
 #include "game/cli/assets_command.hpp"
 #include "game/cli/devices_command.hpp"
 #include "game/cli/experiment_command.hpp"
+#include "game/cli/history_command.hpp"
 #include "game/cli/lesson_command.hpp"
 #include "game/cli/predict_command.hpp"
 #include "game/cli/render_command.hpp"
@@ -28,6 +30,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--right", right_device, "Right hand's device for the app (as --left)")->capture_default_str();
     std::vector<std::string> environment;
+    std::string progress_db;
+    bool no_history = false;
     ikebana::game::TraineeAppOptions app_options;
     app.add_option("--stereo", app_options.stereo, "The app's stereo output: sbs, rows, anaglyph or mono (default: the scene's display)");
     app.add_option("--width", app_options.width, "The app's window width")->capture_default_str()->check(CLI::Range(64u, 8192u));
@@ -41,6 +45,13 @@ int main(int argc, char** argv) {
     std::string app_scene = (ikebana::game::asset_dir() / "scenes" / "default.json").string();
     app.add_option("--scene", app_scene, "The scene the app opens")->capture_default_str();
     app.add_option("--lesson", app_options.lesson, "Open a lesson (see `ikebana lesson list`): its container, materials and form; Enter scores against the form");
+    app.add_option("--trainee", app_options.trainee, "Who is practising: the name each session is stored under (remembered for next time)");
+    app.add_option("--db", progress_db, "Where each scored lesson session is stored (default: $XDG_DATA_HOME/ikebana/progress.sqlite)");
+    app.add_flag("--no-history", no_history, "Store no session");
+    app.add_flag("--stats", app_options.stats, "Print the session's thread lateness and frame times at the end (else they go to --log)");
+    std::string log_path;
+    app.add_option("--log", log_path, "Where the session's figures are written (default: $XDG_STATE_HOME/ikebana/last-session.log)");
+    app.add_flag("--demonstration", app_options.demonstration, "Store the sessions as a teacher's demonstration (lesson demo --window)");
     app.add_option("--rate", app_options.rates, "Change a rate in the app, e.g. --rate render=60 (haptic, position_estimate, position_check, render)");
     ikebana::game::add_sim_command(app, exit_code);
     ikebana::game::add_species_command(app, exit_code);
@@ -52,6 +63,7 @@ int main(int argc, char** argv) {
     ikebana::game::add_validate_command(app, exit_code);
     ikebana::game::add_render_command(app, exit_code);
     ikebana::game::add_lesson_command(app, exit_code);
+    ikebana::game::add_history_command(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -62,6 +74,10 @@ int main(int argc, char** argv) {
         app_options.left_device = left_device;
         app_options.right_device = right_device;
         app_options.env = environment;
+        // No lesson and no scene asked for: the start screen.
+        app_options.start_screen = app_options.lesson.empty() && app.get_option("--scene")->count() == 0;
+        app_options.log_path = log_path.empty() ? ikebana::game::default_log_path().string() : log_path;
+        if (!no_history) app_options.progress_db = progress_db.empty() ? ikebana::game::default_progress_path().string() : progress_db;
         return ikebana::game::run_trainee_app(app_options);
     }
     return exit_code;

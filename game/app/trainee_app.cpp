@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <atomic>
 #include <functional>
@@ -19,11 +21,14 @@
 #include "engine/devices/mouse_keyboard_device.hpp"
 #include "engine/platform/pointer_input.hpp"
 #include "game/app/pointer_aim.hpp"
+#include "game/app/start_screen.hpp"
+#include "engine/render/ui_layer.hpp"
 #include "engine/platform/window.hpp"
 #include "engine/render/stereo_renderer.hpp"
 #include "engine/render/swapchain.hpp"
 #include "engine/sched/clocks.hpp"
 #include "engine/sched/rates.hpp"
+#include "engine/assets/files.hpp"
 #include "game/asset_paths.hpp"
 #include "game/cli/render_command.hpp"
 #include "components/presentation.hpp"
@@ -39,6 +44,7 @@
 #include "game/lesson/lesson.hpp"
 #include "game/lesson/lesson_scene.hpp"
 #include "game/lesson/window_state.hpp"
+#include "game/progress/progress_db.hpp"
 #include "systems/presentation/receive_frame_system.hpp"
 
 namespace ikebana::game {
@@ -112,7 +118,7 @@ public:
     // Opens the window and everything it needs. Without a display the session is rendered offscreen
     // instead and is over; so it is after an error (already said). Either way: the exit code.
     int open();
-    [[nodiscard]] bool is_open() const noexcept { return world_ != nullptr; }
+    [[nodiscard]] bool is_open() const noexcept { return opened_; }
     int run_and_finish();
     int run_once();
 
@@ -131,9 +137,18 @@ private:
     void lesson_keys(const platform::PointerState& in, sched::SystemContext& main_lane);
     void show_result(const std::vector<std::string>& lines, components::HudInfo& hud) const;
     int build_world();
+    // The lesson (or the scene) the window shows: loaded, then its hands and world.
+    int load_content(const std::string& lesson);
+    int enter_content();
+    // The start screen until a lesson is chosen (its id) or the trainee leaves (nullopt).
+    std::optional<std::string> run_start_screen();
+    void write_screenshot();
     void draw(sched::SystemContext& main_lane);
     void fail(const std::string& message, int exit_code);
-    void print_frame_times() const;
+    [[nodiscard]] std::string frame_times() const;
+    void report_figures(const std::string& figures) const;
+    void open_progress();
+    void store_session(const FormScore& result, const components::FrameSnapshot& frame, components::HudInfo& hud);
 
     const TraineeAppOptions& o_;
     std::optional<SceneDef> scene_;
@@ -152,6 +167,15 @@ private:
     std::unique_ptr<render::Swapchain> swapchain_;
     std::unique_ptr<render::StereoRenderer> renderer_;
     std::unique_ptr<platform::GlfwPointerSource> window_pointer_;
+    // Dear ImGui: the start screen and the lesson's panel. Before the pointer goes (it gives the
+    // window its callbacks back), after the renderer.
+    std::unique_ptr<render::UiLayer> ui_;
+    StartScreen start_screen_;
+    StartScreenModel start_model_;
+    LessonPanel panel_;
+    bool showing_start_ = false;
+    bool opened_ = false;
+    std::atomic<bool> back_{false}; // Esc or the panel's button in a lesson: back to the start screen
     platform::PointerSource* pointer_ = nullptr;
     platform::SharedPointerSource shared_pointer_; // GLFW is read here, the hands read it there
     std::unique_ptr<devices::MouseKeyboardHands> mouse_;
@@ -172,6 +196,11 @@ private:
     std::optional<render::RgbaImage> last_shot_;
     std::atomic<bool> stop_{false};
     int code_ = 0;
+    // The trainee's progress: each scored session of a lesson, stored again at each later Enter.
+    std::optional<ProgressDb> progress_;
+    std::string progress_error_; // why sessions are not stored (said once, and under each result)
+    SessionRecord session_;
+    std::chrono::steady_clock::time_point session_start_ = std::chrono::steady_clock::now();
 };
 
 void TraineeSession::fail(const std::string& message, int exit_code) {
@@ -180,10 +209,12 @@ void TraineeSession::fail(const std::string& message, int exit_code) {
     stop_.store(true);
 }
 
-int TraineeSession::open() {
+// A lesson by its id (or the scene of --scene when empty): its scene, kenzan and environment.
+int TraineeSession::load_content(const std::string& lesson_id) {
     auto scene = load_scene(o_.scene);
-    if (!o_.lesson.empty()) {
-        auto lesson = load_lesson(o_.lesson);
+    lesson_.reset();
+    if (!lesson_id.empty()) {
+        auto lesson = load_lesson(lesson_id);
         if (!lesson) {
             std::cerr << "ikebana: --lesson: " << lesson.error().message << "\n";
             return 2;
@@ -201,6 +232,12 @@ int TraineeSession::open() {
         return 2;
     }
     scene_ = std::move(scene).value();
+    return 0;
+}
+
+int TraineeSession::open() {
+    showing_start_ = o_.start_screen && o_.lesson.empty();
+    if (const int code = load_content(o_.lesson); code != 0) return code;
     // Rates are checked before anything opens, so that a bad one is an error with or without a display.
     for (const auto& assignment : o_.rates) {
         sched::RateTable rates = sched::RateTable::paper_defaults();
@@ -272,6 +309,41 @@ int TraineeSession::open() {
     // The window's own pointer is aimed through the camera (PointerAim), which keeps a Ctrl+drag off
     // the window's edge itself.
     pointer_ = o_.pointer ? o_.pointer : window_pointer_.get();
+    // After the pointer's callbacks: ImGui's GLFW backend passes every event on to them.
+    auto ui = render::UiLayer::create(*ctx_, window_->glfw(), swapchain_->format(), swapchain_->image_count() + ro.frames_in_flight);
+    if (!ui) {
+        if (showing_start_) {
+            std::cerr << "ikebana: " << ui.error().message << "\n";
+            return 3;
+        }
+        std::cerr << "ikebana: warning: no panels: " << ui.error().message << "\n";
+    } else {
+        ui_ = std::move(ui).value();
+        renderer_->set_ui(ui_.get());
+    }
+    base_rig_ = rig_of(scene_->display);
+    open_progress();
+    if (showing_start_) {
+        auto lessons = load_shipped_lessons();
+        if (lessons) start_model_.lessons = std::move(lessons).value();
+        // The school forms first; free practice against the paper's sample last.
+        std::stable_partition(start_model_.lessons.begin(), start_model_.lessons.end(), [](const LessonDef& l) { return l.scoring == "form"; });
+        start_model_.hands = device_names_;
+    } else if (const int code = enter_content(); code != 0) {
+        return code;
+    }
+    opened_ = true;
+    std::printf("ikebana: %s on %s (%s); arrows or right-drag orbit the camera, Tab switches hands, Esc ends\n",
+                render::stereo_mode_name(mode_), ctx_->device_name().c_str(), renderer_->multiview() ? "multiview" : "one pass per eye");
+    std::fflush(stdout);
+    return 0;
+}
+
+
+// Into the lesson (or scene) loaded: the mouse's hands where it puts them, the camera back, its world.
+int TraineeSession::enter_content() {
+    // The old hands stay until the old world, which holds them, is gone (build_world).
+    auto old_mouse = std::move(mouse_);
     mouse_ = std::make_unique<devices::MouseKeyboardHands>(shared_pointer_, lesson_ ? lesson_mouse_config() : devices::MouseKeyboardHands::Config{});
     // In a lesson the mouse's hands start where the lesson puts them, beside the materials. (Scenes
     // keep the mouse's own start, over the kenzan, which the window tests' gestures are measured from.)
@@ -279,14 +351,13 @@ int TraineeSession::open() {
         for (const auto& h : scene_->hands) mouse_->place(h.hand, h.position_m);
     }
     base_rig_ = rig_of(scene_->display);
-
-    if (const int code = build_world(); code != 0) return code;
-    std::printf("ikebana: %s on %s (%s); arrows or right-drag orbit the camera, Tab switches hands, Esc ends\n",
-                render::stereo_mode_name(mode_), ctx_->device_name().c_str(), renderer_->multiview() ? "multiview" : "one pass per eye");
-    std::fflush(stdout);
-    return 0;
+    yaw_ = pitch_ = 0.0;
+    aim_ = PointerAim{};
+    session_.lesson = lesson_ ? lesson_->id : "";
+    const int code = build_world();
+    if (world_ && showing_start_ == false && ui_ && window_pointer_) window_pointer_->forget_taps(); // letters typed into the name are no cuts
+    return code;
 }
-
 
 // The world of the session, built at the start and again when the trainee starts the lesson over
 // (R): the same scene, the devices the hands had (their safety layer with them), the hands where the
@@ -323,7 +394,61 @@ int TraineeSession::build_world() {
     kenzan_at_ = kenzan_origin(*world_);
     sample_scenery_ = world_->main.resource<components::Scenery>()->list;
     if (lesson_) controls_.emplace(*lesson_, footprint_);
+    // A new session (at the start, and after R): stored as a new one at its first Enter.
+    session_.id = 0;
+    session_.started_unix_s = static_cast<std::int64_t>(std::time(nullptr));
+    session_start_ = std::chrono::steady_clock::now();
     return 0;
+}
+
+// The progress database, when sessions are stored and this is a lesson scored against its form. A
+// database that cannot be used is said, and the lesson goes on without storing: a damaged file is
+// never written to.
+void TraineeSession::open_progress() {
+    if (o_.progress_db.empty()) return;
+    if (!showing_start_ && (!lesson_ || lesson_->scoring != "form")) return;
+    auto db = ProgressDb::open(o_.progress_db);
+    if (!db) {
+        progress_error_ = db.error().message;
+        std::cerr << "ikebana: sessions will not be stored: " << progress_error_ << "\n";
+        start_model_.progress_note = "Results are not kept: " + progress_error_;
+        return;
+    }
+    start_model_.progress_note = "Results are kept in " + o_.progress_db;
+    progress_.emplace(std::move(db).value());
+    std::string trainee = o_.trainee;
+    if (trainee.empty()) {
+        if (auto remembered = progress_->setting("trainee"); remembered && *remembered) trainee = **remembered;
+    } else if (auto kept = progress_->set_setting("trainee", trainee); !kept) {
+        std::cerr << "ikebana: the trainee's name is not remembered: " << kept.error().message << "\n";
+    }
+    if (trainee.empty()) {
+        const char* user = std::getenv("USER");
+        trainee = user && *user ? user : "trainee";
+    }
+    session_.trainee = o_.demonstration ? "teacher" : trainee;
+    session_.kind = o_.demonstration ? "demonstration" : "practice";
+    session_.lesson = lesson_ ? lesson_->id : "";
+    start_model_.trainee = trainee;
+}
+
+// Each Enter stores the session as it now stands (the first adds it, later ones replace it).
+void TraineeSession::store_session(const FormScore& result, const components::FrameSnapshot& frame, components::HudInfo& hud) {
+    if (!progress_error_.empty()) {
+        hud.result.push_back("not stored: " + progress_error_.substr(0, 60));
+        return;
+    }
+    if (!progress_ || session_.lesson.empty()) return;
+    session_.result = result;
+    session_.flowers = flower_outcomes(frame);
+    session_.duration_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start_).count();
+    if (auto saved = progress_->save(session_); !saved) {
+        std::cerr << "ikebana: the session was not stored: " << saved.error().message << "\n";
+        hud.result.push_back("not stored (see the terminal)");
+        return;
+    }
+    std::printf("ikebana: stored as session %lld in %s\n", static_cast<long long>(session_.id), progress_->path().c_str());
+    std::fflush(stdout);
 }
 
 // Keys, pointer and camera; Enter scores the arrangement (the result stays on screen, the session goes on).
@@ -333,7 +458,23 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     window_->poll_events();
     platform::PointerState in = pointer_->read();
     const auto read_at = std::chrono::steady_clock::now();
-    if (in.quit_key) window_->request_close();
+    // The lesson's panel: its buttons do what the keys do.
+    LessonPanelActions act;
+    if (ui_ && lesson_) {
+        ui_->begin_frame(mode_);
+        act = panel_.draw({lesson_->school + ": " + lesson_->title, session_.trainee, {}, controls_ && controls_->ghosts()});
+        ui_->end_frame();
+    }
+    const bool over_panel = ui_ && lesson_ && ui_->wants_pointer();
+    if (in.quit_key || act.back) {
+        // From a lesson opened on the start screen, Esc goes back there; otherwise it ends.
+        if (o_.start_screen) {
+            back_.store(true);
+            stop_.store(true);
+            return;
+        }
+        window_->request_close();
+    }
     if (window_->should_close()) {
         stop_.store(true);
         return;
@@ -366,10 +507,15 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         for (std::size_t h = 0; h < 2; ++h) {
             if (latest.hands[h].present) hands[h] = latest.hands[h].device_m;
         }
-        aim_.aim(in, view, hands, [&](glm::dvec2 px) { window_pointer_->put_cursor(px); });
+        // Over the panel the cursor is the trainee's to click with, not the hand's.
+        if (!over_panel) aim_.aim(in, view, hands, [&](glm::dvec2 px) { window_pointer_->put_cursor(px); });
     }
-    shared_pointer_.store(in);
+    // Over the panel the hands keep the last reading (they neither move nor take what is under them).
+    if (!over_panel) shared_pointer_.store(in);
     platform::PointerState keys = in;
+    keys.finish_key = keys.finish_key || act.finish;
+    keys.ghost_key = keys.ghost_key || act.ghosts;
+    keys.reset_key = keys.reset_key || act.restart;
     if (o_.finish_at_frame > 0 && presented_ + 1 == o_.finish_at_frame) keys.finish_key = true; // a test's Enter
     if (lesson_) lesson_keys(keys, main_lane); // a form lesson's Enter is scored there
     const bool form = lesson_ && lesson_->scoring == "form";
@@ -388,6 +534,9 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         take_snapshot(state_, main_lane.registry.resource<const systems::ReceivedFrames>()->latest());
         state_.active_hand = aim_.active_hand();
         state_.px_per_m = glm::dvec2{0.0};
+        state_.screen = "lesson";
+        state_.buttons.clear();
+        for (const auto& b : panel_.buttons()) state_.buttons.push_back({b.label, b.min_px, b.max_px});
         if (in.ray.valid) {
             const auto gain = px_per_m_at(view, in.window_px, in.ray.eye, state_.hands[state_.active_hand].device_m);
             if (gain) state_.px_per_m = *gain;
@@ -433,6 +582,7 @@ void TraineeSession::lesson_keys(const platform::PointerState& in, sched::System
         state_.result_json = (*effects.score)->json(-1);
     }
     if (effects.score) show_result(effects.score->ok() ? (*effects.score)->lines() : std::vector<std::string>{"RESULT: " + effects.score->error().message}, hud);
+    if (effects.score && effects.score->ok()) store_session(**effects.score, latest, hud);
     if (effects.restart) {
         restart_.store(true);
         stop_.store(true);
@@ -445,6 +595,7 @@ void TraineeSession::draw(sched::SystemContext& main_lane) {
     const VkExtent2D size = window_->framebuffer();
     if (size.width == 0 || size.height == 0) return; // minimised: nothing to draw, the simulation runs on
     if (size.width != swapchain_->extent().width || size.height != swapchain_->extent().height) {
+        if (ui_) ui_->forget_targets();
         if (auto r = swapchain_->recreate(size); !r) return fail(r.error().message, 3);
     }
     const auto& prepared = *main_lane.registry.resource<const components::PreparedFrame>();
@@ -454,6 +605,7 @@ void TraineeSession::draw(sched::SystemContext& main_lane) {
     if (!frame) return fail(frame.error().message, 3);
     for (const auto& warning : renderer_->take_warnings()) std::cerr << "ikebana: warning: " << warning << "\n";
     if (frame->swapchain_stale) {
+        if (ui_) ui_->forget_targets();
         if (auto r = swapchain_->recreate(window_->framebuffer()); !r && window_->framebuffer().width > 0) return fail(r.error().message, 3);
     }
     if (!frame->presented) return;
@@ -471,30 +623,155 @@ void TraineeSession::draw(sched::SystemContext& main_lane) {
     if (o_.frames > 0 && presented_ >= o_.frames) stop_.store(true);
 }
 
-void TraineeSession::print_frame_times() const {
-    if (frame_ms_.size() <= 2) return;
+std::string TraineeSession::frame_times() const {
+    if (frame_ms_.size() <= 2) return {};
     auto whole = frame_ms_;
     whole.erase(whole.begin()); // the first frame includes start-up
-    std::printf("frame time, ms (p50 / p95): whole frame %.1f / %.1f; record %.2f / %.2f; device: shadow %.1f / %.1f, both eyes %.1f / %.1f, "
+    char line[400];
+    std::snprintf(line, sizeof line, "frame time, ms (p50 / p95): whole frame %.1f / %.1f; record %.2f / %.2f; device: shadow %.1f / %.1f, both eyes %.1f / %.1f, "
                 "composite and HUD %.1f / %.1f; present %.2f / %.2f\n",
                 percentile(whole, 0.5), percentile(whole, 0.95), percentile(record_ms_, 0.5), percentile(record_ms_, 0.95),
                 percentile(shadow_ms_, 0.5), percentile(shadow_ms_, 0.95), percentile(eyes_ms_, 0.5), percentile(eyes_ms_, 0.95),
                 percentile(composite_ms_, 0.5), percentile(composite_ms_, 0.95), percentile(present_ms_, 0.5), percentile(present_ms_, 0.95));
+    return line;
+}
+
+// The session's figures (threads' lateness, frame times, validation) are for whoever tunes the app,
+// not for the trainee: printed with --stats, else kept in the log file.
+void TraineeSession::report_figures(const std::string& figures) const {
+    if (o_.stats) {
+        std::printf("%s", figures.c_str());
+        return;
+    }
+    if (o_.log_path.empty()) return;
+    const std::filesystem::path log(o_.log_path);
+    std::error_code ec;
+    if (log.has_parent_path()) std::filesystem::create_directories(log.parent_path(), ec);
+    if (auto written = assets::write_text_file(log, figures); !written) {
+        std::cerr << "ikebana: the session's figures were not logged: " << written.error().message << "\n";
+        return;
+    }
+    std::printf("ikebana: the session's thread and frame figures are in %s (--stats prints them here)\n", o_.log_path.c_str());
 }
 
 int TraineeSession::run_and_finish() {
     for (;;) {
+        if (showing_start_) {
+            const auto chosen = run_start_screen();
+            if (!chosen) {
+                write_screenshot();
+                vkDeviceWaitIdle(ctx_->device());
+                return code_;
+            }
+            if (const int code = load_content(*chosen); code != 0) return code;
+            if (progress_ && !o_.demonstration) {
+                if (auto kept = progress_->set_setting("trainee", start_model_.trainee); !kept)
+                    std::cerr << "ikebana: the trainee's name is not remembered: " << kept.error().message << "\n";
+                session_.trainee = start_model_.trainee;
+            }
+            showing_start_ = false;
+            if (const int code = enter_content(); code != 0) return code;
+            std::printf("ikebana: %s\n", lesson_ ? (lesson_->school + ": " + lesson_->title).c_str() : "free practice");
+        }
         const int code = run_once();
-        if (!restart_.exchange(false) || code_ != 0) return code;
-        // R: the lesson again from the start, in the same window.
+        if (code_ != 0) return code;
         stop_.store(false);
+        if (back_.exchange(false)) {
+            showing_start_ = true;
+            continue;
+        }
+        if (!restart_.exchange(false)) return code;
+        // R: the lesson again from the start, in the same window.
         if (const int built = build_world(); built != 0) return built;
         std::printf("ikebana: started over\n");
     }
 }
 
+// The start screen, drawn on its own (no world runs behind it): until a lesson is chosen, or Esc,
+// the Quit button or the window's close.
+std::optional<std::string> TraineeSession::run_start_screen() {
+    if (progress_) {
+        auto mine = progress_->sessions({start_model_.trainee, ""});
+        if (mine) start_model_.recent = std::move(mine).value();
+    }
+    window_pointer_->forget_taps();
+    const render::DrawList nothing;
+    for (;;) {
+        window_->poll_events();
+        if (window_->should_close()) return std::nullopt;
+        const platform::PointerState in = window_pointer_->read();
+        if (in.quit_key) return std::nullopt;
+        ui_->begin_frame(mode_);
+        const std::string before = start_model_.trainee;
+        const StartChoice choice = start_screen_.draw(start_model_);
+        ui_->end_frame();
+        if (start_model_.trainee != before && progress_) {
+            auto mine = progress_->sessions({start_model_.trainee, ""});
+            start_model_.recent = mine ? std::move(mine).value() : std::vector<SessionRecord>{};
+        }
+        if (!o_.state_out.empty()) {
+            state_.frame += 1;
+            state_.input_read_at_us = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+            state_.window_px = in.window_px;
+            state_.cursor_px = in.cursor_px;
+            state_.screen = "start";
+            state_.buttons.clear();
+            for (const auto& b : start_screen_.buttons()) state_.buttons.push_back({b.label, b.min_px, b.max_px});
+            if (auto written = write_window_state(o_.state_out, state_); !written) {
+                std::cerr << "ikebana: --state-out: " << written.error().message << "\n";
+                code_ = 2;
+                return std::nullopt;
+            }
+        }
+        const VkExtent2D size = window_->framebuffer();
+        if (size.width > 0 && size.height > 0) {
+            if (size.width != swapchain_->extent().width || size.height != swapchain_->extent().height) {
+                ui_->forget_targets();
+                if (auto r = swapchain_->recreate(size); !r) {
+                    std::cerr << "ikebana: " << r.error().message << "\n";
+                    code_ = 3;
+                    return std::nullopt;
+                }
+            }
+            renderer_->set_overlay({});
+            const bool want_shot = !o_.screenshot.empty() && o_.frames > 0 && presented_ + 1 >= o_.frames;
+            auto frame = renderer_->present(*swapchain_, nothing, base_rig_, want_shot);
+            if (!frame) {
+                std::cerr << "ikebana: " << frame.error().message << "\n";
+                code_ = 3;
+                return std::nullopt;
+            }
+            if (frame->swapchain_stale) {
+                ui_->forget_targets();
+                (void)swapchain_->recreate(window_->framebuffer());
+            }
+            if (frame->presented) ++presented_;
+            if (frame->screenshot) last_shot_ = std::move(frame->screenshot);
+        } else {
+            std::this_thread::sleep_for(std::chrono::milliseconds(20)); // minimised
+        }
+        if (choice.kind == StartChoice::Kind::quit) return std::nullopt;
+        if (choice.kind == StartChoice::Kind::lesson) return choice.lesson;
+        if (o_.frames > 0 && presented_ >= o_.frames) return std::nullopt;
+    }
+}
+
+void TraineeSession::write_screenshot() {
+    if (o_.screenshot.empty()) return;
+    if (!last_shot_) {
+        std::cerr << "ikebana: no screenshot: the window's images cannot be copied from on this device\n";
+        code_ = code_ ? code_ : 1;
+    } else if (auto wr = render::write_png(o_.screenshot, *last_shot_); !wr) {
+        std::cerr << "ikebana: " << wr.error().message << "\n";
+        code_ = code_ ? code_ : 1;
+    } else {
+        std::printf("ikebana: screenshot in %s\n", o_.screenshot.c_str());
+    }
+}
+
 int TraineeSession::run_once() {
     World& w = *world_;
+    std::string figures;
     // The hands' first reading is the pointer as it is now, not an empty state (that would look like
     // a jump of the cursor from the corner).
     shared_pointer_.store(pointer_->read());
@@ -503,34 +780,31 @@ int TraineeSession::run_once() {
         sched::RealtimeClock clock(w.schedule, sched::RealtimeConfig{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 20});
         // Until the window closes or the frames asked for are presented.
         const auto lanes = clock.run_for(1e9, &stop_);
-        std::printf("%s", format_realtime_report(w, lanes).c_str());
+        figures += format_realtime_report(w, lanes);
         for (std::size_t hand = 0; hand < 2; ++hand) {
+            // Said whatever --stats is: the device's force was cut for safety.
             if (watchdogs.trips(hand) > 0)
-                std::printf("%s hand force watchdog: tripped %llu time(s)\n", hand ? "right" : "left",
-                            static_cast<unsigned long long>(watchdogs.trips(hand)));
+                std::fprintf(stderr, "ikebana: %s hand force watchdog: tripped %llu time(s)\n", hand ? "right" : "left",
+                             static_cast<unsigned long long>(watchdogs.trips(hand)));
         }
     }
     for (std::size_t hand = 0; hand < 2; ++hand) {
         if (w.hand_devices[hand]) (void)w.hand_devices[hand]->send_force(glm::dvec3{0.0}); // nothing pushes after the session
     }
-    if (!o_.screenshot.empty()) {
-        if (!last_shot_) {
-            std::cerr << "ikebana: no screenshot: the window's images cannot be copied from on this device\n";
-            code_ = code_ ? code_ : 1;
-        } else if (auto wr = render::write_png(o_.screenshot, *last_shot_); !wr) {
-            std::cerr << "ikebana: " << wr.error().message << "\n";
-            code_ = code_ ? code_ : 1;
-        } else {
-            std::printf("ikebana: screenshot in %s\n", o_.screenshot.c_str());
-        }
-    }
-    std::printf("ikebana: camera turned %.0f deg round, tilted %.0f deg\n", yaw_ * 180.0 / M_PI, pitch_ * 180.0 / M_PI);
-    std::printf("ikebana: %u frames presented; %s\n", presented_, status_line(w.main.resource<const systems::ReceivedFrames>()->latest()).c_str());
-    print_frame_times();
+    write_screenshot();
+    char line[600];
+    std::snprintf(line, sizeof line, "ikebana: camera turned %.0f deg round, tilted %.0f deg\n", yaw_ * 180.0 / M_PI, pitch_ * 180.0 / M_PI);
+    figures += line;
+    std::snprintf(line, sizeof line, "ikebana: %u frames presented; %s\n", presented_, status_line(w.main.resource<const systems::ReceivedFrames>()->latest()).c_str());
+    figures += line;
+    figures += frame_times();
     if (ctx_->validation_enabled()) {
-        std::printf("validation: %u errors, %u warnings\n", ctx_->validation_errors(), ctx_->validation_warnings());
+        std::snprintf(line, sizeof line, "validation: %u errors, %u warnings\n", ctx_->validation_errors(), ctx_->validation_warnings());
+        figures += line;
         if (ctx_->validation_errors() > 0 && code_ == 0) code_ = 4;
+        if (ctx_->validation_errors() > 0 && !o_.stats) std::fprintf(stderr, "ikebana: %s", line);
     }
+    report_figures(figures);
     vkDeviceWaitIdle(ctx_->device());
     return code_;
 }

@@ -39,6 +39,18 @@ struct TraineeAppOptions {
     // Each frame, what the window shows as data (game/lesson/window_state.hpp), for a script that works
     // the window from outside (`ikebana lesson demo --window`). Empty: not written.
     std::string state_out;
+    // Where each scored lesson session is stored (game/progress/progress_db.hpp); empty: nowhere
+    // (tests that run the app in-process store nothing unless they ask).
+    std::string progress_db;
+    std::string trainee;        // empty: the name the database remembers, else $USER
+    bool demonstration = false; // the sessions are a teacher's demonstration (lesson demo --window)
+    // The session's figures (threads' lateness, frame times): printed at the end with `stats`, else
+    // written to `log_path` (empty: nowhere), not on a trainee's terminal.
+    bool stats = false;
+    // Open on the start screen (the lessons, the trainee's name and results); a lesson's Esc comes
+    // back to it. Off: straight into --lesson or --scene, and Esc ends.
+    bool start_screen = false;
+    std::string log_path;
     // Called before each frame with the frames presented so far (tests drive the window with it:
     // resize it, minimise it). Nothing when empty.
     std::function<void(std::uint32_t presented, GLFWwindow* window)> each_frame;

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 #include <optional>
+#include <ctime>
 
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 #include "game/lesson/lesson_demo.hpp"
 #include "game/lesson/lesson_session.hpp"
 #include "game/lesson/lesson_scene.hpp"
+#include "game/progress/progress_db.hpp"
 #include "game/scene/scene.hpp"
 
 namespace ikebana::game {
@@ -159,7 +161,34 @@ struct DemoArgs {
     bool window = false;
     std::string xdotool, record;
     std::vector<std::string> tilts; // role=degrees
+    std::string db;                 // the progress database (empty: the default one)
+    bool no_history = false;
 };
+
+// A demonstration goes into the progress database beside the trainees' sessions, marked as one.
+int store_demonstration(const std::string& who, const DemoArgs& args, const LessonDef& lesson, const DemoResult& demo, std::int64_t started_unix_s) {
+    const std::filesystem::path path = args.db.empty() ? default_progress_path() : std::filesystem::path(args.db);
+    auto db = ProgressDb::open(path);
+    if (!db) {
+        std::cerr << who << "the demonstration was not stored: " << db.error().message << "\n";
+        return 1;
+    }
+    SessionRecord s;
+    s.lesson = lesson.id;
+    s.trainee = "teacher";
+    s.kind = "demonstration";
+    s.started_unix_s = started_unix_s;
+    s.duration_s = demo.simulated_s;
+    s.result = demo.score;
+    s.flowers = demo.flowers;
+    if (!args.record.empty()) s.recording = std::filesystem::absolute(args.record).lexically_normal().string();
+    if (auto saved = db->save(s); !saved) {
+        std::cerr << who << "the demonstration was not stored: " << saved.error().message << "\n";
+        return 1;
+    }
+    if (args.json_out != "-") std::printf("stored as session %lld in %s (ikebana history)\n", static_cast<long long>(s.id), path.string().c_str());
+    return 0;
+}
 
 int demo_lesson(const DemoArgs& args) {
     const std::string who = "ikebana lesson demo: ";
@@ -201,6 +230,9 @@ int demo_lesson(const DemoArgs& args) {
         std::cerr << who << "--window works the window with the X pointer itself; --mouse and --xdotool are for the headless demonstration\n";
         return 2;
     }
+    // The window stores its own session (it is the one that scores); it is told it is a demonstration.
+    options.window_progress_db = args.no_history ? "" : (args.db.empty() ? default_progress_path().string() : args.db);
+    const auto started_unix_s = static_cast<std::int64_t>(std::time(nullptr));
     const auto demo = args.window ? run_lesson_demo_in_window(*lesson, options) : run_lesson_demo(*lesson, options);
     if (tty) std::fprintf(stderr, "\r\033[K");
     if (!demo) {
@@ -216,7 +248,8 @@ int demo_lesson(const DemoArgs& args) {
         std::snprintf(line, sizeof line, "  %5.1f s  %s", step.at_s, step.what.c_str());
         before.emplace_back(line);
     }
-    const int code = report(who, demo->score, args.json_out, before);
+    int code = report(who, demo->score, args.json_out, before);
+    if (code == 0 && !args.window && !args.no_history) code = store_demonstration(who, args, *lesson, *demo, started_unix_s);
     if (code == 0 && !args.record.empty() && args.json_out != "-")
         std::printf("the session is on record in %s (replay: ikebana lesson replay %s)\n", args.record.c_str(), args.record.c_str());
     return code;
@@ -281,6 +314,8 @@ void add_lesson_command(CLI::App& app, int& exit_code) {
     demo->add_flag("--window", demo_args->window, "In the trainee window, worked from outside through the X pointer and keys (needs a display and xdotool); its result is the window's");
     demo->add_option("--record", demo_args->record, "Put the session on record in this folder (device samples, cuts, score, state hash), for `lesson replay`");
     demo->add_option("--tilt", demo_args->tilts, "ROLE=DEGREES: hold that role at another tilt (how a mistake scores); repeatable");
+    demo->add_option("--db", demo_args->db, "The progress database the demonstration is stored in (default: $XDG_DATA_HOME/ikebana/progress.sqlite)");
+    demo->add_flag("--no-history", demo_args->no_history, "Do not store the demonstration in the progress database");
     demo->callback([demo_args, &exit_code] { exit_code = demo_lesson(*demo_args); });
 
     auto replay_args = std::make_shared<std::pair<std::string, std::string>>();

@@ -14,6 +14,7 @@
 #include "engine/devices/haptic_device.hpp"
 #include "game/lesson/form_score.hpp"
 #include "game/lesson/lesson.hpp"
+#include "game/progress/progress_db.hpp"
 
 namespace ikebana::game {
 
@@ -29,6 +30,7 @@ struct DemoResult {
     std::vector<DemoStep> steps;
     double simulated_s = 0.0;
     std::uint64_t state_hash = 0; // the world's at the end (headless only)
+    std::vector<FlowerOutcome> flowers; // how each flower ended (headless only: the window stores its own)
 };
 
 struct DemoOptions {
@@ -39,6 +41,9 @@ struct DemoOptions {
     std::string xdotool_script;
     // A role held at another tilt than the form's (degrees): how a trainee's mistake scores.
     std::map<std::string, double> tilt_deg;
+    // In the window: the progress database the window stores its session in, as a demonstration
+    // (empty: it stores nothing).
+    std::string window_progress_db;
     std::string record_dir; // headless: the session on record (lesson_session.hpp), for `lesson replay` (empty: none)
     std::function<void(std::size_t done, std::size_t of, const std::string& step)> progress; // each step, as it starts
 };

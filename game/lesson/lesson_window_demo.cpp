@@ -329,8 +329,13 @@ Result<DemoResult> run_lesson_demo_in_window(const LessonDef& lesson, const Demo
     constexpr int width = 1200, height = 675;
     const std::string centre = "xdotool mousemove " + std::to_string(width / 2) + " " + std::to_string(height / 2) + " >/dev/null 2>&1";
     if (std::system(centre.c_str()) != 0) return make_error(ErrorCode::device_error, std::string("--window: xdotool cannot move the pointer on display ") + display);
-    const std::vector<std::string> args{self.string(), "--lesson", lesson.file.empty() ? lesson.id : lesson.file.string(), "--width", std::to_string(width),
+    std::vector<std::string> args{self.string(), "--lesson", lesson.file.empty() ? lesson.id : lesson.file.string(), "--width", std::to_string(width),
                                         "--height", std::to_string(height), "--state-out", state.string()};
+    if (options.window_progress_db.empty()) {
+        args.push_back("--no-history");
+    } else {
+        args.insert(args.end(), {"--db", options.window_progress_db, "--demonstration"});
+    }
     std::vector<char*> argv;
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);

@@ -88,6 +88,10 @@ std::string window_state_json(const WindowState& s) {
                                 {"depth_m", f.depth_m}});
     }
     if (s.kenzan_origin_m) j["kenzan"] = {{"origin_m", vec(*s.kenzan_origin_m)}, {"pin_height_m", s.kenzan_pin_height_m}};
+    j["screen"] = s.screen;
+    Json buttons = Json::array();
+    for (const auto& b : s.buttons) buttons.push_back({{"label", b.label}, {"min_px", vec(b.min_px)}, {"max_px", vec(b.max_px)}});
+    j["buttons"] = buttons;
     j["results"] = s.results;
     j["result"] = s.result_json.empty() ? Json(nullptr) : Json::parse(s.result_json, nullptr, false);
     return j.dump();
@@ -145,6 +149,18 @@ Result<WindowState> parse_window_state(std::string_view text, const std::string&
     if (r.error.empty() && j.contains("kenzan")) {
         s.kenzan_origin_m = r.vector<3>(j["kenzan"], "origin_m");
         s.kenzan_pin_height_m = r.get<double>(j["kenzan"], "pin_height_m");
+    }
+    if (r.error.empty() && j.contains("screen")) s.screen = r.get<std::string>(j, "screen");
+    if (r.error.empty() && j.contains("buttons")) {
+        const auto& buttons = j["buttons"];
+        if (!buttons.is_array() || buttons.size() > 200) r.error = "field 'buttons' should be an array of at most 200";
+        for (std::size_t i = 0; r.error.empty() && i < buttons.size(); ++i) {
+            WindowState::Button b;
+            b.label = r.get<std::string>(buttons[i], "label");
+            b.min_px = r.vector<2>(buttons[i], "min_px");
+            b.max_px = r.vector<2>(buttons[i], "max_px");
+            s.buttons.push_back(std::move(b));
+        }
     }
     s.results = r.get<std::uint64_t>(j, "results");
     if (r.error.empty() && j.contains("result") && !j["result"].is_null()) s.result_json = j["result"].dump();

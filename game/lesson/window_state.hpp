@@ -46,6 +46,14 @@ struct WindowState {
     std::vector<Flower> flowers;
     std::optional<glm::dvec3> kenzan_origin_m;
     double kenzan_pin_height_m = 0.0;
+    // Which screen is up ("start": the start screen, "lesson"), and its interface's buttons, where a
+    // script finds them (window pixels, the left eye's copy in side by side).
+    std::string screen = "lesson";
+    struct Button {
+        std::string label;
+        glm::dvec2 min_px{0.0}, max_px{0.0};
+    };
+    std::vector<Button> buttons;
     std::uint64_t results = 0;  // results shown so far (Enter)
     std::string result_json;    // the last one, as `lesson score --json` writes it (empty: none yet)
 };

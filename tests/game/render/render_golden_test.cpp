@@ -76,6 +76,7 @@ game::TraineeAppOptions small_app(std::uint32_t width, std::uint32_t height, std
     o.width = width;
     o.height = height;
     o.frames = frames;
+    o.stats = true; // the tests read the session's figures (frames, camera) from its output
     return o;
 }
 

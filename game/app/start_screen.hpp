@@ -1,0 +1,73 @@
+#pragma once
+// What the trainee window shows before a lesson and around one, drawn with Dear ImGui (one eye's
+// layout; render::UiLayer puts it in both): the start screen (the trainee's name, the lessons with
+// their form's diagram and numbers, the hands, the controls, the last results and their trend) and,
+// during a lesson, a small panel with the active hand, what it holds, the target of the role it is
+// heading for, and buttons for what the keys do.
+#include <array>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "game/lesson/lesson.hpp"
+#include "game/progress/progress_db.hpp"
+
+namespace ikebana::game {
+
+// A button where a script (or a test) can find it: its label and its rectangle in window pixels, in
+// the left eye's copy.
+struct UiButton {
+    std::string label;
+    glm::dvec2 min_px{0.0}, max_px{0.0};
+};
+
+struct StartScreenModel {
+    std::vector<LessonDef> lessons;
+    std::array<std::string, 2> hands;  // what each hand is: a device's name, or the mouse
+    std::string trainee;               // edited on the screen
+    std::vector<SessionRecord> recent; // this trainee's sessions, oldest first
+    std::string progress_note;         // where results are kept, or why they are not
+};
+
+struct StartChoice {
+    enum class Kind { none, lesson, quit } kind = Kind::none;
+    std::string lesson; // its id
+};
+
+class StartScreen {
+public:
+    // Inside a UI frame. The name typed is written back to the model.
+    StartChoice draw(StartScreenModel& model);
+    [[nodiscard]] const std::vector<UiButton>& buttons() const { return buttons_; }
+
+private:
+    std::size_t selected_ = 0;
+    bool name_loaded_ = false;
+    bool defaulted_ = false;
+    std::array<char, 64> name_{};
+    std::vector<UiButton> buttons_;
+};
+
+// The in-lesson panel's buttons: each does what its key does.
+struct LessonPanelActions {
+    bool finish = false, ghosts = false, restart = false, back = false;
+};
+
+struct LessonPanelModel {
+    std::string title;
+    std::string trainee;
+    std::vector<std::string> lines; // what the lesson's HUD says (active hand, held stem, its target)
+    bool ghosts_on = false;
+};
+
+class LessonPanel {
+public:
+    LessonPanelActions draw(const LessonPanelModel& model);
+    [[nodiscard]] const std::vector<UiButton>& buttons() const { return buttons_; }
+
+private:
+    std::vector<UiButton> buttons_;
+};
+
+} // namespace ikebana::game

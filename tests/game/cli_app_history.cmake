@@ -1,0 +1,40 @@
+# The trainee window stores each scored lesson session (run under xvfb-run): a session finished with
+# Enter is in `ikebana history --json` under the trainee's name, the name is remembered for the next
+# session, and an app killed in the middle of a session loses none stored before it.
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+set(out ${WORK}/cli_app_history)
+file(REMOVE_RECURSE ${out})
+file(MAKE_DIRECTORY ${out})
+set(db ${out}/progress.sqlite)
+set(app ${IKEBANA} --lesson sogetsu_basic_upright --width 480 --height 270 --db ${db})
+
+execute_process(COMMAND ${app} --trainee "Mika Sato" --frames 20 --finish-at-frame 12
+                RESULT_VARIABLE rc OUTPUT_VARIABLE text ERROR_VARIABLE err TIMEOUT 300)
+string(FIND "${text}" "ikebana: stored as session 1 in ${db}" at)
+if(NOT rc EQUAL 0 OR at EQUAL -1)
+  message(FATAL_ERROR "the first session: exit ${rc}, not stored as session 1:\n${text}${err}")
+endif()
+
+# The second session scores at frame 12 and runs on until it is killed (no --frames).
+execute_process(COMMAND ${app} --finish-at-frame 12 RESULT_VARIABLE rc OUTPUT_VARIABLE text ERROR_VARIABLE err TIMEOUT 25)
+if(rc EQUAL 0)
+  message(FATAL_ERROR "the second session ended by itself; it was to be killed:\n${text}${err}")
+endif()
+
+execute_process(COMMAND ${IKEBANA} history --db ${db} --json RESULT_VARIABLE rc OUTPUT_VARIABLE said ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "history after the killed session: exit ${rc}: ${err}")
+endif()
+string(JSON count LENGTH "${said}" sessions)
+if(NOT count EQUAL 2)
+  message(FATAL_ERROR "history lists ${count} sessions, not the finished one and the killed one's first Enter:\n${said}")
+endif()
+foreach(i 0 1)
+  string(JSON trainee GET "${said}" sessions ${i} trainee)
+  string(JSON kind GET "${said}" sessions ${i} kind)
+  string(JSON criteria LENGTH "${said}" sessions ${i} criteria)
+  string(JSON flowers LENGTH "${said}" sessions ${i} flowers)
+  if(NOT trainee STREQUAL "Mika Sato" OR NOT kind STREQUAL "practice" OR criteria LESS 9 OR flowers LESS 3)
+    message(FATAL_ERROR "session ${i}: trainee '${trainee}', kind ${kind}, ${criteria} criteria, ${flowers} flowers:\n${said}")
+  endif()
+endforeach()

@@ -1,0 +1,328 @@
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <sqlite3.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "game/progress/progress_db.hpp"
+#include "game/progress/progress_plot.hpp"
+
+using namespace ikebana;
+using namespace ikebana::game;
+
+namespace {
+
+// A folder of its own per test (ctest runs them side by side).
+std::filesystem::path fresh_dir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    const auto dir = std::filesystem::temp_directory_path() / (std::string("ikebana-progress-") + info->name());
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+std::string bytes_of(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+SessionRecord session(const std::string& lesson, const std::string& trainee, double score, std::int64_t started) {
+    SessionRecord s;
+    s.lesson = lesson;
+    s.trainee = trainee;
+    s.started_unix_s = started;
+    s.duration_s = 312.5;
+    s.result.lesson = lesson;
+    s.result.score = score;
+    s.result.how = "points per band";
+    Criterion tilt;
+    tilt.stem = "shin";
+    tilt.name = "tilt_deg";
+    tilt.target = 15.0;
+    tilt.tolerance = 10.0;
+    tilt.measured = 48.0;
+    tilt.points = 16.0;
+    tilt.max_points = 30.0;
+    tilt.tip = "shin: 48 deg from vertical, the form wants 15 deg +-10: raise it toward upright";
+    Criterion length = tilt;
+    length.name = "length_mm";
+    length.measured.reset(); // no stem played the role
+    length.points = 0.0;
+    s.result.criteria = {tilt, length};
+    s.result.rules = {{"odd_main_stems", true, 4.0, 4.0, "3 main stems stand"}, {"no_crossing", false, 0.0, 4.0, "soe crosses hikae"}};
+    ArrangementStem stem;
+    stem.role = "shin";
+    stem.species = "willow_branch";
+    stem.base_m = {0.01, -0.02};
+    stem.length_m = 0.42;
+    stem.tilt_rad = 0.8;
+    s.result.arrangement.stems = {stem};
+    s.flowers = {{"willow_branch", 3, false, false}, {"cherry_branch", 7, true, true}};
+    s.recording = "/somewhere/session-1";
+    return s;
+}
+
+} // namespace
+
+TEST(ProgressDb, ASessionIsReadBackWithItsCriteriaRulesFlowersAndArrangement) {
+    const auto path = fresh_dir() / "deeper" / "progress.sqlite";
+    {
+        auto db = ProgressDb::open(path);
+        ASSERT_TRUE(db) << db.error().message;
+        auto s = session("sogetsu_basic_upright", "mika", 72.5, 1'700'000'000);
+        ASSERT_TRUE(db->save(s));
+        EXPECT_EQ(s.id, 1);
+    }
+    auto db = ProgressDb::open_read_only(path);
+    ASSERT_TRUE(db) << db.error().message;
+    auto all = db->sessions();
+    ASSERT_TRUE(all) << all.error().message;
+    ASSERT_EQ(all->size(), 1u);
+    const auto& s = all->front();
+    EXPECT_EQ(s.lesson, "sogetsu_basic_upright");
+    EXPECT_EQ(s.trainee, "mika");
+    EXPECT_EQ(s.kind, "practice");
+    EXPECT_EQ(s.started_unix_s, 1'700'000'000);
+    EXPECT_DOUBLE_EQ(s.duration_s, 312.5);
+    EXPECT_DOUBLE_EQ(s.result.score, 72.5);
+    ASSERT_EQ(s.result.criteria.size(), 2u);
+    EXPECT_EQ(s.result.criteria[0].name, "tilt_deg");
+    ASSERT_TRUE(s.result.criteria[0].measured);
+    EXPECT_DOUBLE_EQ(*s.result.criteria[0].measured, 48.0);
+    EXPECT_FALSE(s.result.criteria[1].measured) << "a role nobody played stays unmeasured, not 0";
+    ASSERT_EQ(s.result.rules.size(), 2u);
+    EXPECT_FALSE(s.result.rules[1].ok);
+    ASSERT_EQ(s.flowers.size(), 2u);
+    EXPECT_EQ(s.flowers[1].insertions, 7u);
+    EXPECT_TRUE(s.flowers[1].broken);
+    EXPECT_TRUE(s.flowers[1].fallen);
+    ASSERT_EQ(s.result.arrangement.stems.size(), 1u);
+    EXPECT_NEAR(s.result.arrangement.stems[0].length_m, 0.42, 1e-3);
+    EXPECT_EQ(s.recording, "/somewhere/session-1");
+    EXPECT_EQ(iso_utc(s.started_unix_s), "2023-11-14T22:13:20Z");
+}
+
+TEST(ProgressDb, ASessionScoredAgainIsReplacedNotStoredTwice) {
+    const auto path = fresh_dir() / "progress.sqlite";
+    auto db = ProgressDb::open(path);
+    ASSERT_TRUE(db) << db.error().message;
+    auto s = session("sogetsu_basic_upright", "mika", 40.0, 100);
+    ASSERT_TRUE(db->save(s));
+    s.result.score = 91.0;
+    s.result.criteria.pop_back();
+    s.flowers.pop_back();
+    ASSERT_TRUE(db->save(s));
+    auto all = db->sessions();
+    ASSERT_TRUE(all);
+    ASSERT_EQ(all->size(), 1u);
+    EXPECT_DOUBLE_EQ(all->front().result.score, 91.0);
+    EXPECT_EQ(all->front().result.criteria.size(), 1u) << "the first Enter's criteria are gone with it";
+    EXPECT_EQ(all->front().flowers.size(), 1u);
+}
+
+TEST(ProgressDb, SessionsAreFilteredByTraineeAndLessonOldestFirst) {
+    const auto path = fresh_dir() / "progress.sqlite";
+    auto db = ProgressDb::open(path);
+    ASSERT_TRUE(db);
+    auto late = session("ohara_rising_form", "mika", 80.0, 300);
+    auto early = session("ohara_rising_form", "mika", 60.0, 100);
+    auto other = session("sogetsu_basic_upright", "ren", 50.0, 200);
+    other.kind = "demonstration";
+    for (auto* s : {&late, &early, &other}) ASSERT_TRUE(db->save(*s));
+    auto mika = db->sessions({"mika", ""});
+    ASSERT_TRUE(mika);
+    ASSERT_EQ(mika->size(), 2u);
+    EXPECT_DOUBLE_EQ((*mika)[0].result.score, 60.0) << "oldest first, whatever order they were stored in";
+    auto upright = db->sessions({"", "sogetsu_basic_upright"});
+    ASSERT_TRUE(upright);
+    ASSERT_EQ(upright->size(), 1u);
+    EXPECT_EQ(upright->front().kind, "demonstration");
+    SessionRecord odd = early;
+    odd.id = 0;
+    odd.kind = "exam";
+    EXPECT_FALSE(db->save(odd));
+}
+
+TEST(ProgressDb, TheTraineesNameIsRemembered) {
+    const auto path = fresh_dir() / "progress.sqlite";
+    {
+        auto db = ProgressDb::open(path);
+        ASSERT_TRUE(db);
+        auto none = db->setting("trainee");
+        ASSERT_TRUE(none);
+        EXPECT_FALSE(*none);
+        ASSERT_TRUE(db->set_setting("trainee", "mika"));
+        ASSERT_TRUE(db->set_setting("trainee", "Mika Sato"));
+    }
+    auto db = ProgressDb::open(path);
+    ASSERT_TRUE(db);
+    auto name = db->setting("trainee");
+    ASSERT_TRUE(name && *name);
+    EXPECT_EQ(**name, "Mika Sato");
+}
+
+// The app killed while it writes: every session stored before is whole, and none is half there.
+TEST(ProgressDb, AWriterKilledMidSessionLosesNoEarlierSession) {
+    const auto path = fresh_dir() / "progress.sqlite";
+    {
+        auto db = ProgressDb::open(path);
+        ASSERT_TRUE(db);
+        auto first = session("sogetsu_basic_upright", "mika", 70.0, 1);
+        ASSERT_TRUE(db->save(first));
+    }
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        auto db = ProgressDb::open(path);
+        if (!db) _exit(3);
+        for (std::int64_t i = 2;; ++i) {
+            auto s = session("sogetsu_basic_upright", "mika", 50.0, i);
+            // Many criteria: a transaction long enough to be cut in its middle.
+            for (int k = 0; k < 200; ++k) s.result.criteria.push_back(s.result.criteria.front());
+            if (!db->save(s)) _exit(4);
+        }
+    }
+    usleep(400'000);
+    kill(child, SIGKILL);
+    int status = 0;
+    waitpid(child, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "the writer stopped by itself, exit " << WEXITSTATUS(status);
+    auto db = ProgressDb::open(path);
+    ASSERT_TRUE(db) << db.error().message;
+    auto all = db->sessions();
+    ASSERT_TRUE(all) << all.error().message;
+    ASSERT_GE(all->size(), 2u) << "the killed writer stored nothing in 0.4 s";
+    EXPECT_DOUBLE_EQ(all->front().result.score, 70.0);
+    EXPECT_EQ(all->front().result.criteria.size(), 2u);
+    for (std::size_t i = 1; i < all->size(); ++i) {
+        EXPECT_EQ((*all)[i].result.criteria.size(), 202u) << "session " << (*all)[i].id << " is half stored";
+        EXPECT_EQ((*all)[i].flowers.size(), 2u);
+    }
+    // And the database takes the next session.
+    auto next = session("ohara_rising_form", "mika", 99.0, 1'000'000);
+    EXPECT_TRUE(db->save(next));
+}
+
+TEST(ProgressDb, AFileThatIsNotADatabaseIsReportedAndLeftAsItIs) {
+    const auto path = fresh_dir() / "progress.sqlite";
+    { std::ofstream(path) << "my notes on shin and soe\n"; }
+    const auto before = bytes_of(path);
+    for (const auto& opened : {ProgressDb::open(path), ProgressDb::open_read_only(path)}) {
+        ASSERT_FALSE(opened);
+        EXPECT_EQ(opened.error().message,
+                  path.string() + ": not an Ikebana progress database (not an SQLite file); it is left as it is (move it aside to start a new record)");
+    }
+    EXPECT_EQ(bytes_of(path), before);
+    EXPECT_FALSE(std::filesystem::exists(path.string() + "-wal"));
+}
+
+TEST(ProgressDb, ADamagedDatabaseIsReportedAndLeftAsItIs) {
+    const auto path = fresh_dir() / "progress.sqlite";
+    {
+        auto db = ProgressDb::open(path);
+        ASSERT_TRUE(db);
+        for (int i = 0; i < 20; ++i) {
+            auto s = session("sogetsu_basic_upright", "mika", 50.0 + i, i);
+            ASSERT_TRUE(db->save(s));
+        }
+    }
+    // Bytes overwritten inside the tables' pages (past the header and the schema page).
+    std::string bytes = bytes_of(path);
+    ASSERT_GT(bytes.size(), 4096u * 4);
+    for (std::size_t i = 4096 * 2; i < bytes.size(); i += 7) bytes[i] = static_cast<char>(0xA5);
+    { std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes; }
+    const auto before = bytes_of(path);
+    auto opened = ProgressDb::open(path);
+    ASSERT_FALSE(opened);
+    EXPECT_NE(opened.error().message.find(path.string() + ": damaged ("), std::string::npos) << opened.error().message;
+    EXPECT_NE(opened.error().message.find("it is left as it is"), std::string::npos);
+    EXPECT_EQ(bytes_of(path), before) << "a damaged record is never written to";
+}
+
+TEST(ProgressDb, AnotherProgramsDatabaseOrANewerOneIsLeftAlone) {
+    const auto dir = fresh_dir();
+    const auto foreign = dir / "foreign.sqlite";
+    const auto newer = dir / "newer.sqlite";
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(foreign.c_str(), &raw), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(raw, "CREATE TABLE recipes(name TEXT)", nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(raw);
+    {
+        auto db = ProgressDb::open(newer);
+        ASSERT_TRUE(db);
+    }
+    ASSERT_EQ(sqlite3_open(newer.c_str(), &raw), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(raw, "PRAGMA journal_mode = DELETE; PRAGMA user_version = 7", nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(raw);
+    const auto foreign_bytes = bytes_of(foreign);
+    const auto newer_bytes = bytes_of(newer);
+    auto a = ProgressDb::open(foreign);
+    ASSERT_FALSE(a);
+    EXPECT_EQ(a.error().message, foreign.string() + ": an SQLite database of another program (application id 0x00000000, not Ikebana's); it is left as it is "
+                                                    "(move it aside to start a new record)");
+    auto b = ProgressDb::open(newer);
+    ASSERT_FALSE(b);
+    EXPECT_NE(b.error().message.find("written by a newer Ikebana (its schema is version 7, this one reads 1)"), std::string::npos) << b.error().message;
+    EXPECT_EQ(bytes_of(foreign), foreign_bytes);
+    EXPECT_EQ(bytes_of(newer), newer_bytes);
+}
+
+TEST(ProgressDb, ASymbolicLinkWhereTheDatabaseGoesIsRefused) {
+    const auto dir = fresh_dir();
+    { std::ofstream(dir / "elsewhere.txt") << "not to be touched\n"; }
+    std::filesystem::create_symlink(dir / "elsewhere.txt", dir / "progress.sqlite");
+    auto db = ProgressDb::open(dir / "progress.sqlite");
+    EXPECT_FALSE(db);
+    EXPECT_EQ(bytes_of(dir / "elsewhere.txt"), "not to be touched\n");
+}
+
+TEST(ProgressDb, AMissingFileIsNoSessionsYetForAReaderAndIsNotCreated) {
+    const auto path = fresh_dir() / "progress.sqlite";
+    auto db = ProgressDb::open_read_only(path);
+    ASSERT_FALSE(db);
+    EXPECT_EQ(db.error().code, ErrorCode::not_found);
+    EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+TEST(ProgressDb, TheDefaultPlaceFollowsXdgDataHome) {
+    const char* was = std::getenv("XDG_DATA_HOME");
+    const std::string kept = was ? was : "";
+    const char* home = std::getenv("HOME");
+    const std::string kept_home = home ? home : "";
+    setenv("XDG_DATA_HOME", "/data/mika", 1);
+    EXPECT_EQ(default_progress_path(), std::filesystem::path("/data/mika/ikebana/progress.sqlite"));
+    setenv("XDG_DATA_HOME", "relative/is/ignored", 1);
+    setenv("HOME", "/home/mika", 1);
+    EXPECT_EQ(default_progress_path(), std::filesystem::path("/home/mika/.local/share/ikebana/progress.sqlite"));
+    if (was) setenv("XDG_DATA_HOME", kept.c_str(), 1);
+    else unsetenv("XDG_DATA_HOME");
+    if (home) setenv("HOME", kept_home.c_str(), 1);
+    else unsetenv("HOME");
+}
+
+TEST(ProgressPlot, IsAPngOrAnSvgWithAPanelPerLesson) {
+    std::vector<SessionRecord> sessions{session("sogetsu_basic_upright", "mika", 40.0, 100), session("sogetsu_basic_upright", "mika", 85.0, 200),
+                                        session("ohara_rising_form", "mika", 70.0, 300)};
+    auto png = render_progress_plot(sessions, "Ikebana progress: mika", PlotFormat::png);
+    ASSERT_TRUE(png) << png.error().message;
+    ASSERT_GT(png->size(), 24u);
+    EXPECT_EQ(png->substr(1, 3), "PNG");
+    // Width and height from the IHDR chunk: 1000 wide, a title and two panels high.
+    const auto be32 = [&](std::size_t at) {
+        return (static_cast<std::uint32_t>(static_cast<unsigned char>((*png)[at])) << 24) | (static_cast<std::uint32_t>(static_cast<unsigned char>((*png)[at + 1])) << 16) |
+               (static_cast<std::uint32_t>(static_cast<unsigned char>((*png)[at + 2])) << 8) | static_cast<unsigned char>((*png)[at + 3]);
+    };
+    EXPECT_EQ(be32(16), 1000u);
+    EXPECT_EQ(be32(20), 56u + 2u * 320u);
+    auto svg = render_progress_plot(sessions, "Ikebana progress: mika", PlotFormat::svg);
+    ASSERT_TRUE(svg);
+    EXPECT_NE(svg->find("<svg"), std::string::npos);
+    EXPECT_FALSE(plot_format_of("progress.pdf"));
+    EXPECT_EQ(plot_format_of("progress.PNG").value(), PlotFormat::png);
+}

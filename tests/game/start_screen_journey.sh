@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# A trainee's journey with the mouse, under xvfb-run: the start screen, a lesson picked and started
+# there, scored (Enter), back to the start screen (the panel's button), the result listed there and in
+# `ikebana history --json`, then Quit. The buttons are found where the window's state file says they
+# are (`--state-out`), as a person finds them on the screen. Usage: start_screen_journey.sh IKEBANA WORK
+set -euo pipefail
+ikebana="$1"
+work="$2"
+rm -rf "$work"
+mkdir -p "$work"
+export XDG_DATA_HOME="$work/data" XDG_STATE_HOME="$work/state"
+state="$work/window.json"
+log="$work/app.log"
+
+fail() {
+  echo "start screen journey: $*" >&2
+  echo "--- the app said:" >&2
+  cat "$log" >&2 || true
+  exit 1
+}
+
+"$ikebana" --trainee "Mika Sato" --width 1200 --height 675 --state-out "$state" >"$log" 2>&1 &
+app=$!
+trap 'kill $app 2>/dev/null || true' EXIT
+
+# Waits until the state file holds the text (the window has drawn what is looked for).
+wait_for() {
+  for _ in $(seq 1 600); do
+    if [ -f "$state" ] && grep -q -- "$1" "$state"; then return 0; fi
+    kill -0 $app 2>/dev/null || fail "the app ended while waiting for $1"
+    sleep 0.1
+  done
+  fail "the window never showed $1"
+}
+
+# Clicks the middle of the button with this label.
+click() {
+  wait_for "\"label\":\"$1\""
+  local box
+  box=$(grep -o "\"label\":\"$1\",\"max_px\":\[[0-9.]*,[0-9.]*\],\"min_px\":\[[0-9.]*,[0-9.]*\]" "$state" | head -1 | grep -o '[0-9.]\+' | tr '\n' ' ')
+  read -r x1 y1 x0 y0 <<<"$box"
+  local x=$(( (${x0%.*} + ${x1%.*}) / 2 )) y=$(( (${y0%.*} + ${y1%.*}) / 2 ))
+  xdotool mousemove "$x" "$y"
+  sleep 0.3
+  xdotool mousedown 1
+  sleep 0.3
+  xdotool mouseup 1
+  sleep 0.5
+}
+
+presses=0
+wait_for '"screen":"start"'
+click "select:sogetsu_basic_upright"; presses=$((presses + 1))
+click "start:sogetsu_basic_upright"; presses=$((presses + 1))
+wait_for '"screen":"lesson"'
+click "finish"; presses=$((presses + 1))
+wait_for '"results":1'
+click "back"; presses=$((presses + 1))
+wait_for '"screen":"start"'
+wait_for '"label":"result:sogetsu_basic_upright: last '
+click "quit"; presses=$((presses + 1))
+for _ in $(seq 1 100); do kill -0 $app 2>/dev/null || break; sleep 0.1; done
+kill -0 $app 2>/dev/null && fail "Quit did not end the app"
+wait $app || fail "the app ended with an error"
+trap - EXIT
+
+grep -q "ikebana: stored as session 1 in $XDG_DATA_HOME/ikebana/progress.sqlite" "$log" || fail "the scored session was not stored"
+history=$("$ikebana" history --json)
+echo "$history" | grep -q '"trainee": "Mika Sato"' || fail "history does not list Mika Sato's session: $history"
+echo "$history" | grep -q '"lesson": "sogetsu_basic_upright"' || fail "history does not list the lesson: $history"
+echo "$history" | grep -q '"kind": "practice"' || fail "the session is not practice: $history"
+grep -q "wake lateness" "$log" && fail "the app's terminal shows the threads' figures (they belong in the log or --stats)"
+grep -q "wake lateness" "$XDG_STATE_HOME/ikebana/last-session.log" || fail "the session's figures are not in the log"
+echo "start screen -> lesson -> score -> start screen -> quit: $presses presses"
