@@ -406,7 +406,7 @@ int TraineeSession::build_world() {
 // never written to.
 void TraineeSession::open_progress() {
     if (o_.progress_db.empty()) return;
-    if (!showing_start_ && (!lesson_ || lesson_->scoring != "form")) return;
+    if (!showing_start_ && !lesson_) return;
     auto db = ProgressDb::open(o_.progress_db);
     if (!db) {
         progress_error_ = db.error().message;
@@ -521,9 +521,18 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     const bool form = lesson_ && lesson_->scoring == "form";
     if (!form && keys.finish_key && !enter_was_down_) {
         const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
-        const auto result = score_arrangement(arranged_stems(latest), scene_->sample, kenzan_at_);
-        show_result(scene_->sample.empty() ? std::vector<std::string>{"RESULT: free practice (this scene has no sample)"} : result.lines(),
-                    *main_lane.registry.resource<components::HudInfo>());
+        auto& hud = *main_lane.registry.resource<components::HudInfo>();
+        if (lesson_ && !scene_->sample.empty()) {
+            // The free-practice lesson: scored as `lesson score` scores it, and stored like a form's.
+            const FormScore result = score_sample(*lesson_, measure_arrangement(latest), scene_->sample);
+            state_.results += 1;
+            state_.result_json = result.json(-1);
+            show_result(result.lines(), hud);
+            store_session(result, latest, hud);
+        } else {
+            const auto result = score_arrangement(arranged_stems(latest), scene_->sample, kenzan_at_);
+            show_result(scene_->sample.empty() ? std::vector<std::string>{"RESULT: free practice (this scene has no sample)"} : result.lines(), hud);
+        }
     }
     enter_was_down_ = keys.finish_key;
     if (!o_.state_out.empty()) {

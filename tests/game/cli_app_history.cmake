@@ -1,6 +1,7 @@
 # The trainee window stores each scored lesson session (run under xvfb-run): a session finished with
 # Enter is in `ikebana history --json` under the trainee's name, the name is remembered for the next
-# session, and an app killed in the middle of a session loses none stored before it.
+# session, an app killed in the middle of a session loses none stored before it, and free practice
+# against the paper's sample is stored as a lesson's is.
 include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
 set(out ${WORK}/cli_app_history)
 file(REMOVE_RECURSE ${out})
@@ -21,13 +22,25 @@ if(rc EQUAL 0)
   message(FATAL_ERROR "the second session ended by itself; it was to be killed:\n${text}${err}")
 endif()
 
+# Free practice against the paper's sample is stored too.
+execute_process(COMMAND ${IKEBANA} --lesson free_practice --width 480 --height 270 --db ${db} --frames 20 --finish-at-frame 12
+                RESULT_VARIABLE rc OUTPUT_VARIABLE text ERROR_VARIABLE err TIMEOUT 300)
+string(FIND "${text}" "ikebana: stored as session 3 in ${db}" at)
+if(NOT rc EQUAL 0 OR at EQUAL -1)
+  message(FATAL_ERROR "free practice: exit ${rc}, not stored as session 3:\n${text}${err}")
+endif()
+
 execute_process(COMMAND ${IKEBANA} history --db ${db} --json RESULT_VARIABLE rc OUTPUT_VARIABLE said ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "history after the killed session: exit ${rc}: ${err}")
 endif()
 string(JSON count LENGTH "${said}" sessions)
-if(NOT count EQUAL 2)
-  message(FATAL_ERROR "history lists ${count} sessions, not the finished one and the killed one's first Enter:\n${said}")
+if(NOT count EQUAL 3)
+  message(FATAL_ERROR "history lists ${count} sessions, not the finished one, the killed one's first Enter and free practice:\n${said}")
+endif()
+string(JSON third GET "${said}" sessions 2 lesson)
+if(NOT third STREQUAL "free_practice")
+  message(FATAL_ERROR "the third session is ${third}, not free_practice")
 endif()
 foreach(i 0 1)
   string(JSON trainee GET "${said}" sessions ${i} trainee)
