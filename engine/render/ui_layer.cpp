@@ -158,6 +158,8 @@ UiLayer::~UiLayer() {
 }
 
 void UiLayer::forget_targets() {
+    // A framebuffer may still be in use by a frame in flight (the swapchain's own wait comes later).
+    if (!framebuffers_.empty() && ctx_.device()) vkDeviceWaitIdle(ctx_.device());
     for (auto& [view, fb] : framebuffers_) vkDestroyFramebuffer(ctx_.device(), fb.first, nullptr);
     framebuffers_.clear();
 }
@@ -194,6 +196,7 @@ void UiLayer::record(VkCommandBuffer cmd, VkImageView view, VkExtent2D extent) {
     if (!drawn || !drawn->Valid || drawn->CmdListsCount == 0) return;
     auto fb = framebuffers_.find(view);
     if (fb != framebuffers_.end() && (fb->second.second.width != extent.width || fb->second.second.height != extent.height)) {
+        vkDeviceWaitIdle(ctx_.device()); // an earlier frame in flight may still draw into it
         vkDestroyFramebuffer(ctx_.device(), fb->second.first, nullptr);
         framebuffers_.erase(fb);
         fb = framebuffers_.end();
@@ -210,6 +213,7 @@ void UiLayer::record(VkCommandBuffer cmd, VkImageView view, VkExtent2D extent) {
         if (vkCreateFramebuffer(ctx_.device(), &info, nullptr, &made) != VK_SUCCESS) return;
         fb = framebuffers_.emplace(view, std::make_pair(made, extent)).first;
     }
+    if (drawn->DisplaySize.x <= 0.0f || drawn->DisplaySize.y <= 0.0f) return;
     // Side by side: the same lists again in the right half.
     std::vector<ImDrawList*> lists(drawn->CmdLists, drawn->CmdLists + drawn->CmdListsCount);
     std::vector<ImDrawList*> copies;
@@ -223,6 +227,9 @@ void UiLayer::record(VkCommandBuffer cmd, VkImageView view, VkExtent2D extent) {
         both.TotalVtxCount *= 2;
         both.DisplaySize.x *= 2.0f;
     }
+    // Laid out in the window's size when the frame began; drawn into the image's size now. They
+    // differ for a frame after a resize, and the backend's scissors must stay inside the image.
+    both.FramebufferScale = ImVec2(static_cast<float>(extent.width) / both.DisplaySize.x, static_cast<float>(extent.height) / both.DisplaySize.y);
     VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
     begin.renderPass = pass_;
     begin.framebuffer = fb->second.first;

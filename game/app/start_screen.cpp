@@ -157,7 +157,13 @@ StartChoice StartScreen::draw(StartScreenModel& model) {
     ImGui::TextUnformatted("Ikebana: practise a school's form, stem by stem");
     ImGui::Separator();
     ImGui::SetNextItemWidth(220.0f);
-    if (ImGui::InputText("your name", name_.data(), name_.size())) model.trainee = name_.data();
+    // Spaces around the name are dropped; an emptied box keeps the last name (sessions need one).
+    if (ImGui::InputText("your name", name_.data(), name_.size())) {
+        std::string typed = name_.data();
+        typed.erase(0, typed.find_first_not_of(" \t"));
+        typed.erase(typed.find_last_not_of(" \t") + 1);
+        if (!typed.empty()) model.trainee = typed;
+    }
     // Quit at the top right, always in sight.
     ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 60.0f);
     if (tracked_button(buttons_, "Quit", "quit", ImVec2(60.0f, 0.0f))) choice.kind = StartChoice::Kind::quit;

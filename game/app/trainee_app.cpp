@@ -178,6 +178,7 @@ private:
     std::atomic<bool> back_{false}; // Esc or the panel's button in a lesson: back to the start screen
     platform::PointerSource* pointer_ = nullptr;
     platform::SharedPointerSource shared_pointer_; // GLFW is read here, the hands read it there
+    platform::PointerState hands_reading_;         // what the hands were last given
     std::unique_ptr<devices::MouseKeyboardHands> mouse_;
     std::unique_ptr<World> world_;
 
@@ -510,8 +511,16 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         // Over the panel the cursor is the trainee's to click with, not the hand's.
         if (!over_panel) aim_.aim(in, view, hands, [&](glm::dvec2 px) { window_pointer_->put_cursor(px); });
     }
-    // Over the panel the hands keep the last reading (they neither move nor take what is under them).
-    if (!over_panel) shared_pointer_.store(in);
+    // Over the panel the hands keep the last reading (they neither move nor take what is under them),
+    // but a Tab pressed there still switches them.
+    if (!over_panel) {
+        hands_reading_ = in;
+    } else {
+        hands_reading_.switch_hand = in.switch_hand;
+        hands_reading_.ray_before = hands_reading_.ray;
+        hands_reading_.warped_from_px = glm::dvec2{-1.0};
+    }
+    shared_pointer_.store(hands_reading_);
     platform::PointerState keys = in;
     keys.finish_key = keys.finish_key || act.finish;
     keys.ghost_key = keys.ghost_key || act.ghosts;
@@ -783,7 +792,11 @@ int TraineeSession::run_once() {
     std::string figures;
     // The hands' first reading is the pointer as it is now, not an empty state (that would look like
     // a jump of the cursor from the corner).
-    shared_pointer_.store(pointer_->read());
+    // Presses made while the world was (re)built are dropped here rather than taken by this reading,
+    // which no lesson key sees.
+    if (pointer_ == window_pointer_.get()) window_pointer_->forget_taps();
+    hands_reading_ = pointer_->read();
+    shared_pointer_.store(hands_reading_);
     {
         const HandForceWatchdogs watchdogs(w);
         sched::RealtimeClock clock(w.schedule, sched::RealtimeConfig{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 20});

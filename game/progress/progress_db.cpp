@@ -154,6 +154,10 @@ Result<bool> check_existing(const std::filesystem::path& path) {
         return make_error(ErrorCode::parse_error, path.string() + ": damaged (" + sqlite3_errmsg(db) + ")" + left_alone);
     if (const auto verdict = check.text(0); verdict != "ok") return make_error(ErrorCode::parse_error, path.string() + ": damaged (" + verdict + ")" + left_alone);
     if (*version < schema_version) return make_error(ErrorCode::parse_error, path.string() + ": damaged (no schema version)" + left_alone);
+    // Our header on someone else's tables (or ours with one dropped) would fail at the first save.
+    const auto ours = single_integer(db, "SELECT count(*) FROM sqlite_schema WHERE type = 'table' AND name IN ('sessions', 'criteria', 'rules', 'flowers', 'settings')", code);
+    if (!ours) return make_error(ErrorCode::parse_error, path.string() + ": damaged (" + ours.error().message + ")" + left_alone);
+    if (*ours != 5) return make_error(ErrorCode::parse_error, path.string() + ": damaged (Ikebana's header, but not its tables)" + left_alone);
     return false;
 }
 
@@ -234,7 +238,7 @@ Result<ProgressDb> ProgressDb::open(const std::filesystem::path& path) {
         return e;
     }
     ProgressDb out(db, path);
-    sqlite3_busy_timeout(db, 5000); // another window of the app saving at the same moment
+    sqlite3_busy_timeout(db, 250); // another window of the app saving at the same moment (saves run on the frame's lane: no long waits)
     if (fresh) {
         char init[160];
         std::snprintf(init, sizeof init, "BEGIN IMMEDIATE; PRAGMA application_id = %d; PRAGMA user_version = %d;", application_id, schema_version);
@@ -267,7 +271,7 @@ Result<ProgressDb> ProgressDb::open_read_only(const std::filesystem::path& path)
         sqlite3_close_v2(db);
         return make_error(ErrorCode::not_found, path.string() + ": no sessions yet (the file is empty)");
     }
-    sqlite3_busy_timeout(db, 5000);
+    sqlite3_busy_timeout(db, 1000);
     return ProgressDb(db, path);
 }
 

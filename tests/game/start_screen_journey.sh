@@ -69,6 +69,11 @@ history=$("$ikebana" history --json)
 echo "$history" | grep -q '"trainee": "Mika Sato"' || fail "history does not list Mika Sato's session: $history"
 echo "$history" | grep -q '"lesson": "sogetsu_basic_upright"' || fail "history does not list the lesson: $history"
 echo "$history" | grep -q '"kind": "practice"' || fail "the session is not practice: $history"
+# The score the window showed is the one stored (the window rounds it).
+shown=$(grep -o 'RESULT: [0-9]* / 100' "$log" | head -1 | grep -o '[0-9]\+' | head -1)
+stored=$(echo "$history" | grep -o '"score": [0-9.]*' | head -1 | grep -o '[0-9.]\+$')
+[ -n "$shown" ] && [ -n "$stored" ] || fail "no score shown ($shown) or stored ($stored)"
+[ "$(printf '%.0f' "$stored")" = "$shown" ] || fail "the window showed $shown / 100, the history stores $stored"
 grep -q "wake lateness" "$log" && fail "the app's terminal shows the threads' figures (they belong in the log or --stats)"
 grep -q "wake lateness" "$XDG_STATE_HOME/ikebana/last-session.log" || fail "the session's figures are not in the log"
 echo "start screen -> lesson -> score -> start screen -> quit: $presses presses"

@@ -275,11 +275,41 @@ TEST(ProgressDb, AnotherProgramsDatabaseOrANewerOneIsLeftAlone) {
 
 TEST(ProgressDb, ASymbolicLinkWhereTheDatabaseGoesIsRefused) {
     const auto dir = fresh_dir();
-    { std::ofstream(dir / "elsewhere.txt") << "not to be touched\n"; }
-    std::filesystem::create_symlink(dir / "elsewhere.txt", dir / "progress.sqlite");
-    auto db = ProgressDb::open(dir / "progress.sqlite");
-    EXPECT_FALSE(db);
-    EXPECT_EQ(bytes_of(dir / "elsewhere.txt"), "not to be touched\n");
+    // Even to a good database of ours (only NOFOLLOW refuses that one), and a dangling one is not followed to make a file.
+    {
+        auto real = ProgressDb::open(dir / "real.sqlite");
+        ASSERT_TRUE(real);
+        auto s = session("sogetsu_basic_upright", "aiko", 80.0, 1000);
+        ASSERT_TRUE(real->save(s));
+    }
+    const auto real_bytes = bytes_of(dir / "real.sqlite");
+    std::filesystem::create_symlink(dir / "real.sqlite", dir / "progress.sqlite");
+    std::filesystem::create_symlink(dir / "nowhere.sqlite", dir / "dangling.sqlite");
+    auto linked = ProgressDb::open(dir / "progress.sqlite");
+    ASSERT_FALSE(linked);
+    EXPECT_NE(linked.error().message.find(dir.string() + "/progress.sqlite"), std::string::npos) << linked.error().message;
+    auto reader = ProgressDb::open_read_only(dir / "progress.sqlite");
+    EXPECT_FALSE(reader);
+    EXPECT_FALSE(ProgressDb::open(dir / "dangling.sqlite"));
+    EXPECT_EQ(bytes_of(dir / "real.sqlite"), real_bytes);
+    EXPECT_FALSE(std::filesystem::exists(dir / "nowhere.sqlite"));
+}
+
+TEST(ProgressDb, OurHeaderOnOtherTablesIsDamageAndLeftAlone) {
+    const auto path = fresh_dir() / "progress.sqlite";
+    {
+        auto db = ProgressDb::open(path);
+        ASSERT_TRUE(db);
+    }
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(raw, "PRAGMA journal_mode = DELETE; DROP TABLE flowers; CREATE TABLE recipes(name TEXT)", nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(raw);
+    const auto before = bytes_of(path);
+    auto db = ProgressDb::open(path);
+    ASSERT_FALSE(db);
+    EXPECT_EQ(db.error().message, path.string() + ": damaged (Ikebana's header, but not its tables); it is left as it is (move it aside to start a new record)");
+    EXPECT_EQ(bytes_of(path), before);
 }
 
 TEST(ProgressDb, AMissingFileIsNoSessionsYetForAReaderAndIsNotCreated) {
