@@ -122,6 +122,16 @@ Result<void> ScriptedDevice::send_force(glm::dvec3 force_n) {
 DeviceRecorder::DeviceRecorder(std::ostream& out) : out_(out) { out_ << header << "\n" << std::flush; }
 
 void DeviceRecorder::record(const DeviceSample& s) {
+    const bool same = wrote_ && s.position == last_.position && s.rotation == last_.rotation && s.buttons == last_.buttons;
+    if (same) {
+        if (s.time_us - last_flush_us_ >= flush_every_us) {
+            out_.flush();
+            last_flush_us_ = s.time_us;
+        }
+        return;
+    }
+    wrote_ = true;
+    last_ = s;
     char line[512];
     std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%u\n", static_cast<double>(s.time_us) * 1e-6,
                   s.position.x, s.position.y, s.position.z, s.rotation.x, s.rotation.y, s.rotation.z, s.buttons);

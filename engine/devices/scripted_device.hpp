@@ -49,6 +49,8 @@ public:
     Result<void> send_force(glm::dvec3 force_n) override;
     [[nodiscard]] glm::dvec3 last_force() const noexcept { return last_force_; }
     [[nodiscard]] double duration_s() const noexcept { return keys_.empty() ? 0.0 : keys_.back().time_s; }
+    // Replays a rate device's recording (a SpaceMouse's pushes, which the hand integrates into motion).
+    void report_pushes() noexcept { caps_.reports_position = false; }
 
 private:
     std::vector<Keyframe> keys_;
@@ -57,7 +59,9 @@ private:
     glm::dvec3 last_force_{0.0};
 };
 
-// Writes every sample a device produced, with its time, in the trajectory format.
+// Writes the samples a device produced, with their times, in the trajectory format: each one that
+// differs from the last written (a mouse's hand stands still most of the time). Replayed in
+// ScriptedDevice's replay mode, which holds each sample until the next, every tick reads what it read.
 // Writes samples as they come; flushes the header at once and then every flush_every_us of device
 // time, so that a recording cut short by a crash keeps all but its last moments.
 class DeviceRecorder {
@@ -69,6 +73,8 @@ public:
 private:
     std::ostream& out_;
     std::int64_t last_flush_us_ = 0;
+    bool wrote_ = false;
+    DeviceSample last_;
 };
 
 } // namespace ikebana::devices

@@ -82,6 +82,12 @@ void DeterministicClock::run_until(std::int64_t t_us) {
     now_us_ = t_us;
 }
 
+void DeterministicClock::skip_lane(std::size_t lane, std::int64_t until_us) {
+    for (auto& s : schedule_.systems()) {
+        if (s.lane == lane) s.skip_until(until_us);
+    }
+}
+
 RealtimeClock::RealtimeClock(Schedule& schedule, RealtimeConfig config) : schedule_(schedule), config_(config) {
     if (!schedule_.finalized()) throw std::logic_error("RealtimeClock needs a finalized schedule");
 }
@@ -118,6 +124,7 @@ std::vector<LaneReport> RealtimeClock::run_for(double seconds, const std::atomic
                 // Far behind (a stall, a debugger, a swapped-out process): drop what is too old.
                 ++report.clamp_events;
                 for (auto* s : systems) report.skipped_firings += s->skip_until(now_us - config_.max_catchup_us);
+                if (config_.on_skip) config_.on_skip(li, t, now_us - config_.max_catchup_us);
                 continue;
             }
             for (auto* s : systems) {

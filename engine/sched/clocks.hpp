@@ -11,6 +11,7 @@
 // firings it missed are dropped and counted instead of run back to back (no spiral of death).
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "engine/sched/schedule.hpp"
@@ -25,6 +26,9 @@ public:
     void run_until(std::int64_t t_us);
     void run_for_us(std::int64_t duration_us) { run_until(now_us_ + duration_us); }
     [[nodiscard]] std::int64_t now_us() const noexcept { return now_us_; }
+    // Drops one lane's firings due before `until_us` without running them, as the real-time clock's
+    // catch-up clamp did (a recording of a real-time session says when): the replay then skips too.
+    void skip_lane(std::size_t lane, std::int64_t until_us);
     // Turns the per-firing duration measurement off, for benchmarks of the scheduler itself.
     void measure_durations(bool on) noexcept { measure_ = on; }
     // Duration of everything one lane ran at one timestamp (a "tick"), per lane.
@@ -56,6 +60,9 @@ struct RealtimeConfig {
     // The loop sleeps between ticks and its tick is tens of microseconds, so it cannot starve the
     // rest; without the privilege the request fails and the lane runs at normal priority.
     int own_thread_fifo_priority = 0;
+    // Told on the lane's own thread each time the clamp drops firings: the lane, its due time then
+    // and the time its firings resume from (what DeterministicClock::skip_lane needs to do the same).
+    std::function<void(std::size_t lane, std::int64_t due_us, std::int64_t until_us)> on_skip;
 };
 
 class RealtimeClock {

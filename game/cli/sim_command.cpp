@@ -85,7 +85,7 @@ int run_sim(const SimOptions& options) {
         std::printf("running %.1f s in real time (simulation lane on its own thread)...\n", options.seconds);
         std::fflush(stdout);
         const HandForceWatchdogs watchdogs(w);
-        sched::RealtimeClock clock(w.schedule, sched::RealtimeConfig{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 20});
+        sched::RealtimeClock clock(w.schedule, sched::RealtimeConfig{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 20, .on_skip = {}});
         const auto reports = clock.run_for(options.seconds);
         for (std::size_t hand = 0; hand < 2; ++hand) {
             if (!watchdogs.armed(hand)) continue;

@@ -1,5 +1,7 @@
 #include "systems/haptics/workspace_view_system.hpp"
 
+#include <cstdio>
+
 #include "engine/ecs/registry.hpp"
 
 namespace ikebana::systems {
@@ -7,7 +9,14 @@ namespace ikebana::systems {
 void WorkspaceViewSystem::operator()(sched::SystemContext& ctx) {
     auto* const* channel = ctx.registry.resource<ViewChannel* const>();
     if (!channel || !*channel) return;
-    const double yaw = (*channel)->yaw_rad.load(std::memory_order_relaxed);
+    ViewChannel& view = **channel;
+    const double yaw = view.yaw_rad.load(std::memory_order_relaxed);
+    if (view.log && yaw != view.logged_yaw_rad) {
+        char line[64];
+        std::snprintf(line, sizeof line, "%lld,view,0,%.17g\n", static_cast<long long>(ctx.time_us), yaw);
+        *view.log << line;
+        view.logged_yaw_rad = yaw;
+    }
     ctx.registry.view<components::WorkspaceMapping>().each([&](ecs::Entity, components::WorkspaceMapping& m) { m.yaw_rad = yaw; });
 }
 

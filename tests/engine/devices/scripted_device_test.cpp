@@ -72,6 +72,30 @@ TEST(ScriptedDevice, RecordedSessionReplaysExactly) {
     }
 }
 
+// A mouse's hand stands still most of the time: a sample like the last is not written again, and
+// the replay, which holds each sample until the next, still reads at every tick what was read.
+TEST(ScriptedDevice, ASampleLikeTheLastIsNotWrittenAgainAndTheReplayReadsItAllTheSame) {
+    std::ostringstream file;
+    DeviceRecorder recorder(file);
+    std::vector<DeviceSample> recorded;
+    for (std::int64_t t = 0; t < 3000'000; t += 1000) {
+        const double x = t < 1'000'000 ? 0.0 : t < 1'500'000 ? 1e-6 * static_cast<double>(t) : 0.5; // still, moving, still
+        recorded.push_back(DeviceSample{t, {x, 0.1, 0.2}, {0.0, 0.0, t >= 2'000'000 ? 0.3 : 0.0}, t >= 2'500'000 ? 1u : 0u});
+        recorder.record(recorded.back());
+    }
+    const std::string text = file.str();
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1 + 1 + 500 + 1 + 1 + 1) << "the header, the first, the moving half second, the stop, the turn, the press";
+    const auto keys = parse_trajectory(text, "still.csv");
+    ASSERT_TRUE(keys) << keys.error().message;
+    ScriptedDevice replay(*keys, ScriptedDevice::Mode::replay);
+    for (const auto& r : recorded) {
+        const auto s = replay.poll(r.time_us);
+        ASSERT_EQ(s->position, r.position) << r.time_us;
+        ASSERT_EQ(s->rotation, r.rotation) << r.time_us;
+        ASSERT_EQ(s->buttons, r.buttons) << r.time_us;
+    }
+}
+
 TEST(ScriptedDevice, MutatedFilesNeverCrashTheParser) {
     std::mt19937_64 rng(11);
     const std::string original = trajectory;
@@ -102,7 +126,7 @@ TEST(ScriptedDevice, ARecordingReachesTheDiskAsItGoes) {
     DeviceRecorder recorder(**out);
     const auto on_disk = [&] { return assets::read_text_file(path).value(); };
     EXPECT_EQ(on_disk(), "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n") << "the header at once";
-    for (std::int64_t t = 0; t <= 250'000; t += 1'000) recorder.record(DeviceSample{t, {0.1, 0.2, 0.3}, {0, 0, 0}, 1});
+    for (std::int64_t t = 0; t <= 250'000; t += 1'000) recorder.record(DeviceSample{t, {0.1, 0.2, 0.3 + 1e-6 * static_cast<double>(t)}, {0, 0, 0}, 1});
     // Still open, as at a crash: all but the last 100 ms are in the file.
     const auto text = on_disk();
     const auto lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));

@@ -102,7 +102,7 @@ TEST(RealtimeClock, CatchUpIsClampedAndCounted) {
     };
     ASSERT_TRUE(s.add(slow));
     ASSERT_TRUE(s.finalize());
-    RealtimeClock clock(s, RealtimeConfig{.max_catchup_us = 20'000});
+    RealtimeClock clock(s, RealtimeConfig{.max_catchup_us = 20'000, .on_skip = {}});
     const auto reports = clock.run_for(0.4);
     EXPECT_GE(reports[0].clamp_events, 1u);
     // 200 ms behind with a 20 ms window: at least 150 firings dropped instead of run in a burst.
@@ -167,7 +167,7 @@ TEST(TripleBuffer, ReaderGetsNewestCompleteSnapshotAcrossThreads) {
 // (only an own-thread lane can be, and only when asked).
 TEST(RealtimeClock, FifoPriorityIsAskedOnlyForOwnThreadLanes) {
     TwoLanes asked(std::chrono::milliseconds(0));
-    RealtimeClock with_fifo(asked.schedule, RealtimeConfig{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 10});
+    RealtimeClock with_fifo(asked.schedule, RealtimeConfig{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 10, .on_skip = {}});
     const auto reports = with_fifo.run_for(0.2);
     ASSERT_EQ(reports.size(), 2u);
     EXPECT_FALSE(reports[1].fifo_priority) << "the caller's lane keeps the caller's priority";
@@ -178,4 +178,50 @@ TEST(RealtimeClock, FifoPriorityIsAskedOnlyForOwnThreadLanes) {
     RealtimeClock plain(not_asked.schedule);
     const auto plain_reports = plain.run_for(0.05);
     EXPECT_FALSE(plain_reports[0].fifo_priority);
+}
+
+// What the clamp dropped, told as it happened, lets the deterministic clock drop the same firings:
+// a recording of a real-time session replays on the same ticks.
+TEST(RealtimeClock, TheFiringsTheClampDroppedAreToldAndTheDeterministicClockDropsTheSame) {
+    struct Run {
+        ecs::Registry reg;
+        Schedule s;
+        std::vector<std::int64_t> times;
+        explicit Run(bool stall) {
+            EXPECT_TRUE(s.add_lane({"main", &reg, LaneThread::caller, {"p"}}));
+            SystemDesc slow;
+            slow.name = "slow";
+            slow.lane = "main";
+            slow.phase = "p";
+            slow.rate = "haptic";
+            slow.run = [this, stall](SystemContext& ctx) {
+                times.push_back(ctx.time_us);
+                if (stall && times.size() == 20) std::this_thread::sleep_for(std::chrono::milliseconds(120));
+            };
+            EXPECT_TRUE(s.add(slow));
+            EXPECT_TRUE(s.finalize());
+        }
+    };
+    Run live(true);
+    struct Skip {
+        std::size_t lane;
+        std::int64_t due_us, until_us;
+    };
+    std::vector<Skip> skips;
+    RealtimeClock clock(live.s, RealtimeConfig{.max_catchup_us = 20'000, .on_skip = [&](std::size_t lane, std::int64_t due, std::int64_t until) {
+                                                   skips.push_back({lane, due, until});
+                                               }});
+    (void)clock.run_for(0.3);
+    ASSERT_GE(skips.size(), 1u);
+    ASSERT_GE(live.times.size(), 2u);
+    EXPECT_GT(skips[0].until_us, skips[0].due_us + 50'000) << "120 ms behind with a 20 ms window drops about 100 ms of firings";
+
+    Run replay(false);
+    DeterministicClock det(replay.s);
+    for (const auto& k : skips) {
+        det.run_until(k.due_us);
+        det.skip_lane(k.lane, k.until_us);
+    }
+    det.run_until(live.times.back() + 1);
+    EXPECT_EQ(replay.times, live.times);
 }
