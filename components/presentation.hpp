@@ -13,6 +13,9 @@ namespace ikebana::components {
 
 // What the HUD says beyond the snapshot: what drives each hand, and the result once the trainee is done.
 struct HudInfo {
+    // The heading's first words and the keys it lists (a replay has its own).
+    std::string title = "IKEBANA";
+    std::string keys = "Enter: finish   arrows/right-drag: look around   Tab: other hand   Esc: quit";
     std::array<std::string, 2> device{"", ""};
     std::vector<std::string> result;
     std::vector<std::string> lesson; // the lesson's keys and what the held stem is doing against its role

@@ -15,6 +15,7 @@
 #include "game/cli/lesson_command.hpp"
 #include "game/cli/predict_command.hpp"
 #include "game/cli/render_command.hpp"
+#include "game/cli/replay_command.hpp"
 #include "game/cli/validate_command.hpp"
 #include "game/cli/sim_command.hpp"
 #include "game/cli/species_command.hpp"
@@ -64,6 +65,7 @@ int main(int argc, char** argv) {
     ikebana::game::add_render_command(app, exit_code);
     ikebana::game::add_lesson_command(app, exit_code);
     ikebana::game::add_history_command(app, exit_code);
+    ikebana::game::add_replay_command(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
+#include <optional>
 
 #include <imgui.h>
 
@@ -18,13 +20,6 @@ ImU32 role_colour(std::size_t role) {
     return colours[std::min<std::size_t>(role, 3)];
 }
 
-// A button that remembers where it was drawn (window pixels of the left eye's copy).
-bool tracked_button(std::vector<UiButton>& buttons, const std::string& label, const std::string& name, ImVec2 size = ImVec2(0, 0)) {
-    const bool pressed = ImGui::Button(label.c_str(), size);
-    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
-    buttons.push_back({name, {a.x, a.y}, {b.x, b.y}});
-    return pressed;
-}
 
 // The form seen from the front and from above: each main stem at its nominal length, tilt and
 // direction from the kenzan, over the container.
@@ -109,17 +104,27 @@ void form_numbers(const LessonDef& l) {
     ImGui::TextDisabled("on the table: %s", materials.c_str());
 }
 
-void last_results(const StartScreenModel& model, std::vector<UiButton>& items) {
+// The recording a past session can be replayed from (its session.json is written when it ends).
+bool replayable(const SessionRecord& s) {
+    std::error_code ec;
+    return !s.recording.empty() && std::filesystem::is_regular_file(std::filesystem::path(s.recording) / "session.json", ec);
+}
+
+// Returns the recording to replay when its button is pressed.
+std::optional<std::string> last_results(const StartScreenModel& model, std::vector<UiButton>& items) {
+    std::optional<std::string> replay;
     if (model.recent.empty()) {
         ImGui::TextDisabled("No results yet: a lesson's Enter scores it and keeps the score here.");
-        return;
+        return replay;
     }
     // Each lesson's scores in order, as a small plot, with the last and the best.
     std::vector<std::string> order;
     std::map<std::string, std::vector<float>> scores;
+    std::map<std::string, const SessionRecord*> last_recorded;
     for (const auto& s : model.recent) {
         if (!scores.count(s.lesson)) order.push_back(s.lesson);
         scores[s.lesson].push_back(static_cast<float>(s.result.score));
+        if (replayable(s)) last_recorded[s.lesson] = &s;
     }
     for (const auto& lesson : order) {
         const auto& v = scores[lesson];
@@ -129,6 +134,15 @@ void last_results(const StartScreenModel& model, std::vector<UiButton>& items) {
         ImGui::TextUnformatted(caption);
         const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
         items.push_back({std::string("result:") + caption, {a.x, a.y}, {b.x, b.y}});
+        // The last recorded session, to watch again (from the start screen, as a teacher reviews it).
+        if (const auto it = last_recorded.find(lesson); it != last_recorded.end()) {
+            ImGui::SameLine();
+            char label[96];
+            std::string when = iso_utc(it->second->started_unix_s).substr(5, 11); // "11-25T09:47"
+            when[5] = ' ';
+            std::snprintf(label, sizeof label, "Replay (%.0f, %s UTC)##%s", it->second->result.score, when.c_str(), lesson.c_str());
+            if (tracked_button(items, label, "replay:" + lesson)) replay = it->second->recording;
+        }
         // The trend, once there is one (0 to 100).
         if (v.size() >= 2)
             ImGui::PlotLines(("##" + lesson).c_str(), v.data(), static_cast<int>(v.size()), 0, nullptr, 0.0f, 100.0f,
@@ -137,9 +151,17 @@ void last_results(const StartScreenModel& model, std::vector<UiButton>& items) {
     const auto& last = model.recent.back();
     ImGui::TextDisabled("last: %s %s, %.0f / 100 (%s)", last.lesson.c_str(), iso_utc(last.started_unix_s).substr(0, 10).c_str(), last.result.score,
                         last.kind.c_str());
+    return replay;
 }
 
 } // namespace
+
+bool tracked_button(std::vector<UiButton>& buttons, const std::string& label, const std::string& name, float width, float height) {
+    const bool pressed = ImGui::Button(label.c_str(), ImVec2(width, height));
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    buttons.push_back({name, {a.x, a.y}, {b.x, b.y}});
+    return pressed;
+}
 
 StartChoice StartScreen::draw(StartScreenModel& model) {
     buttons_.clear();
@@ -166,9 +188,14 @@ StartChoice StartScreen::draw(StartScreenModel& model) {
     }
     // Quit at the top right, always in sight.
     ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 60.0f);
-    if (tracked_button(buttons_, "Quit", "quit", ImVec2(60.0f, 0.0f))) choice.kind = StartChoice::Kind::quit;
+    if (tracked_button(buttons_, "Quit", "quit", 60.0f, 0.0f)) choice.kind = StartChoice::Kind::quit;
     // What the trainee did last comes first: it is what they come back for.
-    if (ImGui::CollapsingHeader("Your last results", ImGuiTreeNodeFlags_DefaultOpen)) last_results(model, buttons_);
+    if (ImGui::CollapsingHeader("Your last results", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (auto replay = last_results(model, buttons_)) {
+            choice.kind = StartChoice::Kind::replay;
+            choice.recording = *replay;
+        }
+    }
     if (!defaulted_) {
         // The lesson practised last, else the first.
         for (std::size_t i = 0; !model.recent.empty() && i < model.lessons.size(); ++i) {
@@ -197,7 +224,7 @@ StartChoice StartScreen::draw(StartScreenModel& model) {
         const auto& l = model.lessons[selected_];
         const float inner = wide ? 0.68f * width : width;
         // Start first, in sight without scrolling; what the form is follows.
-        if (tracked_button(buttons_, "Start this lesson", "start:" + l.id, ImVec2(180.0f, 30.0f))) {
+        if (tracked_button(buttons_, "Start this lesson", "start:" + l.id, 180.0f, 30.0f)) {
             choice.kind = StartChoice::Kind::lesson;
             choice.lesson = l.id;
         }

@@ -22,6 +22,10 @@ struct UiButton {
     glm::dvec2 min_px{0.0}, max_px{0.0};
 };
 
+// An interface button that remembers where it was drawn (window pixels, the left eye's copy in side by
+// side), for scripts that work the window: inside a UI frame.
+bool tracked_button(std::vector<UiButton>& buttons, const std::string& label, const std::string& name, float width = 0.0f, float height = 0.0f);
+
 struct StartScreenModel {
     std::vector<LessonDef> lessons;
     std::array<std::string, 2> hands;  // what each hand is: a device's name, or the mouse
@@ -31,8 +35,9 @@ struct StartScreenModel {
 };
 
 struct StartChoice {
-    enum class Kind { none, lesson, quit } kind = Kind::none;
-    std::string lesson; // its id
+    enum class Kind { none, lesson, quit, replay } kind = Kind::none;
+    std::string lesson;    // its id
+    std::string recording; // replay: the past session's recording
 };
 
 class StartScreen {

@@ -10,6 +10,7 @@
 #include <atomic>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <thread>
@@ -21,7 +22,9 @@
 #include "engine/devices/mouse_keyboard_device.hpp"
 #include "engine/platform/pointer_input.hpp"
 #include "game/app/pointer_aim.hpp"
+#include "game/app/replay_window.hpp"
 #include "game/app/start_screen.hpp"
+#include "game/app/window_stack.hpp"
 #include "engine/render/ui_layer.hpp"
 #include "engine/platform/window.hpp"
 #include "engine/render/stereo_renderer.hpp"
@@ -43,6 +46,7 @@
 #include "game/lesson/lesson_controls.hpp"
 #include "game/lesson/lesson.hpp"
 #include "game/lesson/lesson_scene.hpp"
+#include "game/lesson/lesson_session.hpp"
 #include "game/lesson/window_state.hpp"
 #include "game/progress/progress_db.hpp"
 #include "systems/presentation/receive_frame_system.hpp"
@@ -123,16 +127,6 @@ public:
     int run_once();
 
 private:
-    struct SurfaceGuard {
-        SurfaceGuard() = default;
-        SurfaceGuard(const SurfaceGuard&) = delete;
-        SurfaceGuard& operator=(const SurfaceGuard&) = delete;
-        VkInstance instance = VK_NULL_HANDLE;
-        VkSurfaceKHR surface = VK_NULL_HANDLE;
-        ~SurfaceGuard() {
-            if (surface) vkDestroySurfaceKHR(instance, surface, nullptr);
-        }
-    };
     void input(sched::SystemContext& main_lane);
     void lesson_keys(const platform::PointerState& in, sched::SystemContext& main_lane);
     void show_result(const std::vector<std::string>& lines, components::HudInfo& hud) const;
@@ -160,16 +154,14 @@ private:
     render::DrawList sample_scenery_;
     std::array<std::unique_ptr<devices::HapticDevice>, 2> picked_;
     std::array<std::string, 2> device_names_;
-    std::unique_ptr<platform::Window> window_;
+    // The window and what draws into it; the pointers below are its parts (null until it opens).
+    std::unique_ptr<WindowStack> stack_;
+    platform::Window* window_ = nullptr;
     render::StereoMode mode_ = render::StereoMode::side_by_side;
-    std::unique_ptr<render::VulkanContext> ctx_;
-    SurfaceGuard surface_;
-    std::unique_ptr<render::Swapchain> swapchain_;
-    std::unique_ptr<render::StereoRenderer> renderer_;
-    std::unique_ptr<platform::GlfwPointerSource> window_pointer_;
-    // Dear ImGui: the start screen and the lesson's panel. Before the pointer goes (it gives the
-    // window its callbacks back), after the renderer.
-    std::unique_ptr<render::UiLayer> ui_;
+    render::VulkanContext* ctx_ = nullptr;
+    render::StereoRenderer* renderer_ = nullptr;
+    platform::GlfwPointerSource* window_pointer_ = nullptr;
+    render::UiLayer* ui_ = nullptr; // Dear ImGui: the start screen and the lesson's panel (null without it)
     StartScreen start_screen_;
     StartScreenModel start_model_;
     LessonPanel panel_;
@@ -202,6 +194,12 @@ private:
     std::string progress_error_; // why sessions are not stored (said once, and under each result)
     SessionRecord session_;
     std::chrono::steady_clock::time_point session_start_ = std::chrono::steady_clock::now();
+    // Each stored session's recording (the hands' samples, cuts, the camera's turns, the clock's
+    // skips), for `ikebana replay`: made with the world, finished when it stops, at the last Enter's score.
+    std::unique_ptr<SessionRecorder> recorder_;
+    std::optional<std::pair<std::int64_t, double>> scored_; // the scored frame's time (us) and the score
+    void start_recording();
+    void finish_recording();
 };
 
 void TraineeSession::fail(const std::string& message, int exit_code) {
@@ -266,62 +264,27 @@ int TraineeSession::open() {
         fallback.stereo = stereo;
         return offscreen_instead(fallback, window.error().message);
     }
-    window_ = std::move(window).value();
     auto render_mode = render::parse_stereo_mode(stereo);
     if (!render_mode) {
         std::cerr << "ikebana: " << render_mode.error().message << "\n";
         return 2;
     }
     mode_ = *render_mode;
-    auto ctx = render::VulkanContext::create(
-        {.validation = o_.validation, .require_validation = false, .instance_extensions = platform::Window::required_instance_extensions()});
-    if (!ctx) {
-        std::cerr << "ikebana: " << ctx.error().message << "\n";
+    auto stack = WindowStack::open(std::move(window).value(), {.width = o_.width, .height = o_.height, .mode = mode_, .validation = o_.validation, .need_ui = showing_start_});
+    if (!stack) {
+        std::cerr << "ikebana: " << stack.error().message << "\n";
         return 3;
     }
-    ctx_ = std::move(ctx).value();
-    auto surface = window_->create_surface(ctx_->instance());
-    if (!surface) {
-        std::cerr << "ikebana: " << surface.error().message << "\n";
-        return 3;
-    }
-    surface_.instance = ctx_->instance(); // the guard is filled in place: a temporary would destroy the surface
-    surface_.surface = *surface;
-    auto swapchain = render::Swapchain::create(*ctx_, surface_.surface, window_->framebuffer());
-    if (!swapchain) {
-        std::cerr << "ikebana: " << swapchain.error().message << "\n";
-        return 3;
-    }
-    swapchain_ = std::move(swapchain).value();
-    render::RendererOptions ro;
-    ro.mode = mode_;
-    ro.asset_dir = asset_dir();
-    ro.eye_width = std::max(1u, mode_ == render::StereoMode::side_by_side ? o_.width / 2 : o_.width);
-    ro.eye_height = std::max(1u, o_.height);
-    // The eyes in the window's own format: side by side then reaches it as a plain copy.
-    if (swapchain_->format() == VK_FORMAT_B8G8R8A8_UNORM || swapchain_->format() == VK_FORMAT_R8G8B8A8_UNORM) ro.colour_format = swapchain_->format();
-    auto renderer = render::StereoRenderer::create(*ctx_, ro);
-    if (!renderer) {
-        std::cerr << "ikebana: " << renderer.error().message << "\n";
-        return 3;
-    }
-    renderer_ = std::move(renderer).value();
-    window_pointer_ = std::make_unique<platform::GlfwPointerSource>(window_->glfw());
+    stack_ = std::move(stack).value();
+    window_ = &stack_->window();
+    ctx_ = &stack_->vulkan();
+    renderer_ = &stack_->renderer();
+    window_pointer_ = &stack_->pointer();
+    ui_ = stack_->ui();
+    if (!ui_) std::cerr << "ikebana: warning: no panels: " << stack_->ui_problem() << "\n";
     // The window's own pointer is aimed through the camera (PointerAim), which keeps a Ctrl+drag off
     // the window's edge itself.
-    pointer_ = o_.pointer ? o_.pointer : window_pointer_.get();
-    // After the pointer's callbacks: ImGui's GLFW backend passes every event on to them.
-    auto ui = render::UiLayer::create(*ctx_, window_->glfw(), swapchain_->format(), swapchain_->image_count() + ro.frames_in_flight);
-    if (!ui) {
-        if (showing_start_) {
-            std::cerr << "ikebana: " << ui.error().message << "\n";
-            return 3;
-        }
-        std::cerr << "ikebana: warning: no panels: " << ui.error().message << "\n";
-    } else {
-        ui_ = std::move(ui).value();
-        renderer_->set_ui(ui_.get());
-    }
+    pointer_ = o_.pointer ? o_.pointer : window_pointer_;
     base_rig_ = rig_of(scene_->display);
     open_progress();
     if (showing_start_) {
@@ -396,6 +359,7 @@ int TraineeSession::build_world() {
     sample_scenery_ = world_->main.resource<components::Scenery>()->list;
     if (lesson_) controls_.emplace(*lesson_, footprint_);
     // A new session (at the start, and after R): stored as a new one at its first Enter.
+    start_recording();
     session_.id = 0;
     session_.started_unix_s = static_cast<std::int64_t>(std::time(nullptr));
     session_start_ = std::chrono::steady_clock::now();
@@ -433,6 +397,57 @@ void TraineeSession::open_progress() {
     start_model_.trainee = trainee;
 }
 
+// A stored session is recorded: in a folder of its own beside the progress database.
+void TraineeSession::start_recording() {
+    recorder_.reset();
+    scored_.reset();
+    session_.recording.clear();
+    if (!progress_ || !lesson_ || !world_) return;
+    const auto now = static_cast<std::int64_t>(std::time(nullptr));
+    std::string stamp = iso_utc(now);
+    std::replace(stamp.begin(), stamp.end(), ':', '-');
+    const auto parent = std::filesystem::path(o_.progress_db).parent_path() / "recordings";
+    std::filesystem::path folder = parent / (stamp + "-" + lesson_->id);
+    std::error_code ec;
+    for (int n = 2; std::filesystem::exists(folder, ec) && n < 100; ++n) folder = parent / (stamp + "-" + lesson_->id + "-" + std::to_string(n));
+    std::filesystem::create_directories(parent, ec);
+    auto recorder = SessionRecorder::create(folder);
+    if (!recorder) {
+        std::cerr << "ikebana: the session is not recorded: " << recorder.error().message << "\n";
+        return;
+    }
+    recorder_ = std::move(recorder).value();
+    recorder_->attach(*world_);
+    session_.recording = std::filesystem::absolute(folder).string();
+}
+
+// When the world has stopped: session.json with the last Enter's score, or no recording at all when
+// nothing was scored (no stored session points at it).
+void TraineeSession::finish_recording() {
+    if (!recorder_) return;
+    World& w = *world_;
+    recorder_->detach(w);
+    std::int64_t end_us = std::numeric_limits<std::int64_t>::max();
+    for (const auto& s : w.schedule.systems()) {
+        if (w.schedule.lanes()[s.lane].name == "sim") end_us = std::min(end_us, s.next_due_us);
+    }
+    const auto folder = recorder_->folder();
+    if (scored_ && scored_->first < end_us) {
+        SessionRecorder::WindowRun run;
+        run.scored_frame_us = scored_->first;
+        run.rates = o_.rates;
+        run.env = o_.env;
+        for (std::size_t h = 0; h < 2; ++h) run.rate_device[h] = w.hand_devices[h] && !w.hand_devices[h]->capabilities().reports_position;
+        if (auto done = recorder_->finish_window(*lesson_, session_.kind, run, end_us, scored_->second, w); !done)
+            std::cerr << "ikebana: the session's recording is incomplete: " << done.error().message << "\n";
+        recorder_.reset();
+        return;
+    }
+    recorder_.reset();
+    std::error_code ec;
+    std::filesystem::remove_all(folder, ec);
+}
+
 // Each Enter stores the session as it now stands (the first adds it, later ones replace it).
 void TraineeSession::store_session(const FormScore& result, const components::FrameSnapshot& frame, components::HudInfo& hud) {
     if (!progress_error_.empty()) {
@@ -440,6 +455,7 @@ void TraineeSession::store_session(const FormScore& result, const components::Fr
         return;
     }
     if (!progress_ || session_.lesson.empty()) return;
+    if (recorder_) scored_ = std::make_pair(frame.sim_time_us, result.score);
     session_.result = result;
     session_.flowers = flower_outcomes(frame);
     session_.duration_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start_).count();
@@ -502,7 +518,7 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     // The cursor aimed through the camera as drawn this frame, and kept on the hand it drives (a
     // test's scripted pointer moves the hands by the window's size instead).
     const PointerView view = pointer_view();
-    if (pointer_ == window_pointer_.get()) {
+    if (pointer_ == window_pointer_) {
         const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
         std::array<std::optional<glm::dvec3>, 2> hands;
         for (std::size_t h = 0; h < 2; ++h) {
@@ -610,22 +626,14 @@ void TraineeSession::lesson_keys(const platform::PointerState& in, sched::System
 // Presents what the prepare phase made of this frame.
 void TraineeSession::draw(sched::SystemContext& main_lane) {
     if (stop_.load()) return;
-    const VkExtent2D size = window_->framebuffer();
-    if (size.width == 0 || size.height == 0) return; // minimised: nothing to draw, the simulation runs on
-    if (size.width != swapchain_->extent().width || size.height != swapchain_->extent().height) {
-        if (ui_) ui_->forget_targets();
-        if (auto r = swapchain_->recreate(size); !r) return fail(r.error().message, 3);
-    }
     const auto& prepared = *main_lane.registry.resource<const components::PreparedFrame>();
     renderer_->set_overlay(prepared.overlay);
     const bool want_shot = !o_.screenshot.empty() && o_.frames > 0 && presented_ + 1 >= o_.frames;
-    auto frame = renderer_->present(*swapchain_, prepared.list, render::orbited(base_rig_, yaw_, pitch_), want_shot);
-    if (!frame) return fail(frame.error().message, 3);
+    auto presented = stack_->present(prepared.list, render::orbited(base_rig_, yaw_, pitch_), want_shot);
+    if (!presented) return fail(presented.error().message, 3);
+    if (!*presented) return; // minimised: nothing to draw, the simulation runs on
     for (const auto& warning : renderer_->take_warnings()) std::cerr << "ikebana: warning: " << warning << "\n";
-    if (frame->swapchain_stale) {
-        if (ui_) ui_->forget_targets();
-        if (auto r = swapchain_->recreate(window_->framebuffer()); !r && window_->framebuffer().width > 0) return fail(r.error().message, 3);
-    }
+    auto frame = &**presented;
     if (!frame->presented) return;
     ++presented_;
     const auto frame_end = std::chrono::steady_clock::now();
@@ -741,32 +749,31 @@ std::optional<std::string> TraineeSession::run_start_screen() {
                 return std::nullopt;
             }
         }
-        const VkExtent2D size = window_->framebuffer();
-        if (size.width > 0 && size.height > 0) {
-            if (size.width != swapchain_->extent().width || size.height != swapchain_->extent().height) {
-                ui_->forget_targets();
-                if (auto r = swapchain_->recreate(size); !r) {
-                    std::cerr << "ikebana: " << r.error().message << "\n";
-                    code_ = 3;
-                    return std::nullopt;
-                }
-            }
-            renderer_->set_overlay({});
-            const bool want_shot = !o_.screenshot.empty() && o_.frames > 0 && presented_ + 1 >= o_.frames;
-            auto frame = renderer_->present(*swapchain_, nothing, base_rig_, want_shot);
-            if (!frame) {
-                std::cerr << "ikebana: " << frame.error().message << "\n";
+        renderer_->set_overlay({});
+        const bool want_shot = !o_.screenshot.empty() && o_.frames > 0 && presented_ + 1 >= o_.frames;
+        auto frame = stack_->present(nothing, base_rig_, want_shot);
+        if (!frame) {
+            std::cerr << "ikebana: " << frame.error().message << "\n";
+            code_ = 3;
+            return std::nullopt;
+        }
+        if (!*frame) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(20)); // minimised
+        } else {
+            if ((*frame)->presented) ++presented_;
+            if ((*frame)->screenshot) last_shot_ = std::move((*frame)->screenshot);
+        }
+        if (choice.kind == StartChoice::Kind::replay) {
+            // A past session watched again in this window; Esc or Back comes back here.
+            ReplayWindowOptions replay;
+            replay.folder = choice.recording;
+            replay.state_out = o_.state_out;
+            if (const int code = play_recording(*stack_, replay, presented_); code == 3) {
                 code_ = 3;
                 return std::nullopt;
             }
-            if (frame->swapchain_stale) {
-                ui_->forget_targets();
-                (void)swapchain_->recreate(window_->framebuffer());
-            }
-            if (frame->presented) ++presented_;
-            if (frame->screenshot) last_shot_ = std::move(frame->screenshot);
-        } else {
-            std::this_thread::sleep_for(std::chrono::milliseconds(20)); // minimised
+            window_pointer_->forget_taps();
+            continue;
         }
         if (choice.kind == StartChoice::Kind::quit) return std::nullopt;
         if (choice.kind == StartChoice::Kind::lesson) return choice.lesson;
@@ -794,12 +801,25 @@ int TraineeSession::run_once() {
     // a jump of the cursor from the corner).
     // Presses made while the world was (re)built are dropped here rather than taken by this reading,
     // which no lesson key sees.
-    if (pointer_ == window_pointer_.get()) window_pointer_->forget_taps();
+    if (pointer_ == window_pointer_) window_pointer_->forget_taps();
     hands_reading_ = pointer_->read();
     shared_pointer_.store(hands_reading_);
     {
         const HandForceWatchdogs watchdogs(w);
-        sched::RealtimeClock clock(w.schedule, sched::RealtimeConfig{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 20});
+        sched::RealtimeConfig config{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 20, .on_skip = {}};
+        // The simulation's dropped firings go on record, on its own thread (the one that writes the
+        // commands file), so that the replay drops the same.
+        if (recorder_) {
+            std::size_t sim_lane = 0;
+            for (std::size_t i = 0; i < w.schedule.lanes().size(); ++i) {
+                if (w.schedule.lanes()[i].name == "sim") sim_lane = i;
+            }
+            config.on_skip = [this, sim_lane](std::size_t lane, std::int64_t due_us, std::int64_t until_us) {
+                if (lane != sim_lane) return;
+                recorder_->commands() << due_us << ",skip,0," << until_us << "\n";
+            };
+        }
+        sched::RealtimeClock clock(w.schedule, config);
         // Until the window closes or the frames asked for are presented.
         const auto lanes = clock.run_for(1e9, &stop_);
         figures += format_realtime_report(w, lanes);
@@ -813,6 +833,7 @@ int TraineeSession::run_once() {
     for (std::size_t hand = 0; hand < 2; ++hand) {
         if (w.hand_devices[hand]) (void)w.hand_devices[hand]->send_force(glm::dvec3{0.0}); // nothing pushes after the session
     }
+    finish_recording();
     write_screenshot();
     char line[600];
     std::snprintf(line, sizeof line, "ikebana: camera turned %.0f deg round, tilted %.0f deg\n", yaw_ * 180.0 / M_PI, pitch_ * 180.0 / M_PI);

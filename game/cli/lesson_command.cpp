@@ -223,7 +223,7 @@ int demo_lesson(const DemoArgs& args) {
     }
     options.record_dir = args.record;
     if (args.window && !args.record.empty()) {
-        std::cerr << who << "--record records the headless demonstration (the window's session runs on the wall clock and would not replay to the same state)\n";
+        std::cerr << who << "--record records the headless demonstration; the window records its own session beside the progress database (`ikebana history --json` says where)\n";
         return 2;
     }
     if (args.window && (args.mouse || !args.xdotool.empty())) {
@@ -255,8 +255,7 @@ int demo_lesson(const DemoArgs& args) {
     return code;
 }
 
-int replay_session(const std::string& folder, const std::string& json_out) {
-    const std::string who = "ikebana lesson replay: ";
+int replay_session(const std::string& who, const std::string& folder, const std::string& json_out) {
     if (!json_out.empty() && json_out != "-") {
         if (auto ok = assets::check_output_path(json_out); !ok) {
             std::cerr << who << "--json: " << ok.error().message << "\n";
@@ -322,7 +321,7 @@ void add_lesson_command(CLI::App& app, int& exit_code) {
     auto* replay = lesson->add_subcommand("replay", "Play a recorded lesson session back on the deterministic clock: the same score and final state hash, or an error");
     replay->add_option("folder", replay_args->first, "The folder `lesson demo --record` wrote")->required();
     replay->add_option("--json", replay_args->second, "Also write the result as JSON here (- : only the JSON)");
-    replay->callback([replay_args, &exit_code] { exit_code = replay_session(replay_args->first, replay_args->second); });
+    replay->callback([replay_args, &exit_code] { exit_code = replay_session("ikebana lesson replay: ", replay_args->first, replay_args->second); });
 
     struct ScoreArgs {
         std::string lesson, arrangement, json;

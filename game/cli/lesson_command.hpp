@@ -13,6 +13,9 @@ int check_lesson_files(const std::vector<std::string>& files);
 int print_model(const std::string& lesson);
 int demo_lesson(const std::string& lesson, const std::string& json_out);
 int score_lesson(const std::string& lesson, const std::string& arrangement, const std::string& json_out);
+// A recorded session (a window's or `lesson demo --record`'s) played back headless on the
+// deterministic clock: 0 when it reaches the recorded score and state hash, 1 when not, 2 on bad input.
+int replay_session(const std::string& who, const std::string& folder, const std::string& json_out);
 void add_lesson_command(CLI::App& app, int& exit_code);
 
 } // namespace ikebana::game

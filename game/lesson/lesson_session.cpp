@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "engine/sched/clocks.hpp"
 #include "game/asset_paths.hpp"
 #include "game/lesson/lesson_scene.hpp"
+#include "game/scene/scene.hpp"
 #include "game/world/world.hpp"
 #include "systems/haptics/hand_devices.hpp"
 #include "systems/presentation/frame_channel.hpp"
@@ -48,10 +50,29 @@ void SessionRecorder::attach(World& world) {
     auto* slots = world.sim.resource<systems::HandDevices>();
     for (std::size_t hand = 0; hand < 2; ++hand) slots->recorder[hand] = recorders_[hand].get();
     world.trainee.log = files_[2].get();
+    world.view.log = files_[2].get();
+}
+
+void SessionRecorder::detach(World& world) {
+    auto* slots = world.sim.resource<systems::HandDevices>();
+    for (std::size_t hand = 0; hand < 2; ++hand) slots->recorder[hand] = nullptr;
+    world.trainee.log = nullptr;
+    world.view.log = nullptr;
 }
 
 Result<void> SessionRecorder::finish(const LessonDef& lesson, const std::string& kind, std::int64_t scored_us, std::int64_t end_us, double score,
                                      const World& world) {
+    return write(lesson, kind, scored_us, end_us, score, world, nullptr);
+}
+
+Result<void> SessionRecorder::finish_window(const LessonDef& lesson, const std::string& kind, const WindowRun& run, std::int64_t end_us, double score,
+                                            const World& world) {
+    // The clock stood just past the scored frame when it was published.
+    return write(lesson, kind, std::min(run.scored_frame_us + 1, end_us), end_us, score, world, &run);
+}
+
+Result<void> SessionRecorder::write(const LessonDef& lesson, const std::string& kind, std::int64_t scored_us, std::int64_t end_us, double score,
+                                    const World& world, const WindowRun* window) {
     for (auto& f : files_) f->flush();
     nlohmann::ordered_json j;
     j["format"] = "ikebana-session/1";
@@ -63,11 +84,20 @@ Result<void> SessionRecorder::finish(const LessonDef& lesson, const std::string&
     j["scored_at_us"] = scored_us;
     j["end_us"] = end_us;
     j["score"] = score;
-    j["state_hash"] = hex(world.state_hash());
+    // A window's main lane ran on the wall clock (its frames, its HUD): only the simulation replays.
+    j["state_hash"] = hex(window ? world.sim.state_hash() : world.state_hash());
     nlohmann::ordered_json parts = nlohmann::ordered_json::object();
     for (const auto& [name, h] : world.sim.component_hashes()) parts["sim:" + name] = hex(h);
-    for (const auto& [name, h] : world.main.component_hashes()) parts["main:" + name] = hex(h);
+    if (!window) {
+        for (const auto& [name, h] : world.main.component_hashes()) parts["main:" + name] = hex(h);
+    }
     j["component_hashes"] = std::move(parts);
+    if (window) {
+        j["window"] = {{"scored_frame_us", window->scored_frame_us},
+                       {"rates", window->rates},
+                       {"env", window->env},
+                       {"rate_device", {window->rate_device[0], window->rate_device[1]}}};
+    }
     return assets::write_text_file(folder_ / "session.json", j.dump(1) + "\n");
 }
 
@@ -89,13 +119,32 @@ Result<SessionInfo> parse_session(std::string_view text, const std::string& labe
             else info.component_hashes.emplace_back(name, value.get<std::string>());
         }
     }
-    c.no_unknown_keys(*root, "", {"format", "lesson", "kind", "scored_at_us", "end_us", "score", "state_hash", "component_hashes"});
+    if (const auto* window = c.object(*root, "", "window", false)) {
+        info.window = true;
+        if (const auto frame = c.integer(*window, "/window", "scored_frame_us", 0, max_session_us)) info.scored_frame_us = *frame;
+        for (const char* key : {"rates", "env"}) {
+            const auto* list = c.array(*window, "/window", key, false);
+            if (!list) continue;
+            auto& into = std::string(key) == "rates" ? info.rates : info.env;
+            for (std::size_t i = 0; i < list->size(); ++i) {
+                if (!(*list)[i].is_string() || i >= 64) c.problem("/window/" + std::string(key) + "/" + std::to_string(i), "expected at most 64 texts name=value");
+                else into.push_back((*list)[i].get<std::string>());
+            }
+        }
+        if (const auto* rate = c.array(*window, "/window", "rate_device", false)) {
+            if (rate->size() != 2 || !(*rate)[0].is_boolean() || !(*rate)[1].is_boolean()) c.problem("/window/rate_device", "expected two booleans (left, right)");
+            else for (int h = 0; h < 2; ++h) info.rate_device[h] = (*rate)[static_cast<std::size_t>(h)].get<bool>();
+        }
+        c.no_unknown_keys(*window, "/window", {"scored_frame_us", "rates", "env", "rate_device"});
+    }
+    c.no_unknown_keys(*root, "", {"format", "lesson", "kind", "scored_at_us", "end_us", "score", "state_hash", "component_hashes", "window"});
     if (hash) {
         char* stop = nullptr;
         info.state_hash = std::strtoull(hash->c_str(), &stop, 16);
         if (hash->size() != 16 || *stop != '\0' || !std::isxdigit(static_cast<unsigned char>(hash->front()))) c.problem("/state_hash", "expected 16 hexadecimal digits");
     }
     if (scored && end && *scored > *end) c.problem("/scored_at_us", "after /end_us");
+    if (info.window && end && info.scored_frame_us >= *end) c.problem("/window/scored_frame_us", "not before /end_us");
     if (!c.ok()) return c.error();
     info.lesson = *lesson;
     info.kind = *kind;
@@ -116,42 +165,70 @@ Result<std::vector<SessionCommand>> parse_session_commands(std::string_view text
         if (line.empty()) continue;
         long long at = 0;
         unsigned hand = 0;
-        double keep = 0.0;
+        double value = 0.0;
         char what[8] = {};
         int used = 0;
         const bool read = line.find('\0') == std::string::npos &&
-                          std::sscanf(line.c_str(), "%18lld,%3[a-z],%1u,%24lf%n", &at, what, &hand, &keep, &used) == 4 && used == static_cast<int>(line.size());
-        if (!read || std::string(what) != "cut" || hand > 1 || at < 0 || at > max_session_us || !(keep > 0.0 && keep < 100.0) ||
-            (!commands.empty() && at < commands.back().at_us))
+                          std::sscanf(line.c_str(), "%18lld,%4[a-z],%1u,%24lf%n", &at, what, &hand, &value, &used) == 4 && used == static_cast<int>(line.size());
+        const std::string kind = read ? what : "";
+        SessionCommand c;
+        c.at_us = at;
+        c.value = value;
+        bool fits = read && at >= 0 && at <= max_session_us && (commands.empty() || at >= commands.back().at_us) && std::isfinite(value);
+        if (kind == "cut") {
+            fits = fits && hand <= 1 && value > 0.0 && value < 100.0;
+            c.command = systems::TraineeCommand{systems::TraineeCommand::Kind::cut, static_cast<std::uint8_t>(hand), value};
+        } else if (kind == "view") {
+            c.what = SessionCommand::What::view;
+            fits = fits && hand == 0 && std::abs(value) < 1e6;
+        } else if (kind == "skip") {
+            c.what = SessionCommand::What::skip;
+            fits = fits && hand == 0 && value > static_cast<double>(at) && value <= static_cast<double>(max_session_us) && value == std::floor(value);
+        } else {
+            fits = false;
+        }
+        if (!fits)
             return make_error(ErrorCode::parse_error, label + ": line " + std::to_string(line_no) +
-                                                          ": expected time_us,cut,hand,keep_length_m (hand 0 or 1, times in order, a length in metres)");
+                                                          ": expected time_us,cut,hand,keep_length_m (hand 0 or 1, a length in metres), time_us,view,0,yaw_rad or "
+                                                          "time_us,skip,0,until_us, times in order");
         if (commands.size() >= max_session_commands) return make_error(ErrorCode::parse_error, label + ": line " + std::to_string(line_no) + ": more than " + std::to_string(max_session_commands) + " commands");
-        commands.push_back({at, systems::TraineeCommand{systems::TraineeCommand::Kind::cut, static_cast<std::uint8_t>(hand), keep}});
+        commands.push_back(c);
     }
     return commands;
 }
 
-Result<ReplayResult> replay_lesson_session(const std::filesystem::path& folder) {
-    const auto session_file = folder / "session.json";
+Result<std::unique_ptr<SessionPlayback>> SessionPlayback::open(const std::filesystem::path& folder) {
+    auto p = std::unique_ptr<SessionPlayback>(new SessionPlayback());
+    p->session_file_ = folder / "session.json";
+    const auto& session_file = p->session_file_;
     auto text = assets::read_text_file(session_file);
     if (!text) return std::move(text).error();
     auto info = parse_session(*text, session_file.string());
     if (!info) return std::move(info).error();
-    auto lesson = load_lesson(info->lesson);
+    p->info_ = std::move(info).value();
+    auto lesson = load_lesson(p->info_.lesson);
     if (!lesson) return make_error(lesson.error().code, session_file.string() + ": /lesson: " + lesson.error().message);
-    auto scene = scene_for_lesson(*lesson);
+    p->lesson_ = std::move(lesson).value();
+    auto scene = scene_for_lesson(p->lesson_);
     if (!scene) return std::move(scene).error();
-    const auto footprint = footprint_of(*lesson);
+    if (auto env = apply_environment_overrides(scene->environment, p->info_.env); !env)
+        return make_error(env.error().code, session_file.string() + ": /window/env: " + env.error().message);
+    p->sample_ = scene->sample;
+    p->display_ = scene->display;
+    auto footprint = footprint_of(p->lesson_);
     if (!footprint) return std::move(footprint).error();
+    p->footprint_ = *footprint;
     const auto commands_file = folder / "commands.csv";
     auto lines = assets::read_text_file(commands_file);
     if (!lines) return std::move(lines).error();
     auto commands = parse_session_commands(*lines, commands_file.string());
     if (!commands) return std::move(commands).error();
+    p->commands_ = std::move(commands).value();
 
-    auto world = World::create(*scene);
-    if (!world) return std::move(world).error();
-    World& w = **world;
+    auto world = World::create(*scene, WorldOptions{.rate_overrides = p->info_.rates, .force_scheme = {}, .main_lane_systems = {}});
+    if (!world) return make_error(world.error().code, session_file.string() + ": " + world.error().message);
+    p->world_ = std::move(world).value();
+    World& w = *p->world_;
     for (std::uint8_t hand = 0; hand < 2; ++hand) {
         const auto file = folder / file_names[hand];
         // A hand with no device in the session has its header alone.
@@ -161,37 +238,84 @@ Result<ReplayResult> replay_lesson_session(const std::filesystem::path& folder) 
         auto keys = devices::load_trajectory(file);
         if (!keys) return std::move(keys).error();
         if (keys->empty()) continue;
-        w.attach_device(hand, std::make_unique<devices::ScriptedDevice>(std::move(keys).value(), devices::ScriptedDevice::Mode::replay, "replay:" + file.string()));
+        p->samples_[hand] = *keys;
+        auto device = std::make_unique<devices::ScriptedDevice>(std::move(keys).value(), devices::ScriptedDevice::Mode::replay, "replay:" + file.string());
+        if (p->info_.rate_device[hand]) device->report_pushes(); // a SpaceMouse's samples are pushes, integrated again
+        w.attach_device(hand, std::move(device));
     }
-    sched::DeterministicClock clock(w.schedule);
-    ReplayResult result;
-    std::size_t next = 0;
-    const auto run_commands_until = [&](std::int64_t t_us) {
-        for (; next < commands->size() && (*commands)[next].at_us <= t_us; ++next) {
-            clock.run_until((*commands)[next].at_us); // the ticks before it; the one at its time takes it
-            w.trainee.push((*commands)[next].command);
+    for (std::size_t i = 0; i < w.schedule.lanes().size(); ++i) {
+        if (w.schedule.lanes()[i].name == "sim") p->sim_lane_ = i;
+    }
+    p->clock_ = std::make_unique<sched::DeterministicClock>(w.schedule);
+    return p;
+}
+
+SessionPlayback::~SessionPlayback() = default;
+
+std::int64_t SessionPlayback::now_us() const { return clock_->now_us(); }
+
+void SessionPlayback::run_until(std::int64_t t_us) {
+    for (; next_ < commands_.size() && commands_[next_].at_us <= t_us; ++next_) {
+        const SessionCommand& c = commands_[next_];
+        clock_->run_until(c.at_us); // the ticks before it; the one at its time takes it
+        switch (c.what) {
+        case SessionCommand::What::cut: world_->trainee.push(c.command); break;
+        case SessionCommand::What::view: world_->view.yaw_rad.store(c.value); break;
+        case SessionCommand::What::skip: clock_->skip_lane(sim_lane_, static_cast<std::int64_t>(c.value)); break;
         }
-        clock.run_until(t_us); // the ticks before it, as the recording's clock stood then
-    };
-    run_commands_until(info->scored_us);
-    auto scored_form = score_form(*lesson, measure_arrangement(w.main.resource<const systems::ReceivedFrames>()->latest()), *footprint, "replay");
+    }
+    clock_->run_until(t_us); // the ticks before it, as the recording's clock stood then
+}
+
+// A window session was scored on the frame the simulation had published then; a headless one on the
+// frame its main lane had received.
+Result<const components::FrameSnapshot*> SessionPlayback::scored_frame() {
+    if (!info_.window) return &world_->main.resource<const systems::ReceivedFrames>()->latest();
+    world_->channel.buffer.update();
+    const components::FrameSnapshot* frame = &world_->channel.buffer.read_buffer();
+    if (frame->sim_time_us != info_.scored_frame_us)
+        return make_error(ErrorCode::parse_error, session_file_.string() + ": /window/scored_frame_us: no frame was published at " +
+                                                      std::to_string(info_.scored_frame_us) + " us (the last was at " + std::to_string(frame->sim_time_us) + " us)");
+    return frame;
+}
+
+Result<FormScore> SessionPlayback::score(const components::FrameSnapshot& frame) const {
+    if (lesson_.scoring == "form") return score_form(lesson_, measure_arrangement(frame), footprint_, "replay");
+    return score_sample(lesson_, measure_arrangement(frame), sample_);
+}
+
+std::uint64_t SessionPlayback::state_hash() const { return info_.window ? world_->sim.state_hash() : world_->state_hash(); }
+
+Result<ReplayResult> replay_lesson_session(const std::filesystem::path& folder) {
+    auto opened = SessionPlayback::open(folder);
+    if (!opened) return std::move(opened).error();
+    SessionPlayback& p = **opened;
+    const SessionInfo& info = p.info();
+    p.run_until(info.scored_us);
+    auto frame = p.scored_frame();
+    if (!frame) return std::move(frame).error();
+    auto scored_form = p.score(**frame);
     if (!scored_form) return std::move(scored_form).error();
-    run_commands_until(info->end_us);
+    p.run_until(info.end_us);
+    ReplayResult result;
     result.score = std::move(scored_form).value();
-    result.state_hash = w.state_hash();
-    if (!info->component_hashes.empty() && result.state_hash != info->state_hash) {
+    result.state_hash = p.state_hash();
+    const World& w = p.world();
+    if (!info.component_hashes.empty() && result.state_hash != info.state_hash) {
         std::vector<std::pair<std::string, std::uint64_t>> now;
         for (const auto& [name, h] : w.sim.component_hashes()) now.emplace_back("sim:" + name, h);
-        for (const auto& [name, h] : w.main.component_hashes()) now.emplace_back("main:" + name, h);
+        if (!info.window) {
+            for (const auto& [name, h] : w.main.component_hashes()) now.emplace_back("main:" + name, h);
+        }
         for (const auto& part : now) { // (not a structured binding: clang 14 cannot capture one in a lambda)
-            const auto it = std::find_if(info->component_hashes.begin(), info->component_hashes.end(), [&](const auto& p) { return p.first == part.first; });
-            if (it == info->component_hashes.end() || it->second != hex(part.second)) result.parted.push_back(part.first);
+            const auto it = std::find_if(info.component_hashes.begin(), info.component_hashes.end(), [&](const auto& q) { return q.first == part.first; });
+            if (it == info.component_hashes.end() || it->second != hex(part.second)) result.parted.push_back(part.first);
         }
     }
-    result.recorded_state_hash = info->state_hash;
-    result.recorded_score = info->score;
-    result.kind = info->kind;
-    result.seconds = static_cast<double>(clock.now_us()) * 1e-6;
+    result.recorded_state_hash = info.state_hash;
+    result.recorded_score = info.score;
+    result.kind = info.kind;
+    result.seconds = static_cast<double>(p.now_us()) * 1e-6;
     return result;
 }
 

@@ -17,24 +17,48 @@
 #include "engine/devices/scripted_device.hpp"
 #include "game/lesson/form_score.hpp"
 #include "game/lesson/lesson.hpp"
+#include "game/lesson/lesson_scene.hpp"
 #include "systems/haptics/trainee_command_system.hpp"
 
 namespace ikebana::game {
 
 class World;
+}
+namespace ikebana::sched {
+class DeterministicClock;
+}
+namespace ikebana::components {
+struct FrameSnapshot;
+}
+namespace ikebana::game {
 
 class SessionRecorder {
 public:
     // Makes the folder (refused if it is a file or a link; files in it are replaced whole at the end).
     static Result<std::unique_ptr<SessionRecorder>> create(const std::filesystem::path& folder);
-    // Before the session runs.
+    // Before the session runs (the hands' samples, the trainee's commands, the camera's turns).
     void attach(World& world);
+    // After it, before the recorder goes: the world writes nothing more here.
+    void detach(World& world);
     // After it: session.json. `scored_us` and `end_us` are the clock's times then (ticks before them had run).
     // The world's state hash goes with each component type's share of it, so that a replay that parts
     // can say where.
     Result<void> finish(const LessonDef& lesson, const std::string& kind, std::int64_t scored_us, std::int64_t end_us, double score, const World& world);
+    // A window session's end (SessionInfo's window fields): `scored_frame_us` is the time of the frame
+    // the score was taken from, `end_us` where the simulation's clock stood.
+    struct WindowRun {
+        std::int64_t scored_frame_us = 0;
+        std::vector<std::string> rates, env;
+        bool rate_device[2] = {false, false};
+    };
+    Result<void> finish_window(const LessonDef& lesson, const std::string& kind, const WindowRun& run, std::int64_t end_us, double score, const World& world);
+    // The commands file (cuts, the camera's turns, the clock's skips), for a real-time clock's on_skip.
+    [[nodiscard]] std::ostream& commands() { return *files_[2]; }
+    [[nodiscard]] const std::filesystem::path& folder() const { return folder_; }
 
 private:
+    Result<void> write(const LessonDef& lesson, const std::string& kind, std::int64_t scored_us, std::int64_t end_us, double score, const World& world,
+                       const WindowRun* window);
     std::filesystem::path folder_;
     std::unique_ptr<std::ostream> files_[3]; // left, right, commands
     std::unique_ptr<devices::DeviceRecorder> recorders_[2];
@@ -58,17 +82,74 @@ struct SessionInfo {
     double score = 0.0;
     std::uint64_t state_hash = 0;
     std::vector<std::pair<std::string, std::string>> component_hashes; // "sim:components::StemPoints" -> hex
+    // A window session (its main lane ran on the wall clock): the hash and the parts are the
+    // simulation's alone, the score was taken from the frame the simulation published at
+    // `scored_frame_us`, and the session ran with these rate and environment overrides.
+    bool window = false;
+    std::int64_t scored_frame_us = 0;
+    std::vector<std::string> rates, env;
+    bool rate_device[2] = {false, false}; // a hand's device reported a push (a SpaceMouse), not a place
 };
-// A command the simulation took, when (commands.csv's lines: time_us,cut,hand,keep_length_m).
+// What the simulation took from outside, when (commands.csv's lines: time_us,WHAT,hand,value):
+// - cut: the trainee's cut of what `hand` holds, value the length kept (m);
+// - view: the camera's yaw the hands' workspace turned to (rad), hand 0;
+// - skip: a window session's simulation fell behind and its clock dropped the firings from time_us
+//   up to `value` (us), hand 0 (sched::RealtimeConfig::on_skip).
 struct SessionCommand {
+    enum class What : std::uint8_t { cut, view, skip };
     std::int64_t at_us = 0;
-    systems::TraineeCommand command;
+    What what = What::cut;
+    systems::TraineeCommand command; // cut
+    double value = 0.0;              // view: yaw (rad); skip: where the firings resume (us)
 };
 // Readers of a session's own files; errors name `label` and the field or line.
 Result<SessionInfo> parse_session(std::string_view text, const std::string& label);
 Result<std::vector<SessionCommand>> parse_session_commands(std::string_view text, const std::string& label);
 
-// Errors name the file and line (session.json's fields, commands.csv's lines, the device files').
+// A recording set up to play: the lesson's world with the recorded hands, and what the simulation
+// took from outside (cuts, the camera's turns, the clock's skips) given at the ticks it took them as
+// the clock moves on. Never backwards: to go back, open it again (the window's scrubbing does).
+class SessionPlayback {
+public:
+    // Errors name the file and line (session.json's fields, commands.csv's lines, the device files').
+    static Result<std::unique_ptr<SessionPlayback>> open(const std::filesystem::path& folder);
+    ~SessionPlayback();
+    // Runs every firing before t_us.
+    void run_until(std::int64_t t_us);
+    [[nodiscard]] std::int64_t now_us() const;
+    // The frame the recording was scored on, once the clock has reached info().scored_us.
+    Result<const components::FrameSnapshot*> scored_frame();
+    // A frame scored as the session scored it (the lesson's form, or free practice's sample).
+    [[nodiscard]] Result<FormScore> score(const components::FrameSnapshot& frame) const;
+    // The simulation's state hash (a window session's) or the whole world's (a headless one's).
+    [[nodiscard]] std::uint64_t state_hash() const;
+
+    [[nodiscard]] World& world() { return *world_; }
+    [[nodiscard]] const SessionInfo& info() const { return info_; }
+    [[nodiscard]] const LessonDef& lesson() const { return lesson_; }
+    [[nodiscard]] const DisplayDef& display() const { return display_; } // the lesson's camera and stereo
+    [[nodiscard]] const KenzanFootprint& footprint() const { return footprint_; }
+    [[nodiscard]] const std::vector<SessionCommand>& commands() const { return commands_; }
+    // Each hand's recorded samples (empty: no device in that hand).
+    [[nodiscard]] const std::vector<devices::Keyframe>& samples(std::size_t hand) const { return samples_[hand]; }
+
+private:
+    SessionPlayback() = default;
+    std::filesystem::path session_file_;
+    SessionInfo info_;
+    LessonDef lesson_;
+    std::vector<SampleStem> sample_;
+    DisplayDef display_;
+    KenzanFootprint footprint_;
+    std::vector<SessionCommand> commands_;
+    std::vector<devices::Keyframe> samples_[2];
+    std::unique_ptr<World> world_;
+    std::unique_ptr<sched::DeterministicClock> clock_;
+    std::size_t sim_lane_ = 0;
+    std::size_t next_ = 0;
+};
+
+// Plays a recording through to its end: the score at the recorded moment and the final state hash.
 Result<ReplayResult> replay_lesson_session(const std::filesystem::path& folder);
 
 } // namespace ikebana::game

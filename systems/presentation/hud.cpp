@@ -11,8 +11,7 @@ using components::HudInfo;
 std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const HudInfo& info) {
     std::vector<std::string> lines;
     char text[160];
-    std::snprintf(text, sizeof text, "IKEBANA  %.1f s   Enter: finish   arrows/right-drag: look around   Tab: other hand   Esc: quit",
-                  static_cast<double>(frame.sim_time_us) * 1e-6);
+    std::snprintf(text, sizeof text, "%s  %.1f s   %s", info.title.c_str(), static_cast<double>(frame.sim_time_us) * 1e-6, info.keys.c_str());
     lines.emplace_back(text);
     for (const auto& l : info.lesson) lines.push_back(l);
     // Flowers nobody has touched yet, lying on the table, make one line: a line each pushed the

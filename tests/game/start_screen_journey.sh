@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # A trainee's journey with the mouse, under xvfb-run: the start screen, a lesson picked and started
-# there, scored (Enter), back to the start screen (the panel's button), the result listed there and in
-# `ikebana history --json`, then Quit. The buttons are found where the window's state file says they
+# there, the hand moved and the camera turned, scored (Enter), back to the start screen (the panel's
+# button), the result listed there and in `ikebana history --json`, the session replayed from the
+# start screen and back, then Quit; the recording then replays headless to the same score and state. The buttons are found where the window's state file says they
 # are (`--state-out`), as a person finds them on the screen. Usage: start_screen_journey.sh IKEBANA WORK
 set -euo pipefail
 ikebana="$1"
@@ -53,11 +54,25 @@ wait_for '"screen":"start"'
 click "select:sogetsu_basic_upright"; presses=$((presses + 1))
 click "start:sogetsu_basic_upright"; presses=$((presses + 1))
 wait_for '"screen":"lesson"'
+# Over the table the hand follows the pointer; the camera turns (Left arrow) and the hand moves again:
+# the recording has to carry the turn for the replay to move the hand the same way.
+xdotool mousemove 300 420
+for i in $(seq 1 15); do xdotool mousemove_relative 6 -3; sleep 0.05; done
+xdotool keydown Left; sleep 0.5; xdotool keyup Left
+for i in $(seq 1 15); do xdotool mousemove_relative -- -4 2; sleep 0.05; done
+sleep 0.5
 click "finish"; presses=$((presses + 1))
 wait_for '"results":1'
 click "back"; presses=$((presses + 1))
 wait_for '"screen":"start"'
 wait_for '"label":"result:sogetsu_basic_upright: last '
+# The session just finished, watched again from the start screen, and back.
+click "replay:sogetsu_basic_upright"; presses=$((presses + 1))
+wait_for '"screen":"replay"'
+click "speed:x8"; presses=$((presses + 1))
+wait_for '"results":1'
+click "back"; presses=$((presses + 1))
+wait_for '"screen":"start"'
 click "quit"; presses=$((presses + 1))
 for _ in $(seq 1 100); do kill -0 $app 2>/dev/null || break; sleep 0.1; done
 kill -0 $app 2>/dev/null && fail "Quit did not end the app"
@@ -74,6 +89,13 @@ shown=$(grep -o 'RESULT: [0-9]* / 100' "$log" | head -1 | grep -o '[0-9]\+' | he
 stored=$(echo "$history" | grep -o '"score": [0-9.]*' | head -1 | grep -o '[0-9.]\+$')
 [ -n "$shown" ] && [ -n "$stored" ] || fail "no score shown ($shown) or stored ($stored)"
 [ "$(printf '%.0f' "$stored")" = "$shown" ] || fail "the window showed $shown / 100, the history stores $stored"
+# The window's session replays headless to the score and the simulation's state it ended with.
+recording=$(echo "$history" | grep -o '"recording": "[^"]*"' | head -1 | sed 's/"recording": "//; s/"$//')
+[ -f "$recording/session.json" ] || fail "the stored session has no recording ($recording)"
+grep -q ',view,0,' "$recording/commands.csv" || fail "the camera's turn is not on record: $(cat "$recording/commands.csv")"
+"$ikebana" replay "$recording" --json "$work/replay.json" >"$work/replay.log" 2>&1 || fail "the replay did not reach the session: $(cat "$work/replay.log")"
+grep -q "(as recorded)" "$work/replay.log" || fail "the replay's state hash: $(cat "$work/replay.log")"
+grep -q "RESULT: $shown / 100" "$work/replay.log" || fail "the replay scores otherwise than the window's $shown: $(cat "$work/replay.log")"
 grep -q "wake lateness" "$log" && fail "the app's terminal shows the threads' figures (they belong in the log or --stats)"
 grep -q "wake lateness" "$XDG_STATE_HOME/ikebana/last-session.log" || fail "the session's figures are not in the log"
-echo "start screen -> lesson -> score -> start screen -> quit: $presses presses"
+echo "start screen -> lesson -> score -> start screen -> replay -> start screen -> quit: $presses presses"

@@ -17,6 +17,7 @@
 #include "game/lesson/lesson_demo.hpp"
 #include "game/lesson/lesson_scene.hpp"
 #include "game/lesson/lesson_session.hpp"
+#include "game/lesson/session_timeline.hpp"
 #include "game/lesson/window_state.hpp"
 #include "game/world/world.hpp"
 #include "systems/haptics/trainee_command_system.hpp"
@@ -638,12 +639,89 @@ TEST(LessonSession, ADemonstrationOnRecordReplaysToTheSameScoreAndStateHash) {
     const auto commands = assets::read_text_file(dir / "commands.csv");
     ASSERT_TRUE(commands.ok());
     EXPECT_EQ(std::count(commands->begin(), commands->end(), '\n'), 3);
+    // The review's timeline: the three cuts at the ticks they were taken, and each role's stem going
+    // into the kenzan after its cut.
+    const auto parsed = parse_session_commands(*commands, "commands.csv");
+    ASSERT_TRUE(parsed.ok());
+    const auto marks = session_timeline(dir);
+    ASSERT_TRUE(marks.ok()) << marks.error().message;
+    std::vector<std::int64_t> cuts, insertions;
+    for (const auto& m : *marks) {
+        if (m.kind == TimelineMark::Kind::cut) cuts.push_back(m.at_us);
+        if (m.kind == TimelineMark::Kind::insertion) insertions.push_back(m.at_us);
+    }
+    ASSERT_EQ(cuts.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(cuts[i], (*parsed)[i].at_us);
+    ASSERT_GE(insertions.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_GT(insertions[i], cuts[i]) << "a stem goes in after it is cut to length";
+    EXPECT_TRUE(std::is_sorted(marks->begin(), marks->end(), [](const TimelineMark& a, const TimelineMark& b) { return a.at_us < b.at_us; }));
     // Without its cuts the replay is another session: it says where it parts.
     ASSERT_TRUE(assets::write_text_file(dir / "commands.csv", "").ok());
     const auto uncut = replay_lesson_session(dir);
     ASSERT_TRUE(uncut.ok()) << uncut.error().message;
     EXPECT_NE(uncut->state_hash, demo->state_hash);
     EXPECT_FALSE(uncut->parted.empty());
+    std::filesystem::remove_all(dir);
+}
+
+// A window session's recording: the camera's turn and the clock's skip are on record at their ticks,
+// the score is the published frame's, and the replay reaches the simulation's state. Without the turn
+// (the hand then moves the other way) or the skip (1 kHz firings run that the session dropped) it parts.
+TEST(LessonSession, AWindowSessionsTurnsAndSkipsReplayAtTheirTicks) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    const auto dir = std::filesystem::temp_directory_path() / "ikebana-window-session-test";
+    std::filesystem::remove_all(dir);
+    auto scene = scene_for_lesson(l);
+    ASSERT_TRUE(scene.ok());
+    auto made = World::create(*scene);
+    ASSERT_TRUE(made.ok()) << made.error().message;
+    World& w = **made;
+    std::vector<devices::Keyframe> path{{0.0, {0.0, 0.0, 0.0}, {0, 0, 0}, 0}, {3.0, {0.08, 0.05, 0.02}, {0, 0, 0}, 0}};
+    w.attach_device(1, std::make_unique<devices::ScriptedDevice>(path, devices::ScriptedDevice::Mode::interpolate, "moving hand"));
+    auto recorder = SessionRecorder::create(dir);
+    ASSERT_TRUE(recorder.ok()) << recorder.error().message;
+    (*recorder)->attach(w);
+    sched::DeterministicClock clock(w.schedule);
+    clock.run_until(1'000'000);
+    w.view.yaw_rad.store(0.6); // the trainee turns the camera
+    clock.run_until(1'500'000);
+    (*recorder)->commands() << 1'500'000 << ",skip,0," << 1'700'000 << "\n"; // as the window's on_skip writes it
+    clock.skip_lane(0, 1'700'000);
+    clock.run_until(2'000'000);
+    const auto& scored = w.main.resource<const systems::ReceivedFrames>()->latest();
+    const auto score = score_form(l, measure_arrangement(scored), footprint(l));
+    ASSERT_TRUE(score.ok());
+    SessionRecorder::WindowRun run;
+    run.scored_frame_us = scored.sim_time_us;
+    clock.run_until(2'500'000);
+    (*recorder)->detach(w);
+    ASSERT_TRUE((*recorder)->finish_window(l, "practice", run, 2'500'000, score->score, w).ok());
+    recorder->reset();
+
+    const auto replayed = replay_lesson_session(dir);
+    ASSERT_TRUE(replayed.ok()) << replayed.error().message;
+    EXPECT_EQ(replayed->state_hash, w.sim.state_hash());
+    EXPECT_EQ(replayed->score.score, score->score);
+    EXPECT_TRUE(replayed->parted.empty());
+    const auto commands = assets::read_text_file(dir / "commands.csv");
+    ASSERT_TRUE(commands.ok());
+    EXPECT_NE(commands->find(",view,0,0.59999999999999998\n"), std::string::npos) << *commands;
+    const auto without = [&](const std::string& what) {
+        std::string kept;
+        std::size_t from = 0;
+        while (from < commands->size()) {
+            const auto to = commands->find('\n', from);
+            const auto line = commands->substr(from, to - from + 1);
+            if (line.find(what) == std::string::npos) kept += line;
+            from = to + 1;
+        }
+        EXPECT_TRUE(assets::write_text_file(dir / "commands.csv", kept).ok());
+        const auto r = replay_lesson_session(dir);
+        EXPECT_TRUE(assets::write_text_file(dir / "commands.csv", *commands).ok());
+        return r.ok() ? r->state_hash : 0;
+    };
+    EXPECT_NE(without(",view,"), w.sim.state_hash());
+    EXPECT_NE(without(",skip,"), w.sim.state_hash());
     std::filesystem::remove_all(dir);
 }
 
@@ -662,6 +740,17 @@ TEST(LessonSession, ACommandLineOutOfOrderOrNotACutIsRefusedWithItsFileAndLine) 
     EXPECT_FALSE(parse_session_commands("100,cut,2,0.3\n", "c.csv").ok());    // a third hand
     EXPECT_FALSE(parse_session_commands("100,cut,1,-0.3\n", "c.csv").ok());   // no length
     EXPECT_FALSE(parse_session_commands("100,cut,1,0.3 x\n", "c.csv").ok());  // trailing words
+    // The window's lines: the camera's yaw, and the clock's skips (forward, to a whole microsecond).
+    const auto window = parse_session_commands("100,view,0,-0.25\n150,skip,0,50150\n", "c.csv");
+    ASSERT_TRUE(window.ok()) << window.error().message;
+    EXPECT_EQ((*window)[0].what, SessionCommand::What::view);
+    EXPECT_EQ((*window)[0].value, -0.25);
+    EXPECT_EQ((*window)[1].what, SessionCommand::What::skip);
+    EXPECT_EQ((*window)[1].value, 50150.0);
+    EXPECT_FALSE(parse_session_commands("100,skip,0,50\n", "c.csv").ok());      // backwards
+    EXPECT_FALSE(parse_session_commands("100,skip,0,150.5\n", "c.csv").ok());   // not a microsecond
+    EXPECT_FALSE(parse_session_commands("100,view,1,0.2\n", "c.csv").ok());     // a view has no hand
+    EXPECT_FALSE(parse_session_commands("100,view,0,nan\n", "c.csv").ok());
 }
 
 TEST(LessonSession, ASessionFileNamesTheFieldItLacks) {
