@@ -60,12 +60,23 @@ expect_refusal("a tilt for a role the form has not" "ikebana lesson demo: --tilt
                ${IKEBANA} lesson demo sogetsu_basic_upright --tilt tai=45)
 expect_refusal("a tilt past level" "ikebana lesson demo: --tilt: 'shin=120': expected ROLE=DEGREES with a role of sogetsu_basic_upright and 0-90 degrees"
                ${IKEBANA} lesson demo sogetsu_basic_upright --tilt shin=120)
-# A demonstration on record replays to the same state; a window's session is not recorded (wall clock).
+# A demonstration on record replays to the same state (the window records its own sessions: cli_lesson_window).
 file(REMOVE_RECURSE ${out}/session)
 expect_success("a demonstration on record" "the session is on record in ${out}/session" ${IKEBANA} lesson demo sogetsu_basic_upright --record ${out}/session)
 expect_success("its replay" "(as recorded)" ${IKEBANA} lesson replay ${out}/session)
+expect_success("its replay as `ikebana replay --json`" "(as recorded)" ${IKEBANA} replay ${out}/session --json ${out}/replayed.json)
+# A recording whose state is changed after the fact parts from it, and says where.
+file(READ ${out}/session/session.json recorded)
+string(REGEX REPLACE "\"sim:components::StemPoints\": \"[0-9a-f]+\"" "\"sim:components::StemPoints\": \"0000000000000000\"" tampered "${recorded}")
+string(REGEX REPLACE "\"state_hash\": \"[0-9a-f]+\"" "\"state_hash\": \"0000000000000000\"" tampered "${tampered}")
+file(WRITE ${out}/session/session.json "${tampered}")
+expect_refusal("a recording whose final state is not the replay's" "ikebana replay: the replay does not reach the recorded session: score"
+               ${IKEBANA} replay ${out}/session --json ${out}/replayed.json)
+file(WRITE ${out}/session/session.json "${recorded}")
 file(WRITE ${out}/session/commands.csv "100,cut,1,0.3\n50,cut,1,0.2\n")
 expect_refusal("a replay with its cuts out of order" "commands.csv: line 2: expected time_us,cut,hand,keep_length_m" ${IKEBANA} lesson replay ${out}/session)
+expect_refusal("a folder with no recording" "ikebana replay: ${out}/nothing/session.json" ${IKEBANA} replay ${out}/nothing --json -)
+expect_refusal("a folder with no recording, in the window" "ikebana replay: ${out}/nothing/session.json" ${IKEBANA} replay ${out}/nothing)
 expect_refusal("the window's session on record" "ikebana lesson demo: --record records the headless demonstration"
                ${IKEBANA} lesson demo sogetsu_basic_upright --window --record ${out}/never)
 expect_refusal("a demonstration of free practice" "ikebana lesson demo: free_practice copies its scene's sample; it has no form to demonstrate"
