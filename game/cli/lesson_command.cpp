@@ -262,7 +262,11 @@ int replay_session(const std::string& who, const std::string& folder, const std:
             return 2;
         }
     }
-    const auto replayed = replay_lesson_session(folder);
+    const bool tty = isatty(fileno(stderr)) != 0;
+    const auto replayed = replay_lesson_session(folder, [tty](double done, double of) {
+        if (tty) std::fprintf(stderr, "\r\033[Kreplaying: %.0f of %.0f s simulated", done, of);
+    });
+    if (tty) std::fprintf(stderr, "\r\033[K");
     if (!replayed) {
         std::cerr << who << replayed.error().message << "\n";
         return 2;

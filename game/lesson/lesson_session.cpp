@@ -286,17 +286,24 @@ Result<FormScore> SessionPlayback::score(const components::FrameSnapshot& frame)
 
 std::uint64_t SessionPlayback::state_hash() const { return info_.window ? world_->sim.state_hash() : world_->state_hash(); }
 
-Result<ReplayResult> replay_lesson_session(const std::filesystem::path& folder) {
+Result<ReplayResult> replay_lesson_session(const std::filesystem::path& folder, const std::function<void(double, double)>& progress) {
     auto opened = SessionPlayback::open(folder);
     if (!opened) return std::move(opened).error();
     SessionPlayback& p = **opened;
     const SessionInfo& info = p.info();
-    p.run_until(info.scored_us);
+    // A second at a time, so that a long session says how far it is.
+    const auto run_to = [&](std::int64_t t_us) {
+        while (p.now_us() < t_us) {
+            p.run_until(std::min(t_us, (p.now_us() / 1'000'000 + 1) * 1'000'000));
+            if (progress) progress(static_cast<double>(p.now_us()) * 1e-6, static_cast<double>(info.end_us) * 1e-6);
+        }
+    };
+    run_to(info.scored_us);
     auto frame = p.scored_frame();
     if (!frame) return std::move(frame).error();
     auto scored_form = p.score(**frame);
     if (!scored_form) return std::move(scored_form).error();
-    p.run_until(info.end_us);
+    run_to(info.end_us);
     ReplayResult result;
     result.score = std::move(scored_form).value();
     result.state_hash = p.state_hash();

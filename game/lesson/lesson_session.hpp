@@ -6,6 +6,7 @@
 // clock and must reach the same score and the same state hash.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -150,6 +151,7 @@ private:
 };
 
 // Plays a recording through to its end: the score at the recorded moment and the final state hash.
-Result<ReplayResult> replay_lesson_session(const std::filesystem::path& folder);
+// `progress` is told the simulated seconds done and in all, every simulated second.
+Result<ReplayResult> replay_lesson_session(const std::filesystem::path& folder, const std::function<void(double done_s, double of_s)>& progress = {});
 
 } // namespace ikebana::game
