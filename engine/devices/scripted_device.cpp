@@ -4,6 +4,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <iterator>
 
 #include "engine/assets/csv_table.hpp"
 #include "engine/assets/files.hpp"
@@ -73,8 +75,8 @@ Result<std::vector<Keyframe>> parse_trajectory(std::string_view text, const std:
     return keys;
 }
 
-Result<std::vector<Keyframe>> load_trajectory(const std::filesystem::path& path) {
-    auto text = assets::read_text_file(path);
+Result<std::vector<Keyframe>> load_trajectory(const std::filesystem::path& path, std::uintmax_t max_bytes) {
+    auto text = assets::read_text_file(path, max_bytes);
     if (!text) return std::move(text).error();
     return parse_trajectory(*text, path.string());
 }
@@ -88,6 +90,9 @@ ScriptedDevice::ScriptedDevice(std::vector<Keyframe> keys, Mode mode, std::strin
 }
 
 Result<DeviceSample> ScriptedDevice::poll(std::int64_t now_us) {
+    // The spans are in time order: the last one starting at or before now is the only one to look at.
+    const auto span = std::upper_bound(away_.begin(), away_.end(), now_us, [](std::int64_t t, const auto& a) { return t < a.first; });
+    if (span != away_.begin() && now_us < std::prev(span)->second) return make_error(ErrorCode::device_error, caps_.name + ": away here in the recording");
     DeviceSample s;
     s.time_us = now_us;
     if (keys_.empty()) return s;
@@ -122,7 +127,9 @@ Result<void> ScriptedDevice::send_force(glm::dvec3 force_n) {
 DeviceRecorder::DeviceRecorder(std::ostream& out) : out_(out) { out_ << header << "\n" << std::flush; }
 
 void DeviceRecorder::record(const DeviceSample& s) {
-    const bool same = wrote_ && s.position == last_.position && s.rotation == last_.rotation && s.buttons == last_.buttons;
+    // Bit for bit (0.0 and -0.0 compare equal, and a replay must read what was read).
+    const bool same = wrote_ && std::memcmp(&s.position, &last_.position, sizeof s.position) == 0 &&
+                      std::memcmp(&s.rotation, &last_.rotation, sizeof s.rotation) == 0 && s.buttons == last_.buttons;
     if (same) {
         if (s.time_us - last_flush_us_ >= flush_every_us) {
             out_.flush();

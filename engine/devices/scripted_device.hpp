@@ -14,9 +14,11 @@
 #include <filesystem>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/core/result.hpp"
+#include "engine/assets/files.hpp"
 #include "engine/devices/haptic_device.hpp"
 
 namespace ikebana::devices {
@@ -37,7 +39,9 @@ inline constexpr double max_trajectory_time_s = 1e9;
 
 // Errors name the file, line and column.
 Result<std::vector<Keyframe>> parse_trajectory(std::string_view text, const std::string& label);
-Result<std::vector<Keyframe>> load_trajectory(const std::filesystem::path& path);
+// `max_bytes`: a recorded session's hand files may be larger than a hand-written trajectory (a noisy
+// position device changes at every 1 kHz tick: about 160 kB a second).
+Result<std::vector<Keyframe>> load_trajectory(const std::filesystem::path& path, std::uintmax_t max_bytes = assets::max_text_file_bytes);
 
 class ScriptedDevice final : public HapticDevice {
 public:
@@ -51,9 +55,12 @@ public:
     [[nodiscard]] double duration_s() const noexcept { return keys_.empty() ? 0.0 : keys_.back().time_s; }
     // Replays a rate device's recording (a SpaceMouse's pushes, which the hand integrates into motion).
     void report_pushes() noexcept { caps_.reports_position = false; }
+    // Replays a device that went away: its reads fail in each [from, to) microsecond span.
+    void away(std::vector<std::pair<std::int64_t, std::int64_t>> spans) { away_ = std::move(spans); }
 
 private:
     std::vector<Keyframe> keys_;
+    std::vector<std::pair<std::int64_t, std::int64_t>> away_;
     Mode mode_;
     DeviceCapabilities caps_;
     glm::dvec3 last_force_{0.0};

@@ -52,12 +52,18 @@ void ScheduledSystem::fire(ecs::Registry& registry) {
 }
 
 std::uint64_t ScheduledSystem::skip_until(std::int64_t t_us) {
-    std::uint64_t skipped = 0;
-    while (next_due_us < t_us) {
-        ++firing;
-        ++skipped;
-        next_due_us = due_us(firing);
-    }
+    if (next_due_us >= t_us) return 0;
+    // The first firing due at or after t, computed (a replay's recorded skip may span hours of 1 kHz
+    // firings): k = t * rate, then corrected for the rounding of due_us.
+    // (split as due_us is, so that no product overflows; the loops below make the floor a ceiling)
+    const auto r = static_cast<std::uint64_t>(rate_mhz);
+    const auto t = static_cast<std::uint64_t>(t_us);
+    std::uint64_t k = (t / 1'000'000'000) * r + ((t % 1'000'000'000) * r) / 1'000'000'000;
+    while (k > 0 && due_us(k - 1) >= t_us) --k;
+    while (due_us(k) < t_us) ++k;
+    const std::uint64_t skipped = k > firing ? k - firing : 0;
+    firing = std::max(firing, k);
+    next_due_us = due_us(firing);
     stats.skipped_firings += skipped;
     return skipped;
 }

@@ -40,12 +40,16 @@ ImU32 mark_colour(TimelineMark::Kind k) {
 // The playback and what the window shows of it. Going back opens the recording again.
 class Player {
 public:
-    Player(WindowStack& stack, const ReplayWindowOptions& o, std::vector<TimelineMark> marks) : stack_(stack), o_(o), marks_(std::move(marks)) {}
+    Player(WindowStack& stack, const ReplayWindowOptions& o) : stack_(stack), o_(o) {}
+    // The playback, and a second one that reads the timeline's insertions ahead of it.
     Result<void> open();
     int run(std::uint32_t& presented);
 
 private:
-    void seek(std::int64_t t_us);
+    Result<void> open_playback();
+    // Toward `target_us_`, at most `budget_us` of simulated time (the window stays responsive).
+    void advance(std::int64_t budget_us);
+    void read_timeline(std::int64_t budget_us);
     void panel();
     void timeline_bar(float width);
 
@@ -53,6 +57,9 @@ private:
     const ReplayWindowOptions& o_;
     std::vector<TimelineMark> marks_;
     std::unique_ptr<SessionPlayback> playback_;
+    std::unique_ptr<SessionPlayback> timeline_; // null once it has been read to the end
+    InsertionWatcher insertions_;
+    std::int64_t target_us_ = 0;
     std::optional<FormScore> replayed_score_;
     std::int64_t end_us_ = 0;
     double play_us_ = 0.0; // where the playback is asked to be (fractions of a microsecond kept)
@@ -69,6 +76,28 @@ private:
 };
 
 Result<void> Player::open() {
+    auto t = SessionPlayback::open(o_.folder);
+    if (!t) return std::move(t).error();
+    timeline_ = std::move(t).value();
+    marks_ = recorded_marks(*timeline_);
+    return open_playback();
+}
+
+// The insertions are seen by playing the recording: a second playback runs ahead, a simulated second
+// or so a frame, and its marks join the cuts' and tilts' as it goes.
+void Player::read_timeline(std::int64_t budget_us) {
+    if (!timeline_) return;
+    timeline_->run_until(std::min(end_us_, timeline_->now_us() + budget_us));
+    std::vector<TimelineMark> seen;
+    insertions_.watch(timeline_->world().main.resource<const systems::ReceivedFrames>()->latest(), seen);
+    for (auto& m : seen) {
+        const auto at = std::upper_bound(marks_.begin(), marks_.end(), m.at_us, [](std::int64_t t, const TimelineMark& k) { return t < k.at_us; });
+        marks_.insert(at, std::move(m));
+    }
+    if (timeline_->now_us() >= end_us_) timeline_.reset();
+}
+
+Result<void> Player::open_playback() {
     auto p = SessionPlayback::open(o_.folder);
     if (!p) return std::move(p).error();
     playback_ = std::move(p).value();
@@ -81,20 +110,26 @@ Result<void> Player::open() {
     return {};
 }
 
-// Forward: the clock runs on (scoring on the way, as the session did). Back: from the start again.
-void Player::seek(std::int64_t t_us) {
-    t_us = std::clamp<std::int64_t>(t_us, 0, end_us_);
-    if (t_us < playback_->now_us()) {
-        if (auto again = open(); !again) return; // read once already: it does not fail now
+// Forward: the clock runs on (scoring on the way, as the session did). Back: the recording is
+// opened again and runs from its start, a budget a frame, until it is there.
+void Player::advance(std::int64_t budget_us) {
+    target_us_ = std::clamp<std::int64_t>(target_us_, 0, end_us_);
+    if (target_us_ < playback_->now_us()) {
+        if (auto again = open_playback(); !again) {
+            std::cerr << "ikebana replay: " << again.error().message << "\n";
+            back_ = true; // the recording went away under the window: nothing more to show
+            return;
+        }
     }
+    const std::int64_t to = std::min(target_us_, playback_->now_us() + budget_us);
     const std::int64_t scored = playback_->info().scored_us;
-    if (playback_->now_us() < scored && scored <= t_us) {
+    if (playback_->now_us() < scored && scored <= to) {
         playback_->run_until(scored);
         if (auto frame = playback_->scored_frame(); frame) {
             if (auto s = playback_->score(**frame); s) replayed_score_ = std::move(s).value();
         }
     }
-    playback_->run_until(t_us);
+    playback_->run_until(to);
 }
 
 // Above the slider: the session's length with each mark as a tick in its colour. A click on the bar
@@ -189,7 +224,14 @@ void Player::panel() {
                            replayed_score_->score);
     }
     ImGui::SameLine();
-    ImGui::TextDisabled("   cuts red, tilts blue, insertions green");
+    // While the playback catches up or the insertions are still being read, that; else the legend.
+    if (playback_->now_us() < target_us_) {
+        ImGui::TextColored(ImVec4(0.75f, 0.4f, 0.0f, 1.0f), "   going to %.1f s", static_cast<double>(target_us_) * 1e-6);
+    } else if (timeline_) {
+        ImGui::TextDisabled("   reading the insertions: %.0f %%", 100.0 * static_cast<double>(timeline_->now_us()) / static_cast<double>(std::max<std::int64_t>(1, end_us_)));
+    } else {
+        ImGui::TextDisabled("   cuts red, tilts blue, insertions green");
+    }
     ImGui::End();
 }
 
@@ -226,14 +268,20 @@ int Player::run(std::uint32_t& presented) {
             panel();
             ui->end_frame();
         }
+        // About a simulated second a frame for catching up (a jump, going back) and as much for the
+        // timeline: on this machine the simulation runs about 12 times real time.
+        constexpr std::int64_t catch_up_us = 1'000'000;
+        const bool catching_up = playback_->now_us() < target_us_;
         if (jump_to_) {
-            seek(*jump_to_);
-            play_us_ = static_cast<double>(playback_->now_us());
+            target_us_ = *jump_to_;
+            play_us_ = static_cast<double>(std::clamp<std::int64_t>(*jump_to_, 0, end_us_));
             jump_to_.reset();
-        } else if (!paused_ && !scrubbing_ && playback_->now_us() < end_us_) {
+        } else if (!paused_ && !scrubbing_ && !catching_up && playback_->now_us() < end_us_) {
             play_us_ = std::min(static_cast<double>(end_us_), play_us_ + dt * speed_ * 1e6);
-            seek(static_cast<std::int64_t>(play_us_));
+            target_us_ = static_cast<std::int64_t>(play_us_);
         }
+        advance(catch_up_us);
+        read_timeline(catch_up_us);
         const auto& prepared = *playback_->world().main.resource<const components::PreparedFrame>();
         stack_.renderer().set_overlay(prepared.overlay);
         const bool want_shot = !o_.screenshot.empty() && o_.frames > 0 && presented + 1 >= o_.frames;
@@ -271,17 +319,7 @@ int Player::run(std::uint32_t& presented) {
 } // namespace
 
 int play_recording(WindowStack& stack, const ReplayWindowOptions& o, std::uint32_t& presented) {
-    // The timeline first: the recording played once through, headless (a few seconds for minutes).
-    const bool tty = isatty(fileno(stderr)) != 0;
-    auto marks = session_timeline(o.folder, [tty](double done, double of) {
-        if (tty) std::fprintf(stderr, "\r\033[Kikebana replay: reading the session's timeline, %.0f of %.0f s", done, of);
-    });
-    if (tty) std::fprintf(stderr, "\r\033[K");
-    if (!marks) {
-        std::cerr << "ikebana replay: " << marks.error().message << "\n";
-        return 2;
-    }
-    Player player(stack, o, std::move(marks).value());
+    Player player(stack, o);
     if (auto opened = player.open(); !opened) {
         std::cerr << "ikebana replay: " << opened.error().message << "\n";
         return 2;

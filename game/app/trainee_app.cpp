@@ -455,7 +455,6 @@ void TraineeSession::store_session(const FormScore& result, const components::Fr
         return;
     }
     if (!progress_ || session_.lesson.empty()) return;
-    if (recorder_) scored_ = std::make_pair(frame.sim_time_us, result.score);
     session_.result = result;
     session_.flowers = flower_outcomes(frame);
     session_.duration_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start_).count();
@@ -464,6 +463,9 @@ void TraineeSession::store_session(const FormScore& result, const components::Fr
         hud.result.push_back("not stored (see the terminal)");
         return;
     }
+    // The recording ends at this score: the frame it was taken from, when one had come (an Enter
+    // before the first frame scores nothing the simulation published).
+    if (recorder_ && !frame.flowers.empty()) scored_ = std::make_pair(frame.sim_time_us, result.score);
     std::printf("ikebana: stored as session %lld in %s\n", static_cast<long long>(session_.id), progress_->path().c_str());
     std::fflush(stdout);
 }

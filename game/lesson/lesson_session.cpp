@@ -5,6 +5,7 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -24,7 +25,10 @@ namespace ikebana::game {
 namespace {
 constexpr const char* file_names[3] = {"left.csv", "right.csv", "commands.csv"};
 constexpr std::int64_t max_session_us = 24ll * 3600 * 1'000'000; // a day: longer is not a lesson
-constexpr std::size_t max_session_commands = 100'000;
+// A window session logs each camera turn it reads (a line a frame while the camera moves): two
+// million is hours of turning at 60 frames a second.
+constexpr std::size_t max_session_commands = 2'000'000;
+constexpr std::uintmax_t max_hand_file_bytes = 512ull << 20; // a noisy position device: ~160 kB a second
 
 std::string hex(std::uint64_t v) {
     char text[24];
@@ -51,11 +55,13 @@ void SessionRecorder::attach(World& world) {
     for (std::size_t hand = 0; hand < 2; ++hand) slots->recorder[hand] = recorders_[hand].get();
     world.trainee.log = files_[2].get();
     world.view.log = files_[2].get();
+    slots->events = files_[2].get();
 }
 
 void SessionRecorder::detach(World& world) {
     auto* slots = world.sim.resource<systems::HandDevices>();
     for (std::size_t hand = 0; hand < 2; ++hand) slots->recorder[hand] = nullptr;
+    slots->events = nullptr;
     world.trainee.log = nullptr;
     world.view.log = nullptr;
 }
@@ -127,8 +133,11 @@ Result<SessionInfo> parse_session(std::string_view text, const std::string& labe
             if (!list) continue;
             auto& into = std::string(key) == "rates" ? info.rates : info.env;
             for (std::size_t i = 0; i < list->size(); ++i) {
-                if (!(*list)[i].is_string() || i >= 64) c.problem("/window/" + std::string(key) + "/" + std::to_string(i), "expected at most 64 texts name=value");
-                else into.push_back((*list)[i].get<std::string>());
+                if (!(*list)[i].is_string() || i >= 64) {
+                    c.problem("/window/" + std::string(key) + "/" + std::to_string(i), "expected at most 64 texts name=value");
+                    break; // one problem says it: a huge array must not make millions
+                }
+                into.push_back((*list)[i].get<std::string>());
             }
         }
         if (const auto* rate = c.array(*window, "/window", "rate_device", false)) {
@@ -181,6 +190,10 @@ Result<std::vector<SessionCommand>> parse_session_commands(std::string_view text
         } else if (kind == "view") {
             c.what = SessionCommand::What::view;
             fits = fits && hand == 0 && std::abs(value) < 1e6;
+        } else if (kind == "gone" || kind == "back") {
+            c.what = kind == "gone" ? SessionCommand::What::gone : SessionCommand::What::back;
+            c.command.hand = static_cast<std::uint8_t>(hand);
+            fits = fits && hand <= 1 && value == 0.0;
         } else if (kind == "skip") {
             c.what = SessionCommand::What::skip;
             fits = fits && hand == 0 && value > static_cast<double>(at) && value <= static_cast<double>(max_session_us) && value == std::floor(value);
@@ -190,7 +203,7 @@ Result<std::vector<SessionCommand>> parse_session_commands(std::string_view text
         if (!fits)
             return make_error(ErrorCode::parse_error, label + ": line " + std::to_string(line_no) +
                                                           ": expected time_us,cut,hand,keep_length_m (hand 0 or 1, a length in metres), time_us,view,0,yaw_rad or "
-                                                          "time_us,skip,0,until_us, times in order");
+                                                          "time_us,skip,0,until_us, time_us,gone|back,hand,0, times in order");
         if (commands.size() >= max_session_commands) return make_error(ErrorCode::parse_error, label + ": line " + std::to_string(line_no) + ": more than " + std::to_string(max_session_commands) + " commands");
         commands.push_back(c);
     }
@@ -232,14 +245,23 @@ Result<std::unique_ptr<SessionPlayback>> SessionPlayback::open(const std::filesy
     for (std::uint8_t hand = 0; hand < 2; ++hand) {
         const auto file = folder / file_names[hand];
         // A hand with no device in the session has its header alone.
-        auto samples = assets::read_text_file(file);
+        auto samples = assets::read_text_file(file, max_hand_file_bytes);
         if (!samples) return std::move(samples).error();
         if (std::count(samples->begin(), samples->end(), '\n') <= 1) continue;
-        auto keys = devices::load_trajectory(file);
+        auto keys = devices::load_trajectory(file, max_hand_file_bytes);
         if (!keys) return std::move(keys).error();
         if (keys->empty()) continue;
         p->samples_[hand] = *keys;
         auto device = std::make_unique<devices::ScriptedDevice>(std::move(keys).value(), devices::ScriptedDevice::Mode::replay, "replay:" + file.string());
+        // Away when the session's device was: from each `gone` to the next `back` (or the end).
+        std::vector<std::pair<std::int64_t, std::int64_t>> away;
+        for (const auto& c : p->commands_) {
+            if (c.command.hand != hand) continue;
+            if (c.what == SessionCommand::What::gone && (away.empty() || away.back().second != std::numeric_limits<std::int64_t>::max()))
+                away.emplace_back(c.at_us, std::numeric_limits<std::int64_t>::max());
+            if (c.what == SessionCommand::What::back && !away.empty() && away.back().second == std::numeric_limits<std::int64_t>::max()) away.back().second = c.at_us;
+        }
+        device->away(std::move(away));
         if (p->info_.rate_device[hand]) device->report_pushes(); // a SpaceMouse's samples are pushes, integrated again
         w.attach_device(hand, std::move(device));
     }
@@ -262,6 +284,8 @@ void SessionPlayback::run_until(std::int64_t t_us) {
         case SessionCommand::What::cut: world_->trainee.push(c.command); break;
         case SessionCommand::What::view: world_->view.yaw_rad.store(c.value); break;
         case SessionCommand::What::skip: clock_->skip_lane(sim_lane_, static_cast<std::int64_t>(c.value)); break;
+        case SessionCommand::What::gone:
+        case SessionCommand::What::back: break; // the replay's device knows (ScriptedDevice::away)
         }
     }
     clock_->run_until(t_us); // the ticks before it, as the recording's clock stood then

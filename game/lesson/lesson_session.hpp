@@ -95,9 +95,10 @@ struct SessionInfo {
 // - cut: the trainee's cut of what `hand` holds, value the length kept (m);
 // - view: the camera's yaw the hands' workspace turned to (rad), hand 0;
 // - skip: a window session's simulation fell behind and its clock dropped the firings from time_us
-//   up to `value` (us), hand 0 (sched::RealtimeConfig::on_skip).
+//   up to `value` (us), hand 0 (sched::RealtimeConfig::on_skip);
+// - gone, back: `hand`'s device went away (a read failed, it was unplugged) and came back; value 0.
 struct SessionCommand {
-    enum class What : std::uint8_t { cut, view, skip };
+    enum class What : std::uint8_t { cut, view, skip, gone, back };
     std::int64_t at_us = 0;
     What what = What::cut;
     systems::TraineeCommand command; // cut

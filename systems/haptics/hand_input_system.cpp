@@ -1,6 +1,7 @@
 #include "systems/haptics/hand_input_system.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "engine/ecs/registry.hpp"
 
@@ -28,11 +29,20 @@ void HandInputSystem::operator()(sched::SystemContext& ctx) {
             devices::HapticDevice* device = cube.hand < 2 ? devices->device[cube.hand] : nullptr;
             if (!device) return;
             const auto sample = device->poll(ctx.time_us);
+            // Said at each change (and a device away from the first tick), hands start disconnected.
+            const auto note = [&](const char* what) {
+                if (!devices->events) return;
+                char line[64];
+                std::snprintf(line, sizeof line, "%lld,%s,%u,0\n", static_cast<long long>(ctx.time_us), what, static_cast<unsigned>(cube.hand));
+                *devices->events << line;
+            };
             if (!sample) {
+                if (input.connected || ctx.firing == 0) note("gone");
                 if (input.connected) ++input.disconnects;
                 input.connected = false;
                 return;
             }
+            if (!input.connected && ctx.firing > 0) note("back");
             input.connected = true;
             if (devices->recorder[cube.hand]) devices->recorder[cube.hand]->record(*sample);
             const double c = std::cos(map.yaw_rad);

@@ -178,3 +178,30 @@ TEST(DeterministicClock, SameInputsGiveBitIdenticalWorld) {
 TEST(DeterministicClock, DifferentInputGivesDifferentWorld) {
     EXPECT_NE(run_world(7, 2.0), run_world(8, 2.0));
 }
+
+// A skip is computed, not stepped (a recorded skip may span hours of 1 kHz firings), and lands on the
+// first firing due at or after its time, as stepping one firing at a time does, for any rate.
+TEST(DeterministicClock, ASkipLandsOnTheFirstFiringDueAtOrAfterItsTimeWithoutSteppingThere) {
+    for (const std::int64_t rate_mhz : {1'000'000ll, 30'000ll, 16'000ll, 100'000ll, 333'333ll, 7ll}) {
+        for (const std::int64_t t : {1ll, 999ll, 1'000ll, 33'333ll, 33'334ll, 1'234'567ll, 62'500'001ll}) {
+            ScheduledSystem stepped;
+            stepped.rate_mhz = rate_mhz;
+            stepped.next_due_us = stepped.due_us(3);
+            stepped.firing = 3;
+            ScheduledSystem computed = stepped;
+            std::uint64_t count = 0;
+            while (stepped.next_due_us < t) {
+                ++stepped.firing;
+                ++count;
+                stepped.next_due_us = stepped.due_us(stepped.firing);
+            }
+            EXPECT_EQ(computed.skip_until(t), count) << rate_mhz << " mHz to " << t << " us";
+            EXPECT_EQ(computed.firing, stepped.firing) << rate_mhz << " mHz to " << t << " us";
+            EXPECT_EQ(computed.next_due_us, stepped.next_due_us);
+        }
+    }
+    ScheduledSystem day;
+    day.rate_mhz = 1'000'000;
+    EXPECT_EQ(day.skip_until(86'400'000'000), 86'400'000u) << "a day of 1 kHz firings, at once";
+    EXPECT_EQ(day.next_due_us, 86'400'000'000);
+}

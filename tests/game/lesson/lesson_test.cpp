@@ -718,10 +718,65 @@ TEST(LessonSession, AWindowSessionsTurnsAndSkipsReplayAtTheirTicks) {
         EXPECT_TRUE(assets::write_text_file(dir / "commands.csv", kept).ok());
         const auto r = replay_lesson_session(dir);
         EXPECT_TRUE(assets::write_text_file(dir / "commands.csv", *commands).ok());
-        return r.ok() ? r->state_hash : 0;
+        EXPECT_TRUE(r.ok()) << r.error().message; // it replays, elsewhere
+        return r.ok() ? r->state_hash : w.sim.state_hash();
     };
     EXPECT_NE(without(",view,"), w.sim.state_hash());
     EXPECT_NE(without(",skip,"), w.sim.state_hash());
+    std::filesystem::remove_all(dir);
+}
+
+// A device that went away in a window session (unplugged, a read failed) is away in the replay for
+// the same ticks: the hand's `connected` and its count of disconnects come out the same.
+TEST(LessonSession, ADeviceThatWentAwayIsAwayInTheReplayForTheSameTicks) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    const auto dir = std::filesystem::temp_directory_path() / "ikebana-away-session-test";
+    std::filesystem::remove_all(dir);
+    auto scene = scene_for_lesson(l);
+    ASSERT_TRUE(scene.ok());
+    auto made = World::create(*scene);
+    ASSERT_TRUE(made.ok()) << made.error().message;
+    World& w = **made;
+    // A hand whose reads fail from 0.4 s to 0.9 s (as an unplugged device's do), moving all along.
+    struct Flaky final : devices::HapticDevice {
+        devices::ScriptedDevice inner{{{0.0, {0.0, 0.0, 0.0}, {0, 0, 0}, 0}, {2.0, {0.05, 0.03, 0.02}, {0, 0, 0}, 0}}, devices::ScriptedDevice::Mode::interpolate, "flaky"};
+        const devices::DeviceCapabilities& capabilities() const override { return inner.capabilities(); }
+        Result<devices::DeviceSample> poll(std::int64_t now_us) override {
+            if (now_us >= 400'000 && now_us < 900'000) return make_error(ErrorCode::device_error, "unplugged");
+            return inner.poll(now_us);
+        }
+        Result<void> send_force(glm::dvec3 f) override { return inner.send_force(f); }
+    };
+    w.attach_device(1, std::make_unique<Flaky>());
+    auto recorder = SessionRecorder::create(dir);
+    ASSERT_TRUE(recorder.ok()) << recorder.error().message;
+    (*recorder)->attach(w);
+    sched::DeterministicClock clock(w.schedule);
+    clock.run_until(1'500'000);
+    const auto& scored = w.main.resource<const systems::ReceivedFrames>()->latest();
+    const auto score = score_form(l, measure_arrangement(scored), footprint(l));
+    ASSERT_TRUE(score.ok());
+    SessionRecorder::WindowRun run;
+    run.scored_frame_us = scored.sim_time_us;
+    clock.run_until(2'000'000);
+    (*recorder)->detach(w);
+    ASSERT_TRUE((*recorder)->finish_window(l, "practice", run, 2'000'000, score->score, w).ok());
+    recorder->reset();
+    const auto commands = assets::read_text_file(dir / "commands.csv");
+    ASSERT_TRUE(commands.ok());
+    EXPECT_NE(commands->find("400000,gone,1,0\n"), std::string::npos) << *commands;
+    EXPECT_NE(commands->find("900000,back,1,0\n"), std::string::npos) << *commands;
+    const auto replayed = replay_lesson_session(dir);
+    ASSERT_TRUE(replayed.ok()) << replayed.error().message;
+    EXPECT_EQ(replayed->state_hash, w.sim.state_hash());
+    EXPECT_TRUE(replayed->parted.empty());
+    // Without the two lines the replay's hand never went away: it parts.
+    std::string kept = *commands;
+    for (const char* line : {"400000,gone,1,0\n", "900000,back,1,0\n"}) kept.erase(kept.find(line), std::string(line).size());
+    ASSERT_TRUE(assets::write_text_file(dir / "commands.csv", kept).ok());
+    const auto unaware = replay_lesson_session(dir);
+    ASSERT_TRUE(unaware.ok()) << unaware.error().message;
+    EXPECT_NE(unaware->state_hash, w.sim.state_hash());
     std::filesystem::remove_all(dir);
 }
 
@@ -751,6 +806,12 @@ TEST(LessonSession, ACommandLineOutOfOrderOrNotACutIsRefusedWithItsFileAndLine) 
     EXPECT_FALSE(parse_session_commands("100,skip,0,150.5\n", "c.csv").ok());   // not a microsecond
     EXPECT_FALSE(parse_session_commands("100,view,1,0.2\n", "c.csv").ok());     // a view has no hand
     EXPECT_FALSE(parse_session_commands("100,view,0,nan\n", "c.csv").ok());
+    const auto away = parse_session_commands("100,gone,1,0\n200,back,1,0\n", "c.csv");
+    ASSERT_TRUE(away.ok()) << away.error().message;
+    EXPECT_EQ((*away)[0].what, SessionCommand::What::gone);
+    EXPECT_EQ((*away)[1].command.hand, 1);
+    EXPECT_FALSE(parse_session_commands("100,gone,2,0\n", "c.csv").ok());
+    EXPECT_FALSE(parse_session_commands("100,back,0,1\n", "c.csv").ok());
 }
 
 TEST(LessonSession, ASessionFileNamesTheFieldItLacks) {
