@@ -6,6 +6,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 
 #include <nlohmann/json.hpp>
@@ -664,6 +665,38 @@ TEST(LessonSession, ADemonstrationOnRecordReplaysToTheSameScoreAndStateHash) {
     std::filesystem::remove_all(dir);
 }
 
+namespace {
+// A window session's recording made on the deterministic clock: `until_enter` runs it up to the
+// trainee's Enter (turning the camera, skipping as the clock's clamp would), the score is taken from
+// the newest frame then, as the window takes it, and the session ends at `end_us`. The score, or none.
+std::optional<double> record_window_session(World& w, const LessonDef& l, const std::filesystem::path& dir, std::int64_t end_us,
+                                            const std::function<void(sched::DeterministicClock&, SessionRecorder&)>& until_enter) {
+    auto recorder = SessionRecorder::create(dir);
+    if (!recorder.ok()) {
+        ADD_FAILURE() << recorder.error().message;
+        return std::nullopt;
+    }
+    (*recorder)->attach(w);
+    sched::DeterministicClock clock(w.schedule);
+    until_enter(clock, **recorder);
+    const auto& scored = w.main.resource<const systems::ReceivedFrames>()->latest();
+    const auto score = score_form(l, measure_arrangement(scored), footprint(l));
+    if (!score.ok()) {
+        ADD_FAILURE() << score.error().message;
+        return std::nullopt;
+    }
+    SessionRecorder::WindowRun run;
+    run.scored_frame_us = scored.sim_time_us;
+    clock.run_until(end_us);
+    (*recorder)->detach(w);
+    if (auto done = (*recorder)->finish_window(l, "practice", run, end_us, score->score, w); !done.ok()) {
+        ADD_FAILURE() << done.error().message;
+        return std::nullopt;
+    }
+    return score->score;
+}
+} // namespace
+
 // A window session's recording: the camera's turn and the clock's skip are on record at their ticks,
 // the score is the published frame's, and the replay reaches the simulation's state. Without the turn
 // (the hand then moves the other way) or the skip (1 kHz firings run that the session dropped) it parts.
@@ -678,30 +711,20 @@ TEST(LessonSession, AWindowSessionsTurnsAndSkipsReplayAtTheirTicks) {
     World& w = **made;
     std::vector<devices::Keyframe> path{{0.0, {0.0, 0.0, 0.0}, {0, 0, 0}, 0}, {3.0, {0.08, 0.05, 0.02}, {0, 0, 0}, 0}};
     w.attach_device(1, std::make_unique<devices::ScriptedDevice>(path, devices::ScriptedDevice::Mode::interpolate, "moving hand"));
-    auto recorder = SessionRecorder::create(dir);
-    ASSERT_TRUE(recorder.ok()) << recorder.error().message;
-    (*recorder)->attach(w);
-    sched::DeterministicClock clock(w.schedule);
-    clock.run_until(1'000'000);
-    w.view.yaw_rad.store(0.6); // the trainee turns the camera
-    clock.run_until(1'500'000);
-    (*recorder)->commands() << 1'500'000 << ",skip,0," << 1'700'000 << "\n"; // as the window's on_skip writes it
-    clock.skip_lane(0, 1'700'000);
-    clock.run_until(2'000'000);
-    const auto& scored = w.main.resource<const systems::ReceivedFrames>()->latest();
-    const auto score = score_form(l, measure_arrangement(scored), footprint(l));
-    ASSERT_TRUE(score.ok());
-    SessionRecorder::WindowRun run;
-    run.scored_frame_us = scored.sim_time_us;
-    clock.run_until(2'500'000);
-    (*recorder)->detach(w);
-    ASSERT_TRUE((*recorder)->finish_window(l, "practice", run, 2'500'000, score->score, w).ok());
-    recorder->reset();
+    const auto score = record_window_session(w, l, dir, 2'500'000, [&](sched::DeterministicClock& clock, SessionRecorder& recorder) {
+        clock.run_until(1'000'000);
+        w.view.yaw_rad.store(0.6); // the trainee turns the camera
+        clock.run_until(1'500'000);
+        recorder.commands() << 1'500'000 << ",skip,0," << 1'700'000 << "\n"; // as the window's on_skip writes it
+        clock.skip_lane(0, 1'700'000);
+        clock.run_until(2'000'000);
+    });
+    ASSERT_TRUE(score.has_value());
 
     const auto replayed = replay_lesson_session(dir);
     ASSERT_TRUE(replayed.ok()) << replayed.error().message;
     EXPECT_EQ(replayed->state_hash, w.sim.state_hash());
-    EXPECT_EQ(replayed->score.score, score->score);
+    EXPECT_EQ(replayed->score.score, *score);
     EXPECT_TRUE(replayed->parted.empty());
     const auto commands = assets::read_text_file(dir / "commands.csv");
     ASSERT_TRUE(commands.ok());
@@ -748,20 +771,8 @@ TEST(LessonSession, ADeviceThatWentAwayIsAwayInTheReplayForTheSameTicks) {
         Result<void> send_force(glm::dvec3 f) override { return inner.send_force(f); }
     };
     w.attach_device(1, std::make_unique<Flaky>());
-    auto recorder = SessionRecorder::create(dir);
-    ASSERT_TRUE(recorder.ok()) << recorder.error().message;
-    (*recorder)->attach(w);
-    sched::DeterministicClock clock(w.schedule);
-    clock.run_until(1'500'000);
-    const auto& scored = w.main.resource<const systems::ReceivedFrames>()->latest();
-    const auto score = score_form(l, measure_arrangement(scored), footprint(l));
-    ASSERT_TRUE(score.ok());
-    SessionRecorder::WindowRun run;
-    run.scored_frame_us = scored.sim_time_us;
-    clock.run_until(2'000'000);
-    (*recorder)->detach(w);
-    ASSERT_TRUE((*recorder)->finish_window(l, "practice", run, 2'000'000, score->score, w).ok());
-    recorder->reset();
+    const auto score = record_window_session(w, l, dir, 2'000'000, [](sched::DeterministicClock& clock, SessionRecorder&) { clock.run_until(1'500'000); });
+    ASSERT_TRUE(score.has_value());
     const auto commands = assets::read_text_file(dir / "commands.csv");
     ASSERT_TRUE(commands.ok());
     EXPECT_NE(commands->find("400000,gone,1,0\n"), std::string::npos) << *commands;
