@@ -290,8 +290,7 @@ int TraineeSession::open() {
     if (showing_start_) {
         auto lessons = load_shipped_lessons();
         if (lessons) start_model_.lessons = std::move(lessons).value();
-        // The school forms first; free practice against the paper's sample last.
-        std::stable_partition(start_model_.lessons.begin(), start_model_.lessons.end(), [](const LessonDef& l) { return l.scoring == "form"; });
+        order_for_newcomers(start_model_.lessons);
         start_model_.hands = device_names_;
     } else if (const int code = enter_content(); code != 0) {
         return code;

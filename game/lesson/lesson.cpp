@@ -147,7 +147,7 @@ Result<LessonDef> parse_lesson(std::string_view text, const std::string& label) 
     JsonChecker c(label);
     const auto root = c.parse_object(text);
     if (!root) return c.error();
-    c.no_unknown_keys(*root, "", {"format", "id", "title", "school", "source", "summary", "scoring", "scene", "container", "kenzan",
+    c.no_unknown_keys(*root, "", {"format", "id", "title", "school", "source", "summary", "level", "scoring", "scene", "container", "kenzan",
                                   "materials", "main_stems", "supporting", "rules", "points", "notes"});
     const auto format = c.string(*root, "", "format");
     if (format && *format != "ikebana-lesson/1") c.problem("/format", "expected \"ikebana-lesson/1\", got \"" + *format + "\"");
@@ -158,6 +158,7 @@ Result<LessonDef> parse_lesson(std::string_view text, const std::string& label) 
     l.school = c.string(*root, "", "school").value_or("");
     l.source = c.string(*root, "", "source").value_or("");
     l.summary = c.string(*root, "", "summary", false).value_or("");
+    l.level = static_cast<int>(c.integer(*root, "", "level", 1, 5, false).value_or(3));
     l.scoring = c.choice(*root, "", "scoring", {"form", "sample"}, false).value_or("form");
     const bool form = l.scoring == "form";
     if (form) {
@@ -356,6 +357,14 @@ std::string rule_name(RuleKind kind) { return rule_names.at(static_cast<std::siz
 glm::dvec3 lesson_direction(double tilt_rad, double azimuth_rad) {
     // The viewer sits at -y looking toward +y: front is -y, the viewer's left is -x.
     return {-std::sin(tilt_rad) * std::sin(azimuth_rad), -std::sin(tilt_rad) * std::cos(azimuth_rad), std::cos(tilt_rad)};
+}
+
+void order_for_newcomers(std::vector<LessonDef>& lessons) {
+    std::stable_sort(lessons.begin(), lessons.end(), [](const LessonDef& a, const LessonDef& b) {
+        const bool form_a = a.scoring == "form", form_b = b.scoring == "form";
+        if (form_a != form_b) return form_a;
+        return a.level < b.level;
+    });
 }
 
 } // namespace ikebana::game

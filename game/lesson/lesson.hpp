@@ -77,6 +77,8 @@ struct LessonDef {
     std::string school;
     std::string source; // where its numbers come from
     std::string summary; // one or two sentences the trainee reads first
+    // 1 (a first lesson) to 5: the start screen lists the forms by it, so a newcomer starts on a 1.
+    int level = 3;
     // "form": scored against main stems and rules. "sample": free practice, scored against a scene's
     // sample as the paper's Figure 2 does.
     std::string scoring = "form";
@@ -107,6 +109,9 @@ Result<LessonDef> load_lesson_file(const std::filesystem::path& path);
 // An id ("sogetsu_basic_upright") is looked up in <assets>/lessons/; anything with a slash or .json is a path.
 Result<LessonDef> load_lesson(const std::string& id_or_path);
 // The shipped lessons (every file in <assets>/lessons/), by id; the first file that fails stops it.
+// The order a start screen lists lessons in: the school forms by level (a newcomer's first choice is
+// a first lesson), keeping their order within a level; free practice against a sample last.
+void order_for_newcomers(std::vector<LessonDef>& lessons);
 Result<std::vector<LessonDef>> load_shipped_lessons();
 
 // A main stem's nominal length (its targets' product down the chain of roles), metres.

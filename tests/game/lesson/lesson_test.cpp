@@ -100,6 +100,26 @@ std::filesystem::path write_temp(const std::string& name, const std::string& tex
 }
 } // namespace
 
+// A newcomer's start screen opens on a first lesson: the forms by level, free practice last.
+TEST(LessonFile, ANewcomerIsOfferedAFirstLessonFirstAndFreePracticeLast) {
+    auto lessons = load_shipped_lessons();
+    ASSERT_TRUE(lessons.ok()) << lessons.error().message;
+    order_for_newcomers(*lessons);
+    ASSERT_GE(lessons->size(), 5u);
+    EXPECT_EQ(lessons->front().id, "sogetsu_basic_upright");
+    EXPECT_EQ(lessons->front().level, 1);
+    EXPECT_EQ(lessons->back().id, "free_practice");
+    for (std::size_t i = 1; i + 1 < lessons->size(); ++i) EXPECT_LE((*lessons)[i - 1].level, (*lessons)[i].level) << (*lessons)[i].id;
+    const auto text = assets::read_text_file(asset_dir() / "lessons" / "sogetsu_basic_upright.json");
+    ASSERT_TRUE(text.ok());
+    std::string steep = *text;
+    steep.replace(steep.find("\"level\": 1"), 10, "\"level\": 9");
+    const auto refused = parse_lesson(steep, "steep.json");
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("steep.json"), std::string::npos);
+    EXPECT_NE(refused.error().message.find("/level"), std::string::npos) << refused.error().message;
+}
+
 TEST(LessonFile, EveryShippedLessonLoadsWithWhatItNames) {
     const auto lessons = load_shipped_lessons();
     ASSERT_TRUE(lessons.ok()) << lessons.error().message;
