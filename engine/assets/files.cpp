@@ -1,8 +1,13 @@
 #include "engine/assets/files.hpp"
 
+#include <atomic>
 #include <cerrno>
+#include <condition_variable>
 #include <cstring>
+#include <mutex>
 #include <streambuf>
+#include <string>
+#include <thread>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -49,18 +54,16 @@ const char* kind_of(mode_t mode) {
     return "not a regular file";
 }
 
-// A buffered ostream over a descriptor it owns; flush() (sync) writes the buffer out.
-class DescriptorBuffer final : public std::streambuf {
+// A 64 KiB output buffer: full or flushed (sync), it is drained, by writing or by handing it over.
+class ChunkBuffer : public std::streambuf {
 public:
-    explicit DescriptorBuffer(int fd) : fd_(fd) { setp(buffer_, buffer_ + sizeof buffer_); }
-    DescriptorBuffer(const DescriptorBuffer&) = delete;
-    DescriptorBuffer& operator=(const DescriptorBuffer&) = delete;
-    ~DescriptorBuffer() override {
-        sync();
-        ::close(fd_);
-    }
+    ChunkBuffer() { setp(buffer_, buffer_ + sizeof buffer_); }
+    ChunkBuffer(const ChunkBuffer&) = delete;
+    ChunkBuffer& operator=(const ChunkBuffer&) = delete;
 
 protected:
+    // False when the bytes (or earlier ones) could not be written.
+    virtual bool drain(const char* data, std::size_t size) = 0;
     int_type overflow(int_type c) override {
         if (sync() != 0) return traits_type::eof();
         if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
@@ -69,23 +72,108 @@ protected:
         return c;
     }
     int sync() override {
-        const bool ok = write_all(fd_, pbase(), static_cast<std::size_t>(pptr() - pbase()));
+        const bool ok = drain(pbase(), static_cast<std::size_t>(pptr() - pbase()));
         setp(buffer_, buffer_ + sizeof buffer_);
         return ok ? 0 : -1;
     }
 
 private:
-    int fd_;
     char buffer_[1 << 16];
 };
 
+// A buffered ostream over a descriptor it owns; flush() (sync) writes the buffer out.
+class DescriptorBuffer final : public ChunkBuffer {
+public:
+    explicit DescriptorBuffer(int fd) : fd_(fd) {}
+    ~DescriptorBuffer() override {
+        sync();
+        ::close(fd_);
+    }
+
+protected:
+    bool drain(const char* data, std::size_t size) override { return write_all(fd_, data, size); }
+
+private:
+    int fd_;
+};
+
+// The same, for a thread that must not wait for the disk (the 1 kHz loop): a full buffer or a flush
+// hands the bytes to a writer thread of its own, which writes them. A failed write shows at the next
+// flush; the destructor hands over what is left, waits for the writer and closes.
+class BackgroundBuffer final : public ChunkBuffer {
+public:
+    explicit BackgroundBuffer(int fd) : fd_(fd), writer_([this] { write_out(); }) {}
+    ~BackgroundBuffer() override {
+        sync();
+        {
+            const std::lock_guard lock(mutex_);
+            stop_ = true;
+        }
+        wake_.notify_one();
+        writer_.join();
+        ::close(fd_);
+    }
+
+protected:
+    bool drain(const char* data, std::size_t size) override {
+        if (size > 0) {
+            {
+                const std::lock_guard lock(mutex_);
+                pending_.append(data, size);
+            }
+            wake_.notify_one();
+        }
+        return !failed_.load();
+    }
+
+private:
+    void write_out() {
+        std::string out;
+        for (;;) {
+            {
+                std::unique_lock lock(mutex_);
+                wake_.wait(lock, [&] { return stop_ || !pending_.empty(); });
+                if (pending_.empty() && stop_) return;
+                out.swap(pending_);
+            }
+            if (!write_all(fd_, out.data(), out.size())) failed_.store(true);
+            out.clear();
+        }
+    }
+
+    int fd_;
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::string pending_;
+    bool stop_ = false;
+    std::atomic<bool> failed_{false};
+    std::thread writer_; // last: it starts when everything it uses is there
+};
+
+template <typename Buffer>
 class DescriptorStream final : public std::ostream {
 public:
     explicit DescriptorStream(int fd) : std::ostream(nullptr), buffer_(fd) { rdbuf(&buffer_); }
 
 private:
-    DescriptorBuffer buffer_;
+    Buffer buffer_;
 };
+
+// Created or truncated in place, never through a symbolic link, never a device or FIFO.
+Result<int> open_for_writing(const std::filesystem::path& path) {
+    if (auto ok = check_output_path(path); !ok) return std::move(ok).error();
+    // O_NOFOLLOW: a link planted after the check is refused; O_NONBLOCK: a FIFO cannot hang the open.
+    Descriptor file(::open(path.c_str(), O_WRONLY | O_CREAT | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0644));
+    if (file.fd < 0) return os_error(path, "cannot be opened for writing", errno);
+    struct stat info {};
+    if (::fstat(file.fd, &info) != 0) return os_error(path, "cannot be examined", errno);
+    if (!S_ISREG(info.st_mode)) {
+        return make_error(ErrorCode::io_error, path.string() + ": is " + kind_of(info.st_mode) + ", not a file; refusing to write to it");
+    }
+    if (::ftruncate(file.fd, 0) != 0) return os_error(path, "cannot be truncated", errno);
+    if (::fcntl(file.fd, F_SETFL, ::fcntl(file.fd, F_GETFL) & ~O_NONBLOCK) != 0) return os_error(path, "cannot be set up", errno);
+    return file.release();
+}
 } // namespace
 
 Result<std::string> read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes) {
@@ -167,18 +255,15 @@ Result<void> write_text_file(const std::filesystem::path& path, const std::strin
 }
 
 Result<std::unique_ptr<std::ostream>> open_output_stream(const std::filesystem::path& path) {
-    if (auto ok = check_output_path(path); !ok) return std::move(ok).error();
-    // O_NOFOLLOW: a link planted after the check is refused; O_NONBLOCK: a FIFO cannot hang the open.
-    Descriptor file(::open(path.c_str(), O_WRONLY | O_CREAT | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0644));
-    if (file.fd < 0) return os_error(path, "cannot be opened for writing", errno);
-    struct stat info {};
-    if (::fstat(file.fd, &info) != 0) return os_error(path, "cannot be examined", errno);
-    if (!S_ISREG(info.st_mode)) {
-        return make_error(ErrorCode::io_error, path.string() + ": is " + kind_of(info.st_mode) + ", not a file; refusing to write to it");
-    }
-    if (::ftruncate(file.fd, 0) != 0) return os_error(path, "cannot be truncated", errno);
-    if (::fcntl(file.fd, F_SETFL, ::fcntl(file.fd, F_GETFL) & ~O_NONBLOCK) != 0) return os_error(path, "cannot be set up", errno);
-    return std::unique_ptr<std::ostream>(std::make_unique<DescriptorStream>(file.release()));
+    auto fd = open_for_writing(path);
+    if (!fd) return std::move(fd).error();
+    return std::unique_ptr<std::ostream>(std::make_unique<DescriptorStream<DescriptorBuffer>>(*fd));
+}
+
+Result<std::unique_ptr<std::ostream>> open_background_output_stream(const std::filesystem::path& path) {
+    auto fd = open_for_writing(path);
+    if (!fd) return std::move(fd).error();
+    return std::unique_ptr<std::ostream>(std::make_unique<DescriptorStream<BackgroundBuffer>>(*fd));
 }
 
 Result<void> create_output_folder(const std::filesystem::path& path) {

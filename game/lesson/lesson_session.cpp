@@ -42,7 +42,8 @@ Result<std::unique_ptr<SessionRecorder>> SessionRecorder::create(const std::file
     auto recorder = std::unique_ptr<SessionRecorder>(new SessionRecorder());
     recorder->folder_ = folder;
     for (int i = 0; i < 3; ++i) {
-        auto file = assets::open_output_stream(folder / file_names[i]);
+        // Written on the 1 kHz thread: the disk is waited for by the stream's own writer, not by it.
+        auto file = assets::open_background_output_stream(folder / file_names[i]);
         if (!file) return std::move(file).error();
         recorder->files_[i] = std::move(file).value();
     }
