@@ -9,6 +9,34 @@ namespace ikebana::systems {
 
 using namespace components;
 
+std::vector<double> moved_bends(const StemRestShape& rest, double cut_m, double keep) {
+    const auto& l = rest.segment_length_m;
+    const auto& angle = rest.hinge_angle_rad;
+    if (angle.empty() || angle.size() + 1 != l.size()) return angle;
+    // Hinge j sits at the top of segment j; its curvature spreads over half of each segment beside it.
+    std::vector<double> at(angle.size()), curvature(angle.size());
+    double s = 0.0;
+    for (std::size_t j = 0; j < angle.size(); ++j) {
+        s += l[j];
+        at[j] = s;
+        curvature[j] = angle[j] / std::max(0.5 * (l[j] + l[j + 1]), 1e-12);
+    }
+    const auto curvature_at = [&](double x) {
+        if (x <= at.front()) return curvature.front();
+        if (x >= at.back()) return curvature.back();
+        const std::size_t j = static_cast<std::size_t>(std::upper_bound(at.begin(), at.end(), x) - at.begin());
+        const double t = (x - at[j - 1]) / std::max(at[j] - at[j - 1], 1e-12);
+        return curvature[j - 1] + t * (curvature[j] - curvature[j - 1]);
+    };
+    std::vector<double> moved(angle.size());
+    double from = cut_m;
+    for (std::size_t j = 0; j < angle.size(); ++j) {
+        from += l[j] * keep;
+        moved[j] = curvature_at(from) * 0.5 * (l[j] + l[j + 1]) * keep;
+    }
+    return moved;
+}
+
 void StemCuttingSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
     r.view<CutRequest, StemPoints, StemRestShape, StemSprings, InsertionHistory>().each(
@@ -38,6 +66,11 @@ void StemCuttingSystem::operator()(sched::SystemContext& ctx) {
             const double head = points.mass_kg.back() - 0.5 * stem_share;
             for (auto& m : points.mass_kg) m *= keep;
             points.mass_kg.back() = 0.5 * stem_share * keep + head;
+            // The rest shape's bends stay where they are on the stem, not at the same point numbers: a
+            // branch bent 150 mm below its tip is still bent there after its bottom is cut (the points
+            // were laid anew closer together). Curvature (a hinge's angle over its share of length) is
+            // carried over by arc length, and the new hinges take it over their shorter share.
+            rest.hinge_angle_rad = moved_bends(rest, cut.length_m, keep);
             for (auto& l : rest.segment_length_m) l *= keep;
             for (auto& k : springs.axial_n_per_m) k /= keep;
             for (auto& k : springs.hinge_nm_per_rad) k /= keep;

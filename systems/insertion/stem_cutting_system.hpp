@@ -2,14 +2,19 @@
 // Cuts the stem end (section 1: cutting is part of the simulator). The stem keeps its segment count
 // and gets shorter: every rest length shrinks in proportion, the spring constants follow (axial E A / l,
 // hinge E I / l), the removed length's mass goes, and the points are laid along the old shape from the
-// new bottom. The end is fresh: not broken, no insertions, no holes; the flower's lifetime count stays.
+// new bottom; its bends stay where they were on the stem (moved_bends). The end is fresh: not broken, no insertions, no holes; the flower's lifetime count stays.
 #include <string_view>
+#include <vector>
 
 #include "components/insertion.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/system.hpp"
 
 namespace ikebana::systems {
+
+// The rest shape's hinge angles once `cut_m` is cut off the bottom and `keep` of the length stays (the
+// same number of hinges, closer together): each bend stays where it was on the stem, as curvature.
+std::vector<double> moved_bends(const components::StemRestShape& rest, double cut_m, double keep);
 
 struct StemCuttingSystem {
     static constexpr std::string_view name = "stem_cutting";
