@@ -89,6 +89,12 @@ struct Bending {
     double force_n;             // F^b (Eq. 5), felt by both hands
     double permanent_set_rad;   // the species' threshold (bending beyond it stays)
     double set_applied_rad;     // how much permanent set this flower has taken so far
+    // The bend is counted from how the wrists were rolled when both hands came together on the stem
+    // (two devices are never held at the same roll), and follows them at a wrist's speed: a stem
+    // taken by a second hand rolled half a turn from the first is not bent half a turn in a tick.
+    bool hands_together;        // both hands held it, tips together, at the last tick
+    double roll_at_start_rad;   // roll_left - roll_right when they came together
+    double bent_rad;            // pi - theta as the stem follows the wrists
 };
 
 // The paper's multi-rate force scheme (section 2.3), per hand: the force is checked at 16 Hz,

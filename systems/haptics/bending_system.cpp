@@ -37,18 +37,35 @@ void BendingSystem::operator()(sched::SystemContext& ctx) {
         b.active = false;
         b.force_n = 0.0;
     });
-    if (!hands[0] || !hands[1]) return;
+    if (!hands[0] || !hands[1]) {
+        r.view<Bending>().each([](ecs::Entity, Bending& b) { b.hands_together = false; });
+        return;
+    }
     const Hand& left = *hands[0];
     const Hand& right = *hands[1];
     const ecs::Entity held = left.grip->held;
-    if (held.is_null() || held != right.grip->held) return;
-    if (glm::length(left.proxy->position_m - right.proxy->position_m) > tips_together_m) return;
+    const bool together = !held.is_null() && held == right.grip->held &&
+                          glm::length(left.proxy->position_m - right.proxy->position_m) <= tips_together_m;
+    // Only the flower both hands hold together is being bent; the others' wrists are apart.
+    r.view<Bending>().each([&](ecs::Entity flower, Bending& b) {
+        if (!together || flower != held) b.hands_together = false;
+    });
+    if (!together) return;
     auto* points = r.try_get<StemPoints>(held);
     auto* rest = r.try_get<StemRestShape>(held);
     const auto* springs = r.try_get<const StemSprings>(held);
     auto* bend = r.try_get<Bending>(held);
     if (!points || !rest || !springs || !bend || points->position_m.size() < 3) return;
-    const double theta = M_PI - std::min(std::abs(left.input->rotation_rad.x - right.input->rotation_rad.x), M_PI - 1e-3);
+    const double roll = left.input->rotation_rad.x - right.input->rotation_rad.x;
+    if (!bend->hands_together) {
+        bend->hands_together = true;
+        bend->roll_at_start_rad = roll;
+        bend->bent_rad = 0.0;
+    }
+    const double wanted = std::min(std::abs(roll - bend->roll_at_start_rad), M_PI - 1e-3);
+    const double step = max_bend_rad_s * ctx.dt_s;
+    bend->bent_rad = std::clamp(wanted, bend->bent_rad - step, bend->bent_rad + step);
+    const double theta = M_PI - bend->bent_rad;
     if (M_PI - theta < 1e-3) return;
 
     // C: the stem point nearest the middle of the two hands; A and B: L/2 of rest length either side.

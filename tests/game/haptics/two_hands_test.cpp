@@ -11,6 +11,7 @@
 #include "game/world/summary.hpp"
 #include "game/world/world.hpp"
 #include "scripted_hands.hpp"
+#include "systems/haptics/bending_system.hpp"
 #include "systems/haptics/hand_devices.hpp"
 #include "systems/haptics/hand_input_system.hpp"
 #include "systems/presentation/frame_channel.hpp"
@@ -188,7 +189,7 @@ struct BendRun {
     glm::dvec3 left_force{0.0};
     glm::dvec3 right_force{0.0};
 };
-BendRun bend_branch(double roll) {
+BendRun bend_branch(double roll, double roll_at_start = 0.0) {
     SceneDef scene{};
     scene.seed = 1;
     scene.gravity_m_s2 = {0, 0, -9.80665};
@@ -202,18 +203,18 @@ BendRun bend_branch(double roll) {
     auto& w = *run.w;
     const glm::dvec3 a = point(w, 11);
     const glm::dvec3 b = point(w, 13);
-    auto script6 = [](glm::dvec3 p, double roll_to) {
+    auto script6 = [](glm::dvec3 p, double roll_from, double roll_to) {
         std::ostringstream csv;
         csv << "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n"
-            << "0," << p.x << "," << p.y << "," << p.z << ",0,0,0,1\n"
-            << "0.5," << p.x << "," << p.y << ",0.1,0,0,0,1\n"
+            << "0," << p.x << "," << p.y << "," << p.z << "," << roll_from << ",0,0,1\n"
+            << "0.5," << p.x << "," << p.y << ",0.1," << roll_from << ",0,0,1\n"
             << "1.0," << p.x << "," << p.y << ",0.1," << roll_to << ",0,0,1\n"
             << "2.0," << p.x << "," << p.y << ",0.1," << roll_to << ",0,0,1\n"
-            << "2.1," << p.x << "," << p.y << ",0.1,0,0,0,0\n";
+            << "2.1," << p.x << "," << p.y << ",0.1," << roll_from << ",0,0,0\n";
         return std::make_unique<devices::ScriptedDevice>(*devices::parse_trajectory(csv.str(), "bend"), devices::ScriptedDevice::Mode::interpolate);
     };
-    w.attach_device(0, script6(a, roll));
-    w.attach_device(1, script6(b, 0.0));
+    w.attach_device(0, script6(a, roll_at_start, roll_at_start + roll));
+    w.attach_device(1, script6(b, 0.0, 0.0));
     for (double angle : w.sim.get<StemRestShape>(w.flowers[0].entity).hinge_angle_rad) run.total_rest_before += angle;
     sched::DeterministicClock clock(w.schedule);
     clock.run_for_us(1'500'000);
@@ -250,6 +251,56 @@ TEST(TwoHands, BendingPastTheThresholdLeavesAPermanentSet) {
     EXPECT_FALSE(run.w->sim.get<Bending>(run.w->flowers[0].entity).active) << "released";
     auto gentle = bend_branch(0.15); // 8.6 degrees: springs back
     EXPECT_NEAR(total_rest(*gentle.w), gentle.total_rest_before, 1e-12);
+}
+
+// Two devices are never held at the same roll: a second hand that takes the stem rolled two radians
+// from the first does not bend it two radians in a tick (that flung a cherry branch kilometres). The
+// bend counts from the rolls the hands had when they came together, and follows them at a wrist's pace.
+TEST(TwoHands, ABendCountsFromTheWristsAsTheyCameTogether) {
+    auto run = bend_branch(0.5, 2.0);
+    ASSERT_TRUE(run.during.active);
+    EXPECT_NEAR(run.during.theta_rad, M_PI - 0.5, 1e-9) << "rolled 0.5 rad since the hands came together";
+    const double set = total_rest(*run.w) - run.total_rest_before;
+    EXPECT_NEAR(set, 0.5 - 12.0 * M_PI / 180.0, 1e-6);
+    for (const auto& x : run.w->sim.get<StemPoints>(run.w->flowers[0].entity).position_m) {
+        EXPECT_LT(glm::length(x - glm::dvec3{0.1, 0.1, 0.0}), 0.5) << "the branch stays within reach";
+    }
+}
+
+TEST(TwoHands, ABendFollowsTheWristsAtAWristsPace) {
+    // The left device's reading jumps a whole radian between two ticks (a gimbal's glitch, a dropped
+    // packet): the stem is bent at max_bend_rad_s toward it, not at once.
+    SceneDef scene{};
+    scene.seed = 1;
+    scene.gravity_m_s2 = {0, 0, -9.80665};
+    scene.kenzan_layout = "standard";
+    scene.kenzan_position_m = {0, 0, 0.008};
+    scene.flowers.push_back({"cherry_branch", Placement::lying, {0.1, 0.1, 0.0}, {1, 0, 0}, 0.0});
+    scene.hands.push_back({0, {0.1, 0.2, 0.1}, 0.02, ""});
+    scene.hands.push_back({1, {0.2, 0.2, 0.1}, 0.02, ""});
+    auto w = std::move(World::create(scene)).value();
+    const glm::dvec3 a = point(*w, 11), b = point(*w, 13);
+    auto device = [](glm::dvec3 p, double jump_to) {
+        std::ostringstream csv;
+        csv << "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n"
+            << "0," << p.x << "," << p.y << "," << p.z << ",0,0,0,1\n"
+            << "0.5," << p.x << "," << p.y << ",0.1,0,0,0,1\n"
+            << "0.6," << p.x << "," << p.y << ",0.1,0,0,0,1\n"
+            << "0.601," << p.x << "," << p.y << ",0.1," << jump_to << ",0,0,1\n"
+            << "2.0," << p.x << "," << p.y << ",0.1," << jump_to << ",0,0,1\n";
+        return std::make_unique<devices::ScriptedDevice>(*devices::parse_trajectory(csv.str(), "jump"), devices::ScriptedDevice::Mode::interpolate);
+    };
+    w->attach_device(0, device(a, 1.0));
+    w->attach_device(1, device(b, 0.0));
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(611'000);
+    const systems::BendingSystem bending;
+    const auto& during = w->sim.get<Bending>(w->flowers[0].entity);
+    ASSERT_TRUE(during.active);
+    EXPECT_LE(M_PI - during.theta_rad, bending.max_bend_rad_s * 0.011 + 1e-9) << "10 ms after the jump";
+    EXPECT_GT(M_PI - during.theta_rad, 0.0);
+    clock.run_for_us(600'000);
+    EXPECT_NEAR(w->sim.get<Bending>(w->flowers[0].entity).theta_rad, M_PI - 1.0, 1e-9) << "caught up";
 }
 
 // The main lane hears of it when a device goes away and when it comes back.
