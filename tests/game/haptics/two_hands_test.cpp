@@ -189,7 +189,8 @@ struct BendRun {
     glm::dvec3 left_force{0.0};
     glm::dvec3 right_force{0.0};
 };
-BendRun bend_branch(double roll, double roll_at_start = 0.0) {
+// A cherry branch lying on the table, and two hands above it.
+std::unique_ptr<World> branch_and_two_hands() {
     SceneDef scene{};
     scene.seed = 1;
     scene.gravity_m_s2 = {0, 0, -9.80665};
@@ -198,8 +199,11 @@ BendRun bend_branch(double roll, double roll_at_start = 0.0) {
     scene.flowers.push_back({"cherry_branch", Placement::lying, {0.1, 0.1, 0.0}, {1, 0, 0}, 0.0});
     scene.hands.push_back({0, {0.1, 0.2, 0.1}, 0.02, ""});
     scene.hands.push_back({1, {0.2, 0.2, 0.1}, 0.02, ""});
+    return std::move(World::create(scene)).value();
+}
+BendRun bend_branch(double roll, double roll_at_start = 0.0) {
     BendRun run;
-    run.w = std::move(World::create(scene)).value();
+    run.w = branch_and_two_hands();
     auto& w = *run.w;
     const glm::dvec3 a = point(w, 11);
     const glm::dvec3 b = point(w, 13);
@@ -270,15 +274,7 @@ TEST(TwoHands, ABendCountsFromTheWristsAsTheyCameTogether) {
 TEST(TwoHands, ABendFollowsTheWristsAtAWristsPace) {
     // The left device's reading jumps a whole radian between two ticks (a gimbal's glitch, a dropped
     // packet): the stem is bent at max_bend_rad_s toward it, not at once.
-    SceneDef scene{};
-    scene.seed = 1;
-    scene.gravity_m_s2 = {0, 0, -9.80665};
-    scene.kenzan_layout = "standard";
-    scene.kenzan_position_m = {0, 0, 0.008};
-    scene.flowers.push_back({"cherry_branch", Placement::lying, {0.1, 0.1, 0.0}, {1, 0, 0}, 0.0});
-    scene.hands.push_back({0, {0.1, 0.2, 0.1}, 0.02, ""});
-    scene.hands.push_back({1, {0.2, 0.2, 0.1}, 0.02, ""});
-    auto w = std::move(World::create(scene)).value();
+    auto w = branch_and_two_hands();
     const glm::dvec3 a = point(*w, 11), b = point(*w, 13);
     auto device = [](glm::dvec3 p, double jump_to) {
         std::ostringstream csv;
