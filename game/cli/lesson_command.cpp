@@ -97,6 +97,13 @@ int check_lesson_files(const std::vector<std::string>& files) {
             std::cerr << lesson.error().message << "\n";
             continue;
         }
+        // `lesson demo ID` and the start screen find a lesson by its id, as lessons/<id>.json.
+        if (const std::string stem = std::filesystem::path(file).stem().string(); lesson->id != stem) {
+            ++bad;
+            std::cerr << std::filesystem::path(file).filename().string() << ": /id: \"" << lesson->id << "\" is not the file's name (" << stem
+                      << "): a lesson is found by its id, as lessons/<id>.json; make them agree\n";
+            continue;
+        }
         std::printf("%s: ok (%s: %s; %zu rule(s))\n", file.c_str(), lesson->id.c_str(), roles_of(*lesson).c_str(), lesson->rules.size());
     }
     if (bad > 0) std::cerr << bad << " of " << files.size() << " lesson file(s) have problems\n";
@@ -114,7 +121,8 @@ int score_lesson(const std::string& lesson_name, const std::string& arrangement_
     }
     FormScore result;
     if (lesson->scoring == "sample") {
-        const auto scene = load_scene(asset_path(lesson->scene));
+        const auto file = named_from(lesson->file, lesson->scene);
+        const auto scene = file ? load_scene(*file) : Result<SceneDef>(file.error());
         if (!scene) {
             std::cerr << who << scene.error().message << "\n";
             return 2;

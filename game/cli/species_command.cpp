@@ -15,25 +15,38 @@ int check_species_files(const std::vector<std::string>& files) {
         const auto species = load_species_file(file);
         if (species) {
             // Meshes are checked too: the app would draw a placeholder, but a designer wants to know.
+            bool all_ok = true;
             std::vector<std::pair<std::string, std::string>> meshes;
             if (!species->head_mesh.empty()) meshes.emplace_back("/head/mesh", species->head_mesh);
             for (std::size_t i = 0; i < species->parts.size(); ++i) {
                 if (!species->parts[i].mesh.empty()) meshes.emplace_back("/parts/" + std::to_string(i) + "/mesh", species->parts[i].mesh);
             }
-            bool meshes_ok = true;
             std::string notes;
+            const std::string name = std::filesystem::path(file).filename().string();
+            // A scene names a species by its file's name (species/<id>.json), and the world knows it by its id.
+            if (const std::string stem = std::filesystem::path(file).stem().string(); species->id != stem) {
+                std::cerr << name << ": /id: \"" << species->id << "\" is not the file's name (" << stem
+                          << "): a scene names a species by its file's name and the simulation knows it by its id; make them agree\n";
+                all_ok = false;
+            }
             for (const auto& [where, mesh] : meshes) {
-                const auto loaded = assets::load_gltf_mesh(asset_path(mesh));
+                const auto found = named_from(file, mesh);
+                if (!found) {
+                    std::cerr << name << ": " << where << ": " << found.error().message << "\n";
+                    all_ok = false;
+                    continue;
+                }
+                const auto loaded = assets::load_gltf_mesh(*found);
                 if (!loaded) {
-                    std::cerr << std::filesystem::path(file).filename().string() << ": " << where << ": " << loaded.error().message << "\n";
-                    meshes_ok = false;
+                    std::cerr << name << ": " << where << ": " << loaded.error().message << "\n";
+                    all_ok = false;
                 } else if (loaded->skipped_images > 0) {
                     // Said, not silently dropped: a designer who textured a petal learns it is not drawn.
                     notes += "\n  " + where + " (" + mesh + "): " + std::to_string(loaded->skipped_images) +
                              " image(s) skipped, never read: a part is drawn in its species' colours";
                 }
             }
-            if (!meshes_ok) {
+            if (!all_ok) {
                 ++bad;
                 continue;
             }

@@ -290,7 +290,8 @@ Result<LessonDef> load_lesson_file(const std::filesystem::path& path) {
         }
     }
     if (lesson->scoring == "sample") {
-        const auto scene = load_scene(asset_path(lesson->scene));
+        const auto file = named_from(lesson->file, lesson->scene);
+        const auto scene = file ? load_scene(*file) : Result<SceneDef>(file.error());
         if (!scene) problems.push_back(label + ": /scene: " + scene.error().message);
         else if (scene->sample.empty()) problems.push_back(label + ": /scene: " + lesson->scene + " has no sample to copy");
     }

@@ -23,7 +23,11 @@ Result<KenzanFootprint> footprint_of(const LessonDef& l) {
 }
 
 Result<SceneDef> scene_for_lesson(const LessonDef& l) {
-    if (l.scoring == "sample") return load_scene(asset_path(l.scene));
+    if (l.scoring == "sample") {
+        const auto file = named_from(l.file, l.scene);
+        if (!file) return make_error(file.error().code, l.file.filename().string() + ": /scene: " + file.error().message);
+        return load_scene(*file);
+    }
     const auto kenzan = load_kenzan(l.kenzan_layout);
     if (!kenzan) return std::move(kenzan).error();
     SceneDef s{};

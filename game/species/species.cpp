@@ -1,6 +1,7 @@
 #include "game/species/species.hpp"
 
 #include <cmath>
+#include <system_error>
 
 #include <glm/gtc/constants.hpp>
 
@@ -238,7 +239,20 @@ Result<SpeciesDef> load_species_file(const std::filesystem::path& path) {
     auto text = assets::read_text_file(path);
     if (!text) return std::move(text).error();
     auto species = parse_species(*text, path.filename().string());
-    if (species) species->file = path;
+    if (!species) return species;
+    species->file = path;
+    // A mesh beside the species file is that one; otherwise the assets folder's (the name stays as
+    // written, and the one who draws it looks there). Where it is not, `species check` says where it looked.
+    const auto beside = [&](std::string& mesh) {
+        if (mesh.empty() || std::filesystem::path(mesh).is_absolute()) return;
+        const auto found = named_from(path, mesh);
+        std::error_code ec;
+        if (!found || *found == (asset_dir() / mesh).lexically_normal()) return;
+        const auto whole = std::filesystem::absolute(*found, ec);
+        mesh = ec ? found->string() : whole.string();
+    };
+    beside(species->head_mesh);
+    for (auto& part : species->parts) beside(part.mesh);
     return species;
 }
 

@@ -207,7 +207,11 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     for (std::size_t i = 0; i < scene.flowers.size(); ++i) {
         const auto& f = scene.flowers[i];
         if (w->species.contains(f.species)) continue;
-        auto sp = load_species(f.species);
+        // A path is looked for beside the scene, then in the assets folder; an id is assets/species/<id>.json.
+        const bool is_path = f.species.find('/') != std::string::npos || f.species.ends_with(".json");
+        auto where = is_path ? named_from(scene.file, f.species) : Result<std::filesystem::path>(asset_dir() / "species" / (f.species + ".json"));
+        if (!where) return from_scene("/flowers/" + std::to_string(i) + "/species", where.error());
+        auto sp = load_species_file(*where);
         if (!sp) return from_scene("/flowers/" + std::to_string(i) + "/species", sp.error());
         w->species.emplace(f.species, std::move(sp).value());
     }
@@ -219,7 +223,9 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     std::vector<std::vector<devices::Keyframe>> trajectories(scene.hands.size());
     for (std::size_t i = 0; i < scene.hands.size(); ++i) {
         if (scene.hands[i].trajectory.empty()) continue;
-        auto keys = devices::load_trajectory(asset_path(scene.hands[i].trajectory));
+        auto file = named_from(scene.file, scene.hands[i].trajectory);
+        if (!file) return from_scene("/hands/" + std::to_string(i) + "/trajectory", file.error());
+        auto keys = devices::load_trajectory(*file);
         if (!keys) return from_scene("/hands/" + std::to_string(i) + "/trajectory", keys.error());
         if (auto inside = keys_within_workspace(*keys); !inside) return from_scene("/hands/" + std::to_string(i) + "/trajectory", inside.error());
         trajectories[i] = std::move(keys).value();
