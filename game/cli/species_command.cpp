@@ -5,6 +5,7 @@
 
 #include "engine/assets/mesh.hpp"
 #include "game/asset_paths.hpp"
+#include "game/cli/species_preview.hpp"
 #include "game/species/species.hpp"
 
 namespace ikebana::game {
@@ -68,6 +69,7 @@ void add_species_command(CLI::App& app, int& exit_code) {
     auto* check = species->add_subcommand("check", "Validate species files; every problem is printed with its JSON path");
     check->add_option("files", *files, "Species files")->required()->check(CLI::ExistingFile);
     check->callback([files, &exit_code] { exit_code = check_species_files(*files); });
+    add_species_preview_command(*species, exit_code);
 }
 
 } // namespace ikebana::game
