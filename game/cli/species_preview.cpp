@@ -84,7 +84,9 @@ std::vector<std::string> stand_lines(const StandTrial& t) {
     char set[64], now[64], hold[96];
     std::snprintf(set, sizeof set, "set at %.0f deg: %s", t.set_at_deg, t.stands ? "stands" : "FALLS");
     std::snprintf(now, sizeof now, "now %.0f deg from vertical", t.tilt_deg);
-    std::snprintf(hold, sizeof hold, "the pins hold %.1fx its pull", t.margin());
+    // Upright, its weight pulls straight down the pins: nothing for them to hold against.
+    if (t.gravity_nm > 1e-6) std::snprintf(hold, sizeof hold, "the pins hold %.1fx its pull", t.margin());
+    else std::snprintf(hold, sizeof hold, "its weight does not pull it over");
     if (t.stands) return {set, now, hold};
     return {set, t.reason, now};
 }
@@ -111,7 +113,8 @@ nlohmann::json mechanics_json(const SpeciesMechanics& m) {
     nlohmann::json stands = nlohmann::json::array();
     for (const auto& t : m.stands) {
         stands.push_back({{"set_at_deg", t.set_at_deg}, {"stands", t.stands}, {"reason", t.reason}, {"tilt_deg", t.tilt_deg},
-                          {"holding_nm", t.holding_nm}, {"gravity_nm", t.gravity_nm}, {"margin", t.margin()}});
+                          {"holding_nm", t.holding_nm}, {"gravity_nm", t.gravity_nm},
+                          {"margin", t.gravity_nm > 1e-6 ? nlohmann::json(t.margin()) : nlohmann::json(nullptr)}});
     }
     return {{"species", m.id}, {"length_mm", m.length_mm}, {"settle_s", mechanics_settle_s}, {"stands", stands},
             {"sag", {{"tip_drop_mm", m.sag.tip_drop_mm}, {"tip_angle_deg", m.sag.tip_angle_deg}}}};
