@@ -41,7 +41,7 @@ void destroy_buffer(const VulkanContext& ctx, GpuBuffer& b) {
 }
 
 Result<GpuImage> create_image(const VulkanContext& ctx, VkFormat format, VkExtent2D extent, std::uint32_t layers, VkImageUsageFlags usage,
-                              VkImageAspectFlags aspect) {
+                              VkImageAspectFlags aspect, VkSampleCountFlagBits samples) {
     GpuImage img;
     img.format = format;
     img.extent = extent;
@@ -52,7 +52,7 @@ Result<GpuImage> create_image(const VulkanContext& ctx, VkFormat format, VkExten
     info.extent = {extent.width, extent.height, 1};
     info.mipLevels = 1;
     info.arrayLayers = layers;
-    info.samples = VK_SAMPLE_COUNT_1_BIT;
+    info.samples = samples;
     info.tiling = VK_IMAGE_TILING_OPTIMAL;
     info.usage = usage;
     info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;

@@ -33,7 +33,7 @@ void destroy_buffer(const VulkanContext& ctx, GpuBuffer& buffer);
 
 // A 2D image (array when layers > 1) with a view of all its layers.
 Result<GpuImage> create_image(const VulkanContext& ctx, VkFormat format, VkExtent2D extent, std::uint32_t layers, VkImageUsageFlags usage,
-                              VkImageAspectFlags aspect);
+                              VkImageAspectFlags aspect, VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT);
 void destroy_image(const VulkanContext& ctx, GpuImage& image);
 
 // A SPIR-V file compiled at build time; the error names the file.

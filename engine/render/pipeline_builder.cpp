@@ -109,6 +109,11 @@ GraphicsPipelineBuilder& GraphicsPipelineBuilder::dynamic_cull_mode() {
     return *this;
 }
 
+GraphicsPipelineBuilder& GraphicsPipelineBuilder::samples(VkSampleCountFlagBits count) {
+    samples_ = count;
+    return *this;
+}
+
 Result<VkPipeline> GraphicsPipelineBuilder::build(VkDevice device, VkPipelineLayout layout) const {
     VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
     rendering.viewMask = view_mask_;
@@ -122,7 +127,7 @@ Result<VkPipeline> GraphicsPipelineBuilder::build(VkDevice device, VkPipelineLay
     const VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO, nullptr, 0, 1, nullptr, 1, nullptr};
     const auto raster = rasterization(depth_bias_, depth_bias_constant_, depth_bias_slope_);
     VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    multisample.rasterizationSamples = samples_;
     const auto depth = depth_stencil(depth_test_, depth_write_, depth_compare_);
     const std::vector<VkPipelineColorBlendAttachmentState> blends(colour_formats_.size(), blend_);
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};

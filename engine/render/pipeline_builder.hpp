@@ -40,6 +40,7 @@ public:
     GraphicsPipelineBuilder& depth_bias(float constant_factor, float slope_factor);
     GraphicsPipelineBuilder& view_mask(std::uint32_t mask); // multiview: one bit per view
     GraphicsPipelineBuilder& dynamic_cull_mode();           // set with vkCmdSetCullMode per draw
+    GraphicsPipelineBuilder& samples(VkSampleCountFlagBits count); // its targets' samples (multisampled: anti-aliased)
 
     // The error names the pipeline: "vkCreateGraphicsPipelines (scene) failed: ...".
     [[nodiscard]] Result<VkPipeline> build(VkDevice device, VkPipelineLayout layout) const;
@@ -58,6 +59,7 @@ private:
     float depth_bias_constant_ = 0.0f, depth_bias_slope_ = 0.0f;
     std::uint32_t view_mask_ = 0;
     bool dynamic_cull_mode_ = false;
+    VkSampleCountFlagBits samples_ = VK_SAMPLE_COUNT_1_BIT;
 };
 
 // Shader modules loaded for one step and destroyed, in the order loaded, when it ends.

@@ -135,13 +135,31 @@ void StereoRenderer::record_eye_passes(const Frame& frame, const DrawList& list,
     VkCommandBuffer cmd = frame.cmd;
     transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, none, 0,
                VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    const bool msaa = eyes_msaa_.image != VK_NULL_HANDLE;
+    if (msaa) {
+        transition(cmd, eyes_msaa_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                   VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    }
     clear_eye_depth(cmd);
     VkClearValue background{};
     background.color = {{list.background.r, list.background.g, list.background.b, 1.0f}};
     const int passes = multiview_ ? 1 : 2;
     for (int pass = 0; pass < passes; ++pass) {
-        const auto colour = attachment(multiview_ ? eyes_.view : eye_layer_[pass], VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_ATTACHMENT_LOAD_OP_CLEAR,
-                                       VK_ATTACHMENT_STORE_OP_STORE, background);
+        VkImageView single = multiview_ ? eyes_.view : eye_layer_[pass];
+        auto colour = attachment(single, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE, background);
+        if (msaa) {
+            // Drawn with several samples a pixel, then averaged into the eye's image: by the multiview
+            // pass as it ends; after the passes one per eye (lavapipe's resolve at the end of a pass
+            // into the second layer left it unwritten).
+            colour.imageView = multiview_ ? eyes_msaa_.view : eye_msaa_layer_[pass];
+            if (multiview_) {
+                colour.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+                colour.resolveMode = VK_RESOLVE_MODE_AVERAGE_BIT;
+                colour.resolveImageView = single;
+                colour.resolveImageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+            }
+        }
         const auto depth = attachment(multiview_ ? depth_.view : depth_layer_[pass], VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_ATTACHMENT_LOAD_OP_LOAD,
                                       VK_ATTACHMENT_STORE_OP_DONT_CARE, far_depth());
         const auto scene = rendering_info(eyes_.extent, &colour, &depth, multiview_ ? 0b11u : 0u);
@@ -157,6 +175,20 @@ void StereoRenderer::record_eye_passes(const Frame& frame, const DrawList& list,
             draw_batches(frame, draws, false, true);
         }
         vkCmdEndRendering(cmd);
+    }
+    if (msaa && !multiview_) {
+        transition(cmd, eyes_msaa_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_RESOLVE_BIT,
+                   VK_ACCESS_2_TRANSFER_READ_BIT);
+        transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_RESOLVE_BIT,
+                   VK_ACCESS_2_TRANSFER_WRITE_BIT);
+        const VkImageSubresourceLayers both{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2};
+        const VkImageResolve region{both, {0, 0, 0}, both, {0, 0, 0}, {eyes_.extent.width, eyes_.extent.height, 1}};
+        vkCmdResolveImage(cmd, eyes_msaa_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, eyes_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+        transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_RESOLVE_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+        return;
     }
     transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,

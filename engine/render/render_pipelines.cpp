@@ -66,7 +66,8 @@ Result<void> StereoRenderer::prepare_pipelines() {
         .colour_formats({options_.colour_format})
         .depth_format(depth_format)
         .depth_test(VK_COMPARE_OP_LESS, true)
-        .dynamic_cull_mode();
+        .dynamic_cull_mode()
+        .samples(samples_);
     if (auto ok = keep(scene.view_mask(0b11).build(ctx_.device(), scene_pipeline_layout_), scene_pipeline_); !ok) return ok;
     if (auto ok = keep(scene.name("per-eye scene").view_mask(0).build(ctx_.device(), scene_pipeline_layout_), per_eye_pipeline_); !ok) return ok;
     // Translucent batches (water, ghosts): blended, tested against the depth but not written to it.

@@ -81,6 +81,15 @@ Result<std::unique_ptr<StereoRenderer>> StereoRenderer::create(VulkanContext& ct
     const bool lavapipe = ctx.device_name().find("llvmpipe") != std::string::npos;
     r->multiview_ = options.multiview == RendererOptions::Multiview::on ||
                     (options.multiview == RendererOptions::Multiview::automatic && !lavapipe);
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(ctx.physical_device(), &props);
+    const VkSampleCountFlags usable = props.limits.framebufferColorSampleCounts & props.limits.framebufferDepthSampleCounts;
+    for (const VkSampleCountFlagBits s : {VK_SAMPLE_COUNT_8_BIT, VK_SAMPLE_COUNT_4_BIT, VK_SAMPLE_COUNT_2_BIT}) {
+        if (static_cast<std::uint32_t>(s) <= options.msaa_samples && (usable & s) != 0) {
+            r->samples_ = s;
+            break;
+        }
+    }
     for (auto step : {&StereoRenderer::prepare_frames, &StereoRenderer::prepare_shadow_map, &StereoRenderer::prepare_descriptors,
                       &StereoRenderer::prepare_targets, &StereoRenderer::prepare_pipelines, &StereoRenderer::prepare_builtin_meshes}) {
         if (auto ok = ((*r).*step)(); !ok) return std::move(ok).error();
@@ -189,8 +198,10 @@ void StereoRenderer::destroy_targets() {
     for (int e = 0; e < 2; ++e) {
         if (eye_layer_[e]) vkDestroyImageView(ctx_.device(), eye_layer_[e], nullptr);
         if (depth_layer_[e]) vkDestroyImageView(ctx_.device(), depth_layer_[e], nullptr);
-        eye_layer_[e] = depth_layer_[e] = VK_NULL_HANDLE;
+        if (eye_msaa_layer_[e]) vkDestroyImageView(ctx_.device(), eye_msaa_layer_[e], nullptr);
+        eye_layer_[e] = depth_layer_[e] = eye_msaa_layer_[e] = VK_NULL_HANDLE;
     }
+    destroy_image(ctx_, eyes_msaa_);
     destroy_image(ctx_, eyes_);
     destroy_image(ctx_, depth_);
     destroy_image(ctx_, output_);
@@ -200,13 +211,20 @@ void StereoRenderer::destroy_targets() {
 Result<void> StereoRenderer::prepare_targets() {
     const VkExtent2D eye{options_.eye_width, options_.eye_height};
     auto eyes = create_image(ctx_, options_.colour_format, eye, 2,
-                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
+                             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                             VK_IMAGE_ASPECT_COLOR_BIT);
     if (!eyes) return std::move(eyes).error();
     eyes_ = *eyes;
     auto depth = create_image(ctx_, depth_format, eye, 2, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
-                              VK_IMAGE_ASPECT_DEPTH_BIT);
+                              VK_IMAGE_ASPECT_DEPTH_BIT, samples_);
     if (!depth) return std::move(depth).error();
     depth_ = *depth;
+    if (samples_ != VK_SAMPLE_COUNT_1_BIT) {
+        auto msaa = create_image(ctx_, options_.colour_format, eye, 2, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                 VK_IMAGE_ASPECT_COLOR_BIT, samples_);
+        if (!msaa) return std::move(msaa).error();
+        eyes_msaa_ = *msaa;
+    }
     for (std::uint32_t e = 0; e < 2; ++e) {
         VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
         view.viewType = VK_IMAGE_VIEW_TYPE_2D;
@@ -214,6 +232,10 @@ Result<void> StereoRenderer::prepare_targets() {
         view.format = options_.colour_format;
         view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, e, 1};
         IKEBANA_VK(vkCreateImageView(ctx_.device(), &view, nullptr, &eye_layer_[e]));
+        if (eyes_msaa_.image) {
+            view.image = eyes_msaa_.image;
+            IKEBANA_VK(vkCreateImageView(ctx_.device(), &view, nullptr, &eye_msaa_layer_[e]));
+        }
         view.image = depth_.image;
         view.format = depth_format;
         view.subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, e, 1};

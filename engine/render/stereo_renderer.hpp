@@ -54,6 +54,10 @@ struct RendererOptions {
     // Both eyes in one multiview pass, or one pass per eye. Automatic: multiview, except on lavapipe,
     // whose multiview (Mesa 22.3) loses triangles clipped at the frustum in the second view.
     enum class Multiview { automatic, on, off } multiview = Multiview::automatic;
+    // Anti-aliasing: the eyes are drawn with this many samples a pixel (multisampling) and resolved
+    // before they are composed, so every stereo mode gets it. The device's nearest count at or below
+    // it; 1: none.
+    std::uint32_t msaa_samples = 4;
 };
 
 struct FrameTiming {
@@ -100,6 +104,7 @@ public:
     void set_ui(UiLayer* ui) { ui_ = ui; }
     [[nodiscard]] VkExtent2D output_extent() const noexcept;
     [[nodiscard]] bool multiview() const noexcept { return multiview_; }
+    [[nodiscard]] std::uint32_t samples() const noexcept { return static_cast<std::uint32_t>(samples_); }
     // Placeholder meshes drawn since the last call, each naming its file and why.
     std::vector<std::string> take_warnings();
 
@@ -190,6 +195,9 @@ private:
     std::size_t frame_index_ = 0;
     GpuImage eyes_, depth_, output_, shadow_;
     VkImageView eye_layer_[2] = {}, depth_layer_[2] = {}; // single-layer views for one pass per eye
+    VkSampleCountFlagBits samples_ = VK_SAMPLE_COUNT_1_BIT;
+    GpuImage eyes_msaa_;                 // with samples_ > 1: drawn into, resolved into eyes_
+    VkImageView eye_msaa_layer_[2] = {};
     bool multiview_ = true;
     double timestamp_period_ns_ = 0.0; // 0: the queue cannot time itself
     VkSampler shadow_sampler_ = VK_NULL_HANDLE, eye_sampler_ = VK_NULL_HANDLE;

@@ -341,7 +341,7 @@ int run_replay_window(const ReplayWindowOptions& o) {
         std::cerr << "ikebana replay: " << window.error().message << "; `ikebana replay " << o.folder << " --json -` replays it without a window\n";
         return 3;
     }
-    auto stack = WindowStack::open(std::move(window).value(), {.width = o.width, .height = o.height, .mode = render::StereoMode::side_by_side, .validation = o.validation, .need_ui = true});
+    auto stack = WindowStack::open(std::move(window).value(), {.width = o.width, .height = o.height, .mode = render::StereoMode::side_by_side, .validation = o.validation, .need_ui = true, .msaa = 0});
     if (!stack) {
         std::cerr << "ikebana replay: " << stack.error().message << "\n";
         return 3;

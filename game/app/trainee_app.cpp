@@ -270,7 +270,7 @@ int TraineeSession::open() {
         return 2;
     }
     mode_ = *render_mode;
-    auto stack = WindowStack::open(std::move(window).value(), {.width = o_.width, .height = o_.height, .mode = mode_, .validation = o_.validation, .need_ui = showing_start_});
+    auto stack = WindowStack::open(std::move(window).value(), {.width = o_.width, .height = o_.height, .mode = mode_, .validation = o_.validation, .need_ui = showing_start_, .msaa = o_.msaa});
     if (!stack) {
         std::cerr << "ikebana: " << stack.error().message << "\n";
         return 3;
@@ -296,8 +296,8 @@ int TraineeSession::open() {
         return code;
     }
     opened_ = true;
-    std::printf("ikebana: %s on %s (%s); arrows or right-drag orbit the camera, Tab switches hands, Esc ends\n",
-                render::stereo_mode_name(mode_), ctx_->device_name().c_str(), renderer_->multiview() ? "multiview" : "one pass per eye");
+    std::printf("ikebana: %s on %s (%s, %ux anti-aliasing); arrows or right-drag orbit the camera, Tab switches hands, Esc ends\n",
+                render::stereo_mode_name(mode_), ctx_->device_name().c_str(), renderer_->multiview() ? "multiview" : "one pass per eye", renderer_->samples());
     std::fflush(stdout);
     return 0;
 }

@@ -28,6 +28,10 @@ struct WindowStackOptions {
     // Without the interface layer the stack still opens (the trainee's session then has no panel);
     // with this set its failure is an error.
     bool need_ui = false;
+    // Anti-aliasing, samples a pixel; 0: automatic (4 on a graphics card; none on a CPU renderer such
+    // as lavapipe, where 4 samples take the eyes' pass from about 15 to 44 ms a frame at 1280x720 per
+    // eye and the window would fall below 30 Hz: docs/benchmarks.md).
+    std::uint32_t msaa = 0;
 };
 
 class WindowStack {

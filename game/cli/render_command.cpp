@@ -81,6 +81,7 @@ int run_render(const RenderOptions& o) {
     ro.eye_height = o.height;
     ro.mode = *mode;
     ro.asset_dir = asset_dir();
+    ro.msaa_samples = o.msaa;
     auto renderer = render::StereoRenderer::create(**ctx, ro);
     if (!renderer) {
         std::cerr << "ikebana render: " << renderer.error().message << "\n";
@@ -135,9 +136,9 @@ int run_render(const RenderOptions& o) {
     if (tty && !o.quiet) std::fprintf(stderr, "\r\033[K");
     if (code != 0) return code;
     const auto out_extent = (*renderer)->output_extent();
-    std::printf("rendered %u frame(s) of the scene on %s (%s, %s, %ux%u per eye, composed %ux%u) into %s\n", o.frames,
+    std::printf("rendered %u frame(s) of the scene on %s (%s, %s, %ux%u per eye, %ux anti-aliasing, composed %ux%u) into %s\n", o.frames,
                 (*ctx)->device_name().c_str(), render::stereo_mode_name(*mode), (*renderer)->multiview() ? "multiview" : "one pass per eye",
-                o.width, o.height, out_extent.width, out_extent.height, o.out.c_str());
+                o.width, o.height, (*renderer)->samples(), out_extent.width, out_extent.height, o.out.c_str());
     std::printf("frame time, ms (p50 / p95): record %.2f / %.2f, device %.2f / %.2f, readback %.2f / %.2f\n", percentile(record, 0.5),
                 percentile(record, 0.95), percentile(execute, 0.5), percentile(execute, 0.95), percentile(readback, 0.5), percentile(readback, 0.95));
     std::printf("device time by pass, ms (p50 / p95): shadow %.2f / %.2f, both eyes %.2f / %.2f, composite and HUD %.2f / %.2f\n",
@@ -159,6 +160,9 @@ void add_render_command(CLI::App& app, int& exit_code) {
     cmd->add_option("--height", o->height, "Height of one eye's image")->capture_default_str()->check(CLI::Range(16u, 8192u));
     cmd->add_option("--yaw", o->yaw_deg, "Orbit the camera about the arrangement, degrees")->capture_default_str()->check(finite_in(-360.0, 360.0, "degrees"));
     cmd->add_option("--pitch", o->pitch_deg, "Raise the camera, degrees")->capture_default_str()->check(finite_in(-89.0, 89.0, "degrees"));
+    cmd->add_option("--msaa", o->msaa, "Anti-aliasing: samples a pixel (1 none, 2, 4, 8; the device's nearest at or below)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({1u, 2u, 4u, 8u}));
     cmd->add_flag("--validation", o->validation, "Run with the Vulkan validation layer; any error fails the command");
     cmd->callback([o, &exit_code] { exit_code = run_render(*o); });
 }

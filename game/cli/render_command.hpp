@@ -18,6 +18,7 @@ struct RenderOptions {
     std::uint32_t height = 720;
     double yaw_deg = 0.0;        // orbit the camera about the arrangement
     double pitch_deg = 0.0;
+    std::uint32_t msaa = 4;      // samples a pixel (anti-aliasing); 1: none
     // The validation layer: on by request, and always in debug builds.
 #ifdef NDEBUG
     bool validation = false;
