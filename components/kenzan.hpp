@@ -25,9 +25,18 @@ struct Kenzan {
     std::int32_t rows;        // along y
     PinShape pin;
     double base_thickness_m;
+    // > 0: a round kenzan, its pins on the grid within this distance of its centre, on a round base
+    // of this radius plus half a pitch; 0: every pin of the grid, on a rectangular base.
+    double round_radius_m = 0.0;
 
     [[nodiscard]] glm::dvec3 pin_base(std::int32_t column, std::int32_t row) const noexcept {
         return origin_m + glm::dvec3{(column - (columns - 1) * 0.5) * pitch_m, (row - (rows - 1) * 0.5) * pitch_m, 0.0};
+    }
+    // Whether the grid has a pin at (column, row): all do on a rectangular kenzan.
+    [[nodiscard]] bool has_pin(std::int32_t column, std::int32_t row) const noexcept {
+        if (round_radius_m <= 0.0) return true;
+        const double x = (column - (columns - 1) * 0.5) * pitch_m, y = (row - (rows - 1) * 0.5) * pitch_m;
+        return x * x + y * y <= round_radius_m * round_radius_m;
     }
     [[nodiscard]] double pin_height_m() const noexcept { return pin.trunk_length_m + pin.tip_length_m; }
 

@@ -108,6 +108,7 @@ void CollisionDetectionSystem::operator()(sched::SystemContext& ctx) {
             const auto range = k.pins_within(glm::dvec2(b.lo) - reach, glm::dvec2(b.hi) + reach);
             for (auto row = range.row_lo; row <= range.row_hi; ++row) {
                 for (auto col = range.column_lo; col <= range.column_hi; ++col) {
+                    if (!k.has_pin(col, row)) continue;
                     ++contacts->pairs_tested;
                     const auto base = k.pin_base(col, row);
                     if (const auto hit = collision::collide_capsule_pin(c, base, k.pin)) {

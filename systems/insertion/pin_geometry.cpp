@@ -83,6 +83,7 @@ std::vector<PinContact> engaged_pins(const StemEnd& stem, const Kenzan& k) {
     const auto range = k.pins_within(lo, hi);
     for (auto row = range.row_lo; row <= range.row_hi; ++row) {
         for (auto col = range.column_lo; col <= range.column_hi; ++col) {
+            if (!k.has_pin(col, row)) continue;
             if (auto contact = pin_contact(stem, k.pin_base(col, row), k.pin)) {
                 contact->pin = row * k.columns + col;
                 out.push_back(*contact);

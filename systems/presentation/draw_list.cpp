@@ -82,10 +82,15 @@ render::DrawList build_draw_list(const FrameSnapshot& frame) {
     if (frame.container) add_container(list, *frame.container);
     if (frame.kenzan) {
         const Kenzan& k = *frame.kenzan;
-        const double w = (k.columns + 1) * k.pitch_m, d = (k.rows + 1) * k.pitch_m;
-        list.batch("cube").instances.push_back({frame_matrix({w, 0, 0}, {0, d, 0}, {0, 0, k.base_thickness_m},
-                                                             k.origin_m - glm::dvec3{0, 0, 0.5 * k.base_thickness_m}),
-                                                {0.18f, 0.18f, 0.2f, 1.0f}});
+        const glm::vec4 base_colour{0.18f, 0.18f, 0.2f, 1.0f};
+        if (k.round_radius_m > 0.0) {
+            list.batch("cylinder").instances.push_back(
+                {segment(k.origin_m - glm::dvec3{0, 0, k.base_thickness_m}, k.origin_m, k.round_radius_m + 0.5 * k.pitch_m), base_colour});
+        } else {
+            const double w = (k.columns + 1) * k.pitch_m, d = (k.rows + 1) * k.pitch_m;
+            list.batch("cube").instances.push_back(
+                {frame_matrix({w, 0, 0}, {0, d, 0}, {0, 0, k.base_thickness_m}, k.origin_m - glm::dvec3{0, 0, 0.5 * k.base_thickness_m}), base_colour});
+        }
         // The pins are 0.9 mm thick, about one texel of the shadow map: their shadows would only
         // shimmer, and leaving them out of the shadow pass saves a third of its time on lavapipe.
         auto& pin_batch = list.batch("cylinder_coarse");
@@ -94,6 +99,7 @@ render::DrawList build_draw_list(const FrameSnapshot& frame) {
         const double radius = 0.5 * k.pin.trunk_diameter_m;
         for (std::int32_t c = 0; c < k.columns; ++c) {
             for (std::int32_t row = 0; row < k.rows; ++row) {
+                if (!k.has_pin(c, row)) continue;
                 const glm::dvec3 base = k.pin_base(c, row);
                 pins.push_back({segment(base, base + glm::dvec3{0, 0, k.pin_height_m()}, radius), {0.55f, 0.56f, 0.6f, 1.0f}});
             }

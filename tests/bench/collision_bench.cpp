@@ -19,7 +19,7 @@ using namespace ikebana::components;
 namespace {
 void build_arrangement(ecs::Registry& r, int inactive_parts) {
     const auto kenzan = r.create();
-    r.emplace<Kenzan>(kenzan, Kenzan{"bench", {0, 0, 0}, 0.004, 20, 20, {0.0009, 0.011, 0.0015}, 0.008});
+    r.emplace<Kenzan>(kenzan, Kenzan{"bench", {0, 0, 0}, 0.004, 20, 20, {0.0009, 0.011, 0.0015}, 0.008, 0.0});
     r.emplace<PassiveCollider>(kenzan);
     int placed = 0;
     for (int f = 0; f < 10; ++f) {

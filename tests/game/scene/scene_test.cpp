@@ -36,6 +36,23 @@ TEST(Kenzan, StandardLayoutHasThePapersPitch) {
     EXPECT_GT(k->pin.tip_length_m, 0.0);
 }
 
+// The shipped round kenzan: 6 cm across, the standard pins within its circle.
+TEST(Kenzan, TheRoundLayoutKeepsThePinsWithinItsCircle) {
+    const auto k = load_kenzan("round");
+    ASSERT_TRUE(k) << k.error().message;
+    EXPECT_NEAR(k->round_radius_m, 0.029, 1e-9);
+    int pins = 0;
+    for (std::int32_t c = 0; c < k->columns; ++c) {
+        for (std::int32_t r = 0; r < k->rows; ++r) pins += k->has_pin(c, r) ? 1 : 0;
+    }
+    EXPECT_EQ(pins, 169) << "as its notes say";
+    const auto bad = parse_kenzan(R"({"format": "ikebana-kenzan/1", "id": "x", "shape": "oval", "pitch_mm": 4, "columns": 2, "rows": 2,
+        "base_thickness_mm": 5, "pin": {"trunk_diameter_mm": 0.9, "trunk_length_mm": 10, "tip_length_mm": 1}})",
+                                  "x.json");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("x.json: /shape:"), std::string::npos) << bad.error().message;
+}
+
 TEST(Kenzan, TouchingPinsAreRefused) {
     const auto k = parse_kenzan(R"({"format": "ikebana-kenzan/1", "id": "x", "pitch_mm": 1, "columns": 2, "rows": 2,
         "base_thickness_mm": 5, "pin": {"trunk_diameter_mm": 1.5, "trunk_length_mm": 10, "tip_length_mm": 1}})",

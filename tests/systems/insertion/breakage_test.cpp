@@ -19,7 +19,7 @@ struct Bench {
     systems::InsertionTrackingSystem tracking;
     explicit Bench(std::uint64_t seed, std::vector<double> hazard) {
         const auto k = r.create();
-        r.emplace<Kenzan>(k, Kenzan{"t", {0, 0, 0}, 0.004, 20, 20, {0.0009, 0.0115, 0.0015}, 0.008});
+        r.emplace<Kenzan>(k, Kenzan{"t", {0, 0, 0}, 0.004, 20, 20, {0.0009, 0.0115, 0.0015}, 0.008, 0.0});
         r.emplace<RandomStream>(r.create(), seed);
         systems::physics::StemSpec spec;
         spec.base_m = {0, 0, 0.05};

@@ -11,7 +11,7 @@ using namespace ikebana::systems::insertion;
 
 namespace {
 // The shipped layout: 20 x 20 pins at 4 mm, pins 13 mm (11.5 trunk + 1.5 tip), base at z = 0.
-Kenzan kenzan() { return Kenzan{"test", {0, 0, 0}, 0.004, 20, 20, {0.0009, 0.0115, 0.0015}, 0.008}; }
+Kenzan kenzan() { return Kenzan{"test", {0, 0, 0}, 0.004, 20, 20, {0.0009, 0.0115, 0.0015}, 0.008, 0.0}; }
 
 StemEnd vertical(double x, double y, double diameter, double bottom_z) {
     return StemEnd{{x, y, bottom_z}, {0, 0, 1}, 0.5 * diameter, 0.0, 0.0, 0.05};
@@ -93,4 +93,24 @@ TEST(PinGeometry, LeverArmsAreMeasuredFromTheFarEdgeOfTheFootprint) {
         const double pin_x = k.pin_base(p.pin % k.columns, p.pin / k.columns).x;
         EXPECT_NEAR(p.lever_m, std::max(0.0, edge.x - pin_x), 1e-12);
     }
+}
+
+// A round kenzan has the grid's pins within its circle only: a stem pushed in at the square grid's
+// corner, outside the circle, meets none; at the centre, the same as on a square kenzan.
+TEST(PinGeometry, ARoundKenzanHasNoPinsOutsideItsCircle) {
+    Kenzan round{"round", {0, 0, 0}, 0.004, 15, 15, {0.0009, 0.0115, 0.0015}, 0.008, 0.029};
+    int pins = 0;
+    for (std::int32_t c = 0; c < round.columns; ++c) {
+        for (std::int32_t r = 0; r < round.rows; ++r) pins += round.has_pin(c, r) ? 1 : 0;
+    }
+    EXPECT_NEAR(pins, M_PI * 0.029 * 0.029 / (0.004 * 0.004), 12.0) << "the circle's area over the pitch squared";
+    EXPECT_FALSE(round.has_pin(0, 0));
+    EXPECT_TRUE(round.has_pin(7, 7));
+    EXPECT_TRUE(round.has_pin(0, 7)) << "the pins on the axes at the edge";
+    const glm::dvec3 corner = round.pin_base(0, 0);
+    EXPECT_EQ(engaged_pins(vertical(corner.x + 0.002, corner.y + 0.002, 0.0075, 0.002), round).size(), 0u);
+    Kenzan square = round;
+    square.round_radius_m = 0.0;
+    EXPECT_EQ(engaged_pins(vertical(corner.x + 0.002, corner.y + 0.002, 0.0075, 0.002), square).size(), 4u);
+    EXPECT_EQ(engaged_pins(vertical(0.002, 0.002, 0.0075, 0.002), round).size(), engaged_pins(vertical(0.002, 0.002, 0.0075, 0.002), square).size());
 }
