@@ -21,6 +21,7 @@ struct Part {
     std::uint32_t stem_point;   // which mass point it hangs on
     glm::dvec3 offset_m;        // from that point, in the stem's local frame at rest
     std::string mesh;           // glTF file relative to assets/, or empty for a procedural shape
+    float shade = 1.0f;         // its colour is the species' times this (petals that are not all alike)
 };
 
 // Collision tags (paper 2.2, Mukai et al. 2009). Tags, not an enum field, so that an Inactive part is

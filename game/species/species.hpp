@@ -25,6 +25,12 @@ struct PartDef {
     double position_along_stem; // 0 bottom .. 1 top
     double size_m;              // petal length or leaf length
     CollisionClass collision;
+    // How the parts sit (species_format.md): each rises this far above the plane across the stem
+    // (a cupped petal high, a flat ray low, a drooping leaf below); in this many rings, each inner one
+    // shorter, more upright and turned half a step; their colours varied by up to this fraction.
+    double tilt_rad = 0.0;
+    std::uint32_t whorls = 1;
+    double colour_variation = 0.0;
 };
 
 // Section 2.5 and Table 1: resistance per mm of pin in contact with each tissue, tip (cone) and trunk

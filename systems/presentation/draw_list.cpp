@@ -127,7 +127,7 @@ render::DrawList build_draw_list(const FrameSnapshot& frame) {
             const glm::dvec3 along = glm::normalize(out);
             const glm::dvec3 across = glm::normalize(glm::cross(f.up, along));
             const glm::dvec3 normal = glm::cross(along, across);
-            const glm::vec3 part_colour = part.kind == PartKind::petal ? look.petal_colour : look.leaf_colour;
+            const glm::vec3 part_colour = (part.kind == PartKind::petal ? look.petal_colour : look.leaf_colour) * part.shade;
             list.batch(part.mesh).instances.push_back({frame_matrix(along * size, across * size, normal * size, f.origin_m), glm::vec4(part_colour, 1.0f)});
         }
     }

@@ -114,3 +114,50 @@ TEST(World, DefaultSceneStaysPutAndFinite) {
     EXPECT_GT(s.highest_point_m, 0.13);
     EXPECT_EQ(s.frames_received, 150u) << "the main lane received every published frame";
 }
+
+// Parts say how they sit: a chrysanthemum's petals in rings, each inner ring shorter, more upright and
+// turned half a step, their shades varied within the species' bound; its leaves stay leaves (with more
+// parts than definitions' counts, the spawned parts once took the petals' places and tags).
+TEST(World, PetalsSitInRingsAndLeavesStayLeaves) {
+    auto sp = load_species("chrysanthemum");
+    ASSERT_TRUE(sp) << sp.error().message;
+    const auto& petals = sp->parts.front();
+    ASSERT_EQ(petals.kind, components::PartKind::petal);
+    ASSERT_GT(petals.whorls, 1u);
+    const auto parts = parts_of(*sp, 20);
+    std::size_t leaves_defined = 0, petals_made = 0, leaves_made = 0;
+    for (const auto& d : sp->parts) leaves_defined += d.kind == components::PartKind::leaf ? d.count * d.whorls : 0;
+    float lo = 2.0f, hi = 0.0f;
+    for (const auto& p : parts) {
+        petals_made += p.kind == components::PartKind::petal ? 1 : 0;
+        leaves_made += p.kind == components::PartKind::leaf ? 1 : 0;
+        if (p.kind == components::PartKind::petal) {
+            lo = std::min(lo, p.shade);
+            hi = std::max(hi, p.shade);
+        }
+    }
+    EXPECT_EQ(petals_made, petals.count * petals.whorls);
+    EXPECT_EQ(leaves_made, leaves_defined);
+    EXPECT_GE(lo, 1.0f - static_cast<float>(petals.colour_variation) - 1e-6f);
+    EXPECT_LE(hi, 1.0f + static_cast<float>(petals.colour_variation) + 1e-6f);
+    EXPECT_GT(hi - lo, 0.5f * static_cast<float>(petals.colour_variation)) << "not all alike";
+    const auto& outer = parts[0].offset_m;
+    const auto& inner = parts[petals.count].offset_m; // the second ring's first
+    EXPECT_LT(glm::length(inner), glm::length(outer)) << "shorter";
+    EXPECT_GT(inner.z / glm::length(inner), outer.z / glm::length(outer)) << "more upright";
+    EXPECT_NEAR(outer.z / glm::length(outer), std::sin(petals.tilt_rad), 1e-9) << "the outer ring at the species' tilt";
+
+    // Spawned: every leaf a leaf, passive as the species says; every petal inactive.
+    SceneDef scene = default_scene();
+    scene.flowers = {{"chrysanthemum", Placement::inserted, {0, 0, 0.010}, {0, 0, 1}, 0.013}};
+    scene.sample.clear();
+    auto world = World::create(scene);
+    ASSERT_TRUE(world) << world.error().message;
+    std::size_t passive_leaves = 0, inactive_petals = 0;
+    (*world)->sim.view<const components::Part>().each([&](ecs::Entity e, const components::Part& p) {
+        if (p.kind == components::PartKind::leaf && (*world)->sim.try_get<const components::PassiveCollider>(e)) ++passive_leaves;
+        if (p.kind == components::PartKind::petal && (*world)->sim.try_get<const components::InactiveCollider>(e)) ++inactive_petals;
+    });
+    EXPECT_EQ(passive_leaves, leaves_defined);
+    EXPECT_EQ(inactive_petals, petals.count * petals.whorls);
+}
