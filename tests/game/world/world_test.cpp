@@ -91,7 +91,7 @@ TEST(World, FlowerOwnsItsPartsWithCollisionTags) {
         }
     }
     EXPECT_EQ(stem, 20u) << "one part per stem segment";
-    EXPECT_EQ(petals, 16u);
+    EXPECT_EQ(petals, 42u) << "21 rays in two rings";
     EXPECT_EQ(leaves, 2u);
     EXPECT_EQ(tagged_once, parts.size()) << "every part carries exactly one collision tag";
     r.destroy(flower);
