@@ -19,14 +19,16 @@ Result<std::filesystem::path> named_from(const std::filesystem::path& naming_fil
     if (named.is_absolute()) return named;
     std::error_code ec;
     std::string looked;
-    if (!naming_file.empty()) {
-        const std::filesystem::path beside = (naming_file.parent_path() / named).lexically_normal();
-        if (std::filesystem::exists(beside, ec)) return beside;
-        const auto whole = std::filesystem::absolute(beside, ec);
-        looked = (ec ? beside : whole).string() + " (beside " + naming_file.filename().string() + ") nor ";
-    }
+    // A file (or a link to one): a folder of that name is not it.
+    const auto is_file = [&](const std::filesystem::path& p) { return std::filesystem::is_regular_file(p, ec); };
+    // Without a naming file the path came from the command line or a scene made in code: from the
+    // working directory, as a shell user means it.
+    const std::filesystem::path first = naming_file.empty() ? named : (naming_file.parent_path() / named).lexically_normal();
+    if (is_file(first)) return first;
+    const auto whole = std::filesystem::absolute(first, ec);
+    looked = (ec ? first : whole).string() + (naming_file.empty() ? std::string(" (from the working directory)") : " (beside " + naming_file.filename().string() + ")") + " nor ";
     const std::filesystem::path shipped = (asset_dir() / named).lexically_normal();
-    if (std::filesystem::exists(shipped, ec)) return shipped;
+    if (is_file(shipped)) return shipped;
     return make_error(ErrorCode::not_found, "\"" + named.string() + "\" is not at " + looked + shipped.string() + " (in the assets folder)");
 }
 

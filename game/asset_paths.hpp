@@ -13,8 +13,8 @@ namespace ikebana::game {
 // A file named inside another (a species' mesh, a scene's species or trajectory, a lesson's scene): an
 // absolute path stays; a relative one is looked for beside the file that names it, then in the assets
 // folder (the shipped files name each other from there, and a designer's file may use the shipped
-// meshes). Found in neither: an error that says where it looked. Without a naming file (a scene made
-// in code), only the assets folder.
+// meshes). Found in neither: an error that says where it looked. Without a naming file (a path from
+// the command line, a scene made in code), the working directory comes first instead.
 [[nodiscard]] Result<std::filesystem::path> named_from(const std::filesystem::path& naming_file, const std::filesystem::path& named);
 
 } // namespace ikebana::game

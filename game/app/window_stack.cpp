@@ -25,7 +25,9 @@ Result<std::unique_ptr<WindowStack>> WindowStack::open(std::unique_ptr<platform:
     ro.asset_dir = asset_dir();
     ro.eye_width = std::max(1u, o.mode == render::StereoMode::side_by_side ? o.width / 2 : o.width);
     ro.eye_height = std::max(1u, o.height);
-    const bool cpu = s->ctx_->device_name().find("llvmpipe") != std::string::npos;
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(s->ctx_->physical_device(), &props);
+    const bool cpu = props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; // lavapipe, SwiftShader: they rasterize on the CPU
     ro.msaa_samples = o.msaa != 0 ? o.msaa : (cpu ? 1u : 4u);
     // The eyes in the window's own format: side by side then reaches it as a plain copy.
     if (s->swapchain_->format() == VK_FORMAT_B8G8R8A8_UNORM || s->swapchain_->format() == VK_FORMAT_R8G8B8A8_UNORM) ro.colour_format = s->swapchain_->format();

@@ -172,10 +172,13 @@ int preview_once(const PreviewOptions& o, render::StereoRenderer& renderer) {
         std::cerr << who << wr.error().message << "\n";
         return 1;
     }
-    std::printf("%s (%s, %.0f mm), after %.0f s in each trial:\n", m->id.c_str(), o.file.c_str(), m->length_mm, mechanics_settle_s);
-    for (const auto& t : m->stands) std::printf("  %s\n", joined(stand_lines(t)).c_str());
-    std::printf("  %s\n", joined(sag_lines(m->sag)).c_str());
-    std::printf("pictures in %s: sheet.png (the flower, each trial), turntable_00..%02u.png, stand_00/45/70.png, sag.png\n", o.out.c_str(), o.turns - 1);
+    // With the JSON on standard output, the words go to standard error: the output stays one document.
+    FILE* words = o.json == "-" ? stderr : stdout;
+    std::fprintf(words, "%s (%s, %.0f mm), after %.0f s in each trial:\n", m->id.c_str(), o.file.c_str(), m->length_mm, mechanics_settle_s);
+    for (const auto& t : m->stands) std::fprintf(words, "  %s\n", joined(stand_lines(t)).c_str());
+    std::fprintf(words, "  %s\n", joined(sag_lines(m->sag)).c_str());
+    std::fprintf(words, "pictures in %s: sheet.png (the flower, each trial), turntable_00..%02u.png, stand_00/45/70.png, sag.png\n", o.out.c_str(),
+                 o.turns - 1);
     if (!o.json.empty()) {
         const std::string text = mechanics_json(*m).dump(2) + "\n";
         if (o.json == "-") std::fputs(text.c_str(), stdout);
@@ -197,6 +200,10 @@ std::filesystem::file_time_type changed_at(const std::filesystem::path& p) {
 } // namespace
 
 int run_species_preview(const PreviewOptions& o) {
+    if (o.watch && o.json == "-") {
+        std::cerr << who << "--watch writes a JSON document each preview; with --json - they would run together: give --json a file\n";
+        return 2;
+    }
     if (auto folder = assets::create_output_folder(o.out); !folder) {
         std::cerr << who << "--out: " << folder.error().message << "\n";
         return 2;

@@ -38,6 +38,14 @@ Result<void> check_placements(const SceneDef& scene, const components::Kenzan& k
                           lo.x * 1e3, hi.x * 1e3, lo.y * 1e3, hi.y * 1e3, at.x * 1e3, at.y * 1e3);
             return refuse(i, "base_mm", text);
         }
+        const double reach = kenzan.round_radius_m + 0.5 * kenzan.pitch_m;
+        if (kenzan.round_radius_m > 0.0 && glm::length(at - glm::dvec2(kenzan.origin_m)) > reach) {
+            std::snprintf(text, sizeof text,
+                          "an inserted flower must stand on the kenzan's pins, which lie within %.0f mm of its centre (a round kenzan); "
+                          "this one is %.0f mm from it (use \"placement\": \"lying\" for a flower on the table)",
+                          reach * 1e3, glm::length(at - glm::dvec2(kenzan.origin_m)) * 1e3);
+            return refuse(i, "base_mm", text);
+        }
         if (f.direction.z < min_up) {
             std::snprintf(text, sizeof text, "an inserted stem must point up out of the pins, at least %.0f degrees above the horizontal; this one points %.0f degrees %s it",
                           min_inserted_elevation_deg, std::abs(std::asin(std::clamp(f.direction.z, -1.0, 1.0))) * 180.0 / std::acos(-1.0),

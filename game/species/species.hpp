@@ -20,7 +20,7 @@ enum class BranchKind : std::uint8_t { soft, hard };
 
 struct PartDef {
     components::PartKind kind;
-    std::string mesh;           // relative to assets/; empty: procedural
+    std::string mesh;           // beside the species file, or in assets/ (named_from); empty: procedural
     std::uint32_t count;        // arranged around the stem
     double position_along_stem; // 0 bottom .. 1 top
     double size_m;              // petal length or leaf length

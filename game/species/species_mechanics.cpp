@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <system_error>
 
 #include "engine/devices/scripted_device.hpp"
 #include "engine/sched/clocks.hpp"
@@ -54,7 +55,10 @@ Result<SpeciesMechanics> species_mechanics(const std::filesystem::path& species_
     SpeciesMechanics out;
     out.id = species->id;
     out.length_mm = species->length_m * 1e3;
-    const std::string named = species_file.filename().string();
+    // The trial scenes name the file by its whole path (a name without ".json" would be taken for an id).
+    std::error_code ec;
+    const auto whole = std::filesystem::absolute(species_file, ec);
+    const std::string named = (ec ? species_file : whole).string();
     for (const double set_at : {0.0, 45.0, 70.0}) {
         SceneDef scene = bare_scene(species_file);
         const double a = set_at * pi / 180.0;

@@ -27,7 +27,11 @@ WorldSummary summarize(World& w) {
     s.passive_parts = r.view<Part, PassiveCollider>().size();
     s.inactive_parts = r.view<Part, InactiveCollider>().size();
     s.hands = r.count<HandCube>();
-    r.view<Kenzan>().each([&](ecs::Entity, Kenzan& k) { s.kenzan_pins += static_cast<std::size_t>(k.rows * k.columns); });
+    r.view<Kenzan>().each([&](ecs::Entity, Kenzan& k) {
+        for (std::int32_t c = 0; c < k.columns; ++c) {
+            for (std::int32_t row = 0; row < k.rows; ++row) s.kenzan_pins += k.has_pin(c, row) ? 1 : 0;
+        }
+    });
     if (const auto* contacts = r.resource<Contacts>()) s.contacts = contacts->list.size();
     const auto* settings = r.resource<PhysicsSettings>();
     const glm::dvec3 g = settings ? settings->gravity_m_s2 : PhysicsSettings{}.gravity_m_s2;

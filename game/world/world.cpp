@@ -213,7 +213,11 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     // Each error names the scene and the field that named the file, then the file's own message.
     const std::string scene_label = scene.file.empty() ? std::string("scene") : scene.file.filename().string();
     const auto from_scene = [&](const std::string& field, const Error& e) { return make_error(e.code, scene_label + ": " + field + ": " + e.message); };
-    auto kenzan = load_kenzan(scene.kenzan_layout);
+    // A layout given as a path is looked for beside the scene too; an id is assets/kenzan/<id>.json.
+    const bool layout_is_path = scene.kenzan_layout.find('/') != std::string::npos || scene.kenzan_layout.ends_with(".json");
+    auto layout_file = layout_is_path ? named_from(scene.file, scene.kenzan_layout) : Result<std::filesystem::path>(std::filesystem::path{});
+    if (!layout_file) return from_scene("/kenzan/layout", layout_file.error());
+    auto kenzan = load_kenzan(layout_is_path ? layout_file->string() : scene.kenzan_layout);
     if (!kenzan) return from_scene("/kenzan/layout", kenzan.error());
     for (std::size_t i = 0; i < scene.flowers.size(); ++i) {
         const auto& f = scene.flowers[i];

@@ -62,7 +62,8 @@ void BendingSystem::operator()(sched::SystemContext& ctx) {
         bend->roll_at_start_rad = roll;
         bend->bent_rad = 0.0;
     }
-    const double wanted = std::min(std::abs(roll - bend->roll_at_start_rad), M_PI - 1e-3);
+    // Rolled past half a turn is rolled back the other way (device angles wrap at +-pi).
+    const double wanted = std::min(std::abs(std::remainder(roll - bend->roll_at_start_rad, 2.0 * M_PI)), M_PI - 1e-3);
     const double step = max_bend_rad_s * ctx.dt_s;
     bend->bent_rad = std::clamp(wanted, bend->bent_rad - step, bend->bent_rad + step);
     const double theta = M_PI - bend->bent_rad;

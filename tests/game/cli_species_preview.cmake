@@ -44,14 +44,29 @@ expect_success("species preview on the tulip" "held level by its base" ${IKEBANA
 expect_pictures(${out}/tulip)
 
 # --watch: a save previews again; two previews, then it stops (--passes).
-execute_process(COMMAND sh -c "'${IKEBANA}' species preview '${out}/flowers/tulip.json' --out '${out}/watched' --size 96x128 --turns 1 --watch --passes 2 & sleep 3; touch '${out}/flowers/tulip.json'; wait $!"
-                RESULT_VARIABLE rc OUTPUT_VARIABLE said ERROR_VARIABLE err TIMEOUT 120)
+# The file is saved once the first preview is done and the watch has begun (however slow the machine).
+execute_process(COMMAND sh -c "'${IKEBANA}' species preview '${out}/flowers/tulip.json' --out '${out}/watched' --size 96x128 --turns 1 --watch --passes 2 > '${out}/watch.txt' 2>&1 & p=$!; i=0; while ! grep -q watching '${out}/watch.txt' && [ $i -lt 1200 ]; do sleep 0.1; i=$((i+1)); done; sleep 0.3; touch '${out}/flowers/tulip.json'; wait $p"
+                RESULT_VARIABLE rc TIMEOUT 300)
+file(READ ${out}/watch.txt said)
+set(err "")
 string(REGEX MATCHALL "held level by its base" previews "${said}")
 list(LENGTH previews n)
 if(NOT rc EQUAL 0 OR NOT n EQUAL 2 OR NOT said MATCHES "tulip.json changed:")
   message(FATAL_ERROR "--watch: exit ${rc}, ${n} preview(s):\n${said}${err}")
 endif()
 
+expect_refusal("--watch with JSON on standard output" "ikebana species preview: --watch writes a JSON document each preview; with --json - they would run together: give --json a file"
+               ${IKEBANA} species preview ${out}/flowers/tulip.json --out ${out}/never --watch --json -)
+# --json -: standard output is one JSON document (the words go to standard error).
+execute_process(COMMAND ${IKEBANA} species preview ${out}/flowers/tulip.json --out ${out}/json_out --size 64x80 --turns 1 --json -
+                RESULT_VARIABLE rc OUTPUT_VARIABLE json ERROR_VARIABLE words)
+string(JSON species ERROR_VARIABLE bad GET "${json}" species)
+if(NOT rc EQUAL 0 OR bad OR NOT species MATCHES "^tulip$" OR NOT words MATCHES "held level by its base")
+  message(FATAL_ERROR "--json -: exit ${rc}, species '${species}' (${bad}):\n${json}\n${words}")
+endif()
+# A species file not named .json is still that file, not an id.
+file(COPY_FILE ${out}/flowers/tulip.json ${out}/flowers/tulip.species)
+expect_success("a species file not named .json" "tulip (${out}/flowers/tulip.species, 300 mm)" ${IKEBANA} species preview ${out}/flowers/tulip.species --out ${out}/species_suffix --size 64x80 --turns 1)
 expect_refusal("a size that is not WIDTHxHEIGHT" "ikebana species preview: --size '640': expected WIDTHxHEIGHT, each 16-4096 pixels (e.g. 480x640)"
                ${IKEBANA} species preview ${out}/flowers/tulip.json --out ${out}/never --size 640)
 message(STATUS "species preview works on every shipped species and on the docs' tulip")

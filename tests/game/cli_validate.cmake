@@ -36,3 +36,9 @@ execute_process(COMMAND ${IKEBANA} predict ${DATA} --species ${out}/sunflower-ex
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "predict with the extended species failed:\n${text}")
 endif()
+# A species path given on the command line is taken from the working directory.
+execute_process(COMMAND ${IKEBANA} predict ${DATA} --species sunflower-extended.json -o predicted_here.csv WORKING_DIRECTORY ${out}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE text ERROR_VARIABLE text)
+if(NOT rc EQUAL 0 OR NOT EXISTS ${out}/predicted_here.csv)
+  message(FATAL_ERROR "predict with a species path relative to the working directory failed:\n${text}")
+endif()

@@ -182,3 +182,16 @@ TEST(Summary, AHapticRateTooLowForAStemIsNamedAndItsRunawayEnergyWarned) {
     const auto text = format_summary(summary, 3.0);
     EXPECT_NE(text.find("warning: cherry_branch's springs hold"), std::string::npos) << text;
 }
+
+// On a round kenzan the grid's corners have no pins: a flower set there is refused, not left to fall.
+TEST(PlacementChecks, AFlowerOutsideARoundKenzansCircleIsRefused) {
+    auto scene = default_scene();
+    scene.kenzan_layout = "round";
+    scene.flowers.resize(1);
+    scene.flowers[0].base_m = {0.026, 0.026, 0.010}; // inside the 15 x 15 grid's square, outside its circle
+    scene.sample.clear();
+    EXPECT_EQ(refusal(scene), "default.json: /flowers/0/base_mm: an inserted flower must stand on the kenzan's pins, which lie within 31 mm of its "
+                              "centre (a round kenzan); this one is 37 mm from it (use \"placement\": \"lying\" for a flower on the table)");
+    scene.flowers[0].base_m = {0.010, 0.0, 0.010};
+    EXPECT_TRUE(World::create(scene)) << "inside the circle it stands";
+}
