@@ -9,28 +9,38 @@ layout(location = 3) in vec4 in_model1;
 layout(location = 4) in vec4 in_model2;
 layout(location = 5) in vec4 in_model3;
 layout(location = 6) in vec4 in_colour;
+layout(location = 7) in vec2 in_uv;
+layout(location = 8) in vec4 in_tangent;
 
 layout(set = 0, binding = 0) uniform Frame {
     mat4 view_projection[2];
     mat4 light_view_projection;
     vec4 light_direction;
+    vec4 eye_position[2];
 } frame;
 
-// 0 in the multiview pass (gl_ViewIndex picks the eye); the eye itself when each eye has its own pass.
-layout(push_constant) uniform Eye {
+// base: 0 in the multiview pass (gl_ViewIndex picks the eye); the eye itself when each eye has its
+// own pass. The rest is the material's (mesh.frag).
+layout(push_constant) uniform Constants {
     int base;
 } eye;
 
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec4 out_colour;
 layout(location = 2) out vec4 out_light_space;
+layout(location = 3) out vec2 out_uv;
+layout(location = 4) out vec4 out_tangent;
+layout(location = 5) out vec3 out_to_eye;
 
 void main() {
     mat4 model = mat4(in_model0, in_model1, in_model2, in_model3);
     vec4 world = model * vec4(in_position, 1.0);
     // Scaled instances (pins, stem segments): the inverse transpose keeps normals perpendicular.
     out_normal = transpose(inverse(mat3(model))) * in_normal;
+    out_tangent = vec4(mat3(model) * in_tangent.xyz, in_tangent.w);
     out_colour = in_colour;
+    out_uv = in_uv;
     out_light_space = frame.light_view_projection * world;
+    out_to_eye = frame.eye_position[gl_ViewIndex + eye.base].xyz - world.xyz;
     gl_Position = frame.view_projection[gl_ViewIndex + eye.base] * world;
 }

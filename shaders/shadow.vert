@@ -10,6 +10,7 @@ layout(set = 0, binding = 0) uniform Frame {
     mat4 view_projection[2];
     mat4 light_view_projection;
     vec4 light_direction;
+    vec4 eye_position[2];
 } frame;
 
 void main() {

@@ -41,8 +41,9 @@ void destroy_buffer(const VulkanContext& ctx, GpuBuffer& b) {
 }
 
 Result<GpuImage> create_image(const VulkanContext& ctx, VkFormat format, VkExtent2D extent, std::uint32_t layers, VkImageUsageFlags usage,
-                              VkImageAspectFlags aspect, VkSampleCountFlagBits samples) {
+                              VkImageAspectFlags aspect, VkSampleCountFlagBits samples, std::uint32_t mip_levels) {
     GpuImage img;
+    img.mip_levels = mip_levels;
     img.format = format;
     img.extent = extent;
     img.layers = layers;
@@ -50,7 +51,7 @@ Result<GpuImage> create_image(const VulkanContext& ctx, VkFormat format, VkExten
     info.imageType = VK_IMAGE_TYPE_2D;
     info.format = format;
     info.extent = {extent.width, extent.height, 1};
-    info.mipLevels = 1;
+    info.mipLevels = mip_levels;
     info.arrayLayers = layers;
     info.samples = samples;
     info.tiling = VK_IMAGE_TILING_OPTIMAL;
@@ -75,7 +76,7 @@ Result<GpuImage> create_image(const VulkanContext& ctx, VkFormat format, VkExten
     view.image = img.image;
     view.viewType = layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
     view.format = format;
-    view.subresourceRange = {aspect, 0, 1, 0, layers};
+    view.subresourceRange = {aspect, 0, mip_levels, 0, layers};
     if (VkResult r = vkCreateImageView(ctx.device(), &view, nullptr, &img.view); r != VK_SUCCESS) {
         destroy_image(ctx, img);
         return vulkan_error("vkCreateImageView", r);
@@ -104,8 +105,10 @@ Result<VkShaderModule> load_shader(const VulkanContext& ctx, const std::filesyst
     return module;
 }
 
-void transition(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, std::uint32_t layers, VkImageLayout from, VkImageLayout to,
-                VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+namespace {
+
+void barrier(VkCommandBuffer cmd, VkImage image, VkImageSubresourceRange range, VkImageLayout from, VkImageLayout to, VkPipelineStageFlags2 src_stage,
+             VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
     VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
     b.srcStageMask = src_stage;
     b.srcAccessMask = src_access;
@@ -116,11 +119,23 @@ void transition(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, s
     b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     b.image = image;
-    b.subresourceRange = {aspect, 0, 1, 0, layers};
+    b.subresourceRange = range;
     VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
     dep.imageMemoryBarrierCount = 1;
     dep.pImageMemoryBarriers = &b;
     vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+} // namespace
+
+void transition(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect, std::uint32_t layers, VkImageLayout from, VkImageLayout to,
+                VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+    barrier(cmd, image, {aspect, 0, 1, 0, layers}, from, to, src_stage, src_access, dst_stage, dst_access);
+}
+
+void transition_levels(VkCommandBuffer cmd, VkImage image, std::uint32_t first, std::uint32_t count, VkImageLayout from, VkImageLayout to,
+                       VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access, VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access) {
+    barrier(cmd, image, {VK_IMAGE_ASPECT_COLOR_BIT, first, count, 0, 1}, from, to, src_stage, src_access, dst_stage, dst_access);
 }
 
 } // namespace ikebana::render

@@ -3,20 +3,13 @@
 #include <cstdlib>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
-#define STB_IMAGE_IMPLEMENTATION
-#define STBI_ONLY_PNG
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wconversion"
-#pragma GCC diagnostic ignored "-Wsign-conversion"
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wdouble-promotion"
-#include <stb_image.h>
+#include "engine/core/third_party.hpp"
+IKEBANA_THIRD_PARTY_BEGIN
 #include <stb_image_write.h>
-#pragma GCC diagnostic pop
+IKEBANA_THIRD_PARTY_END
 
 #include "engine/assets/files.hpp"
+#include "engine/assets/image.hpp"
 
 namespace ikebana::render {
 
@@ -39,15 +32,9 @@ Result<void> write_png(const std::filesystem::path& path, const RgbaImage& image
 Result<RgbaImage> read_png(const std::filesystem::path& path) {
     auto bytes = assets::read_text_file(path);
     if (!bytes) return std::move(bytes).error();
-    int w = 0, h = 0, channels = 0;
-    stbi_uc* data = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()), static_cast<int>(bytes->size()), &w, &h, &channels, 4);
-    if (!data) return make_error(ErrorCode::parse_error, path.string() + ": not a readable PNG (" + stbi_failure_reason() + ")");
-    RgbaImage img;
-    img.width = static_cast<std::uint32_t>(w);
-    img.height = static_cast<std::uint32_t>(h);
-    img.pixels.assign(data, data + 4ull * img.width * img.height);
-    stbi_image_free(data);
-    return img;
+    auto decoded = assets::decode_image(*bytes, path.string(), 1u << 15);
+    if (!decoded) return std::move(decoded).error();
+    return RgbaImage{decoded->width, decoded->height, std::move(decoded->pixels)};
 }
 
 Result<ImageDifference> compare_images(const RgbaImage& a, const RgbaImage& b, int threshold) {

@@ -79,8 +79,11 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
 
 // Each batch's instances from its offset in the frame's instance buffer. Closed meshes cull their
 // back faces; sheets (petals, leaves) are drawn from both sides.
-void StereoRenderer::draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only, bool translucent) {
+void StereoRenderer::draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only, bool translucent) const {
+    // The shadow pass needs positions only: no materials.
+    const bool materials = !shadow_casters_only;
     std::uint32_t first = 0;
+    VkDescriptorSet bound = VK_NULL_HANDLE;
     for (const auto& d : draws) {
         if ((!shadow_casters_only || d.casts_shadow) && d.translucent == translucent) {
             const VkBuffer buffers[2] = {d.mesh->vertices.buffer, frame.instances.buffer};
@@ -88,7 +91,20 @@ void StereoRenderer::draw_batches(const Frame& frame, const std::vector<Draw>& d
             vkCmdBindVertexBuffers(frame.cmd, 0, 2, buffers, offsets);
             vkCmdBindIndexBuffer(frame.cmd, d.mesh->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
             vkCmdSetCullMode(frame.cmd, d.mesh->closed ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE);
-            vkCmdDrawIndexed(frame.cmd, d.mesh->index_count, d.instances, 0, 0, 0);
+            for (const auto& part : d.mesh->parts) {
+                if (materials) {
+                    if (part.material != bound) {
+                        vkCmdBindDescriptorSets(frame.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, scene_pipeline_layout_, 1, 1, &part.material, 0, nullptr);
+                        bound = part.material;
+                    }
+                    // Past the eye (offset 0, pushed per pass): the material's factors.
+                    constexpr auto after_eye = static_cast<std::uint32_t>(sizeof(std::int32_t));
+                    vkCmdPushConstants(frame.cmd, scene_pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, after_eye,
+                                       static_cast<std::uint32_t>(sizeof(SceneConstants)) - after_eye,
+                                       reinterpret_cast<const char*>(&part.constants) + after_eye);
+                }
+                vkCmdDrawIndexed(frame.cmd, part.index_count, d.instances, part.first_index, 0, 0);
+            }
         }
         first += d.instances;
     }
@@ -107,7 +123,7 @@ void StereoRenderer::record_shadow_pass(const Frame& frame, const std::vector<Dr
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, shadow_pipeline_);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, scene_pipeline_layout_, 0, 1, &frame.scene_set, 0, nullptr);
     const std::int32_t no_eye = 0;
-    vkCmdPushConstants(cmd, scene_pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof no_eye, &no_eye);
+    vkCmdPushConstants(cmd, scene_pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof no_eye, &no_eye);
     set_viewport(cmd, shadow_.extent);
     draw_batches(frame, draws, true, false);
     vkCmdEndRendering(cmd);
@@ -168,7 +184,7 @@ void StereoRenderer::record_eye_passes(const Frame& frame, const DrawList& list,
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, multiview_ ? scene_pipeline_ : per_eye_pipeline_);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, scene_pipeline_layout_, 0, 1, &frame.scene_set, 0, nullptr);
         const std::int32_t base = pass;
-        vkCmdPushConstants(cmd, scene_pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof base, &base);
+        vkCmdPushConstants(cmd, scene_pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof base, &base);
         set_viewport(cmd, eyes_.extent);
         draw_batches(frame, draws, false, false);
         if (std::any_of(draws.begin(), draws.end(), [](const Draw& d) { return d.translucent; })) {

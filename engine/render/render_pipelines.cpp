@@ -19,11 +19,12 @@ namespace {
 // A mesh's vertices (binding 0) and its instances (binding 1: the model matrix's columns, a colour).
 const VkVertexInputBindingDescription mesh_bindings[2] = {{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX},
                                                           {1, sizeof(MeshInstance), VK_VERTEX_INPUT_RATE_INSTANCE}};
-const VkVertexInputAttributeDescription mesh_attributes[7] = {
+const VkVertexInputAttributeDescription mesh_attributes[9] = {
     {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, normal)},
     {2, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 0},                       {3, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 16},
     {4, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 32},                      {5, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 48},
-    {6, 1, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(MeshInstance, colour)}};
+    {6, 1, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(MeshInstance, colour)},
+    {7, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv)},          {8, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(Vertex, tangent)}};
 // The shadow's: positions and model matrices only; normals and colours mean nothing to depth.
 const VkVertexInputAttributeDescription shadow_attributes[5] = {mesh_attributes[0], mesh_attributes[2], mesh_attributes[3], mesh_attributes[4],
                                                                 mesh_attributes[5]};
@@ -51,8 +52,11 @@ Result<void> StereoRenderer::prepare_pipelines() {
         if (!m) return std::move(m).error();
         modules[i] = *m;
     }
-    const VkPushConstantRange eye_push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(std::int32_t)};
-    VkPipelineLayoutCreateInfo scene_layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, nullptr, 0, 1, &scene_layout_, 1, &eye_push};
+    // Set 0 the frame's (uniforms, shadow map), set 1 the material's pictures; the eye and the
+    // material's factors in one push-constant range.
+    const VkPushConstantRange scene_push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(SceneConstants)};
+    const VkDescriptorSetLayout scene_sets[2] = {scene_layout_, material_layout_};
+    VkPipelineLayoutCreateInfo scene_layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, nullptr, 0, 2, scene_sets, 1, &scene_push};
     IKEBANA_VK(vkCreatePipelineLayout(ctx_.device(), &scene_layout, nullptr, &scene_pipeline_layout_));
     const VkPushConstantRange push{VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(CompositeConstants)};
     VkPipelineLayoutCreateInfo composite_layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, nullptr, 0, 1, &composite_layout_, 1, &push};

@@ -23,12 +23,15 @@ struct FrameUniforms {
     glm::mat4 view_projection[2];
     glm::mat4 light_view_projection;
     glm::vec4 light_direction;
+    glm::vec4 eye_position[2]; // world, for highlights
 };
 
 // A mesh's vertex (binding 0 of the scene and shadow pipelines; the instances are binding 1).
 struct Vertex {
     glm::vec3 position;
     glm::vec3 normal;
+    glm::vec2 uv;
+    glm::vec4 tangent; // xyz, w the bitangent's sign; zero where no normal map applies
 };
 
 // The heads-up panels' push constants (overlay.vert).

@@ -102,10 +102,10 @@ StereoRenderer::~StereoRenderer() {
     vkDeviceWaitIdle(d);
     destroy_targets();
     destroy_image(ctx_, shadow_);
-    for (auto& [name, m] : meshes_) {
-        destroy_buffer(ctx_, m.vertices);
-        destroy_buffer(ctx_, m.indices);
-    }
+    for (auto& [name, m] : meshes_) destroy_mesh(m);
+    destroy_image(ctx_, white_texture_);
+    destroy_image(ctx_, flat_normal_texture_);
+    if (default_material_pool_) vkDestroyDescriptorPool(d, default_material_pool_, nullptr);
     for (auto& f : frames_) {
         destroy_buffer(ctx_, f.uniforms);
         destroy_buffer(ctx_, f.instances);
@@ -130,10 +130,11 @@ StereoRenderer::~StereoRenderer() {
         if (l) vkDestroyPipelineLayout(d, l, nullptr);
     }
     if (descriptor_pool_) vkDestroyDescriptorPool(d, descriptor_pool_, nullptr);
-    for (VkDescriptorSetLayout l : {scene_layout_, composite_layout_}) {
+    for (VkDescriptorSetLayout l : {scene_layout_, composite_layout_, material_layout_}) {
         if (l) vkDestroyDescriptorSetLayout(d, l, nullptr);
     }
-    for (VkSampler s : {shadow_sampler_, eye_sampler_}) {
+    for (auto& [kind, s] : samplers_) vkDestroySampler(d, s, nullptr);
+    for (VkSampler s : {shadow_sampler_, eye_sampler_, material_sampler_}) {
         if (s) vkDestroySampler(d, s, nullptr);
     }
     if (pool_) vkDestroyCommandPool(d, pool_, nullptr);
@@ -289,6 +290,10 @@ Result<void> StereoRenderer::prepare_descriptors() {
     const VkDescriptorSetLayoutBinding composite{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
     VkDescriptorSetLayoutCreateInfo cinfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO, nullptr, 0, 1, &composite};
     IKEBANA_VK(vkCreateDescriptorSetLayout(ctx_.device(), &cinfo, nullptr, &composite_layout_));
+    const VkDescriptorSetLayoutBinding material[2] = {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+                                                      {1, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
+    VkDescriptorSetLayoutCreateInfo minfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO, nullptr, 0, 2, material};
+    IKEBANA_VK(vkCreateDescriptorSetLayout(ctx_.device(), &minfo, nullptr, &material_layout_));
     const auto n = static_cast<std::uint32_t>(frames_.size());
     const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, n}, {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, n + 1}};
     VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO, nullptr, 0, n + 1, 2, sizes};
@@ -348,6 +353,8 @@ Result<StereoRenderer::Frame*> StereoRenderer::begin_frame(const DrawList& list,
     u.view_projection[1] = eye_matrices(rig, +1).view_projection;
     u.light_view_projection = light_matrix(list);
     u.light_direction = glm::vec4(glm::normalize(list.light_direction), 0.0f);
+    u.eye_position[0] = glm::vec4(glm::vec3(eye_matrices(rig, -1).eye_position_m), 1.0f);
+    u.eye_position[1] = glm::vec4(glm::vec3(eye_matrices(rig, +1).eye_position_m), 1.0f);
     std::memcpy(frame.uniforms.mapped, &u, sizeof u);
 
     if (auto o = fill_overlay(frame); !o) return std::move(o).error();

@@ -109,12 +109,33 @@ public:
     std::vector<std::string> take_warnings();
 
 private:
+    // The scene pipelines' push constants: the eye (mesh.vert, shadow.vert) and the material being drawn
+    // (mesh.frag). One range for both stages.
+    struct SceneConstants {
+        std::int32_t eye_base = 0;
+        std::int32_t normal_mapped = 0;
+        float alpha_cutoff = -1.0f; // negative: opaque
+        float normal_scale = 1.0f;
+        glm::vec4 base_colour{1.0f}; // times the instance's colour and the base colour texture
+        float metallic = 0.0f;
+        float roughness = 1.0f;
+        float pad[2] = {0.0f, 0.0f};
+    };
+    // A run of a mesh's triangles with its material: pictures (set 1) and factors (push constants).
+    struct Part {
+        std::uint32_t first_index = 0, index_count = 0;
+        VkDescriptorSet material = VK_NULL_HANDLE;
+        SceneConstants constants;
+    };
     struct Mesh {
         GpuBuffer vertices, indices;
         std::uint32_t index_count = 0;
         // A closed surface (the built-in cube and cylinders): its back faces are never seen, so they
         // are culled before lavapipe rasterises them. Petals and leaves are single sheets: no culling.
         bool closed = false;
+        std::vector<Part> parts;
+        std::vector<GpuImage> textures;                 // the mesh's own pictures
+        VkDescriptorPool materials = VK_NULL_HANDLE;    // its parts' sets (none: the default material's)
     };
     struct Draw {
         Mesh* mesh;
@@ -173,6 +194,10 @@ private:
     Result<void> prepare_builtin_meshes();
     Result<Mesh*> mesh(const std::string& name);
     Result<Mesh> upload(const assets::MeshData& data);
+    Result<GpuImage> upload_texture(const assets::DecodedImage& image);
+    Result<void> prepare_default_material();
+    Result<VkSampler> sampler_for(const assets::TextureSampling& sampling);
+    void destroy_mesh(Mesh& mesh);
     Result<void> fill_overlay(Frame& frame);
 
     // The frame's commands, one function per pass (render_passes.cpp).
@@ -186,7 +211,7 @@ private:
     void draw_overlay(const Frame& frame, const CompositeTarget& target) const;
     void record_hand_over(const Frame& frame, const CompositeTarget& target, VkImageLayout eyes_layout) const;
     void copy_eyes_to_host(const Frame& frame, const CompositeTarget& target, VkImageLayout eyes_layout) const;
-    static void draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only, bool translucent);
+    void draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only, bool translucent) const;
 
     VulkanContext& ctx_;
     RendererOptions options_;
@@ -201,6 +226,14 @@ private:
     bool multiview_ = true;
     double timestamp_period_ns_ = 0.0; // 0: the queue cannot time itself
     VkSampler shadow_sampler_ = VK_NULL_HANDLE, eye_sampler_ = VK_NULL_HANDLE;
+    // Materials: the pictures' sampler (linear, mipmapped, repeating), the set layout (base colour,
+    // normal map), and the default material's white picture, flat normal and set.
+    VkSampler material_sampler_ = VK_NULL_HANDLE;
+    std::map<assets::TextureSampling, VkSampler> samplers_; // glTF samplers, one per kind
+    VkDescriptorSetLayout material_layout_ = VK_NULL_HANDLE;
+    GpuImage white_texture_, flat_normal_texture_;
+    VkDescriptorPool default_material_pool_ = VK_NULL_HANDLE;
+    VkDescriptorSet default_material_ = VK_NULL_HANDLE;
     VkDescriptorSetLayout scene_layout_ = VK_NULL_HANDLE, composite_layout_ = VK_NULL_HANDLE;
     VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
     VkDescriptorSet composite_set_ = VK_NULL_HANDLE;

@@ -41,10 +41,11 @@ int check_species_files(const std::vector<std::string>& files) {
                 if (!loaded) {
                     std::cerr << name << ": " << where << ": " << loaded.error().message << "\n";
                     all_ok = false;
-                } else if (loaded->skipped_images > 0) {
-                    // Said, not silently dropped: a designer who textured a petal learns it is not drawn.
-                    notes += "\n  " + where + " (" + mesh + "): " + std::to_string(loaded->skipped_images) +
-                             " image(s) skipped, never read: a part is drawn in its species' colours";
+                } else if (!loaded->materials.empty()) {
+                    // Said, so that a designer sees that the file's own colours and pictures were read.
+                    notes += "\n  " + where + " (" + mesh + "): " + std::to_string(loaded->parts.size()) + " part(s), " +
+                             std::to_string(loaded->materials.size()) + " material(s), " + std::to_string(loaded->images.size()) +
+                             " picture(s), drawn times the species' look colour";
                 }
             }
             if (!all_ok) {

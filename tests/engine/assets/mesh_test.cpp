@@ -6,7 +6,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/mesh.hpp"
+#include "tests/support/gltf_fixtures.hpp"
 
 using namespace ikebana;
 using namespace ikebana::assets;
@@ -165,14 +167,102 @@ TEST(GltfMesh, DeepNestingIsRefusedBeforeTinygltf) {
     EXPECT_NE(loaded.error().message.find("nest deeper than 64 levels"), std::string::npos);
 }
 
-// Images are never decoded: a picture the mesh names costs nothing and breaks nothing.
-TEST(GltfMesh, ImagesAreSkippedNotDecoded) {
-    auto json = nlohmann::json::parse(gltf_text(triangle()));
-    json["images"] = nlohmann::json::array({{{"uri", "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAF3AAABdwCAIAAAA"}}});
-    json["images"].push_back({{"uri", "huge.png"}});
-    const auto loaded = parse_gltf_mesh(json.dump(), "picture.gltf");
+// A designer's export: a material with a base colour texture, its picture beside the file or inside it.
+TEST(GltfMesh, ATexturedQuadBringsItsMaterialAndItsPicture) {
+    for (const bool embedded : {false, true}) {
+        const auto folder = std::filesystem::temp_directory_path() / (embedded ? "ikebana_quad_embedded" : "ikebana_quad_beside");
+        const auto path = test::write_textured_quad(folder, embedded);
+        const auto loaded = load_gltf_mesh(path);
+        ASSERT_TRUE(loaded) << loaded.error().message;
+        ASSERT_EQ(loaded->parts.size(), 1u);
+        ASSERT_EQ(loaded->materials.size(), 1u);
+        EXPECT_EQ(loaded->materials[0].name, "four colours");
+        EXPECT_FLOAT_EQ(loaded->materials[0].roughness, 0.9f);
+        ASSERT_EQ(loaded->materials[0].base_colour_image, 0);
+        ASSERT_EQ(loaded->images.size(), 1u);
+        EXPECT_EQ(loaded->images[0].width, 2u);
+        EXPECT_EQ(loaded->images[0].height, 2u);
+        const std::vector<std::uint8_t> expected = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 0, 255};
+        EXPECT_EQ(loaded->images[0].pixels, expected) << "decoded as written, row 0 at the top";
+        ASSERT_EQ(loaded->uvs.size(), 4u);
+        EXPECT_EQ(loaded->uvs[2], glm::vec2(1.0f, 1.0f));
+    }
+}
+
+// Nodes move their primitives down the hierarchy (Blender exports objects as nodes with transforms),
+// and each primitive keeps its material.
+TEST(GltfMesh, TwoNodesMoveTheirPrimitivesByTheirTransforms) {
+    const auto path = test::write_two_node_glb(std::filesystem::temp_directory_path() / "ikebana_two_nodes");
+    const auto loaded = load_gltf_mesh(path);
     ASSERT_TRUE(loaded) << loaded.error().message;
-    EXPECT_EQ(loaded->skipped_images, 2u) << "counted, so that `species check` can say they were skipped";
+    ASSERT_EQ(loaded->parts.size(), 4u) << "two primitives shown by two nodes";
+    ASSERT_EQ(loaded->materials.size(), 2u);
+    EXPECT_EQ(loaded->materials[0].base_colour, glm::vec4(1.0f, 0.5f, 0.0f, 1.0f));
+    EXPECT_FLOAT_EQ(loaded->materials[0].metallic, 1.0f) << "glTF's default";
+    EXPECT_EQ(loaded->parts[1].material, 1);
+    // The centre and size of each node's triangles.
+    auto box = [&](std::size_t first_part) {
+        glm::vec3 lo(1e9f), hi(-1e9f);
+        for (std::size_t p = first_part; p < first_part + 2; ++p) {
+            for (std::uint32_t i = 0; i < loaded->parts[p].index_count; ++i) {
+                const auto& v = loaded->positions[loaded->indices[loaded->parts[p].first_index + i]];
+                lo = glm::min(lo, v);
+                hi = glm::max(hi, v);
+            }
+        }
+        return std::pair{(lo + hi) * 0.5f, hi - lo};
+    };
+    const auto [parent_centre, parent_size] = box(0);
+    const auto [child_centre, child_size] = box(2);
+    EXPECT_LT(glm::distance(parent_centre, glm::vec3(2, 0, 0)), 1e-5f);
+    EXPECT_LT(glm::distance(parent_size, glm::vec3(1, 1, 0)), 1e-5f);
+    EXPECT_LT(glm::distance(child_centre, glm::vec3(2, 1, 0)), 1e-5f) << "1 m along the parent's +x, which is turned to +y";
+    EXPECT_LT(glm::distance(child_size, glm::vec3(0.5f, 0.5f, 0)), 1e-5f);
+    // The parent's first vertex (-0.5, 0.5) turned a quarter about +z and moved: (1.5, -0.5).
+    EXPECT_LT(glm::distance(loaded->positions[0], glm::vec3(1.5f, -0.5f, 0)), 1e-5f);
+    EXPECT_LT(glm::distance(loaded->normals[0], glm::vec3(0, 0, 1)), 1e-5f);
+}
+
+// Nodes form trees: a loop of children, or a node with two parents, would be drawn forever or twice.
+TEST(GltfMesh, NodesThatAreNotATreeAreRefused) {
+    auto json = nlohmann::json::parse(gltf_text(triangle()));
+    json["nodes"] = {{{"mesh", 0}, {"children", {1}}}, {{"children", {0}}}};
+    json.erase("scenes");
+    json.erase("scene");
+    auto loaded = parse_gltf_mesh(json.dump(), "loop.gltf");
+    ASSERT_FALSE(loaded);
+    EXPECT_NE(loaded.error().message.find("loop.gltf: /nodes/0: the node is its own ancestor"), std::string::npos) << loaded.error().message;
+    json["nodes"] = {{{"mesh", 0}, {"children", {2}}}, {{"children", {2}}}, {{"mesh", 0}}};
+    loaded = parse_gltf_mesh(json.dump(), "twice.gltf");
+    ASSERT_FALSE(loaded);
+    EXPECT_NE(loaded.error().message.find("twice.gltf: /nodes/2: a node with two parents"), std::string::npos) << loaded.error().message;
+}
+
+// A picture's size is read from its header before it is decoded: a few bytes claiming 5000 x 5000
+// pixels are refused, naming the picture, without 100 MB being asked for.
+TEST(GltfMesh, APictureLargerThanTheLimitIsRefusedBeforeItIsDecoded) {
+    const auto folder = std::filesystem::temp_directory_path() / "ikebana_huge_picture";
+    const auto path = test::write_textured_quad(folder, false);
+    auto png = assets::read_text_file(folder / "four_colours.png");
+    ASSERT_TRUE(png);
+    // The IHDR chunk's width and height (big-endian, from byte 16); its CRC is not checked by stb.
+    const unsigned char huge[8] = {0x00, 0x00, 0x13, 0x88, 0x00, 0x00, 0x13, 0x88};
+    png->replace(16, 8, reinterpret_cast<const char*>(huge), 8);
+    ASSERT_TRUE(assets::write_file_atomically(folder / "four_colours.png", *png));
+    const auto loaded = load_gltf_mesh(path);
+    ASSERT_FALSE(loaded);
+    EXPECT_NE(loaded.error().message.find("/images/0: a picture of 5000x5000 pixels, more than the 4096 a side that is read"), std::string::npos)
+        << loaded.error().message;
+}
+
+// A material naming a picture that is not there: the file and the picture are named.
+TEST(GltfMesh, AMissingPictureIsNamed) {
+    const auto folder = std::filesystem::temp_directory_path() / "ikebana_missing_picture";
+    const auto path = test::write_textured_quad(folder, false);
+    std::filesystem::remove(folder / "four_colours.png");
+    const auto loaded = load_gltf_mesh(path);
+    ASSERT_FALSE(loaded);
+    EXPECT_NE(loaded.error().message.find("quad.gltf: /images/0: \"four_colours.png\" could not be read"), std::string::npos) << loaded.error().message;
 }
 
 // A parser's message says where, never what the file holds.

@@ -2,9 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include "engine/render/stereo_renderer.hpp"
+#include "tests/support/gltf_fixtures.hpp"
 
 using namespace ikebana;
 using namespace ikebana::render;
@@ -226,4 +228,110 @@ TEST(DrawListTest, ABatchStaysWhereItIsWhileOthersAreAdded) {
     EXPECT_EQ(&list.batch("cube").instances, &cubes) << "a reference held across batch() must not dangle";
     EXPECT_EQ(list.batch("cube").instances.size(), 1u);
     EXPECT_EQ(list.batches.size(), 41u);
+}
+
+namespace {
+
+// Looking at the origin from 0.5 m in front (-y), one picture (mono), a quad turned to face the eye:
+// its +y (the picture's top row) up, its +z toward the eye.
+StereoRig facing_rig() {
+    StereoRig rig;
+    rig.position_m = {0.0, -0.5, 0.0};
+    rig.target_m = {0.0, 0.0, 0.0};
+    return rig;
+}
+
+MeshInstance facing_quad(float size_m, glm::vec3 at = glm::vec3(0.0f)) {
+    glm::mat4 m(0.0f);
+    m[0] = glm::vec4(size_m, 0, 0, 0);  // +x stays
+    m[1] = glm::vec4(0, 0, size_m, 0);  // +y up
+    m[2] = glm::vec4(0, -size_m, 0, 0); // +z toward the eye
+    m[3] = glm::vec4(at, 1.0f);
+    return {m, {1, 1, 1, 1}};
+}
+
+// The share of a region's pixels whose hue is close to `colour` (each channel over the brightest).
+double share_of(const RgbaImage& img, glm::vec3 colour, std::uint32_t x0, std::uint32_t y0, std::uint32_t x1, std::uint32_t y1) {
+    double n = 0.0, hits = 0.0;
+    for (std::uint32_t y = y0; y < y1; ++y) {
+        for (std::uint32_t x = x0; x < x1; ++x) {
+            const std::uint8_t* p = &img.pixels[4ull * (y * img.width + x)];
+            const glm::vec3 c(p[0], p[1], p[2]);
+            const float top = std::max(c.r, std::max(c.g, c.b));
+            n += 1.0;
+            if (top > 30.0f && glm::distance(c / top, colour) < 0.2f) hits += 1.0;
+        }
+    }
+    return n > 0 ? hits / n : 0.0;
+}
+
+// One mono picture of `mesh` (a file in `folder`) drawn as `instance`, seen by facing_rig().
+RgbaImage picture_of(const std::filesystem::path& folder, const std::string& mesh, MeshInstance instance,
+                     glm::vec3 background = DrawList{}.background) {
+    auto options = sized(200, 200);
+    options.mode = StereoMode::mono;
+    options.asset_dir = folder;
+    auto renderer = StereoRenderer::create(*shared_context(), options);
+    EXPECT_TRUE(renderer) << renderer.error().message;
+    if (!renderer) return {};
+    DrawList list;
+    list.batch(mesh).instances = {instance};
+    list.background = background;
+    auto frame = (*renderer)->render(list, facing_rig(), false);
+    EXPECT_TRUE(frame) << frame.error().message;
+    EXPECT_TRUE((*renderer)->take_warnings().empty()) << "drawn from the file, not as a placeholder";
+    if (!frame) return {};
+    (void)write_png(folder / "seen.png", frame->composed); // to look at
+    return std::move(frame->composed);
+}
+
+} // namespace
+
+// The check: a generated textured glTF (a quad whose 2x2 picture is red, green, blue and
+// yellow) is drawn with its picture, each colour in its own quarter, whether the picture is a PNG
+// beside the file or inside it.
+TEST_F(StereoRendererTest, ATexturedGltfShowsItsPicturesColours) {
+    for (const bool embedded : {false, true}) {
+        const auto folder = std::filesystem::temp_directory_path() / (embedded ? "ikebana_render_quad_embedded" : "ikebana_render_quad_beside");
+        test::write_textured_quad(folder, embedded);
+        const auto img = picture_of(folder, "quad.gltf", facing_quad(0.3f));
+        ASSERT_EQ(img.width, 200u);
+        // The quad covers about 0.3 of 0.36 m of the view: the middle of each quarter is well inside it.
+        const std::uint32_t a = 55, b = 90, c = 110, d = 145;
+        EXPECT_GT(share_of(img, {1, 0, 0}, a, a, b, b), 0.9) << "red at the top left";
+        EXPECT_GT(share_of(img, {0, 1, 0}, c, a, d, b), 0.9) << "green at the top right";
+        EXPECT_GT(share_of(img, {0, 0, 1}, a, c, b, d), 0.9) << "blue at the bottom left";
+        EXPECT_GT(share_of(img, {1, 1, 0}, c, c, d, d), 0.9) << "yellow at the bottom right";
+        EXPECT_LT(share_of(img, {1, 0, 0}, c, c, d, d), 0.01) << "and nothing red where yellow is";
+    }
+}
+
+// A leaf cut out of a quad (alphaMode MASK): where its picture is transparent, what lies behind shows.
+TEST_F(StereoRendererTest, AMaskedMaterialLetsTheBackgroundThroughItsClearTexels) {
+    const auto folder = std::filesystem::temp_directory_path() / "ikebana_render_quad_masked";
+    test::write_textured_quad(folder, true, true);
+    // Cyan behind it: nothing in the picture is.
+    const auto img = picture_of(folder, "quad.gltf", facing_quad(0.3f), {0.2f, 0.9f, 0.9f});
+    ASSERT_EQ(img.width, 200u);
+    const std::uint32_t a = 55, b = 90, c = 110, d = 145;
+    EXPECT_GT(share_of(img, {1, 0, 0}, a, a, b, b), 0.9) << "red, opaque, drawn";
+    EXPECT_LT(share_of(img, {0, 0, 1}, a, c, b, d), 0.01) << "the clear blue texel is not drawn";
+    EXPECT_GT(share_of(img, glm::vec3(0.2f, 0.9f, 0.9f) / 0.9f, a, c, b, d), 0.9) << "the background shows through it";
+}
+
+// Two nodes of a .glb, each showing a mesh of two primitives with a material each: all four drawn,
+// where the nodes put them, in their materials' colours.
+TEST_F(StereoRendererTest, AGlbsNodesAndMaterialsAreDrawnWhereAndAsTheFileSays) {
+    const auto folder = std::filesystem::temp_directory_path() / "ikebana_render_two_nodes";
+    test::write_two_node_glb(folder);
+    // The file's parent quad is 1 m at (2, 0, 0) and its child's 0.5 m at (2, 1, 0); at a tenth, turned
+    // to face the eye and moved to the middle: the parent below the centre, the child above it.
+    const auto img = picture_of(folder, "two_nodes.glb", facing_quad(0.1f, {-0.2f, 0.0f, -0.05f}));
+    ASSERT_EQ(img.width, 200u);
+    const glm::vec3 orange(1.0f, 0.5f, 0.0f), violet(0.5f, 0.0f, 1.0f);
+    // The parent's square, about 55 pixels across, is in the lower half; the child's, half as wide, above.
+    EXPECT_GT(share_of(img, orange, 0, 100, 200, 200) + share_of(img, violet, 0, 100, 200, 200), 0.05) << "the parent, below";
+    EXPECT_GT(share_of(img, orange, 0, 0, 200, 100), 0.005) << "the child's orange half, above";
+    EXPECT_GT(share_of(img, violet, 0, 0, 200, 100), 0.005) << "the child's violet half, above";
+    EXPECT_GT(share_of(img, violet, 0, 100, 200, 200), 0.01) << "the parent's violet half";
 }
