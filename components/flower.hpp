@@ -22,6 +22,7 @@ struct Part {
     glm::dvec3 offset_m;        // from that point, in the stem's local frame at rest
     std::string mesh;           // glTF file relative to assets/, or empty for a procedural shape
     float shade = 1.0f;         // its colour is the species' times this (petals that are not all alike)
+    float cup_rad = 0.0f;       // how far it curls up from its base to its tip (a cupped petal; < 0 droops)
 };
 
 // Collision tags (paper 2.2, Mukai et al. 2009). Tags, not an enum field, so that an Inactive part is

@@ -1,5 +1,7 @@
 #version 450
 #extension GL_EXT_multiview : require
+#extension GL_GOOGLE_include_directive : require
+#include "bend.glsl"
 // Scene geometry for both eyes in one pass: gl_ViewIndex picks the eye's off-axis projection.
 // Everything is instanced: pins, stem segments and petals are one mesh each with many instances.
 layout(location = 0) in vec3 in_position;
@@ -11,6 +13,7 @@ layout(location = 5) in vec4 in_model3;
 layout(location = 6) in vec4 in_colour;
 layout(location = 7) in vec2 in_uv;
 layout(location = 8) in vec4 in_tangent;
+layout(location = 9) in float in_bend;
 
 layout(set = 0, binding = 0) uniform Frame {
     mat4 view_projection[2];
@@ -34,10 +37,10 @@ layout(location = 5) out vec3 out_to_eye;
 
 void main() {
     mat4 model = mat4(in_model0, in_model1, in_model2, in_model3);
-    vec4 world = model * vec4(in_position, 1.0);
+    vec4 world = model * vec4(bent_position(in_position, in_bend), 1.0);
     // Scaled instances (pins, stem segments): the inverse transpose keeps normals perpendicular.
-    out_normal = transpose(inverse(mat3(model))) * in_normal;
-    out_tangent = vec4(mat3(model) * in_tangent.xyz, in_tangent.w);
+    out_normal = transpose(inverse(mat3(model))) * bent_direction(in_normal, in_bend, in_position.x);
+    out_tangent = vec4(mat3(model) * bent_direction(in_tangent.xyz, in_bend, in_position.x), in_tangent.w);
     out_colour = in_colour;
     out_uv = in_uv;
     out_light_space = frame.light_view_projection * world;

@@ -16,6 +16,11 @@ namespace ikebana::render {
 struct MeshInstance {
     glm::mat4 model;
     glm::vec4 colour; // linear RGB, alpha unused
+    // Curls the mesh before `model` places it: its +x axis bends toward +z along a circular arc,
+    // turning this many radians per unit of x (a cupped petal: one unit long, its tip turned up by
+    // this much; negative curls toward -z). 0: drawn as modelled.
+    float bend_rad_per_unit = 0.0f;
+    float unused[3] = {0.0f, 0.0f, 0.0f}; // to 16 bytes
 };
 
 struct DrawBatch {

@@ -19,15 +19,16 @@ namespace {
 // A mesh's vertices (binding 0) and its instances (binding 1: the model matrix's columns, a colour).
 const VkVertexInputBindingDescription mesh_bindings[2] = {{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX},
                                                           {1, sizeof(MeshInstance), VK_VERTEX_INPUT_RATE_INSTANCE}};
-const VkVertexInputAttributeDescription mesh_attributes[9] = {
+const VkVertexInputAttributeDescription mesh_attributes[10] = {
     {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)}, {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, normal)},
     {2, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 0},                       {3, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 16},
     {4, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 32},                      {5, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 48},
     {6, 1, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(MeshInstance, colour)},
-    {7, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv)},          {8, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(Vertex, tangent)}};
-// The shadow's: positions and model matrices only; normals and colours mean nothing to depth.
-const VkVertexInputAttributeDescription shadow_attributes[5] = {mesh_attributes[0], mesh_attributes[2], mesh_attributes[3], mesh_attributes[4],
-                                                                mesh_attributes[5]};
+    {7, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv)},          {8, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(Vertex, tangent)},
+    {9, 1, VK_FORMAT_R32_SFLOAT, offsetof(MeshInstance, bend_rad_per_unit)}};
+// The shadow's: positions, model matrices and bends only; normals and colours mean nothing to depth.
+const VkVertexInputAttributeDescription shadow_attributes[6] = {mesh_attributes[0], mesh_attributes[2], mesh_attributes[3], mesh_attributes[4],
+                                                                mesh_attributes[5], mesh_attributes[9]};
 
 // A heads-up panel's vertices: pixel position, 8-bit colour.
 const VkVertexInputBindingDescription overlay_binding{0, sizeof(OverlayVertex), VK_VERTEX_INPUT_RATE_VERTEX};

@@ -66,7 +66,7 @@ void read_parts(JsonChecker& c, const Json& root, SpeciesDef& out) {
             c.problem(p, "expected an object, got " + JsonChecker::describe(part));
             continue;
         }
-        c.no_unknown_keys(part, p, {"kind", "mesh", "count", "at", "size_mm", "collision", "tilt_deg", "whorls", "colour_variation"});
+        c.no_unknown_keys(part, p, {"kind", "mesh", "count", "at", "size_mm", "collision", "tilt_deg", "cup_deg", "whorls", "colour_variation"});
         const auto kind = c.choice(part, p, "kind", {"petal", "leaf"});
         PartDef def{};
         def.kind = kind == "leaf" ? components::PartKind::leaf : components::PartKind::petal;
@@ -77,6 +77,7 @@ void read_parts(JsonChecker& c, const Json& root, SpeciesDef& out) {
         def.collision = collision_of(c.choice(part, p, "collision", {"active", "passive", "inactive"}))
                             .value_or(CollisionClass::inactive);
         def.tilt_rad = c.number(part, p, "tilt_deg", {-90, 90}, false).value_or(0) * deg;
+        def.cup_rad = c.number(part, p, "cup_deg", {-120, 120}, false).value_or(0) * deg;
         def.whorls = static_cast<std::uint32_t>(c.integer(part, p, "whorls", 1, 8, false).value_or(1));
         def.colour_variation = c.number(part, p, "colour_variation", {0, 0.5}, false).value_or(0);
         out.parts.push_back(def);

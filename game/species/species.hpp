@@ -29,6 +29,7 @@ struct PartDef {
     // (a cupped petal high, a flat ray low, a drooping leaf below); in this many rings, each inner one
     // shorter, more upright and turned half a step; their colours varied by up to this fraction.
     double tilt_rad = 0.0;
+    double cup_rad = 0.0; // curled from base to tip toward the part's inside (negative: its tip droops)
     std::uint32_t whorls = 1;
     double colour_variation = 0.0;
 };

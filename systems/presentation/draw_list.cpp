@@ -128,7 +128,9 @@ render::DrawList build_draw_list(const FrameSnapshot& frame) {
             const glm::dvec3 across = glm::normalize(glm::cross(f.up, along));
             const glm::dvec3 normal = glm::cross(along, across);
             const glm::vec3 part_colour = (part.kind == PartKind::petal ? look.petal_colour : look.leaf_colour) * part.shade;
-            list.batch(part.mesh).instances.push_back({frame_matrix(along * size, across * size, normal * size, f.origin_m), glm::vec4(part_colour, 1.0f)});
+            // One unit long before scaling: its cup is the bend per unit.
+            list.batch(part.mesh).instances.push_back(
+                {frame_matrix(along * size, across * size, normal * size, f.origin_m), glm::vec4(part_colour, 1.0f), part.cup_rad});
         }
     }
     for (std::size_t h = 0; h < 2; ++h) {

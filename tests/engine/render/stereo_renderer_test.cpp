@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <string>
 
+#include <glm/gtc/constants.hpp>
+
 #include "engine/render/stereo_renderer.hpp"
 #include "tests/support/gltf_fixtures.hpp"
 
@@ -334,4 +336,36 @@ TEST_F(StereoRendererTest, AGlbsNodesAndMaterialsAreDrawnWhereAndAsTheFileSays) 
     EXPECT_GT(share_of(img, orange, 0, 0, 200, 100), 0.005) << "the child's orange half, above";
     EXPECT_GT(share_of(img, violet, 0, 0, 200, 100), 0.005) << "the child's violet half, above";
     EXPECT_GT(share_of(img, violet, 0, 100, 200, 200), 0.01) << "the parent's violet half";
+}
+
+// An instance's bend curls its mesh along +x (a cupped petal): a quad bent half a turn per unit is a
+// half-cylinder of radius 1/pi, its edges 1/pi of its size out and as far toward the eye (its +z), so
+// seen from 0.5 m it looks (0.3/pi) / (0.5 - 0.3/pi) against 0.15 / 0.5 as wide as flat: 0.79; its
+// colours kept.
+TEST_F(StereoRendererTest, ABentInstanceIsDrawnCurled) {
+    const auto folder = std::filesystem::temp_directory_path() / "ikebana_render_bent_quad";
+    test::write_textured_quad(folder, true);
+    auto width_of = [](const RgbaImage& img) {
+        const glm::vec3 background = DrawList{}.background * 255.0f;
+        std::uint32_t lo = img.width, hi = 0;
+        for (std::uint32_t x = 0; x < img.width; ++x) {
+            const std::uint8_t* p = &img.pixels[4ull * (img.height / 2 * img.width + x)];
+            if (glm::distance(glm::vec3(p[0], p[1], p[2]), background) > 20.0f) {
+                lo = std::min(lo, x);
+                hi = std::max(hi, x);
+            }
+        }
+        return hi >= lo ? static_cast<double>(hi - lo + 1) : 0.0;
+    };
+    const auto flat = picture_of(folder, "quad.gltf", facing_quad(0.3f));
+    auto bent_quad = facing_quad(0.3f);
+    bent_quad.bend_rad_per_unit = glm::pi<float>();
+    const auto bent = picture_of(folder, "quad.gltf", bent_quad);
+    ASSERT_EQ(flat.width, 200u);
+    ASSERT_EQ(bent.width, 200u);
+    const double ratio = width_of(bent) / width_of(flat);
+    EXPECT_GT(width_of(flat), 120.0);
+    const double edge = 0.3 / glm::pi<double>();
+    EXPECT_NEAR(ratio, (edge / (0.5 - edge)) / (0.15 / 0.5), 0.04) << "flat " << width_of(flat) << " px, bent " << width_of(bent) << " px";
+    EXPECT_GT(share_of(bent, {1, 0, 0}, 0, 0, 100, 100), 0.05) << "still red at the top left";
 }

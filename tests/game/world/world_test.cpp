@@ -1,11 +1,15 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "components/flower.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/clocks.hpp"
 #include "game/scene/scene.hpp"
 #include "game/world/summary.hpp"
 #include "game/world/world.hpp"
+#include "systems/presentation/draw_list.hpp"
+#include "systems/presentation/frame_channel.hpp"
 
 using namespace ikebana;
 using namespace ikebana::game;
@@ -160,4 +164,36 @@ TEST(World, PetalsSitInRingsAndLeavesStayLeaves) {
     });
     EXPECT_EQ(passive_leaves, leaves_defined);
     EXPECT_EQ(inactive_petals, petals.count * petals.whorls);
+}
+
+// A part's cup reaches the picture: a cherry's blossoms curl (each instance carries its bend, one unit
+// long, so the bend per unit is the species' cup), a willow's leaves droop, and a sunflower's rays
+// stay flat.
+TEST(World, CuppedPartsAreDrawnCurled) {
+    for (const auto& [id, cup_deg] : {std::pair{"cherry_branch", 45.0}, std::pair{"willow_branch", -50.0}, std::pair{"sunflower", 0.0}}) {
+        auto sp = load_species(id);
+        ASSERT_TRUE(sp) << sp.error().message;
+        const auto parts = parts_of(*sp, 20);
+        const auto curled = std::count_if(parts.begin(), parts.end(), [&](const components::Part& p) {
+            return std::abs(p.cup_rad - static_cast<float>(cup_deg * glm::pi<double>() / 180.0)) < 1e-5f && p.cup_rad != 0.0f;
+        });
+        if (cup_deg == 0.0) {
+            EXPECT_EQ(curled, 0) << id;
+            continue;
+        }
+        EXPECT_GT(curled, 0) << id;
+        SceneDef scene = default_scene();
+        scene.flowers = {{id, Placement::inserted, {0, 0, 0.010}, {0, 0, 1}, 0.013}};
+        scene.sample.clear();
+        auto world = World::create(scene);
+        ASSERT_TRUE(world) << world.error().message;
+        sched::DeterministicClock clock((*world)->schedule);
+        clock.run_for_us(100'000);
+        const auto list = systems::build_draw_list((*world)->main.resource<const systems::ReceivedFrames>()->latest());
+        std::size_t bent = 0;
+        for (const auto& b : list.batches) {
+            for (const auto& inst : b.instances) bent += std::abs(inst.bend_rad_per_unit - static_cast<float>(cup_deg * glm::pi<double>() / 180.0)) < 1e-5f ? 1 : 0;
+        }
+        EXPECT_EQ(bent, static_cast<std::size_t>(curled)) << id << ": every curled part drawn curled";
+    }
 }
