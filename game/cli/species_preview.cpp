@@ -13,6 +13,7 @@
 
 #include "engine/assets/files.hpp"
 #include "engine/render/stereo_renderer.hpp"
+#include "game/app/preview_window.hpp"
 #include "game/asset_paths.hpp"
 #include "game/cli/option_checks.hpp"
 #include "game/species/species_mechanics.hpp"
@@ -24,35 +25,6 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846;
 const char* const who = "ikebana species preview: ";
-
-// A camera that frames the flowers of a frame whole (their stems, with room for a head and petals),
-// seen from the front and a little above, turned `yaw_rad` about the vertical through them.
-render::StereoRig framing(const components::FrameSnapshot& frame, double aspect, double yaw_rad) {
-    glm::dvec3 lo{std::numeric_limits<double>::infinity()}, hi{-std::numeric_limits<double>::infinity()};
-    for (const auto& f : frame.flowers) {
-        for (const auto& p : f.points_m) {
-            lo = glm::min(lo, p);
-            hi = glm::max(hi, p);
-        }
-    }
-    if (!(lo.x <= hi.x)) lo = hi = glm::dvec3{0.0, 0.0, 0.1};
-    const double around = 0.05; // a head's and its petals' reach beyond the stem's points
-    lo -= glm::dvec3{around};
-    hi += glm::dvec3{around};
-    lo.z = std::min(lo.z, 0.0); // the kenzan, or the table under the flower, in the picture
-    render::StereoRig rig;
-    rig.aspect = aspect;
-    rig.target_m = 0.5 * (lo + hi);
-    const glm::dvec3 size = hi - lo;
-    const double half_fov = 0.5 * rig.vertical_fov_rad;
-    const double across = std::max(size.x, size.y);
-    const double distance = 1.1 * std::max(0.5 * size.z / std::tan(half_fov), 0.5 * across / (std::tan(half_fov) * aspect)) + 0.5 * across;
-    const double lift = 10.0 * pi / 180.0;
-    rig.position_m = rig.target_m + distance * glm::dvec3{std::sin(yaw_rad) * std::cos(lift), -std::cos(yaw_rad) * std::cos(lift), std::sin(lift)};
-    rig.near_m = 0.01;
-    rig.far_m = 10.0 * distance;
-    return rig;
-}
 
 render::OverlayPanel caption(std::vector<std::string> lines) {
     render::OverlayPanel p;
@@ -120,6 +92,39 @@ nlohmann::json mechanics_json(const SpeciesMechanics& m) {
             {"sag", {{"tip_drop_mm", m.sag.tip_drop_mm}, {"tip_angle_deg", m.sag.tip_angle_deg}}}};
 }
 
+// The numbers: words on standard output (standard error when the JSON goes there), the JSON as asked.
+int print_numbers(const PreviewOptions& o, const SpeciesMechanics& m) {
+    FILE* words = o.json == "-" ? stderr : stdout;
+    std::fprintf(words, "%s (%s, %.0f mm), after %.0f s in each trial:\n", m.id.c_str(), o.file.c_str(), m.length_mm, mechanics_settle_s);
+    for (const auto& t : m.stands) std::fprintf(words, "  %s\n", joined(stand_lines(t)).c_str());
+    std::fprintf(words, "  %s\n", joined(sag_lines(m.sag)).c_str());
+    if (!o.json.empty()) {
+        const std::string text = mechanics_json(m).dump(2) + "\n";
+        if (o.json == "-") std::fputs(text.c_str(), stdout);
+        else if (auto wr = assets::write_text_file(o.json, text); !wr) {
+            std::cerr << who << "--json: " << wr.error().message << "\n";
+            return 1;
+        }
+    }
+    std::fflush(stdout);
+    return 0;
+}
+
+// What the window shows: the turntable, each trial, their captions.
+std::vector<PreviewView> views_of(const SpeciesMechanics& m) {
+    char title[96];
+    std::snprintf(title, sizeof title, "%s, %.0f mm", m.id.c_str(), m.length_mm);
+    std::vector<PreviewView> views;
+    views.push_back({"1", "turning", m.scenes.front().last, {title}, true});
+    for (std::size_t i = 0; i < m.stands.size() && i < m.scenes.size(); ++i) {
+        char name[32];
+        std::snprintf(name, sizeof name, "at %.0f", m.stands[i].set_at_deg);
+        views.push_back({std::to_string(views.size() + 1), name, m.scenes[i].last, titled(title, stand_lines(m.stands[i])), false});
+    }
+    views.push_back({std::to_string(views.size() + 1), "level", m.scenes.back().last, titled(title, sag_lines(m.sag)), false});
+    return views;
+}
+
 // One preview: the trials, their pictures and the turntable into `out`, the numbers on stdout.
 int preview_once(const PreviewOptions& o, render::StereoRenderer& renderer) {
     auto m = species_mechanics(o.file);
@@ -145,7 +150,7 @@ int preview_once(const PreviewOptions& o, render::StereoRenderer& renderer) {
         char name[64], line[96];
         std::snprintf(name, sizeof name, "turntable_%02u.png", k);
         std::snprintf(line, sizeof line, "%s, %.0f mm: turned %.0f deg", m->id.c_str(), m->length_mm, yaw * 180.0 / pi);
-        auto image = draw(upright, framing(upright, aspect, yaw), {line}, name);
+        auto image = draw(upright, preview_framing(upright, aspect, yaw), {line}, name);
         if (!image) {
             std::cerr << who << image.error().message << "\n";
             return 3;
@@ -155,14 +160,14 @@ int preview_once(const PreviewOptions& o, render::StereoRenderer& renderer) {
     for (std::size_t i = 0; i < m->stands.size(); ++i) {
         char name[64];
         std::snprintf(name, sizeof name, "stand_%02.0f.png", m->stands[i].set_at_deg);
-        auto image = draw(m->scenes[i].last, framing(m->scenes[i].last, aspect, 0.0), titled(m->id, stand_lines(m->stands[i])), name);
+        auto image = draw(m->scenes[i].last, preview_framing(m->scenes[i].last, aspect, 0.0), titled(m->id, stand_lines(m->stands[i])), name);
         if (!image) {
             std::cerr << who << image.error().message << "\n";
             return 3;
         }
         sheet.push_back(std::move(image).value());
     }
-    auto sag = draw(m->scenes.back().last, framing(m->scenes.back().last, aspect, 0.0), titled(m->id, sag_lines(m->sag)), "sag.png");
+    auto sag = draw(m->scenes.back().last, preview_framing(m->scenes.back().last, aspect, 0.0), titled(m->id, sag_lines(m->sag)), "sag.png");
     if (!sag) {
         std::cerr << who << sag.error().message << "\n";
         return 3;
@@ -172,21 +177,9 @@ int preview_once(const PreviewOptions& o, render::StereoRenderer& renderer) {
         std::cerr << who << wr.error().message << "\n";
         return 1;
     }
-    // With the JSON on standard output, the words go to standard error: the output stays one document.
-    FILE* words = o.json == "-" ? stderr : stdout;
-    std::fprintf(words, "%s (%s, %.0f mm), after %.0f s in each trial:\n", m->id.c_str(), o.file.c_str(), m->length_mm, mechanics_settle_s);
-    for (const auto& t : m->stands) std::fprintf(words, "  %s\n", joined(stand_lines(t)).c_str());
-    std::fprintf(words, "  %s\n", joined(sag_lines(m->sag)).c_str());
-    std::fprintf(words, "pictures in %s: sheet.png (the flower, each trial), turntable_00..%02u.png, stand_00/45/70.png, sag.png\n", o.out.c_str(),
-                 o.turns - 1);
-    if (!o.json.empty()) {
-        const std::string text = mechanics_json(*m).dump(2) + "\n";
-        if (o.json == "-") std::fputs(text.c_str(), stdout);
-        else if (auto wr = assets::write_text_file(o.json, text); !wr) {
-            std::cerr << who << "--json: " << wr.error().message << "\n";
-            return 1;
-        }
-    }
+    if (const int code = print_numbers(o, *m); code != 0) return code;
+    std::fprintf(o.json == "-" ? stderr : stdout, "pictures in %s: sheet.png (the flower, each trial), turntable_00..%02u.png, stand_00/45/70.png, sag.png\n",
+                 o.out.c_str(), o.turns - 1);
     std::fflush(stdout);
     return 0;
 }
@@ -204,15 +197,25 @@ int run_species_preview(const PreviewOptions& o) {
         std::cerr << who << "--watch writes a JSON document each preview; with --json - they would run together: give --json a file\n";
         return 2;
     }
-    if (auto folder = assets::create_output_folder(o.out); !folder) {
-        std::cerr << who << "--out: " << folder.error().message << "\n";
-        return 2;
-    }
     if (!o.json.empty() && o.json != "-") {
         if (auto ok = assets::check_output_path(o.json); !ok) {
             std::cerr << who << "--json: " << ok.error().message << "\n";
             return 2;
         }
+    }
+    if (o.window) {
+        // On screen instead of in pictures: the numbers once (and after each save), the window until closed.
+        PreviewWindowOptions w{o.file, o.width, o.height, o.watch, o.passes, o.frames, o.screenshot, o.validation};
+        return run_preview_window(w, [&o]() -> Result<std::vector<PreviewView>> {
+            auto m = species_mechanics(o.file);
+            if (!m) return std::move(m).error();
+            (void)print_numbers(o, *m);
+            return views_of(*m);
+        });
+    }
+    if (auto folder = assets::create_output_folder(o.out); !folder) {
+        std::cerr << who << "--out: " << folder.error().message << "\n";
+        return 2;
     }
     auto ctx = render::VulkanContext::create({.validation = o.validation, .require_validation = false, .instance_extensions = {}});
     if (!ctx) {
@@ -262,6 +265,9 @@ void add_species_preview_command(CLI::App& species, int& exit_code) {
     cmd->add_option("--json", o->json, "The numbers as JSON into this file (- for standard output)");
     cmd->add_flag("--watch", o->watch, "Preview again each time the file is saved");
     cmd->add_option("--passes", o->passes, "With --watch: stop after this many previews (0: never)")->capture_default_str();
+    cmd->add_flag("--window", o->window, "Show it in a window instead of writing pictures: the turntable (drag to turn), keys 1-5 for the trials");
+    cmd->add_option("--frames", o->frames, "With --window: stop after this many frames (0: when closed)")->capture_default_str();
+    cmd->add_option("--screenshot", o->screenshot, "With --window: the last frame as a PNG");
     cmd->add_flag("--validation", o->validation, "Run with the Vulkan validation layer");
     cmd->callback([o, &exit_code] {
         unsigned w = 0, h = 0;

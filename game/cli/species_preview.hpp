@@ -16,6 +16,9 @@ struct PreviewOptions {
     bool watch = false;
     std::uint32_t passes = 0; // with watch: previews before it stops (0: until interrupted)
     bool validation = false;
+    bool window = false;        // on screen instead of in pictures
+    std::uint32_t frames = 0;   // with window: stop after this many frames (0: when closed)
+    std::string screenshot;     // with window: the last frame
 };
 
 // `ikebana species preview FILE`: a designer's look at a species alone (species_mechanics.hpp's
