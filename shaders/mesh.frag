@@ -1,10 +1,18 @@
 #version 450
+// The scene's fragments, compiled three ways (shaders/CMakeLists.txt): plain (mesh.frag.spv: the
+// built-in shapes and parts without a material of their own, lit by their instance's colour), with
+// MATERIAL (a glTF material: its factors, pictures, normal map and highlight) and with ALPHA_MASK as
+// well (a leaf cut out of a quad). On lavapipe every value passed from the vertices is interpolated at
+// every fragment, and a shader that may discard cannot test depth before it runs: the plain variant
+// keeps the pins and stems by the hundred at what they cost before materials existed.
 layout(location = 0) in vec3 in_normal;
 layout(location = 1) in vec4 in_colour;
 layout(location = 2) in vec4 in_light_space;
+#ifdef MATERIAL
 layout(location = 3) in vec2 in_uv;
 layout(location = 4) in vec4 in_tangent;
 layout(location = 5) in vec3 in_to_eye;
+#endif
 layout(location = 0) out vec4 out_colour;
 
 layout(set = 0, binding = 0) uniform Frame {
@@ -14,6 +22,8 @@ layout(set = 0, binding = 0) uniform Frame {
     vec4 eye_position[2];
 } frame;
 layout(set = 0, binding = 1) uniform sampler2DShadow shadow_map;
+
+#ifdef MATERIAL
 // The material's pictures (white and a flat normal where it has none).
 layout(set = 1, binding = 0) uniform sampler2D base_colour_map;
 layout(set = 1, binding = 1) uniform sampler2D normal_map;
@@ -26,7 +36,9 @@ layout(push_constant) uniform Constants {
     vec4 base_colour;
     float metallic;
     float roughness;
+    int textured;       // 0: no base colour picture: not sampled
 } material;
+#endif
 
 // One comparison tap: the sampler's linear filter blends the four nearest comparisons (hardware
 // percentage-closer filtering), as soft as four taps at a quarter of the fragment work.
@@ -38,10 +50,19 @@ float lit_fraction() {
 }
 
 void main() {
-    vec4 base = in_colour * material.base_colour * texture(base_colour_map, in_uv);
-    // A leaf cut out of a quad: what its picture leaves transparent is not there.
-    if (material.alpha_cutoff >= 0.0 && base.a < material.alpha_cutoff) discard;
     vec3 n = normalize(in_normal);
+    vec3 to_light = -normalize(frame.light_direction.xyz);
+#ifndef MATERIAL
+    // Thin parts (petals, leaves) are lit from either side.
+    float diffuse = abs(dot(n, to_light));
+    out_colour = vec4(in_colour.rgb * (0.3 + 0.7 * diffuse * lit_fraction()), in_colour.a);
+#else
+    vec4 base = in_colour * material.base_colour;
+    if (material.textured != 0) base *= texture(base_colour_map, in_uv);
+#ifdef ALPHA_MASK
+    // What the picture leaves transparent is not there.
+    if (base.a < material.alpha_cutoff) discard;
+#endif
     if (material.normal_mapped != 0) {
         vec3 t = normalize(in_tangent.xyz - n * dot(n, in_tangent.xyz));
         vec3 b = cross(n, t) * in_tangent.w;
@@ -49,13 +70,8 @@ void main() {
         m.xy *= material.normal_scale;
         n = normalize(mat3(t, b, n) * m);
     }
-    vec3 to_light = -normalize(frame.light_direction.xyz);
-    float facing = dot(n, to_light);
-    // Thin parts (petals, leaves) are lit from either side.
-    float diffuse = abs(facing);
-    float shade = diffuse * lit_fraction();
-    // Metal has no diffuse colour of its own; what is smooth has a highlight (none at roughness 1, so
-    // the built-in matte shapes look as they always did).
+    float shade = abs(dot(n, to_light)) * lit_fraction();
+    // Metal has little diffuse colour of its own; what is smooth has a highlight (none at roughness 1).
     vec3 lit = base.rgb * (0.3 + 0.7 * shade * (1.0 - 0.8 * material.metallic));
     float smooth_ = 1.0 - material.roughness;
     if (smooth_ > 0.0) {
@@ -67,4 +83,5 @@ void main() {
         lit += tint * smooth_ * pow(max(dot(nv, h), 0.0), shininess) * lit_fraction() * (shininess + 8.0) / 32.0;
     }
     out_colour = vec4(lit, in_colour.a);
+#endif
 }

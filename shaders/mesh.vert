@@ -37,10 +37,16 @@ layout(location = 5) out vec3 out_to_eye;
 
 void main() {
     mat4 model = mat4(in_model0, in_model1, in_model2, in_model3);
-    vec4 world = model * vec4(bent_position(in_position, in_bend), 1.0);
+    vec3 position = in_position, normal = in_normal, tangent = in_tangent.xyz;
+    if (in_bend != 0.0) { // a cupped petal; the pins and stems by the hundred are not bent
+        position = bent_position(in_position, in_bend);
+        normal = bent_direction(in_normal, in_bend, in_position.x);
+        tangent = bent_direction(in_tangent.xyz, in_bend, in_position.x);
+    }
+    vec4 world = model * vec4(position, 1.0);
     // Scaled instances (pins, stem segments): the inverse transpose keeps normals perpendicular.
-    out_normal = transpose(inverse(mat3(model))) * bent_direction(in_normal, in_bend, in_position.x);
-    out_tangent = vec4(mat3(model) * bent_direction(in_tangent.xyz, in_bend, in_position.x), in_tangent.w);
+    out_normal = transpose(inverse(mat3(model))) * normal;
+    out_tangent = vec4(mat3(model) * tangent, in_tangent.w);
     out_colour = in_colour;
     out_uv = in_uv;
     out_light_space = frame.light_view_projection * world;

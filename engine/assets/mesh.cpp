@@ -545,6 +545,7 @@ Result<MeshData> parse_gltf(const std::string& bytes, const std::string& label, 
     if (!ok) {
         err = without_echo(err);
         while (!err.empty() && std::isspace(static_cast<unsigned char>(err.back()))) err.pop_back();
+        std::replace(err.begin(), err.end(), '\n', ';'); // one line: tinygltf ends each of its messages with a line break
         if (err.size() > 300) err = err.substr(0, 300) + "...";
         return make_error(ErrorCode::parse_error, label + ": not a readable glTF 2.0 file: " + err);
     }

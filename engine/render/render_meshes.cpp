@@ -222,6 +222,8 @@ Result<StereoRenderer::Mesh> StereoRenderer::upload(const assets::MeshData& data
             part.constants.alpha_cutoff = mat.alpha_cutoff;
             part.constants.normal_scale = mat.normal_scale;
             part.constants.normal_mapped = mat.normal_image >= 0 && !data.tangents.empty() ? 1 : 0;
+            part.constants.textured = mat.base_colour_image >= 0 && !data.uvs.empty() ? 1 : 0;
+            part.shading = mat.alpha_cutoff >= 0.0f ? Shading::masked : Shading::material;
         }
         return part;
     };

@@ -79,7 +79,7 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
 
 // Each batch's instances from its offset in the frame's instance buffer. Closed meshes cull their
 // back faces; sheets (petals, leaves) are drawn from both sides.
-void StereoRenderer::draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only, bool translucent) const {
+void StereoRenderer::draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only, bool translucent, Shading shading) const {
     // The shadow pass needs positions only: no materials.
     const bool materials = !shadow_casters_only;
     std::uint32_t first = 0;
@@ -92,6 +92,7 @@ void StereoRenderer::draw_batches(const Frame& frame, const std::vector<Draw>& d
             vkCmdBindIndexBuffer(frame.cmd, d.mesh->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
             vkCmdSetCullMode(frame.cmd, d.mesh->closed ? VK_CULL_MODE_BACK_BIT : VK_CULL_MODE_NONE);
             for (const auto& part : d.mesh->parts) {
+                if (shading != Shading::any && part.shading != shading) continue;
                 if (materials) {
                     if (part.material != bound) {
                         vkCmdBindDescriptorSets(frame.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, scene_pipeline_layout_, 1, 1, &part.material, 0, nullptr);
@@ -186,7 +187,18 @@ void StereoRenderer::record_eye_passes(const Frame& frame, const DrawList& list,
         const std::int32_t base = pass;
         vkCmdPushConstants(cmd, scene_pipeline_layout_, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof base, &base);
         set_viewport(cmd, eyes_.extent);
-        draw_batches(frame, draws, false, false);
+        draw_batches(frame, draws, false, false, Shading::plain);
+        // Then the parts with materials of their own, and the alpha-masked ones, each with its variant.
+        const std::pair<Shading, VkPipeline> variants[2] = {{Shading::material, multiview_ ? material_pipeline_ : per_eye_material_pipeline_},
+                                                            {Shading::masked, multiview_ ? masked_pipeline_ : per_eye_masked_pipeline_}};
+        for (const auto& [shading, pipeline] : variants) {
+            const auto has = [shading](const Draw& d) {
+                return !d.translucent && std::any_of(d.mesh->parts.begin(), d.mesh->parts.end(), [shading](const Part& p) { return p.shading == shading; });
+            };
+            if (std::none_of(draws.begin(), draws.end(), has)) continue;
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+            draw_batches(frame, draws, false, false, shading);
+        }
         if (std::any_of(draws.begin(), draws.end(), [](const Draw& d) { return d.translucent; })) {
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, multiview_ ? translucent_pipeline_ : per_eye_translucent_pipeline_);
             draw_batches(frame, draws, false, true);

@@ -1,6 +1,7 @@
 // The renderer's pipelines: the scene (both eyes in one multiview pass, or one eye per pass), the
 // shadow map, and the screen-space ones (composite, heads-up display), one per output format.
 #include <cstddef>
+#include <utility>
 #include <string>
 
 #include "engine/render/pipeline_builder.hpp"
@@ -46,9 +47,9 @@ Result<void> keep(Result<VkPipeline> made, VkPipeline& pipeline) {
 
 Result<void> StereoRenderer::prepare_pipelines() {
     ShaderModules shaders(ctx_, options_.shader_dir); // destroyed once every pipeline is made
-    VkShaderModule modules[3] = {};
-    const char* names[3] = {"mesh.vert.spv", "mesh.frag.spv", "shadow.vert.spv"};
-    for (int i = 0; i < 3; ++i) {
+    VkShaderModule modules[5] = {};
+    const char* names[5] = {"mesh.vert.spv", "mesh.frag.spv", "shadow.vert.spv", "mesh_material.frag.spv", "mesh_masked.frag.spv"};
+    for (int i = 0; i < 5; ++i) {
         auto m = shaders.load(names[i]);
         if (!m) return std::move(m).error();
         modules[i] = *m;
@@ -75,6 +76,15 @@ Result<void> StereoRenderer::prepare_pipelines() {
         .samples(samples_);
     if (auto ok = keep(scene.view_mask(0b11).build(ctx_.device(), scene_pipeline_layout_), scene_pipeline_); !ok) return ok;
     if (auto ok = keep(scene.name("per-eye scene").view_mask(0).build(ctx_.device(), scene_pipeline_layout_), per_eye_pipeline_); !ok) return ok;
+    // Parts with a material, then alpha-masked ones: the same with mesh.frag's other variants.
+    const std::pair<VkShaderModule, VkPipeline*> variants[2][2] = {{{modules[3], &material_pipeline_}, {modules[3], &per_eye_material_pipeline_}},
+                                                                   {{modules[4], &masked_pipeline_}, {modules[4], &per_eye_masked_pipeline_}}};
+    for (const auto& [multiview_one, per_eye_one] : variants) {
+        scene.shaders({shader_stage(VK_SHADER_STAGE_VERTEX_BIT, modules[0]), shader_stage(VK_SHADER_STAGE_FRAGMENT_BIT, multiview_one.first)});
+        if (auto ok = keep(scene.name("material scene").view_mask(0b11).build(ctx_.device(), scene_pipeline_layout_), *multiview_one.second); !ok) return ok;
+        if (auto ok = keep(scene.name("per-eye material scene").view_mask(0).build(ctx_.device(), scene_pipeline_layout_), *per_eye_one.second); !ok) return ok;
+    }
+    scene.shaders({shader_stage(VK_SHADER_STAGE_VERTEX_BIT, modules[0]), shader_stage(VK_SHADER_STAGE_FRAGMENT_BIT, modules[1])});
     // Translucent batches (water, ghosts): blended, tested against the depth but not written to it.
     scene.blend(alpha_blend()).depth_test(VK_COMPARE_OP_LESS, false);
     if (auto ok = keep(scene.name("translucent scene").view_mask(0b11).build(ctx_.device(), scene_pipeline_layout_), translucent_pipeline_); !ok) return ok;

@@ -123,7 +123,8 @@ StereoRenderer::~StereoRenderer() {
     for (auto& f : frames_) {
         if (f.image_available) vkDestroySemaphore(d, f.image_available, nullptr);
     }
-    for (VkPipeline p : {scene_pipeline_, per_eye_pipeline_, shadow_pipeline_, composite_pipeline_, translucent_pipeline_, per_eye_translucent_pipeline_}) {
+    for (VkPipeline p : {scene_pipeline_, per_eye_pipeline_, shadow_pipeline_, composite_pipeline_, translucent_pipeline_, per_eye_translucent_pipeline_,
+                         material_pipeline_, per_eye_material_pipeline_, masked_pipeline_, per_eye_masked_pipeline_}) {
         if (p) vkDestroyPipeline(d, p, nullptr);
     }
     for (VkPipelineLayout l : {scene_pipeline_layout_, composite_pipeline_layout_}) {

@@ -119,13 +119,18 @@ private:
         glm::vec4 base_colour{1.0f}; // times the instance's colour and the base colour texture
         float metallic = 0.0f;
         float roughness = 1.0f;
-        float pad[2] = {0.0f, 0.0f};
+        std::int32_t textured = 0; // a base colour picture to sample
+        float pad = 0.0f;
     };
+    // How a part is shaded (which variant of mesh.frag): by its instance's colour alone, with its glTF
+    // material, or with its material and alpha mask. The shadow pass draws every part at once.
+    enum class Shading { plain, material, masked, any };
     // A run of a mesh's triangles with its material: pictures (set 1) and factors (push constants).
     struct Part {
         std::uint32_t first_index = 0, index_count = 0;
         VkDescriptorSet material = VK_NULL_HANDLE;
         SceneConstants constants;
+        Shading shading = Shading::plain;
     };
     struct Mesh {
         GpuBuffer vertices, indices;
@@ -211,7 +216,7 @@ private:
     void draw_overlay(const Frame& frame, const CompositeTarget& target) const;
     void record_hand_over(const Frame& frame, const CompositeTarget& target, VkImageLayout eyes_layout) const;
     void copy_eyes_to_host(const Frame& frame, const CompositeTarget& target, VkImageLayout eyes_layout) const;
-    void draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only, bool translucent) const;
+    void draw_batches(const Frame& frame, const std::vector<Draw>& draws, bool shadow_casters_only, bool translucent, Shading shading = Shading::any) const;
 
     VulkanContext& ctx_;
     RendererOptions options_;
@@ -240,6 +245,9 @@ private:
     VkPipelineLayout scene_pipeline_layout_ = VK_NULL_HANDLE, composite_pipeline_layout_ = VK_NULL_HANDLE;
     VkPipeline scene_pipeline_ = VK_NULL_HANDLE, per_eye_pipeline_ = VK_NULL_HANDLE, shadow_pipeline_ = VK_NULL_HANDLE, composite_pipeline_ = VK_NULL_HANDLE;
     VkPipeline translucent_pipeline_ = VK_NULL_HANDLE, per_eye_translucent_pipeline_ = VK_NULL_HANDLE;
+    // Parts with a glTF material of their own, and alpha-masked ones (mesh.frag's variants).
+    VkPipeline material_pipeline_ = VK_NULL_HANDLE, per_eye_material_pipeline_ = VK_NULL_HANDLE;
+    VkPipeline masked_pipeline_ = VK_NULL_HANDLE, per_eye_masked_pipeline_ = VK_NULL_HANDLE;
     std::map<std::string, Mesh> meshes_;
     std::vector<Draw> draws_;
     std::map<VkFormat, VkPipeline> window_composite_;
