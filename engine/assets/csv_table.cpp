@@ -96,7 +96,7 @@ std::vector<TextLine> split_lines(std::string_view text) {
     return lines;
 }
 
-Result<CsvTable> parse_csv(std::string_view text, const std::string& label) {
+Result<CsvTable> parse_csv(std::string_view text, const std::string& label, std::size_t max_cells) {
     CsvTable table;
     table.label = label;
     bool header_seen = false;
@@ -128,6 +128,11 @@ Result<CsvTable> parse_csv(std::string_view text, const std::string& label) {
         }
         if (table.rows() == max_csv_rows) {
             return make_error(ErrorCode::parse_error, where + "1: more than " + std::to_string(max_csv_rows) + " rows, the most a table may have here");
+        }
+        if ((table.rows() + 1) * table.columns.size() > max_cells) {
+            return make_error(ErrorCode::parse_error, where + "1: more than " + std::to_string(max_cells) +
+                                                          " cells (rows x columns), the most a table may hold here (about " +
+                                                          std::to_string(max_cells * 40 >> 20) + " MiB in memory); split the file");
         }
         for (std::size_t c = 0; c < cells->size(); ++c) table.columns[c].text.push_back(std::move((*cells)[c].text));
         table.line_of_row.push_back(line_no);

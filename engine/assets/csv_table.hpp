@@ -33,6 +33,10 @@ struct CsvTable {
 // which and where.
 inline constexpr std::size_t max_csv_rows = 1'000'000;
 inline constexpr std::size_t max_csv_columns = 1'000;
+// Rows times columns: the table's memory budget (a cell is held as text and, in a numeric column, as a
+// number: about 40 bytes, so some 400 MiB at the limit). A file over it is refused at the row that
+// would pass it, before the memory is taken.
+inline constexpr std::size_t max_csv_cells = 10'000'000;
 
 // A text's lines as spreadsheets write them: "\n", "\r\n" or a lone "\r" (old Mac exports) ends a
 // line, and a UTF-8 byte-order mark before the first is dropped. `ending` is what ended each line
@@ -43,7 +47,7 @@ struct TextLine {
 };
 std::vector<TextLine> split_lines(std::string_view text);
 
-Result<CsvTable> parse_csv(std::string_view text, const std::string& label);
+Result<CsvTable> parse_csv(std::string_view text, const std::string& label, std::size_t max_cells = max_csv_cells);
 Result<CsvTable> load_csv(const std::string& path);
 
 } // namespace ikebana::assets

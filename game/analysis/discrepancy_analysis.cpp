@@ -1,6 +1,7 @@
 #include "game/analysis/discrepancy_analysis.hpp"
 
 #include <algorithm>
+#include <unordered_map>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -796,10 +797,105 @@ Result<AnalysisResult> Analysis::run() {
 
 } // namespace
 
+namespace {
+
+// Screens the categorical columns too wide for a per-level factor (AnalysisOptions says when) and
+// returns the input without them. A per-level factor would be a dense design column per level: 60,000
+// rows of a 10,000-level lot number are 4.8 GB before a single permutation.
+AnalysisInput screened_input(const AnalysisInput& input, const AnalysisOptions& options, std::vector<ScreenedColumn>& screened) {
+    AnalysisInput kept;
+    kept.flower = input.flower;
+    kept.measured_gf = input.measured_gf;
+    kept.predicted_gf = input.predicted_gf;
+    kept.covariates.constant = input.covariates.constant;
+    const std::size_t n = input.measured_gf.size();
+    std::vector<double> r(n);
+    double mean = 0.0;
+    for (std::size_t i = 0; i < n; ++i) mean += (r[i] = std::log(input.measured_gf[i] / input.predicted_gf[i])) / static_cast<double>(n);
+    double total = 0.0;
+    for (const double v : r) total += (v - mean) * (v - mean);
+    for (const auto& column : input.covariates.columns) {
+        if (column.numeric || column.levels.size() < 2) {
+            kept.covariates.columns.push_back(column);
+            continue;
+        }
+        // Distinct flowers per level, and the level means: one pass over the rows, grouped.
+        const std::size_t levels = column.levels.size();
+        std::vector<std::pair<std::uint32_t, std::size_t>> level_flower; // (level, flower's index)
+        std::unordered_map<std::string, std::size_t> flower_index;
+        std::vector<double> sum(levels, 0.0);
+        std::vector<std::size_t> count(levels, 0);
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto [it, added] = flower_index.emplace(input.flower[i], flower_index.size());
+            level_flower.emplace_back(column.level[i], it->second);
+            sum[column.level[i]] += r[i] - mean;
+            ++count[column.level[i]];
+        }
+        std::sort(level_flower.begin(), level_flower.end());
+        const auto distinct = static_cast<double>(std::unique(level_flower.begin(), level_flower.end()) - level_flower.begin());
+        const double flowers_per_level = distinct / static_cast<double>(levels);
+        if (flowers_per_level >= options.min_flowers_per_level && levels <= options.max_levels) {
+            kept.covariates.columns.push_back(column);
+            continue;
+        }
+        ScreenedColumn s;
+        s.covariate = column.name;
+        s.levels = levels;
+        s.flowers_per_level = flowers_per_level;
+        double between = 0.0;
+        for (std::size_t l = 0; l < levels; ++l) between += count[l] > 0 ? sum[l] * sum[l] / static_cast<double>(count[l]) : 0.0;
+        s.between_level_share = total > 0.0 ? between / total : 0.0;
+        s.chance_share = n > 1 ? static_cast<double>(levels - 1) / static_cast<double>(n - 1) : 0.0;
+        char why[256];
+        if (levels > options.max_levels) {
+            std::snprintf(why, sizeof why, "%zu levels, more than the %zu a per-level effect is tested for (a lot, sample or gauge id, or a note)", levels,
+                          options.max_levels);
+        } else {
+            std::snprintf(why, sizeof why, "its %zu levels are seen on %.1f flowers each on average: a per-level effect needs at least %.0f to be told from the flowers' own differences",
+                          levels, flowers_per_level, options.min_flowers_per_level);
+        }
+        s.reason = why;
+        screened.push_back(std::move(s));
+    }
+    return kept;
+}
+
+// The design columns the analysis will hold for `input` (each candidate's shapes, with copies), in
+// bytes; the widest column's name.
+std::pair<std::size_t, std::string> working_memory(const AnalysisInput& input) {
+    const std::size_t n = input.measured_gf.size();
+    std::size_t columns = 8; // the intercept, the residuals and the model's own
+    std::size_t widest = 0;
+    std::string widest_name;
+    for (const auto& column : input.covariates.columns) {
+        std::size_t width = 0;
+        // A category's basis is a column per level but the first; every numeric shape's is one column.
+        for (const auto& shape : all_shapes_of(column)) width += shape.form == "category" ? column.levels.size() - 1 : 1;
+        columns += width;
+        if (width > widest) {
+            widest = width;
+            widest_name = column.name;
+        }
+    }
+    return {3 * columns * n * sizeof(double), widest_name}; // the bases, their orthonormal rests, a fold's copy
+}
+
+} // namespace
+
 Result<AnalysisResult> analyse_discrepancy(const AnalysisInput& input, const AnalysisOptions& options) {
     if (options.permutations < 19) return make_error(ErrorCode::invalid_argument, "at least 19 permutations are needed for p < 0.05");
-    Analysis analysis(input, options);
-    return analysis.run();
+    std::vector<ScreenedColumn> screened;
+    const AnalysisInput kept = screened_input(input, options, screened);
+    if (const auto [bytes, widest] = working_memory(kept); bytes > options.memory_budget_bytes) {
+        return make_error(ErrorCode::invalid_argument,
+                          "the covariates would need " + std::to_string(bytes >> 10) + " KiB of working memory, more than the " +
+                              std::to_string(options.memory_budget_bytes >> 10) + " KiB budget; the widest is the column '" + widest +
+                              "': leave it out (--ignore " + widest + ") or split the file");
+    }
+    Analysis analysis(kept, options);
+    auto result = analysis.run();
+    if (result) result->screened = std::move(screened);
+    return result;
 }
 
 } // namespace ikebana::game

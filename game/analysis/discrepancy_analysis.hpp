@@ -48,7 +48,27 @@ struct AnalysisOptions {
     std::uint32_t folds = 10;     // grouped CV; fewer when there are fewer flowers
     std::uint32_t bootstrap = 200; // flower resamples for the intervals
     std::uint32_t max_terms = 4;
+    // A categorical column is tested level by level only when its levels are seen, on average, on at
+    // least this many flowers each and there are at most max_levels of them; otherwise it is screened
+    // out (AnalysisResult::screened says so, with its between-level variance).
+    double min_flowers_per_level = 3.0;
+    std::size_t max_levels = 200;
+    // The analysis' working memory (its design columns, each a row long, and their copies): an input
+    // that would need more is refused naming its widest column, instead of swapping.
+    std::size_t memory_budget_bytes = std::size_t{1} << 30;
     AnalysisProgress progress;
+};
+
+// A categorical column that cannot carry a testable per-level effect (a lot number, a sample id, a
+// note): not tested, and said so. Its levels' means are still summarised as a random effect would be:
+// the share of the residual's variance between its levels, beside the share chance alone gives.
+struct ScreenedColumn {
+    std::string covariate;
+    std::size_t levels = 0;
+    double flowers_per_level = 0.0;   // distinct flowers a level is seen on, on average
+    double between_level_share = 0.0; // of the baseline residual's variance, by its levels' means
+    double chance_share = 0.0;        // what that share is expected to be with no effect: (levels - 1) / (rows - 1)
+    std::string reason;
 };
 
 struct ResidualBin {
@@ -109,7 +129,8 @@ struct AnalysisResult {
     double gain = 0.0;            // 1 - extended CV RMSE / baseline CV RMSE; 0 when nothing is found
     bool discrepancy_found = false;
     Calibration calibration;
-    std::vector<CovariateDiagnostic> diagnostics; // every candidate, in the file's order
+    std::vector<CovariateDiagnostic> diagnostics; // every candidate tested, in the file's order
+    std::vector<ScreenedColumn> screened;         // categorical columns too wide to test level by level
     std::vector<Cause> causes;                    // by importance
     std::vector<components::DeteriorationTerm> extension; // exp(sum) multiplies the force; empty: none
     std::vector<double> fitted_log_factor;        // per row, in sample

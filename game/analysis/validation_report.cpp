@@ -173,6 +173,15 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
                                     {"bins", bins}});
     }
     j["constant_columns"] = v.input.covariates.constant;
+    j["screened_columns"] = nlohmann::ordered_json::array();
+    for (const auto& c : a.screened) {
+        j["screened_columns"].push_back({{"covariate", c.covariate},
+                                         {"levels", c.levels},
+                                         {"flowers_per_level", c.flowers_per_level},
+                                         {"between_level_share", c.between_level_share},
+                                         {"chance_share", c.chance_share},
+                                         {"reason", c.reason}});
+    }
     j["options"] = {{"permutations", options.permutations}, {"alpha", options.alpha}, {"seed", options.seed}, {"folds", a.folds},
                     {"bootstrap", options.bootstrap}};
     j["log"] = a.log;
@@ -184,6 +193,11 @@ std::string validation_summary(const ValidationResult& v) {
     std::ostringstream o;
     o << v.measured_file << ": " << a.n_trials << " trials, " << a.n_flowers << " flower(s), species " << (v.species.empty() ? "(several)" : v.species)
       << "\n";
+    for (const auto& c : a.screened) {
+        o << "screened:  " << c.covariate << " (" << c.levels << " levels, " << fmt("%.1f", c.flowers_per_level)
+          << " flowers a level): not tested level by level; " << fmt("%.1f %%", 100 * c.between_level_share) << " of the residual's variance lies between its levels, "
+          << fmt("%.1f %%", 100 * c.chance_share) << " by chance\n";
+    }
     o << "baseline:  RMSE " << fmt("%.1f", a.baseline_rmse_gf) << " gf, CV RMSE " << fmt("%.1f", a.baseline_cv_rmse_gf) << " gf";
     if (v.baseline_outcome_accuracy) o << ", outcome accuracy " << fmt("%.0f %%", 100 * *v.baseline_outcome_accuracy);
     o << "\n";
@@ -244,6 +258,16 @@ Result<void> write_validation_report(const ValidationResult& v, const AnalysisOp
         md << "\nNot tested (one value only):";
         for (const auto& c : v.input.covariates.constant) md << " `" << c << "`";
         md << ".\n";
+    }
+    if (!a.screened.empty()) {
+        md << "\nScreened out, not tested level by level (too many levels for the flowers that carry them). As a random "
+              "effect would be summarised: the share of the residual's variance between its levels' means, beside the "
+              "share chance alone gives that many levels.\n\n| column | levels | flowers a level | between levels | by chance | why |\n"
+              "|---|---|---|---|---|---|\n";
+        for (const auto& c : a.screened) {
+            md << "| `" << c.covariate << "` | " << c.levels << " | " << fmt("%.1f", c.flowers_per_level) << " | " << fmt("%.1f %%", 100 * c.between_level_share)
+               << " | " << fmt("%.1f %%", 100 * c.chance_share) << " | " << c.reason << " |\n";
+        }
     }
     md << "\n";
     std::vector<std::pair<std::string, std::string>> figures;

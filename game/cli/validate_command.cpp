@@ -31,6 +31,7 @@ struct Args {
     bool paper = false;
     bool alpha_given = false;
     std::uint32_t paper_trials = 15;
+    std::uint32_t memory_mb = 1024;
     AnalysisOptions analysis;
 };
 
@@ -116,6 +117,7 @@ int run_validate(Args& args) {
     options.species_override = args.species;
     options.ignore = args.ignore;
     options.analysis = args.analysis;
+    options.analysis.memory_budget_bytes = std::size_t{args.memory_mb} << 20;
     options.analysis.progress = [tty](const std::string& stage, std::uint32_t done, std::uint32_t of) {
         if (tty) std::fprintf(stderr, "\r\033[K%s: %u / %u permutations", stage.c_str(), done, of);
     };
@@ -244,6 +246,9 @@ void add_validate_command(CLI::App& app, int& exit_code) {
     cmd->add_option("--permutations", args->analysis.permutations, "Permutations per test")->capture_default_str()->check(CLI::Range(19u, 1000000u));
     auto* alpha = cmd->add_option("--alpha", args->analysis.alpha, "Family-wise significance level")->capture_default_str()->check(finite_in(1e-6, 0.5, ""));
     cmd->add_option("--ignore", args->ignore, "Columns that are not covariates (repeat or comma-separate)")->delimiter(',');
+    cmd->add_option("--memory-mb", args->memory_mb, "Working memory the analysis may use (an input needing more is refused, naming its widest column)")
+        ->capture_default_str()
+        ->check(CLI::Range(64u, 1u << 20));
     cmd->add_flag("--paper", args->paper, "Run on the paper's Table 2 and report its experiment with the extended species");
     cmd->add_option("--paper-trials", args->paper_trials, "Flowers in the paper's experiment")->capture_default_str()->check(CLI::Range(1u, 1000u));
     cmd->callback([args, alpha, &exit_code] {

@@ -83,6 +83,11 @@ TEST(CsvTable, TablesBeyondTheLimitsAreRefusedSayingWhich) {
     const auto too_tall = parse_csv(tall, "tall.csv");
     ASSERT_FALSE(too_tall);
     EXPECT_EQ(too_tall.error().message, "tall.csv:1000002:1: more than 1000000 rows, the most a table may have here");
+    // The cells' budget (rows x columns), here a small one: refused at the row that passes it.
+    const auto too_many = parse_csv("a,b,c\n1,2,3\n4,5,6\n7,8,9\n", "cells.csv", 8);
+    ASSERT_FALSE(too_many);
+    EXPECT_EQ(too_many.error().message, "cells.csv:4:1: more than 8 cells (rows x columns), the most a table may hold here (about 0 MiB in memory); split the file");
+    EXPECT_TRUE(parse_csv("a,b,c\n1,2,3\n4,5,6\n", "cells.csv", 6)) << "exactly at the budget";
 }
 
 TEST(CsvTable, AByteOrderMarkAndAnyLineEndingReadAsPlainLines) {

@@ -102,3 +102,56 @@ TEST(HiddenEffect, NothingIsReportedWhenNothingWasPlanted) {
     std::printf("no effect: clean in %u / %u seeds\n", clean, seeds);
     EXPECT_GE(clean, seeds * 95 / 100);
 }
+
+// Issue 19: a lab's file with a lot number given row by row (10,000 levels, about one row each) beside
+// a real effect on one of 12 stations. The lot number is screened out, with its reason and the share
+// of the residual's variance between its levels, which is what chance gives that many levels; nothing
+// per level is built for it, and the station is still named.
+TEST(HiddenEffect, APlantedTwelveLevelEffectIsFoundBesideATenThousandLevelBystander) {
+    const auto train = make_synthetic_trials({.effect = PlantedEffect::station, .seed = 3, .flowers = 1700, .insertions = 6, .wide_levels = 10000},
+                                             shared_predictor());
+    AnalysisOptions o = options_for(3);
+    o.permutations = 200;
+    o.bootstrap = 50;
+    const auto result = analyse_discrepancy(analysis_input(train), o);
+    ASSERT_TRUE(result) << result.error().message;
+    ASSERT_EQ(result->screened.size(), 1u);
+    const auto& lot = result->screened[0];
+    EXPECT_EQ(lot.covariate, "batch");
+    EXPECT_EQ(lot.levels, 10000u);
+    EXPECT_NE(lot.reason.find("10000 levels, more than the 200"), std::string::npos) << lot.reason;
+    EXPECT_NEAR(lot.between_level_share, lot.chance_share, 0.05) << "the lot number carries nothing beyond chance";
+    EXPECT_TRUE(std::none_of(result->diagnostics.begin(), result->diagnostics.end(), [](const CovariateDiagnostic& d) { return d.covariate == "batch"; }));
+    ASSERT_FALSE(result->causes.empty());
+    EXPECT_EQ(result->causes[0].covariate, "station");
+    EXPECT_EQ(result->causes[0].category, "S07");
+    EXPECT_EQ(result->causes[0].direction, "decreases");
+}
+
+// A column whose levels are each seen on about one flower (a sample id) is screened even when it has
+// few levels in all: its per-level effect could not be told from the flowers' own differences.
+TEST(HiddenEffect, AColumnNestedInFlowersIsScreenedAndSaidWhy) {
+    // A lot per flower (its six rows): 60 levels, each on one flower.
+    auto train = make_synthetic_trials({.effect = PlantedEffect::none, .seed = 5, .flowers = 60, .insertions = 6, .wide_levels = 60, .rows_per_lot = 6},
+                                       shared_predictor());
+    const auto result = analyse_discrepancy(analysis_input(train), options_for(5));
+    ASSERT_TRUE(result) << result.error().message;
+    ASSERT_EQ(result->screened.size(), 1u);
+    EXPECT_EQ(result->screened[0].covariate, "batch");
+    EXPECT_NE(result->screened[0].reason.find("flowers each on average"), std::string::npos) << result->screened[0].reason;
+}
+
+// The analysis' memory budget: an input whose design columns would need more is refused, naming its
+// widest column and what to do, before anything is allocated.
+TEST(HiddenEffect, AnInputBeyondTheMemoryBudgetIsRefusedNamingItsWidestColumn) {
+    // 150 lots over 3,600 rows, each on about 24 flowers: testable, and 149 design columns wide.
+    const auto train = make_synthetic_trials({.effect = PlantedEffect::none, .seed = 7, .flowers = 600, .insertions = 6, .wide_levels = 150},
+                                             shared_predictor());
+    AnalysisOptions o = options_for(7);
+    o.memory_budget_bytes = 4 << 20;
+    const auto result = analyse_discrepancy(analysis_input(train), o);
+    ASSERT_FALSE(result);
+    EXPECT_NE(result.error().message.find("KiB of working memory, more than the 4096 KiB budget; the widest is the column 'batch': leave it out (--ignore batch) or split the file"),
+              std::string::npos)
+        << result.error().message;
+}

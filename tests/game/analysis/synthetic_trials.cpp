@@ -15,6 +15,7 @@ PlantedTruth truth_of(PlantedEffect effect) {
     case PlantedEffect::none: return {"", ""};
     case PlantedEffect::unknown_numeric: return {"humidity_pct", "increases"};
     case PlantedEffect::category: return {"vase", "decreases"};
+    case PlantedEffect::station: return {"station", "decreases"};
     case PlantedEffect::insertion_count: return {"insertion", "decreases"};
     case PlantedEffect::step_threshold: return {"storage_days", "decreases"};
     case PlantedEffect::saturating_decay: return {"soak_minutes", "decreases"};
@@ -27,6 +28,7 @@ const char* name_of(PlantedEffect effect) {
     case PlantedEffect::none: return "none";
     case PlantedEffect::unknown_numeric: return "unknown_numeric";
     case PlantedEffect::category: return "category";
+    case PlantedEffect::station: return "station";
     case PlantedEffect::insertion_count: return "insertion_count";
     case PlantedEffect::step_threshold: return "step_threshold";
     case PlantedEffect::saturating_decay: return "saturating_decay";
@@ -47,7 +49,10 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
     csv << "flower_id,insertion,max_force_gf,species,angle_deg,speed_mm_s,minutes_since_cut,hole_reuse,humidity_pct,dew_point,"
            "storage_days,soak_minutes,vase,supplier,bench,stem_mark";
     for (std::uint32_t k = 0; k < o.extra_covariates; ++k) csv << ",noise_" << k;
+    if (o.station_column || o.effect == PlantedEffect::station) csv << ",station";
+    if (o.wide_levels > 0) csv << ",batch";
     csv << "\n";
+    std::size_t row_number = 0;
     for (std::uint32_t f = 0; f < o.flowers; ++f) {
         // Per flower: its conditions, and the bystanders correlated with the planted causes.
         const double angle = 30.0 + 15.0 * static_cast<double>(rng() % 3);
@@ -73,6 +78,7 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
             case PlantedEffect::insertion_count: effect = -0.05 * (k - 1.0); break;
             case PlantedEffect::step_threshold: effect = storage >= 6.0 ? -0.2 : 0.0; break;
             case PlantedEffect::saturating_decay: effect = -0.25 * (1.0 - std::exp(-soak / 20.0)); break;
+            case PlantedEffect::station: effect = f % 12 == 6 ? -0.15 : 0.0; break;
             }
             game::InsertionConditions c;
             c.species = "sunflower";
@@ -89,6 +95,9 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
                           angle, speed, minutes, reuse, humidity, dew_point, storage, soak, vases[vase], suppliers[supplier], bench, mark);
             csv << row;
             for (std::uint32_t e = 0; e < o.extra_covariates; ++e) csv << ',' << normal(rng);
+            if (o.station_column || o.effect == PlantedEffect::station) csv << ",S" << (f % 12 < 9 ? "0" : "") << f % 12 + 1;
+            if (o.wide_levels > 0) csv << ",LOT" << row_number / std::max<std::uint32_t>(1, o.rows_per_lot) % o.wide_levels;
+            ++row_number;
             csv << "\n";
         }
     }

@@ -13,7 +13,7 @@
 
 namespace ikebana::test {
 
-enum class PlantedEffect { none, unknown_numeric, category, insertion_count, step_threshold, saturating_decay };
+enum class PlantedEffect { none, unknown_numeric, category, insertion_count, step_threshold, saturating_decay, station };
 
 struct PlantedTruth {
     std::string column;    // where the effect is planted (empty: none)
@@ -28,6 +28,12 @@ struct SyntheticOptions {
     double trial_noise_sd = 0.05;  // ln scale: about 5 % per trial
     double flower_noise_sd = 0.03; // and 3 % between flowers
     std::uint32_t extra_covariates = 0; // more unknown noise columns (for the speed benchmark)
+    // A 12-level `station` column (each flower measured at one of 12 stations; the effect `station` is
+    // planted on station S07), and a `batch` column of this many levels, a lot number changing every
+    // `rows_per_lot` rows (0: none): a bystander too wide to test level by level.
+    bool station_column = false;
+    std::uint32_t wide_levels = 0;
+    std::uint32_t rows_per_lot = 1;
 };
 
 struct SyntheticData {
