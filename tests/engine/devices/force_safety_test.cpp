@@ -90,7 +90,10 @@ TEST(ForceWatchdog, ZeroesTheDeviceWhenTheLoopStalls) {
         watchdog.feed();
         std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
+    // A loaded machine can oversleep 2 ms in the loop above, and a trip disarms the watchdog until the
+    // next feed: count what happened so far, then feed once more, so that the stall below is a new one.
     const int while_fed = zeroed.load();
+    watchdog.feed();
     // The loop stalls: 50 ms without a feed.
     const auto stall_start = std::chrono::steady_clock::now();
     while (zeroed.load() == while_fed && std::chrono::steady_clock::now() - stall_start < std::chrono::milliseconds(50)) {
