@@ -36,6 +36,9 @@ struct Container {
     double rim_z_m;
     double wall_m;            // thickness of the wall (and of the bottom, below floor_z_m)
     double water_z_m;
+    // Where it stands (the table): a suiban's bottom is wall_m below its floor; a vase is filled up to
+    // near its mouth (a kubari, or sand), so its floor is far above this.
+    double base_z_m;
 };
 
 } // namespace ikebana::components

@@ -278,7 +278,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
         const ecs::Entity container = r.create();
         r.emplace<Container>(container, Container{box.shape != ContainerShape::rectangular, scene.container_centre_m,
                                                   glm::dvec2{0.5 * box.width_m, 0.5 * box.front_to_back_m}, floor, rim, wall,
-                                                  vase ? rim - 0.01 : floor + box.water_depth_m});
+                                                  vase ? rim - 0.01 : floor + box.water_depth_m, scene.table_height_m});
         r.emplace<PassiveCollider>(container);
     }
 

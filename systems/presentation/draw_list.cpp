@@ -1,5 +1,6 @@
 #include "systems/presentation/draw_list.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -37,9 +38,18 @@ glm::mat4 segment(const glm::dvec3& p, const glm::dvec3& q, double radius) {
 // it), and its water, translucent, over the kenzan.
 void add_container(render::DrawList& list, const Container& c) {
     const glm::vec4 glaze{0.16f, 0.22f, 0.27f, 1.0f};
-    const double height = c.rim_z_m - c.floor_z_m + c.wall_m;
-    const double bottom_z = c.floor_z_m - c.wall_m;
+    // From where it stands to its rim (a vase filled to near its mouth is still as tall as it is).
+    const double bottom_z = std::min(c.base_z_m, c.floor_z_m - c.wall_m);
+    const double height = c.rim_z_m - bottom_z;
     const glm::dvec3 centre{c.centre_m, bottom_z};
+    if (c.floor_z_m - c.wall_m > bottom_z + 1e-4) {
+        // The fill's top (a kubari, or sand) under the water, where the kenzan stands.
+        const glm::vec4 fill{0.35f, 0.3f, 0.24f, 1.0f};
+        const glm::dvec3 top{c.centre_m, c.floor_z_m - c.wall_m};
+        if (c.round) list.batch("cylinder").instances.push_back({frame_matrix({c.half_extent_m.x, 0, 0}, {0, c.half_extent_m.x, 0}, {0, 0, c.wall_m}, top), fill});
+        else list.batch("cube").instances.push_back(
+            {frame_matrix({2 * c.half_extent_m.x, 0, 0}, {0, 2 * c.half_extent_m.y, 0}, {0, 0, c.wall_m}, top + glm::dvec3{0, 0, 0.5 * c.wall_m}), fill});
+    }
     auto& boxes = list.batch("cube").instances;
     if (c.round) {
         const double r = c.half_extent_m.x + 0.5 * c.wall_m;

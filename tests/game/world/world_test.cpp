@@ -197,3 +197,33 @@ TEST(World, CuppedPartsAreDrawnCurled) {
         EXPECT_EQ(bent, static_cast<std::size_t>(curled)) << id << ": every curled part drawn curled";
     }
 }
+
+// A vase stands on the table and rises to its rim, however high its fill (a kubari, where the kenzan
+// stands) comes: drawn from its fill's floor only, it hung in the air over its own shadow.
+TEST(World, AVaseIsDrawnFromTheTableToItsRim) {
+    SceneDef scene = default_scene();
+    scene.flowers.clear();
+    scene.sample.clear();
+    scene.container = ContainerDef{.shape = ContainerShape::vase, .width_m = 0.12, .front_to_back_m = 0.12, .depth_m = 0.15, .water_depth_m = 0.12};
+    auto world = World::create(scene);
+    ASSERT_TRUE(world) << world.error().message;
+    sched::DeterministicClock clock((*world)->schedule);
+    clock.run_for_us(100'000);
+    const auto& frame = (*world)->main.resource<const systems::ReceivedFrames>()->latest();
+    ASSERT_TRUE(frame.container);
+    const auto list = systems::build_draw_list(frame);
+    double lowest = 1e9, highest = -1e9;
+    for (const auto& b : list.batches) {
+        if (b.mesh != "cube") continue;
+        for (const auto& inst : b.instances) {
+            // A wall piece: a box as tall as the vase (its model's third column is its height).
+            const glm::vec3 up(inst.model[2]);
+            if (glm::length(up) < 0.1f) continue;
+            lowest = std::min(lowest, static_cast<double>(inst.model[3].z - 0.5f * up.z));
+            highest = std::max(highest, static_cast<double>(inst.model[3].z + 0.5f * up.z));
+        }
+    }
+    EXPECT_NEAR(lowest, scene.table_height_m, 1e-6) << "it stands on the table";
+    EXPECT_NEAR(highest, frame.container->rim_z_m, 1e-6) << "and reaches its rim";
+    EXPECT_GT(frame.container->floor_z_m - scene.table_height_m, 0.1) << "its fill comes up near the mouth";
+}
