@@ -31,9 +31,11 @@ layout(push_constant) uniform Constants {
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec4 out_colour;
 layout(location = 2) out vec4 out_light_space;
+#ifdef MATERIAL // mesh_material.vert.spv: what a glTF material's shading needs (mesh.frag)
 layout(location = 3) out vec2 out_uv;
 layout(location = 4) out vec4 out_tangent;
 layout(location = 5) out vec3 out_to_eye;
+#endif
 
 void main() {
     mat4 model = mat4(in_model0, in_model1, in_model2, in_model3);
@@ -46,10 +48,12 @@ void main() {
     vec4 world = model * vec4(position, 1.0);
     // Scaled instances (pins, stem segments): the inverse transpose keeps normals perpendicular.
     out_normal = transpose(inverse(mat3(model))) * normal;
-    out_tangent = vec4(mat3(model) * tangent, in_tangent.w);
     out_colour = in_colour;
-    out_uv = in_uv;
     out_light_space = frame.light_view_projection * world;
+#ifdef MATERIAL
+    out_tangent = vec4(mat3(model) * tangent, in_tangent.w);
+    out_uv = in_uv;
     out_to_eye = frame.eye_position[gl_ViewIndex + eye.base].xyz - world.xyz;
+#endif
     gl_Position = frame.view_projection[gl_ViewIndex + eye.base] * world;
 }

@@ -47,9 +47,9 @@ Result<void> keep(Result<VkPipeline> made, VkPipeline& pipeline) {
 
 Result<void> StereoRenderer::prepare_pipelines() {
     ShaderModules shaders(ctx_, options_.shader_dir); // destroyed once every pipeline is made
-    VkShaderModule modules[5] = {};
-    const char* names[5] = {"mesh.vert.spv", "mesh.frag.spv", "shadow.vert.spv", "mesh_material.frag.spv", "mesh_masked.frag.spv"};
-    for (int i = 0; i < 5; ++i) {
+    VkShaderModule modules[6] = {};
+    const char* names[6] = {"mesh.vert.spv", "mesh.frag.spv", "shadow.vert.spv", "mesh_material.frag.spv", "mesh_masked.frag.spv", "mesh_material.vert.spv"};
+    for (int i = 0; i < 6; ++i) {
         auto m = shaders.load(names[i]);
         if (!m) return std::move(m).error();
         modules[i] = *m;
@@ -80,7 +80,7 @@ Result<void> StereoRenderer::prepare_pipelines() {
     const std::pair<VkShaderModule, VkPipeline*> variants[2][2] = {{{modules[3], &material_pipeline_}, {modules[3], &per_eye_material_pipeline_}},
                                                                    {{modules[4], &masked_pipeline_}, {modules[4], &per_eye_masked_pipeline_}}};
     for (const auto& [multiview_one, per_eye_one] : variants) {
-        scene.shaders({shader_stage(VK_SHADER_STAGE_VERTEX_BIT, modules[0]), shader_stage(VK_SHADER_STAGE_FRAGMENT_BIT, multiview_one.first)});
+        scene.shaders({shader_stage(VK_SHADER_STAGE_VERTEX_BIT, modules[5]), shader_stage(VK_SHADER_STAGE_FRAGMENT_BIT, multiview_one.first)});
         if (auto ok = keep(scene.name("material scene").view_mask(0b11).build(ctx_.device(), scene_pipeline_layout_), *multiview_one.second); !ok) return ok;
         if (auto ok = keep(scene.name("per-eye material scene").view_mask(0).build(ctx_.device(), scene_pipeline_layout_), *per_eye_one.second); !ok) return ok;
     }
