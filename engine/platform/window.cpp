@@ -1,7 +1,9 @@
 #include "engine/platform/window.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
+#include <thread>
 
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
@@ -14,16 +16,28 @@ Result<std::unique_ptr<Window>> Window::create(const std::string& title, std::ui
     const char* display = std::getenv("DISPLAY");
     const char* wayland = std::getenv("WAYLAND_DISPLAY");
     if ((!display || !*display) && (!wayland || !*wayland)) return make_error(ErrorCode::device_error, "no display (DISPLAY is not set)");
-    if (glfwInit() != GLFW_TRUE) {
-        const char* why = nullptr;
-        glfwGetError(&why);
-        return make_error(ErrorCode::device_error, std::string("GLFW cannot start: ") + (why ? why : "unknown reason"));
+    // An X server busy with another client's frames can refuse a connection for a moment (seen under
+    // Xvfb on a loaded 2-core machine): a few tries, a quarter of a second apart, before giving up.
+    bool started = false;
+    std::string why_not;
+    for (int attempt = 0; attempt < 4 && !started; ++attempt) {
+        if (attempt > 0) std::this_thread::sleep_for(std::chrono::milliseconds(250));
+        started = glfwInit() == GLFW_TRUE;
+        if (!started) {
+            const char* why = nullptr;
+            glfwGetError(&why);
+            why_not = why ? why : "unknown reason";
+        }
     }
+    if (!started) return make_error(ErrorCode::device_error, "GLFW cannot start: " + why_not);
     if (glfwVulkanSupported() != GLFW_TRUE) return make_error(ErrorCode::device_error, "GLFW finds no Vulkan loader for windows");
     glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
     glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
     std::unique_ptr<Window> w(new Window());
-    w->window_ = glfwCreateWindow(static_cast<int>(width), static_cast<int>(height), title.c_str(), nullptr, nullptr);
+    for (int attempt = 0; attempt < 4 && !w->window_; ++attempt) {
+        if (attempt > 0) std::this_thread::sleep_for(std::chrono::milliseconds(250));
+        w->window_ = glfwCreateWindow(static_cast<int>(width), static_cast<int>(height), title.c_str(), nullptr, nullptr);
+    }
     if (!w->window_) {
         const char* why = nullptr;
         glfwGetError(&why);

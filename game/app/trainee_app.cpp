@@ -76,9 +76,12 @@ double percentile(std::vector<double> v, double q) {
 int offscreen_instead(const TraineeAppOptions& o, const std::string& why) {
     const auto out = (std::filesystem::temp_directory_path() / "ikebana-frames").string();
     std::printf("ikebana: %s; rendering the scene offscreen instead\n", why.c_str());
+    std::fflush(stdout);
     RenderOptions r;
     r.scene = o.scene;
-    r.frames = o.frames > 0 ? o.frames : 30;
+    // A picture of the scene, not a session: `--frames` counts a window's frames (a script asks for
+    // 100,000 and ends its session otherwise), and as many offscreen PNGs would take hours.
+    r.frames = std::min<std::uint32_t>(o.frames > 0 ? o.frames : 30, 120);
     r.stereo = o.stereo;
     r.out = out;
     r.width = o.stereo == "sbs" ? std::max(16u, o.width / 2) : o.width;
