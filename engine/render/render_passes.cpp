@@ -191,12 +191,13 @@ void StereoRenderer::record_eye_passes(const Frame& frame, const DrawList& list,
         // Then the parts with materials of their own, and the alpha-masked ones, each with its variant.
         const std::pair<Shading, VkPipeline> variants[2] = {{Shading::material, multiview_ ? material_pipeline_ : per_eye_material_pipeline_},
                                                             {Shading::masked, multiview_ ? masked_pipeline_ : per_eye_masked_pipeline_}};
-        for (const auto& [shading, pipeline] : variants) {
+        for (const auto& variant : variants) {
+            const Shading shading = variant.first; // a plain name: clang cannot capture a structured binding
             const auto has = [shading](const Draw& d) {
                 return !d.translucent && std::any_of(d.mesh->parts.begin(), d.mesh->parts.end(), [shading](const Part& p) { return p.shading == shading; });
             };
             if (std::none_of(draws.begin(), draws.end(), has)) continue;
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, variant.second);
             draw_batches(frame, draws, false, false, shading);
         }
         if (std::any_of(draws.begin(), draws.end(), [](const Draw& d) { return d.translucent; })) {
