@@ -12,8 +12,11 @@ using components::StemSprings;
 
 namespace {
 
-constexpr std::size_t band_points = 2;               // a hinge couples P_{i-1} with P_{i+1}
-constexpr std::size_t bandwidth = 3 * band_points + 2; // in scalar unknowns
+// The system matrix's scalar bandwidth. A hinge couples P_{i-1} with P_{i+1} on the same axis only
+// (its small-angle Hessian is k c c^T times the identity): 3 * 2 = 6 columns; a segment couples a point's
+// three axes with its neighbour's: at most 3 + 2 = 5. Entries further out are always zero (the band was 8
+// wide before: 40 % of the factorisation's work went to them).
+constexpr std::size_t bandwidth = 6;
 
 // Below this |e_i x e_i+1| the bend plane is undefined; the hinge is taken as straight.
 constexpr double straight_sine = 1e-12;
@@ -38,58 +41,91 @@ Bend bend_between(glm::dvec3 e_a, glm::dvec3 e_b) {
 
 bool clamp_active(const StemClamp* clamp) { return clamp != nullptr && clamp->engaged; }
 
-// Lower band of a symmetric matrix: entry (i, j) with i - bandwidth <= j <= i.
+// Lower band of a symmetric n x n matrix: row i holds columns i - bandwidth .. i. Rows and vectors are
+// padded with `bandwidth` zero rows on each side (a padding row's diagonal is 1), so every loop below has
+// a fixed length, with no bounds to test and no index arithmetic per entry: entries left of column 0 and
+// padding rows are zeros, which add nothing. The padded layout is what the compiler unrolls.
+constexpr std::size_t stride = bandwidth + 1;
+constexpr std::size_t pad = bandwidth;
+
 struct Band {
-    std::vector<double>& data;
+    double* data; // (n + 2 pad) rows of `stride`
     std::size_t n;
-    double& at(std::size_t i, std::size_t j) { return data[i * (bandwidth + 1) + (j + bandwidth - i)]; }
-    // Adds v to (i, j) and, by symmetry, (j, i): only the lower triangle is stored.
-    void add(std::size_t i, std::size_t j, double v) {
-        if (j > i) std::swap(i, j);
-        at(i, j) += v;
-    }
+    [[nodiscard]] double* row(std::size_t i) const { return data + (i + pad) * stride; }
+    // Entry (i, j), j <= i <= j + bandwidth.
+    [[nodiscard]] double& at(std::size_t i, std::size_t j) const { return row(i)[j + bandwidth - i]; }
 };
 
-void add_block(Band& band, std::size_t p, std::size_t q, const glm::dmat3& block, double scale) {
-    for (std::size_t r = 0; r < 3; ++r) {
-        for (std::size_t c = 0; c < 3; ++c) {
-            const std::size_t i = 3 * p + r;
-            const std::size_t j = 3 * q + c;
-            if (p == q && j > i) continue; // diagonal block: lower half only (symmetric)
-            if (p != q && p < q) continue; // off-diagonal: store the lower block only
-            band.add(i, j, scale * block[static_cast<glm::length_t>(c)][static_cast<glm::length_t>(r)]);
+// Sizes a padded band or vector for n unknowns and writes its padding (zeros, a padding row's diagonal
+// 1). One scratch serves stems of different lengths, so the size changes from stem to stem: the storage
+// keeps its capacity and only the padding is written; the steps write every entry of rows 0..n-1.
+void size_band(std::vector<double>& storage, std::size_t n) {
+    storage.resize((n + 2 * pad) * stride);
+    for (std::size_t r = 0; r < pad; ++r) {
+        for (const std::size_t row : {r, n + pad + r}) {
+            double* entries = storage.data() + row * stride;
+            for (std::size_t d = 0; d < stride; ++d) entries[d] = d == bandwidth ? 1.0 : 0.0;
         }
     }
 }
+void size_vector(std::vector<double>& storage, std::size_t n, double padding) {
+    storage.resize(n + 2 * pad);
+    for (std::size_t r = 0; r < pad; ++r) storage[r] = storage[n + pad + r] = padding;
+}
 
-// In-place banded Cholesky factorisation and solve of A x = b (A symmetric positive definite).
-bool cholesky_solve(Band& a, std::vector<double>& b) {
+// y = A x for the symmetric A whose lower band `a` holds; x and y are padded (x[-pad..n+pad), zeros
+// outside 0..n-1), y_i for i in 0..n-1 written.
+void symmetric_product(const Band& a, const double* x, double* y) {
+    for (std::size_t i = 0; i < a.n; ++i) {
+        const double* r = a.row(i);
+        const double* xr = x + i - bandwidth; // x at the row's first column
+        double sum = 0.0;
+#pragma GCC unroll 8
+        for (std::size_t d = 0; d < stride; ++d) sum += r[d] * xr[d];
+#pragma GCC unroll 8
+        for (std::size_t t = 1; t <= bandwidth; ++t) sum += a.row(i + t)[bandwidth - t] * x[i + t];
+        y[i] = sum;
+    }
+}
+
+// In-place banded Cholesky factorisation A = L L^T and solve of A x = b (A symmetric positive definite);
+// b is padded like the vectors above. The diagonal's inverses are kept in `inverse` (padded too) so that
+// the solves multiply.
+bool cholesky_solve(const Band& a, double* b, std::vector<double>& inverse_storage) {
     const std::size_t n = a.n;
+    size_vector(inverse_storage, n, 1.0);
+    double* inverse = inverse_storage.data() + pad;
     for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t j0 = i >= bandwidth ? i - bandwidth : 0;
-        for (std::size_t j = j0; j <= i; ++j) {
-            double sum = a.at(i, j);
-            const std::size_t k0 = std::max(j0, j >= bandwidth ? j - bandwidth : std::size_t{0});
-            for (std::size_t k = k0; k < j; ++k) sum -= a.at(i, k) * a.at(j, k);
-            if (i == j) {
-                if (!(sum > 0.0)) return false;
-                a.at(i, i) = std::sqrt(sum);
-            } else {
-                a.at(i, j) = sum / a.at(j, j);
-            }
+        double* ri = a.row(i);
+#pragma GCC unroll 8
+        for (std::size_t d = 0; d < bandwidth; ++d) { // column j = i - bandwidth + d < i
+            const double* rj = a.row(i + d - bandwidth);
+            double sum = ri[d];
+            // k = i - bandwidth + m for m < d: L(i, k) = ri[m], L(j, k) = rj[m + bandwidth - d]
+#pragma GCC unroll 8
+            for (std::size_t m = 0; m < d; ++m) sum -= ri[m] * rj[m + bandwidth - d];
+            ri[d] = sum * inverse[i + d - bandwidth];
         }
+        double sum = ri[bandwidth];
+#pragma GCC unroll 8
+        for (std::size_t m = 0; m < bandwidth; ++m) sum -= ri[m] * ri[m];
+        if (!(sum > 0.0)) return false;
+        ri[bandwidth] = std::sqrt(sum);
+        inverse[i] = 1.0 / ri[bandwidth];
     }
     for (std::size_t i = 0; i < n; ++i) { // L y = b
-        const std::size_t k0 = i >= bandwidth ? i - bandwidth : 0;
+        const double* ri = a.row(i);
+        const double* yr = b + i - bandwidth;
         double sum = b[i];
-        for (std::size_t k = k0; k < i; ++k) sum -= a.at(i, k) * b[k];
-        b[i] = sum / a.at(i, i);
+#pragma GCC unroll 8
+        for (std::size_t m = 0; m < bandwidth; ++m) sum -= ri[m] * yr[m];
+        b[i] = sum * inverse[i];
     }
-    for (std::size_t ii = n; ii-- > 0;) { // L^T x = y
-        double sum = b[ii];
-        const std::size_t k1 = std::min(n, ii + bandwidth + 1);
-        for (std::size_t k = ii + 1; k < k1; ++k) sum -= a.at(k, ii) * b[k];
-        b[ii] = sum / a.at(ii, ii);
+    for (std::size_t i = n; i-- > 0;) { // L^T x = y
+        double sum = b[i];
+#pragma GCC unroll 8
+        for (std::size_t t = 1; t <= bandwidth; ++t) sum -= a.row(i + t)[bandwidth - t] * b[i + t];
+        b[i] = sum * inverse[i];
     }
     return true;
 }
@@ -212,107 +248,140 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
     stem_forces(points, rest, springs, clamp, gravity, scratch.force);
     const auto& f = scratch.force;
 
-    // H: positive semi-definite approximation of the energy Hessian, banded.
-    scratch.band.assign(n * (bandwidth + 1), 0.0);
-    Band h{scratch.band, n};
+    // H: positive semi-definite approximation of the energy Hessian, banded. Each segment's block
+    // k (e e^T + t (I - e e^T)) sits on both its points' diagonals and, negated, between them; each hinge's
+    // small-angle Hessian k c c^T (c: the bend's weights on its three points) acts on every axis alike, so
+    // it is three scalars a point: with itself, with the point below, with the one below that.
+    scratch.segment_block.resize(6 * (count > 0 ? count - 1 : 0));
     for (std::size_t i = 1; i < count; ++i) {
+        double* block = &scratch.segment_block[6 * (i - 1)]; // xx xy xz yy yz zz
         const glm::dvec3 d = x[i] - x[i - 1];
         const double length = glm::length(d);
-        if (length <= 0.0) continue;
+        if (length <= 0.0) {
+            std::fill_n(block, 6, 0.0);
+            continue;
+        }
         const glm::dvec3 e = d / length;
         const double k = springs.axial_n_per_m[i - 1];
         const double transverse = std::max(0.0, 1.0 - rest.segment_length_m[i - 1] / length);
-        const glm::dmat3 outer = glm::outerProduct(e, e);
-        const glm::dmat3 block = k * (outer + transverse * (glm::dmat3(1.0) - outer));
-        add_block(h, i - 1, i - 1, block, 1.0);
-        add_block(h, i, i, block, 1.0);
-        add_block(h, i, i - 1, block, -1.0);
+        const double along = k * (1.0 - transverse);
+        const double across = k * transverse;
+        block[0] = along * e.x * e.x + across;
+        block[1] = along * e.x * e.y;
+        block[2] = along * e.x * e.z;
+        block[3] = along * e.y * e.y + across;
+        block[4] = along * e.y * e.z;
+        block[5] = along * e.z * e.z + across;
     }
-    auto add_bending = [&](std::size_t first, const double* c, std::size_t terms, double k) {
-        for (std::size_t a = 0; a < terms; ++a) {
-            for (std::size_t b = 0; b <= a; ++b) {
-                const double value = k * c[a] * c[b];
-                for (std::size_t r = 0; r < 3; ++r) h.add(3 * (first + a) + r, 3 * (first + b) + r, value);
-            }
-        }
-    };
+    scratch.bend_coupling.assign(3 * count, 0.0); // per point: with itself, with p-1, with p-2
+    double* bend = scratch.bend_coupling.data();
     for (std::size_t i = 1; i + 1 < count; ++i) {
-        const double l_in = rest.segment_length_m[i - 1];
-        const double l_out = rest.segment_length_m[i];
-        const double c[3] = {1.0 / l_in, -(1.0 / l_in + 1.0 / l_out), 1.0 / l_out};
-        add_bending(i - 1, c, 3, springs.hinge_nm_per_rad[i - 1]);
+        const double k = springs.hinge_nm_per_rad[i - 1];
+        const double c0 = 1.0 / rest.segment_length_m[i - 1];
+        const double c2 = 1.0 / rest.segment_length_m[i];
+        const double c1 = -(c0 + c2);
+        bend[3 * (i - 1)] += k * c0 * c0;
+        bend[3 * i] += k * c1 * c1;
+        bend[3 * (i + 1)] += k * c2 * c2;
+        bend[3 * i + 1] += k * c1 * c0;
+        bend[3 * (i + 1) + 1] += k * c2 * c1;
+        bend[3 * (i + 1) + 2] += k * c2 * c0;
     }
     if (clamped && count >= 2) {
-        const double l = rest.segment_length_m[0];
-        const double c[2] = {-1.0 / l, 1.0 / l};
-        add_bending(0, c, 2, clamp->hinge_nm_per_rad);
+        const double c = 1.0 / rest.segment_length_m[0];
+        const double k = clamp->hinge_nm_per_rad;
+        bend[0] += k * c * c;
+        bend[3] += k * c * c;
+        bend[3 + 1] -= k * c * c;
     }
-
-    // rhs = h (f - (beta + h) H v - alpha M v), before H becomes the system matrix.
+    // H and the system matrix A = M (1 + h alpha) + (h beta + h^2) H side by side (H is kept for the
+    // end-of-step forces), every entry written once. Row 3p + r holds columns 3p + r - 6 .. 3p + r:
+    // point p-2's axes r..2, all of p-1's, p's axes 0..r. A missing segment reads as a zero block.
     const double beta = springs.stiffness_damping_s;
     const double alpha = springs.air_drag_per_s;
-    scratch.rhs.assign(n, 0.0);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t j0 = i >= bandwidth ? i - bandwidth : 0;
-        for (std::size_t j = j0; j <= i; ++j) {
-            const double hij = h.at(i, j);
-            if (hij == 0.0) continue;
-            scratch.rhs[i] += hij * v[j / 3][static_cast<glm::length_t>(j % 3)];
-            if (j != i) scratch.rhs[j] += hij * v[i / 3][static_cast<glm::length_t>(i % 3)];
+    const double stiffness_scale = dt * beta + dt * dt;
+    size_band(scratch.stiffness, n);
+    size_band(scratch.band, n);
+    const Band h{scratch.stiffness.data(), n};
+    const Band a{scratch.band.data(), n};
+    static constexpr double no_segment[6] = {};
+    for (std::size_t p = 0; p < count; ++p) {
+        const double* lo = p >= 1 ? &scratch.segment_block[6 * (p - 1)] : no_segment; // xx xy xz yy yz zz
+        const double* up = p + 1 < count ? &scratch.segment_block[6 * p] : no_segment;
+        const double b0 = bend[3 * p];
+        const double b1 = bend[3 * p + 1];
+        const double b2 = bend[3 * p + 2];
+        const double rows[3][stride] = {
+            {b2, 0.0, 0.0, b1 - lo[0], -lo[1], -lo[2], lo[0] + up[0] + b0},
+            {b2, 0.0, -lo[1], b1 - lo[3], -lo[4], lo[1] + up[1], lo[3] + up[3] + b0},
+            {b2, -lo[2], -lo[4], b1 - lo[5], lo[2] + up[2], lo[4] + up[4], lo[5] + up[5] + b0},
+        };
+        const double mass = points.mass_kg[p] * (1.0 + dt * alpha);
+        for (std::size_t r = 0; r < 3; ++r) {
+            double* hr = h.row(3 * p + r);
+            double* ar = a.row(3 * p + r);
+#pragma GCC unroll 8
+            for (std::size_t d = 0; d < stride; ++d) {
+                hr[d] = rows[r][d];
+                ar[d] = rows[r][d] * stiffness_scale;
+            }
+            ar[bandwidth] += mass;
         }
     }
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t p = i / 3;
-        const auto axis = static_cast<glm::length_t>(i % 3);
-        const double m = points.mass_kg[p];
-        scratch.rhs[i] = dt * (f[p][axis] - (beta + dt) * scratch.rhs[i] - alpha * m * v[p][axis]);
+
+    // Velocities as one padded vector of scalars (the band's layout).
+    size_vector(scratch.velocity, n, 0.0);
+    double* velocity = scratch.velocity.data() + pad;
+    for (std::size_t p = 0; p < count; ++p) {
+        for (std::size_t r = 0; r < 3; ++r) velocity[3 * p + r] = v[p][static_cast<glm::length_t>(r)];
     }
-    // H itself, kept for the end-of-step forces below.
-    scratch.stiffness = scratch.band;
-    // A = M (1 + h alpha) + (h beta + h^2) H; fixed points become identity rows with zero change.
-    const double stiffness_scale = dt * beta + dt * dt;
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t j0 = i >= bandwidth ? i - bandwidth : 0;
-        for (std::size_t j = j0; j <= i; ++j) h.at(i, j) *= stiffness_scale;
-        h.at(i, i) += points.mass_kg[i / 3] * (1.0 + dt * alpha);
+    // rhs = h (f - (beta + h) H v - alpha M v).
+    size_vector(scratch.rhs, n, 0.0);
+    double* rhs = scratch.rhs.data() + pad;
+    symmetric_product(h, velocity, rhs);
+    for (std::size_t p = 0; p < count; ++p) {
+        const double m = points.mass_kg[p];
+        for (std::size_t r = 0; r < 3; ++r) {
+            const std::size_t i = 3 * p + r;
+            rhs[i] = dt * (f[p][static_cast<glm::length_t>(r)] - (beta + dt) * rhs[i] - alpha * m * velocity[i]);
+        }
     }
     for (std::size_t p = 0; p < count; ++p) {
         if (!is_fixed(p)) continue;
         for (std::size_t r = 0; r < 3; ++r) {
             const std::size_t i = 3 * p + r;
-            const std::size_t j0 = i >= bandwidth ? i - bandwidth : 0;
-            for (std::size_t j = j0; j < i; ++j) h.at(i, j) = 0.0;
-            for (std::size_t k = i + 1; k < std::min(n, i + bandwidth + 1); ++k) h.at(k, i) = 0.0;
-            h.at(i, i) = 1.0;
-            scratch.rhs[i] = 0.0;
+            double* row = a.row(i);
+            for (std::size_t d = 0; d < bandwidth; ++d) row[d] = 0.0;
+            for (std::size_t t = 1; t <= bandwidth; ++t) a.row(i + t)[bandwidth - t] = 0.0;
+            row[bandwidth] = 1.0;
+            rhs[i] = 0.0;
         }
     }
-    if (!cholesky_solve(h, scratch.rhs)) return false;
+    if (!cholesky_solve(a, rhs, scratch.inverse_diagonal)) return false;
     for (std::size_t i = 0; i < n; ++i) {
-        if (!std::isfinite(scratch.rhs[i])) return false;
+        if (!std::isfinite(rhs[i])) return false;
     }
+    // The step's motion dx (zero for fixed points), reusing the velocity vector.
+    double* moved = velocity;
     for (std::size_t p = 0; p < count; ++p) {
         if (is_fixed(p)) {
             v[p] = glm::dvec3{0.0};
             if (clamped && p == 0) x[0] = clamp->anchor_m;
+            for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = 0.0;
             continue;
         }
-        v[p] += glm::dvec3{scratch.rhs[3 * p], scratch.rhs[3 * p + 1], scratch.rhs[3 * p + 2]};
+        v[p] += glm::dvec3{rhs[3 * p], rhs[3 * p + 1], rhs[3 * p + 2]};
         x[p] += dt * v[p];
+        for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = dt * v[p][static_cast<glm::length_t>(r)];
     }
-    // The forces at the end of the step, as backward Euler has them: f(x + dx) = f(x) - H dx, with dx
-    // the step's motion (zero for fixed points). This is the reaction a held (fixed) point feels: the
-    // stem has already answered the hand's move within this step. One banded product, no second pass
-    // over the springs.
-    Band stiffness{scratch.stiffness, n};
-    scratch.end_force.assign(count, glm::dvec3{0.0});
-    auto moved = [&](std::size_t i) { return is_fixed(i / 3) ? 0.0 : dt * v[i / 3][static_cast<glm::length_t>(i % 3)]; };
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t j0 = i >= bandwidth ? i - bandwidth : 0;
-        double change = 0.0;
-        for (std::size_t j = j0; j <= i; ++j) change += stiffness.at(i, j) * moved(j);
-        for (std::size_t j = i + 1; j < std::min(n, i + bandwidth + 1); ++j) change += stiffness.at(j, i) * moved(j);
-        scratch.end_force[i / 3][static_cast<glm::length_t>(i % 3)] = f[i / 3][static_cast<glm::length_t>(i % 3)] - change;
+    // The forces at the end of the step, as backward Euler has them: f(x + dx) = f(x) - H dx. This is
+    // the reaction a held (fixed) point feels: the stem has already answered the hand's move within this
+    // step. One banded product, no second pass over the springs.
+    double* change = rhs; // the solution is spent
+    symmetric_product(h, moved, change);
+    scratch.end_force.resize(count);
+    for (std::size_t p = 0; p < count; ++p) {
+        scratch.end_force[p] = f[p] - glm::dvec3{change[3 * p], change[3 * p + 1], change[3 * p + 2]};
     }
     return true;
 }

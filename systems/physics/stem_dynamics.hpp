@@ -43,9 +43,13 @@ void stem_forces(const components::StemPoints& points, const components::StemRes
 
 // Working memory reused across steps so that the 1 kHz loop does not allocate.
 struct StemSolverScratch {
-    std::vector<double> band;
-    std::vector<double> stiffness;
-    std::vector<double> rhs;
+    std::vector<double> band;             // the system matrix's lower band, padded (see stem_dynamics.cpp)
+    std::vector<double> stiffness;        // H, kept for the end-of-step forces
+    std::vector<double> rhs;              // padded; the velocity change once solved
+    std::vector<double> velocity;         // padded; then the step's motion
+    std::vector<double> inverse_diagonal; // of the Cholesky factor
+    std::vector<double> segment_block;    // each segment's axial Hessian block, 6 values
+    std::vector<double> bend_coupling;    // each point's hinge Hessian with itself, p-1, p-2
     std::vector<glm::dvec3> force;     // at the start of the step
     std::vector<glm::dvec3> end_force; // at its end, linearised (what a held point feels)
 };
