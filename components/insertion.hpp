@@ -54,6 +54,7 @@ struct InsertionHistory {
     std::vector<glm::dvec2> holes;   // where the current end entered the kenzan (x, y)
     bool left_pins;                  // the end has come out of the pins (at left_pins_us)
     std::int64_t left_pins_us;
+    double out_rise_m;               // how far above the pin tips the end has risen since it left them
     bool entry_counted;              // this entry into the pins has been decided (an insertion, or a stem set in)
 };
 

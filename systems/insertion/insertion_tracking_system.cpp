@@ -42,13 +42,18 @@ void InsertionTrackingSystem::operator()(sched::SystemContext& ctx) {
             const double lowest = x[0].z - end.radius_m * std::sqrt(std::max(0.0, 1.0 - end.axis.z * end.axis.z));
             engagement.depth_m = engagement.in_kenzan ? kenzan->origin_m.z + kenzan->pin_height_m() - lowest : 0.0;
             if (!engagement.in_kenzan) {
+                const double above_tips_m = lowest - (kenzan->origin_m.z + kenzan->pin_height_m());
                 if (was_in) {
                     history.left_pins = true;
                     history.left_pins_us = ctx.time_us;
+                    history.out_rise_m = above_tips_m;
                 }
+                history.out_rise_m = std::max(history.out_rise_m, above_tips_m);
                 return;
             }
-            if (!was_in && (!history.left_pins || ctx.time_us - history.left_pins_us >= min_time_out_us)) {
+            const std::int64_t out_us = ctx.time_us - history.left_pins_us;
+            const bool really_out = out_us >= min_time_out_us && (history.out_rise_m >= min_rise_out_m || out_us >= min_time_hovering_us);
+            if (!was_in && (!history.left_pins || really_out)) {
                 history.entry_counted = false; // really out and back: a new entry (a quick return is the same one)
             }
             if (history.entry_counted || engagement.depth_m < pierced_depth_m) return;

@@ -25,6 +25,12 @@ struct InsertionTrackingSystem {
     // of a grab unbending it, a tick of numerical jitter): the same insertion goes on. A trainee's
     // withdrawal and new push take far longer.
     std::int64_t min_time_out_us = 50'000;
+    // Nor did an end that hovered over the tips: a stem lifted out in jerks (a mouse at 10 frames a
+    // second) swings its end 3 mm above the tips and back 3 mm into them, which counted as a new
+    // insertion or not depending on the last bit of a sum. Back after rising less than this, the end
+    // makes a new entry only once it was out for `min_time_hovering_us`.
+    double min_rise_out_m = 0.005;
+    std::int64_t min_time_hovering_us = 500'000;
     // An insertion counts once the pins are this deep in the stem, past their cone tips (1.5 mm): a
     // stem pushed down onto the tips in a jerk bounces off them before it goes in (a mouse moving
     // 1.25 cm a frame at 10 frames a second once counted two insertions for one push).

@@ -120,3 +120,21 @@ TEST(Breakage, AMomentOutOfThePinsIsNotANewInsertion) {
     b.move_bottom_to(0.005, b.tracking.min_time_out_us);
     EXPECT_EQ(b.r.get<InsertionHistory>(b.flower).insertions, 2u);
 }
+
+// An end lifted just over the tips that swings back into them (a stem pulled out in jerks) is the same
+// insertion, however long the swing; one lifted clear of them and pushed back is a new one, and so is
+// one that hovered over the tips for half a second before going back in.
+TEST(Breakage, AnEndThatHoveredOverTheTipsAndSwungBackIsNotANewInsertion) {
+    Bench b(1, {});
+    const double tips_m = b.r.single<const Kenzan>()->pin_height_m();
+    b.move_bottom_to(0.005);
+    b.move_bottom_to(tips_m + 0.003);
+    b.move_bottom_to(tips_m - 0.003);
+    EXPECT_EQ(b.r.get<InsertionHistory>(b.flower).insertions, 1u) << "3 mm over the tips for 0.1 s";
+    b.move_bottom_to(tips_m + 0.003);
+    b.move_bottom_to(tips_m - 0.003, b.tracking.min_time_hovering_us);
+    EXPECT_EQ(b.r.get<InsertionHistory>(b.flower).insertions, 2u) << "hovering for half a second";
+    b.move_bottom_to(tips_m + b.tracking.min_rise_out_m + 0.001);
+    b.move_bottom_to(tips_m - 0.003);
+    EXPECT_EQ(b.r.get<InsertionHistory>(b.flower).insertions, 3u) << "lifted clear of the tips";
+}
