@@ -36,7 +36,9 @@ struct StemSprings {
 
 // The stem's own force on every point in this tick's physics step (springs, hinges, clamp, gravity; not
 // what other systems pushed): computed once by the physics, read by whatever else needs it (what a hand
-// holding the stem feels).
+// holding the stem feels). While a point is pinned (held) these are the forces at the step's end, as
+// the implicit step has them; for a stem nobody holds, the forces at its start (the end forces cost a
+// banded product a stem and nothing reads them).
 struct StemLoads {
     std::vector<glm::dvec3> force_n;
 };

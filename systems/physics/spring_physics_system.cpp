@@ -1,5 +1,7 @@
 #include "systems/physics/spring_physics_system.hpp"
 
+#include <algorithm>
+
 #include "engine/ecs/registry.hpp"
 
 namespace ikebana::systems {
@@ -15,8 +17,12 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
             // A stiff stem's tick in equal parts (see stable_substeps); the others' external forces act
             // through all of them. The last part's end forces are what a hand feels.
             const std::size_t parts = physics::stable_substeps(points, rest, springs, clamp, ctx.dt_s);
+            const bool held = std::any_of(points.pinned.begin(), points.pinned.end(), [](std::uint8_t p) { return p != 0; });
             bool finite = true;
-            for (std::size_t part = 0; part < parts && finite; ++part) finite = physics::step_stem(points, rest, springs, clamp, gravity, ctx.dt_s / static_cast<double>(parts), scratch);
+            for (std::size_t part = 0; part < parts && finite; ++part) {
+                scratch.want_end_force = held && part + 1 == parts; // only a held stem's last part is felt
+                finite = physics::step_stem(points, rest, springs, clamp, gravity, ctx.dt_s / static_cast<double>(parts), scratch);
+            }
             if (finite) {
                 // The stem's own forces of this step (springs, hinges, clamp, gravity: without what other
                 // systems pushed), for whatever else needs them (a hand that holds the stem): computed once

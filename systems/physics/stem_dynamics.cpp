@@ -137,32 +137,41 @@ double hinge_angle(const StemPoints& points, std::size_t i) {
     return bend_between(glm::normalize(x[i] - x[i - 1]), glm::normalize(x[i + 1] - x[i])).angle;
 }
 
-void stem_forces(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs,
-                 const StemClamp* clamp, glm::dvec3 gravity, std::vector<glm::dvec3>& f) {
+namespace {
+
+// Each segment's length and direction, computed once a step for the forces and the Hessian alike.
+void measure_segments(const StemPoints& points, std::vector<StemSegment>& segments) {
     const auto& x = points.position_m;
     const std::size_t count = x.size();
-    f.assign(count, glm::dvec3{0.0});
+    segments.resize(count > 0 ? count - 1 : 0);
+    for (std::size_t i = 1; i < count; ++i) {
+        const glm::dvec3 d = x[i] - x[i - 1];
+        const double length = glm::length(d);
+        segments[i - 1] = {length > 0.0 ? d / length : glm::dvec3{0.0}, length};
+    }
+}
+
+void forces_of(const StemPoints& points, const std::vector<StemSegment>& segments, const StemRestShape& rest,
+               const StemSprings& springs, const StemClamp* clamp, glm::dvec3 gravity, std::vector<glm::dvec3>& f) {
+    const std::size_t count = points.position_m.size();
+    f.resize(count);
     for (std::size_t p = 0; p < count; ++p) f[p] = points.mass_kg[p] * gravity + points.external_force_n[p];
 
     // Eq. 1: structure springs.
     for (std::size_t i = 1; i < count; ++i) {
-        const glm::dvec3 d = x[i] - x[i - 1];
-        const double length = glm::length(d);
-        if (length <= 0.0) continue;
-        const glm::dvec3 e = d / length;
-        const glm::dvec3 spring = springs.axial_n_per_m[i - 1] * (length - rest.segment_length_m[i - 1]) * e;
+        const StemSegment& s = segments[i - 1];
+        if (s.length_m <= 0.0) continue;
+        const glm::dvec3 spring = springs.axial_n_per_m[i - 1] * (s.length_m - rest.segment_length_m[i - 1]) * s.direction;
         f[i - 1] += spring;
         f[i] -= spring;
     }
     // Eq. 2-3: hinge springs at P1..Pn-1, with the coupling force on P_i.
     for (std::size_t i = 1; i + 1 < count; ++i) {
-        const glm::dvec3 d_in = x[i] - x[i - 1];
-        const glm::dvec3 d_out = x[i + 1] - x[i];
-        const double l_in = glm::length(d_in);
-        const double l_out = glm::length(d_out);
+        const double l_in = segments[i - 1].length_m;
+        const double l_out = segments[i].length_m;
         if (l_in <= 0.0 || l_out <= 0.0) continue;
-        const glm::dvec3 e_in = d_in / l_in;
-        const glm::dvec3 e_out = d_out / l_out;
+        const glm::dvec3 e_in = segments[i - 1].direction;
+        const glm::dvec3 e_out = segments[i].direction;
         const Bend bend = bend_between(e_in, e_out);
         if (!bend.has_plane) continue; // straight: zero torque at theta0 = 0, undefined plane otherwise
         double torque = springs.hinge_nm_per_rad[i - 1] * (bend.angle - rest.hinge_angle_rad[i - 1]);
@@ -180,19 +189,25 @@ void stem_forces(const StemPoints& points, const StemRestShape& rest, const Stem
         f[i] -= f_prev + f_next;
     }
     // The clamp's root hinge works like Eq. 3 with the clamp direction in place of e_i.
-    if (clamp_active(clamp) && count >= 2) {
-        const glm::dvec3 d = x[1] - x[0];
-        const double l = glm::length(d);
-        if (l > 0.0) {
-            const glm::dvec3 e = d / l;
-            const Bend bend = bend_between(clamp->direction, e);
-            if (bend.has_plane) {
-                const glm::dvec3 f_next = -clamp->hinge_nm_per_rad * bend.angle * glm::cross(bend.normal, e) / l;
-                f[1] += f_next;
-                f[0] -= f_next;
-            }
+    if (clamp_active(clamp) && count >= 2 && segments[0].length_m > 0.0) {
+        const glm::dvec3 e = segments[0].direction;
+        const double l = segments[0].length_m;
+        const Bend bend = bend_between(clamp->direction, e);
+        if (bend.has_plane) {
+            const glm::dvec3 f_next = -clamp->hinge_nm_per_rad * bend.angle * glm::cross(bend.normal, e) / l;
+            f[1] += f_next;
+            f[0] -= f_next;
         }
     }
+}
+
+} // namespace
+
+void stem_forces(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs,
+                 const StemClamp* clamp, glm::dvec3 gravity, std::vector<glm::dvec3>& f) {
+    std::vector<StemSegment> segments;
+    measure_segments(points, segments);
+    forces_of(points, segments, rest, springs, clamp, gravity, f);
 }
 
 StemEnergy stem_energy(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs,
@@ -245,7 +260,8 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
     const bool clamped = clamp_active(clamp);
     auto is_fixed = [&](std::size_t p) { return points.pinned[p] != 0 || (clamped && p == 0); };
 
-    stem_forces(points, rest, springs, clamp, gravity, scratch.force);
+    measure_segments(points, scratch.segments);
+    forces_of(points, scratch.segments, rest, springs, clamp, gravity, scratch.force);
     const auto& f = scratch.force;
 
     // H: positive semi-definite approximation of the energy Hessian, banded. Each segment's block
@@ -255,13 +271,12 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
     scratch.segment_block.resize(6 * (count > 0 ? count - 1 : 0));
     for (std::size_t i = 1; i < count; ++i) {
         double* block = &scratch.segment_block[6 * (i - 1)]; // xx xy xz yy yz zz
-        const glm::dvec3 d = x[i] - x[i - 1];
-        const double length = glm::length(d);
+        const double length = scratch.segments[i - 1].length_m;
         if (length <= 0.0) {
             std::fill_n(block, 6, 0.0);
             continue;
         }
-        const glm::dvec3 e = d / length;
+        const glm::dvec3 e = scratch.segments[i - 1].direction;
         const double k = springs.axial_n_per_m[i - 1];
         const double transverse = std::max(0.0, 1.0 - rest.segment_length_m[i - 1] / length);
         const double along = k * (1.0 - transverse);
@@ -329,22 +344,14 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
         }
     }
 
-    // Velocities as one padded vector of scalars (the band's layout).
-    size_vector(scratch.velocity, n, 0.0);
-    double* velocity = scratch.velocity.data() + pad;
-    for (std::size_t p = 0; p < count; ++p) {
-        for (std::size_t r = 0; r < 3; ++r) velocity[3 * p + r] = v[p][static_cast<glm::length_t>(r)];
-    }
-    // rhs = h (f - (beta + h) H v - alpha M v).
+    // Backward Euler's change dv solves A dv = h (f - (beta + h) H v - alpha M v). Added to A v on both
+    // sides the H terms cancel (A's own is (h beta + h^2) H v), leaving A v' = M v + h f for the new
+    // velocity v' = v + dv: no product with H, the same solution.
     size_vector(scratch.rhs, n, 0.0);
     double* rhs = scratch.rhs.data() + pad;
-    symmetric_product(h, velocity, rhs);
     for (std::size_t p = 0; p < count; ++p) {
-        const double m = points.mass_kg[p];
-        for (std::size_t r = 0; r < 3; ++r) {
-            const std::size_t i = 3 * p + r;
-            rhs[i] = dt * (f[p][static_cast<glm::length_t>(r)] - (beta + dt) * rhs[i] - alpha * m * velocity[i]);
-        }
+        const glm::dvec3 momentum = points.mass_kg[p] * v[p] + dt * f[p];
+        for (std::size_t r = 0; r < 3; ++r) rhs[3 * p + r] = momentum[static_cast<glm::length_t>(r)];
     }
     for (std::size_t p = 0; p < count; ++p) {
         if (!is_fixed(p)) continue;
@@ -354,15 +361,16 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
             for (std::size_t d = 0; d < bandwidth; ++d) row[d] = 0.0;
             for (std::size_t t = 1; t <= bandwidth; ++t) a.row(i + t)[bandwidth - t] = 0.0;
             row[bandwidth] = 1.0;
-            rhs[i] = 0.0;
+            rhs[i] = 0.0; // v' = 0
         }
     }
     if (!cholesky_solve(a, rhs, scratch.inverse_diagonal)) return false;
     for (std::size_t i = 0; i < n; ++i) {
         if (!std::isfinite(rhs[i])) return false;
     }
-    // The step's motion dx (zero for fixed points), reusing the velocity vector.
-    double* moved = velocity;
+    // The step's motion dx (zero for fixed points).
+    size_vector(scratch.velocity, n, 0.0);
+    double* moved = scratch.velocity.data() + pad;
     for (std::size_t p = 0; p < count; ++p) {
         if (is_fixed(p)) {
             v[p] = glm::dvec3{0.0};
@@ -370,13 +378,17 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
             for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = 0.0;
             continue;
         }
-        v[p] += glm::dvec3{rhs[3 * p], rhs[3 * p + 1], rhs[3 * p + 2]};
+        v[p] = glm::dvec3{rhs[3 * p], rhs[3 * p + 1], rhs[3 * p + 2]};
         x[p] += dt * v[p];
         for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = dt * v[p][static_cast<glm::length_t>(r)];
     }
     // The forces at the end of the step, as backward Euler has them: f(x + dx) = f(x) - H dx. This is
     // the reaction a held (fixed) point feels: the stem has already answered the hand's move within this
     // step. One banded product, no second pass over the springs.
+    if (!scratch.want_end_force) {
+        scratch.end_force = f;
+        return true;
+    }
     double* change = rhs; // the solution is spent
     symmetric_product(h, moved, change);
     scratch.end_force.resize(count);

@@ -41,17 +41,26 @@ void stem_forces(const components::StemPoints& points, const components::StemRes
 // The bend angle at interior point i (1..n-1), in radians.
 [[nodiscard]] double hinge_angle(const components::StemPoints& points, std::size_t i);
 
+struct StemSegment {
+    glm::dvec3 direction{0.0}; // unit, P_{i-1} to P_i (zero for a collapsed segment)
+    double length_m = 0.0;
+};
+
 // Working memory reused across steps so that the 1 kHz loop does not allocate.
 struct StemSolverScratch {
     std::vector<double> band;             // the system matrix's lower band, padded (see stem_dynamics.cpp)
     std::vector<double> stiffness;        // H, kept for the end-of-step forces
-    std::vector<double> rhs;              // padded; the velocity change once solved
-    std::vector<double> velocity;         // padded; then the step's motion
+    std::vector<double> rhs;              // padded; the new velocity once solved
+    std::vector<double> velocity;         // padded; the step's motion
     std::vector<double> inverse_diagonal; // of the Cholesky factor
     std::vector<double> segment_block;    // each segment's axial Hessian block, 6 values
     std::vector<double> bend_coupling;    // each point's hinge Hessian with itself, p-1, p-2
+    std::vector<StemSegment> segments; // this step's
     std::vector<glm::dvec3> force;     // at the start of the step
-    std::vector<glm::dvec3> end_force; // at its end, linearised (what a held point feels)
+    std::vector<glm::dvec3> end_force; // at its end, linearised (what a held point feels); see below
+    // false: end_force is a copy of the start-of-step force (one banded product saved) for a step whose
+    // end forces nobody feels: a tick's earlier parts, a stem no hand holds.
+    bool want_end_force = true;
 };
 
 // How many equal steps one tick of dt must be cut into for this stem. The step is linearly implicit
