@@ -103,7 +103,7 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
     }
     auto scene = experiment_bench_scene(c.species, kenzan_, 1, std::move(environment));
     if (!scene) return std::move(scene).error();
-    auto world = World::create(*scene);
+    auto world = World::create(*scene, WorldOptions{.rate_overrides = {}, .force_scheme = {}, .main_lane_systems = {}, .frames = false});
     if (!world) return std::move(world).error();
     World& w = **world;
     auto& r = w.sim;
@@ -143,6 +143,7 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
     }
     r.emplace<ScriptedInsertion>(flower);
     sched::DeterministicClock clock(w.schedule);
+    clock.measure_durations(false); // nobody reads the insertion's timings
 
     const auto numeric = [&](const char* name) {
         const auto it = c.covariates.numeric.find(name);

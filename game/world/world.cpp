@@ -61,7 +61,7 @@ Result<void> keys_within_workspace(const std::vector<devices::Keyframe>& keys) {
     return {};
 }
 
-Result<void> register_systems(World& w, systems::ForceScheme force_scheme, const std::vector<sched::SystemDesc>& main_lane_systems) {
+Result<void> register_systems(World& w, systems::ForceScheme force_scheme, const std::vector<sched::SystemDesc>& main_lane_systems, bool frames) {
     // The lanes' phases, in execution order at equal timestamps.
     if (auto r = w.schedule.add_lane({"sim", &w.sim, sched::LaneThread::own,
                                       {"input", "collision", "insertion", "physics", "constraints", "output", "present"}});
@@ -76,7 +76,9 @@ Result<void> register_systems(World& w, systems::ForceScheme force_scheme, const
     if (auto r = systems::install_haptics(w.schedule, force_scheme); !r) return r;
     if (auto r = systems::install_collision(w.schedule); !r) return r;
     if (auto r = systems::install_physics(w.schedule); !r) return r;
-    if (auto r = systems::install_presentation(w.schedule); !r) return r;
+    if (frames) {
+        if (auto r = systems::install_presentation(w.schedule); !r) return r;
+    }
     for (const auto& desc : main_lane_systems) {
         if (auto r = w.schedule.add(desc); !r) return r;
     }
@@ -326,7 +328,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
         return make_error(ErrorCode::invalid_argument, "force scheme '" + scheme + "': expected full_rate or paper");
     }
     const auto force_scheme = scheme == "paper" ? systems::ForceScheme::paper : systems::ForceScheme::full_rate;
-    if (auto ok = register_systems(*w, force_scheme, options.main_lane_systems); !ok) return std::move(ok).error();
+    if (auto ok = register_systems(*w, force_scheme, options.main_lane_systems, options.frames); !ok) return std::move(ok).error();
     return w;
 }
 

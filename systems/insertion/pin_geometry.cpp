@@ -76,7 +76,12 @@ std::vector<PinContact> engaged_pins(const StemEnd& stem, const Kenzan& k) {
     std::vector<PinContact> out;
     // The footprint on the pin field: the stem end's bounding box over the pins' height range.
     const double top = k.origin_m.z + k.pin_height_m();
-    const glm::dvec3 far = stem.bottom_m + stem.axis * stem.length_m;
+    // Only the part of the end whose axis is below the tips plus the stem's radius can touch a pin: the
+    // rest of it is left out of the footprint (a 5 cm end at 45 degrees spanned 9 x 9 pins, most of them
+    // far under the stem's upper part).
+    double reach_m = stem.length_m;
+    if (stem.axis.z > 0.0) reach_m = std::clamp((top + stem.radius_m - stem.bottom_m.z) / stem.axis.z, 0.0, stem.length_m);
+    const glm::dvec3 far = stem.bottom_m + stem.axis * reach_m;
     glm::dvec2 lo = glm::min(glm::dvec2(stem.bottom_m), glm::dvec2(far)) - glm::dvec2(stem.radius_m);
     glm::dvec2 hi = glm::max(glm::dvec2(stem.bottom_m), glm::dvec2(far)) + glm::dvec2(stem.radius_m);
     if (std::min(stem.bottom_m.z, far.z) - stem.radius_m > top) return out;
