@@ -36,6 +36,8 @@ void add_experiment_command(CLI::App& app, int& exit_code) {
     cmd->add_option("--env", args->env, "Environment covariate for an extended species, name=value (repeatable)");
     cmd->add_option("--json", args->json, "Write the summary as JSON");
     cmd->add_option("--csv", args->csv, "Write every insertion as CSV");
+    cmd->add_option("--threads", args->options.threads, "Run the trials on this many threads (0: one per core); the result is the same")
+        ->capture_default_str()->check(CLI::Range(0u, 256u));
     cmd->callback([args, &exit_code] {
         if (auto env = apply_environment_overrides(args->options.environment, args->env); !env) {
             std::cerr << "ikebana experiment: " << env.error().message << "\n";
@@ -53,7 +55,7 @@ void add_experiment_command(CLI::App& app, int& exit_code) {
         }
         const bool tty = isatty(fileno(stderr)) != 0;
         auto result = run_insertion_experiment(args->options, [tty](std::uint32_t t, std::uint32_t n) {
-            if (tty) std::fprintf(stderr, "\rtrial %u / %u", t, n);
+            if (tty) std::fprintf(stderr, "\rtrials done: %u / %u", t, n);
             if (tty && t == n) std::fprintf(stderr, "\n");
         });
         if (!result) {

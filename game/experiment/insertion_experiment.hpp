@@ -38,6 +38,8 @@ struct ExperimentOptions {
     double cut_length_m = 0.01;
     // Covariates an extended species may read that the world does not have (--env).
     systems::insertion::Covariates environment;
+    // Trials run side by side on this many threads; 0: one per core. The result does not depend on it.
+    unsigned threads = 0;
 };
 
 struct InsertionOutcome {
@@ -66,6 +68,7 @@ struct ExperimentResult {
     std::vector<TrialResult> trials;
     double simulated_s = 0.0;
     double wall_s = 0.0;
+    unsigned threads = 1; // the trials ran on
     // Means over trials; a trial that never broke (fell) within max_insertions counts as max + 1.
     double mean_insertions_to_break = 0.0;
     double mean_insertions_to_fall = 0.0;
@@ -75,7 +78,8 @@ struct ExperimentResult {
     std::vector<std::uint32_t> pins_histogram;      // pins engaged at full depth, over all insertions
 };
 
-using ExperimentProgress = std::function<void(std::uint32_t trial, std::uint32_t of)>;
+// Trials finished so far, of how many. Called from the threads that run them, one call at a time.
+using ExperimentProgress = std::function<void(std::uint32_t done, std::uint32_t of)>;
 
 // The experiment's bench: a kenzan of `kenzan_layout` standing on the table at the origin, and one
 // flower of `species` lying 30 cm beside it for the scripted hand to pick up. The trials and the

@@ -111,6 +111,49 @@ TEST(InsertionExperiment, SameSeedSameResult) {
     EXPECT_EQ(a->force_by_insertion_gf, b->force_by_insertion_gf);
 }
 
+// Trials on three threads (more than this machine's cores, fewer than the trials) sum to exactly what
+// one thread gives: every trial, every insertion's force, in the same order.
+TEST(InsertionExperiment, TrialsOnSeveralThreadsGiveWhatOneThreadGives) {
+    ExperimentOptions o;
+    o.trials = 5;
+    o.seed = 11;
+    o.threads = 1;
+    const auto one = run_insertion_experiment(o);
+    o.threads = 3;
+    std::vector<std::uint32_t> reported;
+    const auto three = run_insertion_experiment(o, [&](std::uint32_t done, std::uint32_t of) {
+        EXPECT_EQ(of, 5u);
+        reported.push_back(done);
+    });
+    ASSERT_TRUE(one && three);
+    EXPECT_EQ(one->threads, 1u);
+    EXPECT_EQ(three->threads, 3u);
+    ASSERT_EQ(one->trials.size(), three->trials.size());
+    for (std::size_t t = 0; t < one->trials.size(); ++t) {
+        ASSERT_EQ(one->trials[t].insertions.size(), three->trials[t].insertions.size()) << "trial " << t;
+        for (std::size_t i = 0; i < one->trials[t].insertions.size(); ++i) {
+            EXPECT_EQ(one->trials[t].insertions[i].max_pin_force_n, three->trials[t].insertions[i].max_pin_force_n) << "trial " << t << " insertion " << i;
+        }
+        EXPECT_EQ(one->trials[t].broke_at, three->trials[t].broke_at);
+        EXPECT_EQ(one->trials[t].fell_at, three->trials[t].fell_at);
+    }
+    EXPECT_EQ(one->force_by_insertion_gf, three->force_by_insertion_gf);
+    EXPECT_EQ(one->pins_histogram, three->pins_histogram);
+    EXPECT_EQ(reported, (std::vector<std::uint32_t>{0, 1, 2, 3, 4, 5})) << "progress counts finished trials, once each";
+}
+
+// A trial that cannot be set up (here: a species that does not exist) ends the run with its error,
+// whichever thread met it.
+TEST(InsertionExperiment, AFailingTrialOnAnyThreadEndsTheRunWithItsError) {
+    ExperimentOptions o;
+    o.trials = 6;
+    o.threads = 2;
+    o.species = "no_such_species";
+    const auto r = run_insertion_experiment(o);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("no_such_species"), std::string::npos) << r.error().message;
+}
+
 TEST(InsertionExperiment, JsonHasTheDocumentedFields) {
     ExperimentOptions o;
     o.trials = 2;
