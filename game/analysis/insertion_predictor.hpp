@@ -15,6 +15,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "engine/core/result.hpp"
 #include "game/analysis/measured_data.hpp"
@@ -42,17 +43,54 @@ struct InsertionPrediction {
 // sunflower; 45 degrees and down to the base plate where the row does not say.
 InsertionConditions conditions_for(const MeasuredTrial& trial, const std::string& species_override, bool want_outcome);
 
+// One placement's push: the largest resistance and the most pins, and whether the stem fell.
+struct PlacementResult {
+    double force_n = 0.0;
+    std::uint32_t pins = 0;
+    bool fell = false;
+};
+
+// A push sampled each tick: the stem's lowest point and the largest resistance and pins so far.
+struct DepthSample {
+    double lowest_z_m = 0.0;
+    double max_force_n = 0.0;
+    std::uint32_t max_pins = 0;
+};
+
 class InsertionPredictor {
 public:
     explicit InsertionPredictor(std::string kenzan = "standard") : kenzan_(std::move(kenzan)) {}
     Result<InsertionPrediction> predict(const InsertionConditions& conditions);
-    [[nodiscard]] std::size_t simulated() const noexcept { return cache_.size(); }
-    // What identifies a simulation: rows with equal keys share one (empty when the species is bad).
+    // Simulations run so far: pushes to a row's own depth, and pushes to the base plate that rows of
+    // any depth are read from.
+    [[nodiscard]] std::size_t simulated() const noexcept { return simulated_ + profiles_.size(); }
+    // What identifies a prediction: rows with equal keys share one (empty when the species is bad).
     std::string key(const InsertionConditions& conditions);
+    // false: each row with a depth is pushed to its own depth (what the shared pushes are checked against).
+    void share_depths(bool on) noexcept { share_depths_ = on; }
+
+    // The bench's geometry a row is checked against.
+    struct Bench {
+        double pin_top_m = 0.0;
+        double pin_height_m = 0.0;
+        double pitch_m = 0.0;
+        double pin_radius_m = 0.0;
+        double radius_m = 0.0; // the stem's
+    };
 
 private:
+    struct Simulation {
+        Bench bench;
+        double broken_weight = 0.0;
+        std::vector<PlacementResult> placements[2];     // sound, split bottom
+        std::vector<std::vector<DepthSample>> samples[2]; // when sampled: each placement's push
+    };
+    Result<Simulation> simulate(const InsertionConditions& conditions, const std::set<std::string>& used, bool sample_depths);
     const std::set<std::string>* covariates_used(const std::string& species, Error* error);
     std::string kenzan_;
+    std::size_t simulated_ = 0;
+    bool share_depths_ = true;
+    std::map<std::string, Simulation> profiles_;
     std::map<std::string, InsertionPrediction> cache_;
     std::map<std::string, std::set<std::string>> covariates_used_; // by species: what its terms read
 };
