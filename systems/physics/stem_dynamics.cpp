@@ -206,6 +206,11 @@ void forces_of(const StemPoints& points, const std::vector<StemSegment>& segment
 void stem_forces(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs,
                  const StemClamp* clamp, glm::dvec3 gravity, std::vector<glm::dvec3>& f) {
     std::vector<StemSegment> segments;
+    stem_forces(points, rest, springs, clamp, gravity, f, segments);
+}
+
+void stem_forces(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs,
+                 const StemClamp* clamp, glm::dvec3 gravity, std::vector<glm::dvec3>& f, std::vector<StemSegment>& segments) {
     measure_segments(points, segments);
     forces_of(points, segments, rest, springs, clamp, gravity, f);
 }

@@ -29,10 +29,6 @@ struct StemEnergy {
     [[nodiscard]] double total() const noexcept { return kinetic_j + elastic_j + gravitational_j; }
 };
 
-// Spring, hinge, clamp, gravity and external forces on every point. `clamp` may be null.
-void stem_forces(const components::StemPoints& points, const components::StemRestShape& rest,
-                 const components::StemSprings& springs, const components::StemClamp* clamp, glm::dvec3 gravity,
-                 std::vector<glm::dvec3>& force_out);
 
 [[nodiscard]] StemEnergy stem_energy(const components::StemPoints& points, const components::StemRestShape& rest,
                                      const components::StemSprings& springs, const components::StemClamp* clamp,
@@ -45,6 +41,15 @@ struct StemSegment {
     glm::dvec3 direction{0.0}; // unit, P_{i-1} to P_i (zero for a collapsed segment)
     double length_m = 0.0;
 };
+
+// Spring, hinge, clamp, gravity and external forces on every point. `clamp` may be null.
+void stem_forces(const components::StemPoints& points, const components::StemRestShape& rest,
+                 const components::StemSprings& springs, const components::StemClamp* clamp, glm::dvec3 gravity,
+                 std::vector<glm::dvec3>& force_out);
+// The same with the segments' working memory given (an explicit integrator calling it every step).
+void stem_forces(const components::StemPoints& points, const components::StemRestShape& rest,
+                 const components::StemSprings& springs, const components::StemClamp* clamp, glm::dvec3 gravity,
+                 std::vector<glm::dvec3>& force_out, std::vector<StemSegment>& segments);
 
 // Working memory reused across steps so that the 1 kHz loop does not allocate.
 struct StemSolverScratch {
