@@ -3,6 +3,7 @@
 // the stem that is simulated. External forces written by other systems this tick are consumed.
 #include <cstdint>
 #include <string_view>
+#include <vector>
 
 #include "components/physics.hpp"
 #include "components/stem.hpp"
@@ -22,8 +23,28 @@ struct SpringPhysicsSystem {
 
     void operator()(sched::SystemContext& ctx);
 
-    physics::StemSolverScratch scratch;
     std::uint64_t failed_steps = 0; // steps refused for a non-finite result (should stay 0)
+
+private:
+    struct Stem {
+        components::StemPoints* points;
+        const components::StemRestShape* rest;
+        const components::StemSprings* springs;
+        const components::StemClamp* clamp;
+        components::StemLoads* loads;
+        std::size_t parts;
+        bool held;
+        bool finite;
+    };
+    // Working memory kept from tick to tick (the 1 kHz loop does not allocate): a stem's scratch is
+    // the one at its place in the view.
+    std::vector<Stem> stems_;
+    std::vector<physics::StemSolverScratch> scratches_;
+    std::vector<std::size_t> order_;
+    std::vector<physics::StemStep> batch_;
+    std::vector<std::size_t> batch_stem_;
+    std::vector<std::uint8_t> batch_ok_;
+    physics::LaneScratch lane_scratch_;
 };
 
 } // namespace ikebana::systems

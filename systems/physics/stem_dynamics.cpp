@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace ikebana::systems::physics {
 
@@ -256,14 +257,29 @@ std::size_t stable_substeps(const StemPoints& points, const StemRestShape& rest,
     return std::min(max_substeps, static_cast<std::size_t>(steps));
 }
 
-bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings& springs, const StemClamp* clamp,
-               glm::dvec3 gravity, double dt, StemSolverScratch& scratch) {
-    auto& x = points.position_m;
-    auto& v = points.velocity_m_s;
-    const std::size_t count = x.size();
+namespace {
+
+bool is_fixed(const StemPoints& points, const StemClamp* clamp, std::size_t p) { return points.pinned[p] != 0 || (clamp_active(clamp) && p == 0); }
+
+// The step up to its linear system: forces, H (kept in scratch.stiffness), the system matrix A
+// (scratch.band) and the right-hand side M v + h f (scratch.rhs), fixed points as identity rows.
+//
+// A and the right-hand side go where `a` says: the stem's own scratch, or one lane of four stems'
+// interleaved system (an entry every `lanes` doubles), so that the lanes' solve needs no copy.
+struct SystemAt {
+    double* band;    // padded row 0's first entry
+    double* rhs;     // padded entry 0
+    std::size_t lanes = 1;
+    [[nodiscard]] double* row(std::size_t i) const { return band + (i + pad) * stride * lanes; }
+    [[nodiscard]] double& b(std::size_t i) const { return rhs[(i + pad) * lanes]; }
+};
+
+void assemble_step(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs, const StemClamp* clamp,
+                   glm::dvec3 gravity, double dt, StemSolverScratch& scratch, const SystemAt& a) {
+    const auto& v = points.velocity_m_s;
+    const std::size_t count = points.position_m.size();
     const std::size_t n = 3 * count;
     const bool clamped = clamp_active(clamp);
-    auto is_fixed = [&](std::size_t p) { return points.pinned[p] != 0 || (clamped && p == 0); };
 
     measure_segments(points, scratch.segments);
     forces_of(points, scratch.segments, rest, springs, clamp, gravity, scratch.force);
@@ -321,9 +337,7 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
     const double alpha = springs.air_drag_per_s;
     const double stiffness_scale = dt * beta + dt * dt;
     size_band(scratch.stiffness, n);
-    size_band(scratch.band, n);
     const Band h{scratch.stiffness.data(), n};
-    const Band a{scratch.band.data(), n};
     static constexpr double no_segment[6] = {};
     for (std::size_t p = 0; p < count; ++p) {
         const double* lo = p >= 1 ? &scratch.segment_block[6 * (p - 1)] : no_segment; // xx xy xz yy yz zz
@@ -343,47 +357,56 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
 #pragma GCC unroll 8
             for (std::size_t d = 0; d < stride; ++d) {
                 hr[d] = rows[r][d];
-                ar[d] = rows[r][d] * stiffness_scale;
+                ar[d * a.lanes] = rows[r][d] * stiffness_scale;
             }
-            ar[bandwidth] += mass;
+            ar[bandwidth * a.lanes] += mass;
         }
     }
 
     // Backward Euler's change dv solves A dv = h (f - (beta + h) H v - alpha M v). Added to A v on both
     // sides the H terms cancel (A's own is (h beta + h^2) H v), leaving A v' = M v + h f for the new
     // velocity v' = v + dv: no product with H, the same solution.
-    size_vector(scratch.rhs, n, 0.0);
-    double* rhs = scratch.rhs.data() + pad;
     for (std::size_t p = 0; p < count; ++p) {
         const glm::dvec3 momentum = points.mass_kg[p] * v[p] + dt * f[p];
-        for (std::size_t r = 0; r < 3; ++r) rhs[3 * p + r] = momentum[static_cast<glm::length_t>(r)];
+        for (std::size_t r = 0; r < 3; ++r) a.b(3 * p + r) = momentum[static_cast<glm::length_t>(r)];
     }
     for (std::size_t p = 0; p < count; ++p) {
-        if (!is_fixed(p)) continue;
+        if (!is_fixed(points, clamp, p)) continue;
         for (std::size_t r = 0; r < 3; ++r) {
             const std::size_t i = 3 * p + r;
             double* row = a.row(i);
-            for (std::size_t d = 0; d < bandwidth; ++d) row[d] = 0.0;
-            for (std::size_t t = 1; t <= bandwidth; ++t) a.row(i + t)[bandwidth - t] = 0.0;
-            row[bandwidth] = 1.0;
-            rhs[i] = 0.0; // v' = 0
+            for (std::size_t d = 0; d < bandwidth; ++d) row[d * a.lanes] = 0.0;
+            for (std::size_t t = 1; t <= bandwidth; ++t) a.row(i + t)[(bandwidth - t) * a.lanes] = 0.0;
+            row[bandwidth * a.lanes] = 1.0;
+            a.b(i) = 0.0; // v' = 0
         }
     }
-    if (!cholesky_solve(a, rhs, scratch.inverse_diagonal)) return false;
+}
+
+// The step from its solved system (the new velocities in scratch.rhs) on: positions, and the forces at
+// the end of the step. False for a non-finite solution.
+bool finish_step(StemPoints& points, const StemClamp* clamp, double dt, StemSolverScratch& scratch, const SystemAt& solved) {
+    auto& x = points.position_m;
+    auto& v = points.velocity_m_s;
+    const std::size_t count = x.size();
+    const std::size_t n = 3 * count;
+    const bool clamped = clamp_active(clamp);
+    const auto& f = scratch.force;
+    const Band h{scratch.stiffness.data(), n};
     for (std::size_t i = 0; i < n; ++i) {
-        if (!std::isfinite(rhs[i])) return false;
+        if (!std::isfinite(solved.b(i))) return false;
     }
     // The step's motion dx (zero for fixed points).
     size_vector(scratch.velocity, n, 0.0);
     double* moved = scratch.velocity.data() + pad;
     for (std::size_t p = 0; p < count; ++p) {
-        if (is_fixed(p)) {
+        if (is_fixed(points, clamp, p)) {
             v[p] = glm::dvec3{0.0};
             if (clamped && p == 0) x[0] = clamp->anchor_m;
             for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = 0.0;
             continue;
         }
-        v[p] = glm::dvec3{rhs[3 * p], rhs[3 * p + 1], rhs[3 * p + 2]};
+        v[p] = glm::dvec3{solved.b(3 * p), solved.b(3 * p + 1), solved.b(3 * p + 2)};
         x[p] += dt * v[p];
         for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = dt * v[p][static_cast<glm::length_t>(r)];
     }
@@ -394,13 +417,122 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
         scratch.end_force = f;
         return true;
     }
-    double* change = rhs; // the solution is spent
+    size_vector(scratch.rhs, n, 0.0);
+    double* change = scratch.rhs.data() + pad; // (where a lone stem's solution was: it is spent)
     symmetric_product(h, moved, change);
     scratch.end_force.resize(count);
     for (std::size_t p = 0; p < count; ++p) {
         scratch.end_force[p] = f[p] - glm::dvec3{change[3 * p], change[3 * p + 1], change[3 * p + 2]};
     }
     return true;
+}
+
+// Four stems' systems solved side by side, one in each lane of a vector of four doubles: each lane
+// does exactly the operations cholesky_solve does on its stem, in the same order (no fused
+// multiply-add: none is enabled), so its results are the same bit for bit; a 256-bit machine does four
+// stems' work in the instructions of one. The systems are copied in interleaved (entry by entry, lane
+// by lane); a shorter system is continued by identity rows. `ok[l]`: lane l was positive definite.
+constexpr std::size_t lanes = 4;
+using Lanes = double __attribute__((vector_size(8 * lanes)));
+// The same at any double's address, aliasing doubles: the interleaved arrays are read through it.
+using LanesAt = double __attribute__((vector_size(8 * lanes), aligned(8), may_alias));
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void cholesky_solve_lanes(double* a, double* b, double* inverse, std::size_t n, bool* ok) {
+    // a: (n + 2 pad) rows of `stride` entries of `lanes`; b, inverse: (n + 2 pad) of `lanes`. Read and
+    // written in place through LanesAt references (no helper functions: one taking or returning a
+    // 256-bit vector has a different ABI in each clone).
+    const auto at = [](double* p) -> LanesAt& { return *reinterpret_cast<LanesAt*>(p); };
+    const auto row = [&](std::size_t i) { return a + (i + pad) * stride * lanes; };
+    for (std::size_t i = 0; i < n; ++i) {
+        double* ri = row(i);
+        Lanes r[stride]; // the row in registers (stores through LanesAt may alias every load)
+        for (std::size_t d = 0; d < stride; ++d) r[d] = at(ri + d * lanes);
+        for (std::size_t d = 0; d < bandwidth; ++d) {
+            double* rj = row(i + d - bandwidth);
+            Lanes sum = r[d];
+            for (std::size_t m = 0; m < d; ++m) sum -= r[m] * at(rj + (m + bandwidth - d) * lanes);
+            r[d] = sum * at(inverse + (i + pad + d - bandwidth) * lanes);
+        }
+        Lanes sum = r[bandwidth];
+        for (std::size_t m = 0; m < bandwidth; ++m) sum -= r[m] * r[m];
+        for (std::size_t l = 0; l < lanes; ++l) {
+            if (!(sum[l] > 0.0)) {
+                ok[l] = false;
+                sum[l] = 1.0; // the lane's stem is refused; the others go on
+            }
+            r[bandwidth][l] = std::sqrt(sum[l]);
+        }
+        for (std::size_t d = 0; d < stride; ++d) at(ri + d * lanes) = r[d];
+        at(inverse + (i + pad) * lanes) = 1.0 / r[bandwidth];
+    }
+    for (std::size_t i = 0; i < n; ++i) { // L y = b
+        double* ri = row(i);
+        Lanes sum = at(b + (i + pad) * lanes);
+        for (std::size_t m = 0; m < bandwidth; ++m) sum -= at(ri + m * lanes) * at(b + (i + pad + m - bandwidth) * lanes);
+        at(b + (i + pad) * lanes) = sum * at(inverse + (i + pad) * lanes);
+    }
+    for (std::size_t i = n; i-- > 0;) { // L^T x = y
+        Lanes sum = at(b + (i + pad) * lanes);
+        for (std::size_t t = 1; t <= bandwidth; ++t) sum -= at(row(i + t) + (bandwidth - t) * lanes) * at(b + (i + pad + t) * lanes);
+        at(b + (i + pad) * lanes) = sum * at(inverse + (i + pad) * lanes);
+    }
+}
+
+} // namespace
+
+bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings& springs, const StemClamp* clamp,
+               glm::dvec3 gravity, double dt, StemSolverScratch& scratch) {
+    const std::size_t n = 3 * points.position_m.size();
+    size_band(scratch.band, n);
+    size_vector(scratch.rhs, n, 0.0);
+    const SystemAt own{scratch.band.data(), scratch.rhs.data(), 1};
+    assemble_step(points, rest, springs, clamp, gravity, dt, scratch, own);
+    if (!cholesky_solve(Band{scratch.band.data(), n}, scratch.rhs.data() + pad, scratch.inverse_diagonal)) return false;
+    return finish_step(points, clamp, dt, scratch, own);
+}
+
+void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, double dt, LaneScratch& lane_scratch, std::span<std::uint8_t> ok) {
+    for (std::size_t first = 0; first < stems.size(); first += lanes) {
+        const std::size_t group = std::min(lanes, stems.size() - first);
+        if (group == 1) { // nothing to share a register with
+            const auto& s = stems[first];
+            ok[first] = step_stem(*s.points, *s.rest, *s.springs, s.clamp, gravity, dt, *s.scratch) ? 1 : 0;
+            continue;
+        }
+        std::size_t n = 0;
+        for (std::size_t l = 0; l < group; ++l) n = std::max(n, 3 * stems[first + l].points->position_m.size());
+        // Each stem writes its own lane (every entry of its rows); the rest is written here: identity
+        // rows past a shorter stem's end and in empty lanes, and the padding. No clearing (23 kB a group).
+        auto& a = lane_scratch.band;
+        auto& b = lane_scratch.rhs;
+        auto& inverse = lane_scratch.inverse_diagonal;
+        a.resize((n + 2 * pad) * stride * lanes);
+        b.resize((n + 2 * pad) * lanes);
+        inverse.resize((n + 2 * pad) * lanes);
+        std::fill(inverse.begin(), inverse.begin() + static_cast<std::ptrdiff_t>(pad * lanes), 1.0); // the padding's: read, never written
+        for (std::size_t l = 0; l < lanes; ++l) {
+            const std::size_t own = l < group ? 3 * stems[first + l].points->position_m.size() : 0;
+            for (std::size_t i = 0; i < n + 2 * pad; ++i) {
+                if (i >= pad && i < pad + own) continue;
+                double* row = a.data() + i * stride * lanes + l;
+                for (std::size_t d = 0; d < stride; ++d) row[d * lanes] = d == bandwidth ? 1.0 : 0.0;
+                b[i * lanes + l] = 0.0;
+            }
+        }
+        for (std::size_t l = 0; l < group; ++l) {
+            const auto& s = stems[first + l];
+            assemble_step(*s.points, *s.rest, *s.springs, s.clamp, gravity, dt, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes});
+        }
+        bool lane_ok[lanes] = {true, true, true, true};
+        cholesky_solve_lanes(a.data(), b.data(), inverse.data(), n, lane_ok);
+        for (std::size_t l = 0; l < group; ++l) {
+            const auto& s = stems[first + l];
+            ok[first + l] = lane_ok[l] && finish_step(*s.points, s.clamp, dt, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes}) ? 1 : 0;
+        }
+    }
 }
 
 } // namespace ikebana::systems::physics

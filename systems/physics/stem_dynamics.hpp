@@ -14,6 +14,8 @@
 // compressive part dropped, small-angle bending Hessian), which keeps the system matrix symmetric
 // positive definite and banded (each point couples to +-2 neighbours): a banded Cholesky solve,
 // O(n) per stem per tick.
+#include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -85,5 +87,25 @@ inline constexpr std::size_t max_substeps = 8;
 bool step_stem(components::StemPoints& points, const components::StemRestShape& rest,
                const components::StemSprings& springs, const components::StemClamp* clamp, glm::dvec3 gravity,
                double dt, StemSolverScratch& scratch);
+
+// One stem for step_stems: its parts, and its own working memory.
+struct StemStep {
+    components::StemPoints* points;
+    const components::StemRestShape* rest;
+    const components::StemSprings* springs;
+    const components::StemClamp* clamp; // may be null
+    StemSolverScratch* scratch;
+};
+
+// The solves of four stems side by side (see step_stems).
+struct LaneScratch {
+    std::vector<double> band;
+    std::vector<double> rhs;
+    std::vector<double> inverse_diagonal;
+};
+
+// Advances every stem by dt, as step_stem does each (the same results bit for bit; ok[i] is 1 where it
+// would return true), their linear solves four at a time in the lanes of one register.
+void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, double dt, LaneScratch& lane_scratch, std::span<std::uint8_t> ok);
 
 } // namespace ikebana::systems::physics

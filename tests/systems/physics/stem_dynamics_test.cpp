@@ -190,3 +190,63 @@ TEST(StemDynamics, AStiffBranchsTickIsCutIntoPartsAndASoftStemsIsNot) {
     EXPECT_LE(parts, max_substeps);
     EXPECT_LT(stable_substeps(stiff.points, stiff.rest, stiff.springs, nullptr, dt / 4), parts) << "a shorter tick needs fewer parts";
 }
+
+// Stems stepped together (their solves four at a time, in the lanes of one register) land exactly
+// where each stepped alone lands, bit for bit: five stems of three lengths (a group of four and one
+// alone), clamped and free, one held at a point, one with a curved rest shape, for 300 ticks. And a
+// stem whose step fails is refused alone: its neighbours in the register step on.
+TEST(StemDynamics, StemsSteppedSideBySideLandWhereEachSteppedAloneLands) {
+    std::vector<BuiltStem> together;
+    for (int k = 0; k < 5; ++k) {
+        StemSpec spec = k % 2 ? branch_spec() : sunflower_spec();
+        spec.segments = 12 + 7 * static_cast<std::uint32_t>(k % 3);
+        spec.direction = glm::normalize(glm::dvec3{0.3 * k, 0.1, 1.0});
+        spec.rest_bend_rad = k == 3 ? 0.4 : 0.0;
+        together.push_back(build_stem(spec));
+    }
+    together[2].points.pinned.back() = 1; // a hand holds its top
+    std::vector<BuiltStem> alone = together;
+    const glm::dvec3 top_before = together[4].points.position_m.back();
+    std::vector<components::StemClamp> clamps;
+    for (const auto& s : together) clamps.push_back(clamp_bottom(s));
+    clamps[4].engaged = false; // one free stem
+    std::vector<StemSolverScratch> scratch(5);
+    std::vector<StemSolverScratch> alone_scratch(5);
+    LaneScratch lanes;
+    std::vector<std::uint8_t> ok(5, 0);
+    for (int t = 0; t < 300; ++t) {
+        std::vector<StemStep> steps;
+        for (std::size_t k = 0; k < 5; ++k) steps.push_back({&together[k].points, &together[k].rest, &together[k].springs, &clamps[k], &scratch[k]});
+        step_stems(steps, earth, dt, lanes, ok);
+        for (std::size_t k = 0; k < 5; ++k) {
+            ASSERT_EQ(ok[k], 1u) << "stem " << k << " tick " << t;
+            ASSERT_TRUE(step_stem(alone[k].points, alone[k].rest, alone[k].springs, &clamps[k], earth, dt, alone_scratch[k]));
+        }
+    }
+    for (std::size_t k = 0; k < 5; ++k) {
+        for (std::size_t p = 0; p < together[k].points.position_m.size(); ++p) {
+            ASSERT_EQ(together[k].points.position_m[p], alone[k].points.position_m[p]) << "stem " << k << " point " << p;
+            ASSERT_EQ(together[k].points.velocity_m_s[p], alone[k].points.velocity_m_s[p]) << "stem " << k << " point " << p;
+        }
+        EXPECT_EQ(scratch[k].end_force, alone_scratch[k].end_force) << "stem " << k;
+    }
+    EXPECT_GT(glm::length(together[4].points.position_m.back() - top_before), 0.05) << "the free stem fell: they did move";
+
+    // A stem with a zero mass point cannot be solved (its system is not positive definite once a
+    // spring is gone): refused, while the three beside it step.
+    together[1].points.mass_kg[3] = 0.0;
+    together[1].springs.axial_n_per_m[2] = 0.0;
+    together[1].springs.axial_n_per_m[3] = 0.0;
+    together[1].springs.hinge_nm_per_rad.assign(together[1].springs.hinge_nm_per_rad.size(), 0.0);
+    std::vector<StemStep> steps;
+    for (std::size_t k = 0; k < 4; ++k) steps.push_back({&together[k].points, &together[k].rest, &together[k].springs, &clamps[k], &scratch[k]});
+    StemSolverScratch single;
+    auto copy = together[1];
+    const bool alone_ok = step_stem(copy.points, copy.rest, copy.springs, &clamps[1], earth, dt, single);
+    step_stems(steps, earth, dt, lanes, ok);
+    EXPECT_FALSE(alone_ok);
+    EXPECT_EQ(ok[1], 0u);
+    EXPECT_EQ(ok[0], 1u);
+    EXPECT_EQ(ok[2], 1u);
+    EXPECT_EQ(ok[3], 1u);
+}
