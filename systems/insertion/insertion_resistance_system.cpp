@@ -19,6 +19,7 @@ void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
     const auto* settings = r.resource<const PhysicsSettings>();
     const double g = settings ? glm::length(settings->gravity_m_s2) : 9.80665;
     const auto* world_covariates = r.resource<const insertion::Covariates>();
+    insertion::Covariates covariates;
     r.view<const StemPoints, const StemRestShape, const PinResistance, InsertionHistory, PinEngagement>().each(
         [&](ecs::Entity, const StemPoints& points, const StemRestShape& rest, const PinResistance& model, InsertionHistory& history,
             PinEngagement& engagement) {
@@ -26,14 +27,19 @@ void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
             engagement.holding_moment_nm = 0.0;
             engagement.gravity_moment_nm = 0.0;
             if (!engagement.in_kenzan || !kenzan) return;
-            // Covariates a fitted extension may use: the world's, plus this insertion's own.
-            insertion::Covariates covariates = world_covariates ? *world_covariates : insertion::Covariates{};
-            covariates.numeric["minutes_since_cut"] = static_cast<double>(ctx.time_us - history.cut_at_us) / 60e6;
-            if (!history.records.empty()) {
-                covariates.numeric["angle_deg"] = history.records.back().angle_deg;
-                covariates.numeric["hole_reuse"] = history.records.back().reused_hole ? 1.0 : 0.0;
+            // Covariates a fitted extension may use: the world's, plus this insertion's own. Only a species
+            // with an extension reads them (building the map was eight allocations a flower a tick).
+            covariates.numeric.clear();
+            covariates.category.clear();
+            if (!model.extension.empty()) {
+                if (world_covariates) covariates = *world_covariates;
+                covariates.numeric["minutes_since_cut"] = static_cast<double>(ctx.time_us - history.cut_at_us) / 60e6;
+                if (!history.records.empty()) {
+                    covariates.numeric["angle_deg"] = history.records.back().angle_deg;
+                    covariates.numeric["hole_reuse"] = history.records.back().reused_hole ? 1.0 : 0.0;
+                }
+                covariates.numeric["pins"] = static_cast<double>(engagement.pins.size());
             }
-            covariates.numeric["pins"] = static_cast<double>(engagement.pins.size());
             const double soft = model.kind == ResistanceKind::soft_table
                                     ? insertion::soft_resistance_n_per_m(model, std::max(history.insertions, 1u), covariates)
                                     : 0.0;

@@ -32,11 +32,11 @@ void InsertionTrackingSystem::operator()(sched::SystemContext& ctx) {
             const bool was_in = engagement.in_kenzan;
             // Being in the pins is a matter of the stem's shape; a split bottom only grips less (the
             // pins in its first `seat_loss` hold nothing), it is no less in the kenzan.
-            engagement.pins = insertion::engaged_pins(end, *kenzan);
+            insertion::engaged_pins(end, *kenzan, engagement.pins);
             engagement.in_kenzan = !engagement.pins.empty();
             if (history.bottom_broken && model.broken_seat_loss_m > 0.0 && engagement.in_kenzan) {
                 end.seat_loss_m = model.broken_seat_loss_m;
-                engagement.pins = insertion::engaged_pins(end, *kenzan);
+                insertion::engaged_pins(end, *kenzan, engagement.pins);
             }
             insertion::assign_lever_arms(end, *kenzan, engagement.pins);
             const double lowest = x[0].z - end.radius_m * std::sqrt(std::max(0.0, 1.0 - end.axis.z * end.axis.z));

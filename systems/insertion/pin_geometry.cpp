@@ -74,6 +74,12 @@ std::optional<PinContact> pin_contact(const StemEnd& stem, glm::dvec3 base, cons
 
 std::vector<PinContact> engaged_pins(const StemEnd& stem, const Kenzan& k) {
     std::vector<PinContact> out;
+    engaged_pins(stem, k, out);
+    return out;
+}
+
+void engaged_pins(const StemEnd& stem, const Kenzan& k, std::vector<PinContact>& out) {
+    out.clear();
     // The footprint on the pin field: the stem end's bounding box over the pins' height range.
     const double top = k.origin_m.z + k.pin_height_m();
     // Only the part of the end whose axis is below the tips plus the stem's radius can touch a pin: the
@@ -84,7 +90,7 @@ std::vector<PinContact> engaged_pins(const StemEnd& stem, const Kenzan& k) {
     const glm::dvec3 far = stem.bottom_m + stem.axis * reach_m;
     glm::dvec2 lo = glm::min(glm::dvec2(stem.bottom_m), glm::dvec2(far)) - glm::dvec2(stem.radius_m);
     glm::dvec2 hi = glm::max(glm::dvec2(stem.bottom_m), glm::dvec2(far)) + glm::dvec2(stem.radius_m);
-    if (std::min(stem.bottom_m.z, far.z) - stem.radius_m > top) return out;
+    if (std::min(stem.bottom_m.z, far.z) - stem.radius_m > top) return;
     const auto range = k.pins_within(lo, hi);
     for (auto row = range.row_lo; row <= range.row_hi; ++row) {
         for (auto col = range.column_lo; col <= range.column_hi; ++col) {
@@ -95,7 +101,6 @@ std::vector<PinContact> engaged_pins(const StemEnd& stem, const Kenzan& k) {
             }
         }
     }
-    return out;
 }
 
 glm::dvec3 assign_lever_arms(const StemEnd& stem, const Kenzan& k, std::vector<PinContact>& pins) {

@@ -40,6 +40,8 @@ std::optional<components::PinContact> pin_contact(const StemEnd& stem, glm::dvec
 
 // Every engaged pin of the kenzan, found through its grid (only pins under the footprint are tried).
 std::vector<components::PinContact> engaged_pins(const StemEnd& stem, const components::Kenzan& kenzan);
+// The same into `out` (cleared first), keeping its memory: the 1 kHz tracking calls it for every stem.
+void engaged_pins(const StemEnd& stem, const components::Kenzan& kenzan, std::vector<components::PinContact>& out);
 
 // Lever arm of each pin about the tipping edge: the stem tips towards the horizontal direction it
 // leans, about the far edge of its footprint on the pin-top plane; a pin on the other side must slide

@@ -26,9 +26,15 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
     // stem's results are what stepping it alone gives.
     order_.resize(stems_.size());
     for (std::size_t i = 0; i < order_.size(); ++i) order_[i] = i;
-    std::stable_sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) { return stems_[a].parts < stems_[b].parts; });
-    for (std::size_t first = 0; first < order_.size();) {
+    // Longest first within each run: a group of four costs its longest stem's rows, so similar lengths
+    // share a group, and the one left alone (solved without lanes) is a short one.
+    std::stable_sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
+        if (stems_[a].parts != stems_[b].parts) return stems_[a].parts < stems_[b].parts;
+        return stems_[a].points->position_m.size() > stems_[b].points->position_m.size();
+    });
+    for (std::size_t first = 0, run = 0; first < order_.size(); ++run) {
         const std::size_t parts = stems_[order_[first]].parts;
+        if (lane_scratch_.size() <= run) lane_scratch_.resize(run + 1);
         std::size_t last = first;
         while (last < order_.size() && stems_[order_[last]].parts == parts) ++last;
         for (std::size_t part = 0; part < parts; ++part) {
@@ -43,7 +49,7 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
                 batch_stem_.push_back(order_[k]);
             }
             batch_ok_.assign(batch_.size(), 0);
-            physics::step_stems(batch_, gravity, ctx.dt_s / static_cast<double>(parts), lane_scratch_, batch_ok_);
+            physics::step_stems(batch_, gravity, ctx.dt_s / static_cast<double>(parts), lane_scratch_[run], batch_ok_);
             for (std::size_t j = 0; j < batch_.size(); ++j) stems_[batch_stem_[j]].finite = batch_ok_[j] != 0;
         }
         first = last;

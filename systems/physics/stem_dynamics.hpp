@@ -14,6 +14,7 @@
 // compressive part dropped, small-angle bending Hessian), which keeps the system matrix symmetric
 // positive definite and banded (each point couples to +-2 neighbours): a banded Cholesky solve,
 // O(n) per stem per tick.
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -97,11 +98,17 @@ struct StemStep {
     StemSolverScratch* scratch;
 };
 
-// The solves of four stems side by side (see step_stems).
+// The solves of four stems side by side (see step_stems), kept per group of four from call to call:
+// a group of the same stems keeps its identity rows and padding.
 struct LaneScratch {
-    std::vector<double> band;
-    std::vector<double> rhs;
-    std::vector<double> inverse_diagonal;
+    struct Group {
+        std::vector<double> band;
+        std::vector<double> rhs;
+        std::vector<double> inverse_diagonal;
+        std::size_t n = 0;
+        std::array<std::size_t, 4> own{}; // each lane's unknowns
+    };
+    std::vector<Group> groups;
 };
 
 // Advances every stem by dt, as step_stem does each (the same results bit for bit; ok[i] is 1 where it

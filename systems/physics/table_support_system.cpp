@@ -86,10 +86,18 @@ void TableSupportSystem::operator()(sched::SystemContext& ctx) {
     const auto* settings = reg.resource<const PhysicsSettings>();
     const double g = settings ? std::abs(settings->gravity_m_s2.z) : 9.80665;
     const double friction = table ? table->friction : 0.6;
+    // Nothing reaches higher than this (plus a stem's radius): not the table, the container's floor or
+    // rim, or the kenzan's plate. Most of a standing flower's points are far above it and are passed
+    // over with one comparison (this pass was 5 % of the ten-flower tick).
+    double highest = -std::numeric_limits<double>::infinity();
+    if (table) highest = std::max(highest, table->height_m);
+    if (container) highest = std::max({highest, container->floor_z_m, container->rim_z_m});
+    if (kenzan) highest = std::max(highest, kenzan->origin_m.z);
     reg.view<StemPoints, const StemRestShape>().each([&](ecs::Entity e, StemPoints& points, const StemRestShape& rest) {
         const double radius = 0.5 * rest.diameter_m;
         const auto* clamp = reg.try_get<const StemClamp>(e);
         for (std::size_t i = 0; i < points.position_m.size(); ++i) {
+            if (points.position_m[i].z >= highest + radius) continue;
             if (points.pinned[i] != 0 || (i == 0 && clamp && clamp->engaged)) continue;
             auto& x = points.position_m[i];
             auto& v = points.velocity_m_s[i];

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "systems/physics/stem_builder.hpp"
@@ -249,4 +250,29 @@ TEST(StemDynamics, StemsSteppedSideBySideLandWhereEachSteppedAloneLands) {
     EXPECT_EQ(ok[0], 1u);
     EXPECT_EQ(ok[2], 1u);
     EXPECT_EQ(ok[3], 1u);
+}
+
+// The hinge angle of a nearly straight hinge comes from a series, not atan2 (5x cheaper): over bends
+// from 1e-9 rad to 10 degrees and beyond, in every direction, it equals the library's atan2 of the same
+// vectors to within 2 units in the last place.
+TEST(StemDynamics, ANearlyStraightHingesAngleIsTheLibrarysToTheLastBits) {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int series = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const double theta = std::pow(10.0, -9.0 + 9.5 * unit(rng)); // up to about 3 rad
+        const double phi = 6.283185307179586 * unit(rng);
+        components::StemPoints pts;
+        const glm::dvec3 in = glm::normalize(glm::dvec3{unit(rng) - 0.5, unit(rng) - 0.5, 1.0});
+        const glm::dvec3 side = glm::normalize(glm::cross(in, glm::dvec3{std::cos(phi), std::sin(phi), 0.3}));
+        const glm::dvec3 out = std::cos(theta) * in + std::sin(theta) * side;
+        pts.position_m = {glm::dvec3{0.01, 0.02, 0.0}, glm::dvec3{0.01, 0.02, 0.0} + 0.012 * in, glm::dvec3{0.01, 0.02, 0.0} + 0.012 * in + 0.0115 * out};
+        const glm::dvec3 a = glm::normalize(pts.position_m[1] - pts.position_m[0]);
+        const glm::dvec3 b = glm::normalize(pts.position_m[2] - pts.position_m[1]);
+        const double reference = std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+        const double angle = hinge_angle(pts, 1);
+        ASSERT_NEAR(angle, reference, 2.0 * std::numeric_limits<double>::epsilon() * reference + 1e-300) << "theta " << theta;
+        series += theta < 0.12 ? 1 : 0;
+    }
+    EXPECT_GT(series, 15000) << "most of them small enough for the series";
 }
