@@ -15,7 +15,8 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
     auto& frame = (*channel)->buffer.write_buffer();
     frame.sim_time_us = ctx.time_us;
     std::size_t count = 0;
-    std::vector<ecs::Entity> order; // flower entities by their index in the frame
+    auto& order = order_; // flower entities by their index in the frame
+    order.clear();
     r.view<const Flower, const StemPoints, const StemRestShape, const FlowerLook>().each(
         [&](ecs::Entity e, const Flower& flower, const StemPoints& points, const StemRestShape& rest, const FlowerLook& look) {
             if (frame.flowers.size() <= count) frame.flowers.emplace_back();
@@ -55,13 +56,20 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
                     status.fall_yield_gravity_nm = grip->yield_gravity_nm;
                 }
             }
-            status.parts.clear();
+            // Assigned over the slot's parts of an earlier frame: their mesh names keep their memory (a
+            // flower's hundreds of parts were as many string allocations a frame, most of this system's
+            // time on the haptic lane).
+            std::size_t used = 0;
             if (const auto* children = r.try_get<const ecs::Children>(e)) {
                 for (const ecs::Entity child : children->entities) {
                     const auto* part = r.try_get<const Part>(child);
-                    if (part && part->kind != PartKind::stem && !part->mesh.empty()) status.parts.push_back(*part);
+                    if (!part || part->kind == PartKind::stem || part->mesh.empty()) continue;
+                    if (used < status.parts.size()) status.parts[used] = *part;
+                    else status.parts.push_back(*part);
+                    ++used;
                 }
             }
+            status.parts.resize(used);
         });
     frame.flowers.resize(count);
     for (auto& h : frame.hands) h = HandStatus{false, false, 0, false, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.0, -1, glm::dvec3{0.0}, false};

@@ -3,6 +3,7 @@
 // kenzan, the table, the hands, how each flower stands) into the frame channel, at the render rate.
 // Nothing is drawn here: the main lane prepares the draw list and the HUD (prepare_frame_system).
 #include <string_view>
+#include <vector>
 
 #include "components/appearance.hpp"
 #include "components/collision.hpp"
@@ -30,6 +31,9 @@ struct PublishFrameSystem {
     using writes = sched::Components<>;
 
     void operator()(sched::SystemContext& ctx);
+
+private:
+    std::vector<ecs::Entity> order_; // kept from frame to frame (no allocation on the haptic lane)
 };
 
 } // namespace ikebana::systems
