@@ -34,4 +34,10 @@ struct Contacts {
     std::uint64_t pairs_tested;
 };
 
+// Counts the collider updates: a pass of detection spread over the ticks after one starts when this
+// changes.
+struct ColliderPass {
+    std::uint64_t generation = 0;
+};
+
 } // namespace ikebana::components

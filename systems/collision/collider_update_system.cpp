@@ -25,6 +25,9 @@ void ColliderUpdateSystem::operator()(sched::SystemContext& ctx) {
     // Led by the tag storages, so Inactive parts are never visited, not even to be skipped.
     r.view<const ActiveCollider, const Part, Collider, const ecs::ChildOf>().each(place);
     r.view<const PassiveCollider, const Part, Collider, const ecs::ChildOf>().each(place);
+    auto* pass = r.resource<ColliderPass>();
+    if (!pass) pass = &r.set_resource<ColliderPass>();
+    ++pass->generation;
 }
 
 } // namespace ikebana::systems

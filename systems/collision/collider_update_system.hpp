@@ -18,7 +18,7 @@ struct ColliderUpdateSystem {
     static constexpr std::string_view rate = "position_check";
     using reads = sched::Components<components::Part, components::StemPoints, components::ActiveCollider, components::PassiveCollider,
                                     ecs::ChildOf>;
-    using writes = sched::Components<components::Collider>;
+    using writes = sched::Components<components::Collider, components::ColliderPass>;
 
     void operator()(sched::SystemContext& ctx);
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "engine/ecs/registry.hpp"
 #include "systems/collision/narrow_phase.hpp"
@@ -54,13 +55,18 @@ ecs::Entity owner_of(ecs::Registry& r, ecs::Entity e) {
 } // namespace
 
 void CollisionDetectionSystem::operator()(sched::SystemContext& ctx) {
-    auto& r = ctx.registry;
-    auto* contacts = r.resource<Contacts>();
-    if (!contacts) contacts = &r.set_resource<Contacts>();
-    contacts->list.clear();
-    contacts->pairs_tested = 0;
+    begin(ctx.registry);
+    sort_cells(0, 1);
+    query(ctx.registry, 0, 1);
+    query_pins(ctx.registry);
+    publish(ctx.registry);
+}
 
-    // Index every Active and Passive collider; Inactive ones never enter these views.
+void CollisionDetectionSystem::begin(ecs::Registry& r) {
+    found.clear();
+    pairs_tested = 0;
+    // Index every Active and Passive collider; Inactive ones never enter these views. The Active ones
+    // come first (0 .. active_count - 1).
     cells.clear();
     entities.clear();
     owners.clear();
@@ -73,12 +79,34 @@ void CollisionDetectionSystem::operator()(sched::SystemContext& ctx) {
         for_each_cell(collision::bounds_of(c), cell_size_m, [&](std::int64_t key) { cells.emplace_back(key, slot); });
     };
     r.view<const Collider, const ActiveCollider>().each([&](ecs::Entity e, const Collider& c) { index(e, c, true); });
+    active_count = entities.size();
     r.view<const Collider, const PassiveCollider>().each([&](ecs::Entity e, const Collider& c) { index(e, c, false); });
-    std::sort(cells.begin(), cells.end());
+}
 
-    std::vector<std::uint32_t> candidates;
-    for (std::uint32_t i = 0; i < entities.size(); ++i) {
-        if (!active[i]) continue;
+// Run `run` of `runs` equal runs of the cell index, sorted. Every (cell, collider) entry is unique, so
+// the runs merged are the index sorted whole, entry for entry.
+void CollisionDetectionSystem::sort_cells(std::size_t run, std::size_t runs) {
+    const auto n = cells.size();
+    std::sort(cells.begin() + static_cast<std::ptrdiff_t>(n * run / runs), cells.begin() + static_cast<std::ptrdiff_t>(n * (run + 1) / runs));
+}
+
+void CollisionDetectionSystem::merge_cells(std::size_t runs) {
+    const auto n = cells.size();
+    for (std::size_t run = 1; run < runs; ++run) { // the sorted prefix with the next run, into `merged`
+        const auto middle = cells.begin() + static_cast<std::ptrdiff_t>(n * run / runs);
+        const auto end = cells.begin() + static_cast<std::ptrdiff_t>(n * (run + 1) / runs);
+        merged.clear();
+        std::merge(cells.begin(), middle, middle, end, std::back_inserter(merged));
+        std::copy(merged.begin(), merged.end(), cells.begin());
+    }
+}
+
+void CollisionDetectionSystem::query(ecs::Registry& r, std::size_t slice, std::size_t slices) {
+    // Slice s of the Active colliders, in order: the slices' contacts, one after another, are the
+    // whole pass's.
+    const std::size_t from = active_count * slice / slices;
+    const std::size_t to = active_count * (slice + 1) / slices;
+    for (std::size_t i = from; i < to; ++i) {
         const Collider& a = r.get<const Collider>(entities[i]);
         candidates.clear();
         for_each_cell(collision::bounds_of(a), cell_size_m, [&](std::int64_t key) {
@@ -90,13 +118,15 @@ void CollisionDetectionSystem::operator()(sched::SystemContext& ctx) {
         for (const std::uint32_t j : candidates) {
             if (j == i || owners[j] == owners[i]) continue;
             if (active[j] && j < i) continue; // Active x Active: each pair once
-            ++contacts->pairs_tested;
+            ++pairs_tested;
             if (const auto hit = collision::collide(a, r.get<const Collider>(entities[j]))) {
-                contacts->list.push_back({entities[i], entities[j], hit->point_m, hit->normal, hit->depth_m, -1});
+                found.push_back({entities[i], entities[j], hit->point_m, hit->normal, hit->depth_m, -1});
             }
         }
     }
+}
 
+void CollisionDetectionSystem::query_pins(ecs::Registry& r) {
     // The kenzan: its grid is the broad phase. Only Active capsules (stem ends) meet the pins.
     r.view<const Kenzan>().each([&](ecs::Entity kenzan_entity, const Kenzan& k) {
         const double top = k.origin_m.z + k.pin_height_m();
@@ -109,16 +139,23 @@ void CollisionDetectionSystem::operator()(sched::SystemContext& ctx) {
             for (auto row = range.row_lo; row <= range.row_hi; ++row) {
                 for (auto col = range.column_lo; col <= range.column_hi; ++col) {
                     if (!k.has_pin(col, row)) continue;
-                    ++contacts->pairs_tested;
+                    ++pairs_tested;
                     const auto base = k.pin_base(col, row);
                     if (const auto hit = collision::collide_capsule_pin(c, base, k.pin)) {
                         const auto pin = row * k.columns + col;
-                        contacts->list.push_back({e, kenzan_entity, hit->point_m, hit->normal, hit->depth_m, pin});
+                        found.push_back({e, kenzan_entity, hit->point_m, hit->normal, hit->depth_m, pin});
                     }
                 }
             }
         });
     });
+}
+
+void CollisionDetectionSystem::publish(ecs::Registry& r) {
+    auto* contacts = r.resource<Contacts>();
+    if (!contacts) contacts = &r.set_resource<Contacts>();
+    contacts->list.swap(found); // the old list's memory becomes the next pass's
+    contacts->pairs_tested = pairs_tested;
 }
 
 } // namespace ikebana::systems

@@ -12,6 +12,7 @@
 #include "components/collision.hpp"
 #include "components/flower.hpp"
 #include "components/kenzan.hpp"
+#include "engine/ecs/registry.hpp"
 #include "engine/sched/system.hpp"
 
 namespace ikebana::systems {
@@ -25,14 +26,30 @@ struct CollisionDetectionSystem {
                                     components::PassiveCollider, ecs::ChildOf>;
     using writes = sched::Components<components::Contacts>;
 
+    // A whole pass: begin, query every Active collider, the pins, publish.
     void operator()(sched::SystemContext& ctx);
+
+    // The pass in parts, for spreading it over ticks (spread_collision_system): index the colliders;
+    // sort the index (in runs, merged); query the Active ones of slice `slice` of `slices`; the pins;
+    // make what was found the Contacts.
+    void begin(ecs::Registry& r);
+    void sort_cells(std::size_t run, std::size_t runs); // then, when runs > 1, merge_cells(runs)
+    void merge_cells(std::size_t runs);
+    void query(ecs::Registry& r, std::size_t slice, std::size_t slices);
+    void query_pins(ecs::Registry& r);
+    void publish(ecs::Registry& r);
 
     double cell_size_m = 0.03;
     // Working memory kept between passes (no allocation in steady state).
     std::vector<std::pair<std::int64_t, std::uint32_t>> cells;
+    std::vector<std::pair<std::int64_t, std::uint32_t>> merged;
     std::vector<ecs::Entity> entities;
     std::vector<ecs::Entity> owners;
     std::vector<std::uint8_t> active;
+    std::size_t active_count = 0;
+    std::vector<std::uint32_t> candidates;
+    std::vector<components::Contact> found; // this pass's, until published
+    std::uint64_t pairs_tested = 0;
 };
 
 } // namespace ikebana::systems

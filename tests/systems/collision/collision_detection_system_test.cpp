@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 #include <set>
 
 #include "components/collision.hpp"
@@ -9,6 +10,7 @@
 #include "components/kenzan.hpp"
 #include "engine/ecs/registry.hpp"
 #include "systems/collision/collision_detection_system.hpp"
+#include "systems/collision/spread_collision_system.hpp"
 
 using namespace ikebana;
 using namespace ikebana::components;
@@ -151,4 +153,43 @@ TEST(CollisionDetection, PinRangesAreEmptyForBoundsOffTheKenzanOrNotANumber) {
     EXPECT_EQ(all.column_lo, 0);
     EXPECT_EQ(all.column_hi, 19);
     EXPECT_EQ(all.row_hi, 19);
+}
+
+// The pass spread over the ticks after a collider update finds what the whole pass finds, contact for
+// contact in the same order, and no tick does more than a share of the pair tests; until it is done the
+// previous pass's contacts stay.
+TEST(CollisionDetection, APassSpreadOverTicksFindsWhatTheWholePassFinds) {
+    ecs::Registry r;
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-0.05, 0.05);
+    for (int i = 0; i < 40; ++i) add<ActiveCollider>(r, sphere({u(rng), u(rng), 0.02 + u(rng)}, 0.006));
+    for (int i = 0; i < 200; ++i) add<PassiveCollider>(r, sphere({u(rng), u(rng), 0.02 + u(rng)}, 0.006));
+    for (int i = 0; i < 6; ++i) add<ActiveCollider>(r, capsule({0.002 * i, 0.001, 0.004}, {0.002 * i, 0.001, 0.05}, 0.0037));
+    const auto k = r.create();
+    r.emplace<Kenzan>(k, standard_kenzan());
+    const Contacts whole = detect(r);
+    ASSERT_GT(whole.list.size(), 20u);
+
+    r.resource<Contacts>()->list.clear();
+    r.set_resource<ColliderPass>().generation = 1; // an update happened
+    systems::SpreadCollisionSystem spread;
+    int ticks = 0;
+    std::uint64_t most_pairs_a_tick = 0;
+    for (; ticks < 40 && r.resource<Contacts>()->list.empty(); ++ticks) {
+        const auto before = spread.pass.pairs_tested;
+        sched::SystemContext ctx{r, 1000 * ticks, 0.001, 0};
+        spread(ctx);
+        if (spread.step > 0) most_pairs_a_tick = std::max(most_pairs_a_tick, spread.pass.pairs_tested - before);
+    }
+    const Contacts& spread_contacts = *r.resource<Contacts>();
+    EXPECT_EQ(ticks, static_cast<int>(spread.sort_runs + spread.slices) + 4) << "the update's tick, the index, the runs, the merge, the slices, the pins";
+    ASSERT_EQ(spread_contacts.list.size(), whole.list.size());
+    for (std::size_t i = 0; i < whole.list.size(); ++i) {
+        EXPECT_EQ(spread_contacts.list[i].a, whole.list[i].a) << i;
+        EXPECT_EQ(spread_contacts.list[i].b, whole.list[i].b) << i;
+        EXPECT_EQ(spread_contacts.list[i].pin, whole.list[i].pin) << i;
+        EXPECT_EQ(spread_contacts.list[i].depth_m, whole.list[i].depth_m) << i;
+    }
+    EXPECT_EQ(spread_contacts.pairs_tested, whole.pairs_tested);
+    EXPECT_LT(most_pairs_a_tick, whole.pairs_tested / 2) << "no tick does the pass's work";
 }
