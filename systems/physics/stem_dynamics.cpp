@@ -125,7 +125,7 @@ bool cholesky_solve(const Band& a, double* b, std::vector<double>& inverse_stora
             // k = i - bandwidth + m for m < d: L(i, k) = ri[m], L(j, k) = rj[m + bandwidth - d]
 #pragma GCC unroll 8
             for (std::size_t m = 0; m < d; ++m) sum -= ri[m] * rj[m + bandwidth - d];
-            ri[d] = sum * inverse[i + d - bandwidth];
+            ri[d] = sum * (inverse - bandwidth)[i + d]; // the padding's inverse (1) left of row 0
         }
         double sum = ri[bandwidth];
 #pragma GCC unroll 8
@@ -390,6 +390,22 @@ void assemble_step(const StemPoints& points, const StemRestShape& rest, const St
         const glm::dvec3 momentum = points.mass_kg[p] * v[p] + dt * f[p];
         for (std::size_t r = 0; r < 3; ++r) a.b(3 * p + r) = momentum[static_cast<glm::length_t>(r)];
     }
+    // A fixed point keeps v' = 0 in the solve; a held one moving with the hand (the grab sets its
+    // velocity) still drags its neighbours: its column's A v goes to the right-hand side first
+    // (-(h beta + h^2) H_ij v_j for the rows it couples to), as the change-of-velocity form had it. All
+    // columns are read before any is cleared.
+    for (std::size_t p = 0; p < count; ++p) {
+        if (!is_fixed(points, clamp, p) || v[p] == glm::dvec3{0.0}) continue;
+        for (std::size_t r = 0; r < 3; ++r) {
+            const std::size_t j = 3 * p + r;
+            const double vj = v[p][static_cast<glm::length_t>(r)];
+            const double* row = a.row(j);
+            for (std::size_t d = 0; d < bandwidth; ++d) {
+                if (j + d >= bandwidth) a.b(j + d - bandwidth) -= row[d * a.lanes] * vj; // rows above: A(j, k) = A(k, j)
+            }
+            for (std::size_t t = 1; t <= bandwidth && j + t < n; ++t) a.b(j + t) -= a.row(j + t)[(bandwidth - t) * a.lanes] * vj;
+        }
+    }
     for (std::size_t p = 0; p < count; ++p) {
         if (!is_fixed(points, clamp, p)) continue;
         for (std::size_t r = 0; r < 3; ++r) {
@@ -559,6 +575,8 @@ void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, double dt, 
         for (std::size_t l = 0; l < group; ++l) {
             const auto& s = stems[first + l];
             ok[first + l] = lane_ok[l] && finish_step(*s.points, s.clamp, dt, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes}) ? 1 : 0;
+            // A failed lane may have carried NaN into its identity rows (0 * NaN): rebuilt next step.
+            if (!ok[first + l]) g.n = 0;
         }
     }
 }

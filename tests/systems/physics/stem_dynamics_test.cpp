@@ -276,3 +276,62 @@ TEST(StemDynamics, ANearlyStraightHingesAngleIsTheLibrarysToTheLastBits) {
     }
     EXPECT_GT(series, 15000) << "most of them small enough for the series";
 }
+
+// A stem carried by a point held at constant speed (as the grab moves a held point: its position
+// moved and its velocity set each tick) moves along with it: the stiffness damping acts on the stem's
+// motion relative to the hand, not against the hand's own. Weightless and without air drag, after a
+// second every point moves at the hand's speed (solving for the new velocity once dropped the held
+// point's share of the damping: the points lagged by 2.5e-4 m/s and the grip's end force was 995 N
+// instead of the 18 N the change-of-velocity form gives).
+TEST(StemDynamics, AStemCarriedAtConstantSpeedMovesWithTheHand) {
+    StemSpec spec = sunflower_spec();
+    spec.head_mass_kg = 0.0;
+    spec.air_drag_per_s = 0.0;
+    BuiltStem stem = build_stem(spec);
+    const std::size_t held = stem.points.position_m.size() / 2;
+    stem.points.pinned[held] = 1;
+    const glm::dvec3 speed{0.1, 0.0, 0.0};
+    StemSolverScratch scratch;
+    for (int t = 0; t < 1000; ++t) {
+        stem.points.position_m[held] += speed * dt;
+        stem.points.velocity_m_s[held] = speed;
+        ASSERT_TRUE(step_stem(stem.points, stem.rest, stem.springs, nullptr, no_gravity, dt, scratch));
+    }
+    for (std::size_t p = 0; p < stem.points.position_m.size(); ++p) {
+        if (p == held) continue;
+        EXPECT_NEAR(stem.points.velocity_m_s[p].x, speed.x, 1e-8) << "point " << p;
+    }
+    EXPECT_LT(glm::length(scratch.end_force[held]), 50.0);
+}
+
+// A stem refused for one tick (a non-finite force on it) in a group of stems stepped side by side is
+// stepped again the next tick, as it would be alone: its lane's rows are rebuilt, not left with NaN.
+TEST(StemDynamics, AStemRefusedOnceInItsGroupStepsAgainTheNextTick) {
+    std::vector<BuiltStem> stems;
+    for (std::uint32_t segments : {20u, 12u, 20u}) {
+        StemSpec spec = sunflower_spec();
+        spec.segments = segments;
+        stems.push_back(build_stem(spec));
+    }
+    std::vector<components::StemClamp> clamps;
+    for (const auto& s : stems) clamps.push_back(clamp_bottom(s));
+    std::vector<StemSolverScratch> scratch(3);
+    LaneScratch lanes;
+    std::vector<std::uint8_t> ok(3, 0);
+    auto step = [&] {
+        std::vector<StemStep> steps;
+        for (std::size_t k = 0; k < 3; ++k) steps.push_back({&stems[k].points, &stems[k].rest, &stems[k].springs, &clamps[k], &scratch[k]});
+        step_stems(steps, earth, dt, lanes, ok);
+    };
+    step();
+    stems[1].points.external_force_n[5] = glm::dvec3{std::numeric_limits<double>::quiet_NaN()};
+    step();
+    EXPECT_EQ(ok[1], 0u) << "refused";
+    EXPECT_EQ(ok[0], 1u);
+    for (auto& v : stems[1].points.velocity_m_s) v = glm::dvec3{0.0}; // as the physics system leaves it
+    stems[1].points.external_force_n[5] = glm::dvec3{0.0};
+    for (int t = 0; t < 3; ++t) {
+        step();
+        EXPECT_EQ(ok[1], 1u) << "tick " << t << " after";
+    }
+}
