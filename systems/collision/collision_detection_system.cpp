@@ -57,7 +57,7 @@ ecs::Entity owner_of(ecs::Registry& r, ecs::Entity e) {
 void CollisionDetectionSystem::operator()(sched::SystemContext& ctx) {
     begin(ctx.registry);
     sort_cells(0, 1);
-    query(ctx.registry, 0, 1);
+    query(0, 1);
     query_pins(ctx.registry);
     publish(ctx.registry);
 }
@@ -71,9 +71,11 @@ void CollisionDetectionSystem::begin(ecs::Registry& r) {
     entities.clear();
     owners.clear();
     active.clear();
+    colliders.clear();
     auto index = [&](ecs::Entity e, const Collider& c, bool is_active) {
         const auto slot = static_cast<std::uint32_t>(entities.size());
         entities.push_back(e);
+        colliders.push_back(c);
         owners.push_back(owner_of(r, e));
         active.push_back(is_active ? 1 : 0);
         for_each_cell(collision::bounds_of(c), cell_size_m, [&](std::int64_t key) { cells.emplace_back(key, slot); });
@@ -101,13 +103,13 @@ void CollisionDetectionSystem::merge_cells(std::size_t runs) {
     }
 }
 
-void CollisionDetectionSystem::query(ecs::Registry& r, std::size_t slice, std::size_t slices) {
+void CollisionDetectionSystem::query(std::size_t slice, std::size_t slices) {
     // Slice s of the Active colliders, in order: the slices' contacts, one after another, are the
     // whole pass's.
     const std::size_t from = active_count * slice / slices;
     const std::size_t to = active_count * (slice + 1) / slices;
     for (std::size_t i = from; i < to; ++i) {
-        const Collider& a = r.get<const Collider>(entities[i]);
+        const Collider& a = colliders[i];
         candidates.clear();
         for_each_cell(collision::bounds_of(a), cell_size_m, [&](std::int64_t key) {
             auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key, std::uint32_t{0}));
@@ -119,7 +121,7 @@ void CollisionDetectionSystem::query(ecs::Registry& r, std::size_t slice, std::s
             if (j == i || owners[j] == owners[i]) continue;
             if (active[j] && j < i) continue; // Active x Active: each pair once
             ++pairs_tested;
-            if (const auto hit = collision::collide(a, r.get<const Collider>(entities[j]))) {
+            if (const auto hit = collision::collide(a, colliders[j])) {
                 found.push_back({entities[i], entities[j], hit->point_m, hit->normal, hit->depth_m, -1});
             }
         }
@@ -130,10 +132,12 @@ void CollisionDetectionSystem::query_pins(ecs::Registry& r) {
     // The kenzan: its grid is the broad phase. Only Active capsules (stem ends) meet the pins.
     r.view<const Kenzan>().each([&](ecs::Entity kenzan_entity, const Kenzan& k) {
         const double top = k.origin_m.z + k.pin_height_m();
-        r.view<const Collider, const ActiveCollider>().each([&](ecs::Entity e, const Collider& c) {
-            if (c.kind != ShapeKind::capsule) return;
+        for (std::size_t i = 0; i < active_count; ++i) {
+            const ecs::Entity e = entities[i];
+            const Collider& c = colliders[i];
+            if (c.kind != ShapeKind::capsule) continue;
             const auto b = collision::bounds_of(c);
-            if (!(b.lo.z <= top && b.hi.z >= k.origin_m.z)) return; // also NaN bounds
+            if (!(b.lo.z <= top && b.hi.z >= k.origin_m.z)) continue; // also NaN bounds
             const double reach = 0.5 * k.pin.trunk_diameter_m;
             const auto range = k.pins_within(glm::dvec2(b.lo) - reach, glm::dvec2(b.hi) + reach);
             for (auto row = range.row_lo; row <= range.row_hi; ++row) {
@@ -147,7 +151,7 @@ void CollisionDetectionSystem::query_pins(ecs::Registry& r) {
                     }
                 }
             }
-        });
+        }
     });
 }
 

@@ -35,7 +35,7 @@ struct CollisionDetectionSystem {
     void begin(ecs::Registry& r);
     void sort_cells(std::size_t run, std::size_t runs); // then, when runs > 1, merge_cells(runs)
     void merge_cells(std::size_t runs);
-    void query(ecs::Registry& r, std::size_t slice, std::size_t slices);
+    void query(std::size_t slice, std::size_t slices);
     void query_pins(ecs::Registry& r);
     void publish(ecs::Registry& r);
 
@@ -44,6 +44,7 @@ struct CollisionDetectionSystem {
     std::vector<std::pair<std::int64_t, std::uint32_t>> cells;
     std::vector<std::pair<std::int64_t, std::uint32_t>> merged;
     std::vector<ecs::Entity> entities;
+    std::vector<components::Collider> colliders; // as they were at begin(): the pass is one instant's
     std::vector<ecs::Entity> owners;
     std::vector<std::uint8_t> active;
     std::size_t active_count = 0;

@@ -7,19 +7,21 @@ namespace ikebana::systems {
 void SpreadCollisionSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
     const auto* update = r.resource<const components::ColliderPass>();
-    if (update && update->generation != seen_generation) {
-        // A new update (its own tick carries the update): start over, even in the middle of a pass.
+    if (step < 0) {
+        // A pass starts after an update (whose own tick carries the update) and is finished before the
+        // next starts: with updates faster than a pass takes (--rate), passes run back to back on the
+        // latest colliders rather than restarting for ever.
+        if (!update || update->generation == seen_generation) return;
         seen_generation = update->generation;
         step = 0;
         return;
     }
-    if (step < 0) return;
     const auto runs = static_cast<std::int64_t>(sort_runs);
     const auto n = static_cast<std::int64_t>(slices);
     if (step == 0) pass.begin(r);
     else if (step <= runs) pass.sort_cells(static_cast<std::size_t>(step - 1), sort_runs);
     else if (step == runs + 1) pass.merge_cells(sort_runs);
-    else if (step <= runs + 1 + n) pass.query(r, static_cast<std::size_t>(step - runs - 2), slices);
+    else if (step <= runs + 1 + n) pass.query(static_cast<std::size_t>(step - runs - 2), slices);
     else {
         pass.query_pins(r);
         pass.publish(r);

@@ -4,6 +4,8 @@
 // update's own tick nothing, then the index, its sorting in runs and their merge, then `slices` slices
 // of the Active colliders, then the pins and the hand-over of the contacts: complete 16 ms after the
 // update, well within the 62.5 ms to the next (nothing steers by them: they are shown and counted).
+// The pass works on the colliders as they were at its index (a hand's moves every tick are seen at the
+// next pass), so its contacts are one instant's, as the whole pass's are.
 #include <cstdint>
 #include <string_view>
 

@@ -193,3 +193,25 @@ TEST(CollisionDetection, APassSpreadOverTicksFindsWhatTheWholePassFinds) {
     EXPECT_EQ(spread_contacts.pairs_tested, whole.pairs_tested);
     EXPECT_LT(most_pairs_a_tick, whole.pairs_tested / 2) << "no tick does the pass's work";
 }
+
+// Collider updates faster than a spread pass takes (a changed rate): passes run back to back and each
+// hands its contacts over; none is restarted for ever.
+TEST(CollisionDetection, UpdatesFasterThanASpreadPassStillGiveContacts) {
+    ecs::Registry r;
+    add<ActiveCollider>(r, sphere({0, 0, 0.015}, 0.01));
+    add<PassiveCollider>(r, sphere({0, 0, 0}, 0.01));
+    auto& update = r.set_resource<ColliderPass>();
+    systems::SpreadCollisionSystem spread;
+    r.set_resource<Contacts>();
+    int published = 0;
+    for (int tick = 0; tick < 200; ++tick) {
+        if (tick % 10 == 0) ++update.generation; // every 10 ticks, a pass takes 16
+        const auto before = r.resource<Contacts>()->list.size();
+        r.resource<Contacts>()->list.clear();
+        sched::SystemContext ctx{r, 1000 * tick, 0.001, 0};
+        spread(ctx);
+        if (!r.resource<Contacts>()->list.empty()) ++published;
+        (void)before;
+    }
+    EXPECT_GE(published, 10) << "a pass every 16 ticks or so";
+}
