@@ -76,7 +76,12 @@ const std::set<std::string>* InsertionPredictor::covariates_used(const std::stri
 
 std::string InsertionPredictor::key(const InsertionConditions& c) {
     const auto* used = covariates_used(c.species, nullptr);
-    return used ? key_of(c, *used) : std::string();
+    if (!used) return {};
+    if (!shares_depth(c)) return key_of(c, *used);
+    InsertionConditions deepest = c;
+    deepest.depth_m.reset();
+    deepest.pins.reset();
+    return key_of(deepest, *used);
 }
 
 namespace {
@@ -288,7 +293,7 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
     if (const auto it = cache_.find(key); it != cache_.end()) return it->second;
     if (c.insertion < 1) return make_error(ErrorCode::invalid_argument, "insertion must be 1 or more");
 
-    if (c.depth_m && !c.want_outcome && share_depths_) {
+    if (shares_depth(c)) {
         // Rows that differ only in depth (and pins) share one push to the base plate, read at each
         // row's depth: a file of continuous depths costs one simulation per condition, not per row.
         InsertionConditions deepest = c;
@@ -299,7 +304,15 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
         if (it == profiles_.end()) {
             auto sim = simulate(deepest, used, true);
             if (!sim) return std::move(sim).error();
+            // Kept for the rows that share it, the oldest let go beyond max_profiles (about 0.3 MB
+            // each: rows whose extension reads a continuous covariate share nothing).
+            if (profile_order_.size() >= max_profiles) {
+                profiles_.erase(profile_order_.front());
+                profile_order_.pop_front();
+            }
             it = profiles_.emplace(profile_key, std::move(sim).value()).first;
+            profile_order_.push_back(profile_key);
+            ++simulated_;
         }
         const Simulation& profile = it->second;
         if (auto ok = check_conditions(c, profile.bench); !ok) return std::move(ok).error();

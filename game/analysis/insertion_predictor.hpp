@@ -11,6 +11,7 @@
 // Identical keys (species, angle, depth, insertion, pins, and the covariates the species' extension
 // terms read) are computed once.
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <optional>
 #include <set>
@@ -63,8 +64,9 @@ public:
     Result<InsertionPrediction> predict(const InsertionConditions& conditions);
     // Simulations run so far: pushes to a row's own depth, and pushes to the base plate that rows of
     // any depth are read from.
-    [[nodiscard]] std::size_t simulated() const noexcept { return simulated_ + profiles_.size(); }
-    // What identifies a prediction: rows with equal keys share one (empty when the species is bad).
+    [[nodiscard]] std::size_t simulated() const noexcept { return simulated_; }
+    // What identifies a simulation: rows with equal keys share one (empty when the species is bad).
+    // Rows that differ only in depth (or pins) have one key when they share a push.
     std::string key(const InsertionConditions& conditions);
     // false: each row with a depth is pushed to its own depth (what the shared pushes are checked against).
     void share_depths(bool on) noexcept { share_depths_ = on; }
@@ -90,7 +92,10 @@ private:
     std::string kenzan_;
     std::size_t simulated_ = 0;
     bool share_depths_ = true;
+    [[nodiscard]] bool shares_depth(const InsertionConditions& c) const noexcept { return c.depth_m && !c.want_outcome && share_depths_; }
+    static constexpr std::size_t max_profiles = 256;
     std::map<std::string, Simulation> profiles_;
+    std::deque<std::string> profile_order_; // oldest first
     std::map<std::string, InsertionPrediction> cache_;
     std::map<std::string, std::set<std::string>> covariates_used_; // by species: what its terms read
 };

@@ -150,4 +150,9 @@ TEST(Predict, RowsOfAnyDepthReadOffOnePushAgreeWithEachRowPushedToItsOwnDepth) {
     }
     EXPECT_EQ(own.simulated(), rows);
     EXPECT_EQ(shared.simulated(), rows / 4) << "one push per angle and insertion";
+    InsertionConditions shallow, deep;
+    shallow.depth_m = 0.004;
+    deep.depth_m = 0.0121;
+    EXPECT_EQ(shared.key(shallow), shared.key(deep)) << "one simulation, so one key (validate counts keys)";
+    EXPECT_NE(own.key(shallow), own.key(deep));
 }
