@@ -9,6 +9,7 @@
 #include <thread>
 #include <mutex>
 #include <atomic>
+#include <exception>
 #include <optional>
 
 #include <glm/gtc/constants.hpp>
@@ -154,19 +155,30 @@ Result<ExperimentResult> run_insertion_experiment(const ExperimentOptions& o, co
     std::mutex progress_mutex;
     std::uint32_t done = 0;
     if (progress) progress(0, o.trials);
+    std::vector<std::exception_ptr> thrown(o.trials); // a trial's exception, rethrown here after the join
     auto work = [&] {
         for (std::uint32_t t = next++; t < o.trials && !failed; t = next++) {
-            runs[t] = run_insertion_trial(o, mix(o.seed, t));
-            if (!*runs[t]) failed = true; // the others stop at their next trial; the first error is reported
-            const std::lock_guard lock(progress_mutex);
-            ++done;
-            if (progress && done < o.trials) progress(done, o.trials);
+            try {
+                runs[t] = run_insertion_trial(o, mix(o.seed, t));
+                if (!*runs[t]) failed = true; // the others stop at their next trial; the first error is reported
+                const std::lock_guard lock(progress_mutex);
+                ++done;
+                if (progress && done < o.trials) progress(done, o.trials);
+            } catch (...) {
+                thrown[t] = std::current_exception();
+                failed = true;
+            }
         }
     };
     {
         std::vector<std::jthread> workers;
         for (unsigned i = 1; i < result.threads; ++i) workers.emplace_back(work);
         work();
+    }
+    // As one thread would end: at the earliest trial that failed, by an error or by an exception.
+    for (std::uint32_t t = 0; t < o.trials; ++t) {
+        if (thrown[t]) std::rethrow_exception(thrown[t]);
+        if (runs[t] && !*runs[t]) break;
     }
     std::vector<double> force_sum;
     std::vector<std::uint32_t> force_count;
