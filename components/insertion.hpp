@@ -55,6 +55,7 @@ struct InsertionHistory {
     bool left_pins;                  // the end has come out of the pins (at left_pins_us)
     std::int64_t left_pins_us;
     double out_rise_m;               // how far above the pin tips the end has risen since it left them
+    glm::dvec2 left_at_m;            // where the end's bottom was (x, y) when it left them
     bool entry_counted;              // this entry into the pins has been decided (an insertion, or a stem set in)
 };
 

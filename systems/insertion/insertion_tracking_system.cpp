@@ -47,12 +47,16 @@ void InsertionTrackingSystem::operator()(sched::SystemContext& ctx) {
                     history.left_pins = true;
                     history.left_pins_us = ctx.time_us;
                     history.out_rise_m = above_tips_m;
+                    history.left_at_m = glm::dvec2(x[0]);
                 }
                 history.out_rise_m = std::max(history.out_rise_m, above_tips_m);
                 return;
             }
             const std::int64_t out_us = ctx.time_us - history.left_pins_us;
-            const bool really_out = out_us >= min_time_out_us && (history.out_rise_m >= min_rise_out_m || out_us >= min_time_hovering_us);
+            // Out long enough, and clear of the pins: risen over the tips, gone for half a second, or back
+            // somewhere else (an end slid off the kenzan's side below the tips and put in elsewhere).
+            const bool moved = glm::length(glm::dvec2(x[0]) - history.left_at_m) >= min_move_out_m;
+            const bool really_out = out_us >= min_time_out_us && (history.out_rise_m >= min_rise_out_m || out_us >= min_time_hovering_us || moved);
             if (!was_in && (!history.left_pins || really_out)) {
                 history.entry_counted = false; // really out and back: a new entry (a quick return is the same one)
             }

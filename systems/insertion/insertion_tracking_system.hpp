@@ -31,6 +31,8 @@ struct InsertionTrackingSystem {
     // makes a new entry only once it was out for `min_time_hovering_us`.
     double min_rise_out_m = 0.005;
     std::int64_t min_time_hovering_us = 500'000;
+    // Or one back in the pins this far (sideways) from where it left them: a new place, a new entry.
+    double min_move_out_m = 0.008;
     // An insertion counts once the pins are this deep in the stem, past their cone tips (1.5 mm): a
     // stem pushed down onto the tips in a jerk bounces off them before it goes in (a mouse moving
     // 1.25 cm a frame at 10 frames a second once counted two insertions for one push).

@@ -138,3 +138,16 @@ TEST(Breakage, AnEndThatHoveredOverTheTipsAndSwungBackIsNotANewInsertion) {
     b.move_bottom_to(tips_m - 0.003);
     EXPECT_EQ(b.r.get<InsertionHistory>(b.flower).insertions, 3u) << "lifted clear of the tips";
 }
+
+// An end that slid off the pins sideways below the tips and went back in a centimetre away is a new
+// insertion: a new place, though it never rose over the tips.
+TEST(Breakage, AnEndPutBackElsewhereBelowTheTipsIsANewInsertion) {
+    Bench b(1, {});
+    b.move_bottom_to(0.005);
+    auto& x = b.r.get<StemPoints>(b.flower).position_m;
+    for (auto& p : x) p.x += 0.2; // off the kenzan, at the same height
+    b.move_bottom_to(0.005);
+    for (auto& p : x) p.x -= 0.2 - 0.01; // back, 1 cm from where it left
+    b.move_bottom_to(0.005);
+    EXPECT_EQ(b.r.get<InsertionHistory>(b.flower).insertions, 2u);
+}
