@@ -17,6 +17,13 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
     std::size_t count = 0;
     auto& order = order_; // flower entities by their index in the frame
     order.clear();
+    // Which of the three slots this is, for the parts it already holds.
+    std::size_t slot = 0;
+    while (slot < slots_.size() && slots_[slot] != &frame) ++slot;
+    if (slot == slots_.size()) {
+        slots_.push_back(&frame);
+        parts_in_slot_.emplace_back();
+    }
     r.view<const Flower, const StemPoints, const StemRestShape, const FlowerLook>().each(
         [&](ecs::Entity e, const Flower& flower, const StemPoints& points, const StemRestShape& rest, const FlowerLook& look) {
             if (frame.flowers.size() <= count) frame.flowers.emplace_back();
@@ -56,11 +63,19 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
                     status.fall_yield_gravity_nm = grip->yield_gravity_nm;
                 }
             }
-            // Assigned over the slot's parts of an earlier frame: their mesh names keep their memory (a
-            // flower's hundreds of parts were as many string allocations a frame, most of this system's
-            // time on the haptic lane).
+            // A flower's parts are made with it and never change (the part entities are its children,
+            // created at spawn): a slot that already holds this flower's parts, from as many children,
+            // keeps them. Copying hundreds of parts a frame was most of this system's time on the
+            // haptic lane. Otherwise they are assigned over the slot's earlier ones (strings keep
+            // their memory).
+            const auto* children = r.try_get<const ecs::Children>(e);
+            const std::size_t child_count = children ? children->entities.size() : 0;
+            auto& held = parts_in_slot_[slot];
+            if (held.size() <= count - 1) held.resize(count);
+            if (held[count - 1] == std::pair{e, child_count}) return;
+            held[count - 1] = {e, child_count};
             std::size_t used = 0;
-            if (const auto* children = r.try_get<const ecs::Children>(e)) {
+            if (children) {
                 for (const ecs::Entity child : children->entities) {
                     const auto* part = r.try_get<const Part>(child);
                     if (!part || part->kind == PartKind::stem || part->mesh.empty()) continue;
@@ -72,6 +87,7 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
             status.parts.resize(used);
         });
     frame.flowers.resize(count);
+    parts_in_slot_[slot].resize(count); // entries dropped with their flowers are not remembered
     for (auto& h : frame.hands) h = HandStatus{false, false, 0, false, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.0, -1, glm::dvec3{0.0}, false};
     r.view<const HandCube, const HandInput, const HandProxy, const HandGrip, const HandForce>().each(
         [&](ecs::Entity, const HandCube& cube, const HandInput& input, const HandProxy& proxy, const HandGrip& grip, const HandForce& force) {

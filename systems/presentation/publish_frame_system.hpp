@@ -3,6 +3,7 @@
 // kenzan, the table, the hands, how each flower stands) into the frame channel, at the render rate.
 // Nothing is drawn here: the main lane prepares the draw list and the HUD (prepare_frame_system).
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "components/appearance.hpp"
@@ -34,6 +35,10 @@ struct PublishFrameSystem {
 
 private:
     std::vector<ecs::Entity> order_; // kept from frame to frame (no allocation on the haptic lane)
+    // Per slot of the channel (this world's: it lives as long as this system), the flower and its child
+    // count whose parts each of its flower entries holds.
+    std::vector<const void*> slots_;
+    std::vector<std::vector<std::pair<ecs::Entity, std::size_t>>> parts_in_slot_;
 };
 
 } // namespace ikebana::systems
