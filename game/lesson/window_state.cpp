@@ -1,5 +1,8 @@
 #include "game/lesson/window_state.hpp"
 
+#include <type_traits>
+#include <utility>
+
 #include <nlohmann/json.hpp>
 
 #include "engine/assets/files.hpp"
@@ -41,6 +44,19 @@ struct Reader {
             return fallback;
         }
         try {
+            // An integer field takes integers in its type's range only: nlohmann converts a float (or
+            // an integer too long for 64 bits, read as one) with a plain cast, undefined out of range
+            // (a fuzzer's "pins_engaged": 666666666666666666666666666666666668).
+            if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+                const Json& v = j.at(key);
+                const bool fits = v.is_number_unsigned()  ? std::in_range<T>(v.get<std::uint64_t>())
+                                  : v.is_number_integer() ? std::in_range<T>(v.get<std::int64_t>())
+                                                          : false;
+                if (!fits) {
+                    error = std::string("field '") + key + "' should be an integer" + (v.is_number() ? " in range" : "");
+                    return fallback;
+                }
+            }
             return j.at(key).get<T>();
         } catch (const Json::exception&) {
             error = std::string("field '") + key + "' has the wrong type";

@@ -896,6 +896,20 @@ TEST(WindowState, WhatTheWindowWritesIsReadBackTheSame) {
     const auto broken = parse_window_state(R"({"frame": 1, "input_read_at_us": 0, "sim_time_us": 0, "window_px": [1, 1], "cursor_px": [0, 0], "hands": []})", "state.json");
     ASSERT_FALSE(broken.ok());
     EXPECT_EQ(broken.error().message, "state.json: field 'hands' should hold two hands");
+    // An integer out of its field's range (a fuzzer's 36-digit pin count, read as a float) or a
+    // fraction is refused by name; converting it was undefined behaviour.
+    auto state = nlohmann::json::parse(window_state_json(s));
+    for (const char* bad : {"666666666666666666666666666666666668", "4.5", "-1", "4294967296"}) {
+        auto text = state.dump();
+        const std::string field = "\"pins_engaged\":";
+        const auto at = text.find(field);
+        ASSERT_NE(at, std::string::npos);
+        const auto end = text.find_first_of(",}", at + field.size());
+        text.replace(at + field.size(), end - at - field.size(), bad);
+        const auto refused = parse_window_state(text, "state.json");
+        ASSERT_FALSE(refused.ok()) << bad;
+        EXPECT_EQ(refused.error().message, "state.json: field 'pins_engaged' should be an integer in range") << bad;
+    }
 }
 
 // G shows the form's model behind the container as the flowers themselves (stems along the model's
