@@ -73,8 +73,6 @@ struct Band {
     double* data; // (n + 2 pad) rows of `stride`
     std::size_t n;
     [[nodiscard]] double* row(std::size_t i) const { return data + (i + pad) * stride; }
-    // Entry (i, j), j <= i <= j + bandwidth.
-    [[nodiscard]] double& at(std::size_t i, std::size_t j) const { return row(i)[j + bandwidth - i]; }
 };
 
 // Sizes a padded band or vector for n unknowns and writes its padding (zeros, a padding row's diagonal
@@ -432,19 +430,14 @@ bool finish_step(StemPoints& points, const StemClamp* clamp, double dt, StemSolv
     for (std::size_t i = 0; i < n; ++i) {
         if (!std::isfinite(solved.b(i))) return false;
     }
-    // The step's motion dx (zero for fixed points).
-    size_vector(scratch.velocity, n, 0.0);
-    double* moved = scratch.velocity.data() + pad;
     for (std::size_t p = 0; p < count; ++p) {
         if (is_fixed(points, clamp, p)) {
             v[p] = glm::dvec3{0.0};
             if (clamped && p == 0) x[0] = clamp->anchor_m;
-            for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = 0.0;
             continue;
         }
         v[p] = glm::dvec3{solved.b(3 * p), solved.b(3 * p + 1), solved.b(3 * p + 2)};
         x[p] += dt * v[p];
-        for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = dt * v[p][static_cast<glm::length_t>(r)];
     }
     // The forces at the end of the step, as backward Euler has them: f(x + dx) = f(x) - H dx. This is
     // the reaction a held (fixed) point feels: the stem has already answered the hand's move within this
@@ -452,6 +445,12 @@ bool finish_step(StemPoints& points, const StemClamp* clamp, double dt, StemSolv
     if (!scratch.want_end_force) {
         scratch.end_force = f;
         return true;
+    }
+    // The step's motion dx: h v', zero for fixed points (their v' is 0 now).
+    size_vector(scratch.motion, n, 0.0);
+    double* moved = scratch.motion.data() + pad;
+    for (std::size_t p = 0; p < count; ++p) {
+        for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = dt * v[p][static_cast<glm::length_t>(r)];
     }
     size_vector(scratch.rhs, n, 0.0);
     double* change = scratch.rhs.data() + pad; // (where a lone stem's solution was: it is spent)
@@ -466,8 +465,9 @@ bool finish_step(StemPoints& points, const StemClamp* clamp, double dt, StemSolv
 // Four stems' systems solved side by side, one in each lane of a vector of four doubles: each lane
 // does exactly the operations cholesky_solve does on its stem, in the same order (no fused
 // multiply-add: none is enabled), so its results are the same bit for bit; a 256-bit machine does four
-// stems' work in the instructions of one. The systems are copied in interleaved (entry by entry, lane
-// by lane); a shorter system is continued by identity rows. `ok[l]`: lane l was positive definite.
+// stems' work in the instructions of one. Each stem assembles its system straight into its lane
+// (entry by entry, lane by lane); a shorter system is continued by identity rows. `ok[l]`: lane l was
+// positive definite.
 constexpr std::size_t lanes = 4;
 static_assert(std::tuple_size_v<decltype(LaneScratch::Group::own)> == lanes);
 using Lanes = double __attribute__((vector_size(8 * lanes)));

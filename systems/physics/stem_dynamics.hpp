@@ -59,7 +59,7 @@ struct StemSolverScratch {
     std::vector<double> band;             // the system matrix's lower band, padded (see stem_dynamics.cpp)
     std::vector<double> stiffness;        // H, kept for the end-of-step forces
     std::vector<double> rhs;              // padded; the new velocity once solved
-    std::vector<double> velocity;         // padded; the step's motion
+    std::vector<double> motion;           // padded; the step's motion (for the end forces)
     std::vector<double> inverse_diagonal; // of the Cholesky factor
     std::vector<double> segment_block;    // each segment's axial Hessian block, 6 values
     std::vector<double> bend_coupling;    // each point's hinge Hessian with itself, p-1, p-2
