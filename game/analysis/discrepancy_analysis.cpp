@@ -1,5 +1,7 @@
 #include "game/analysis/discrepancy_analysis.hpp"
 
+#include "game/analysis/grouped_design.hpp"
+
 #include <algorithm>
 #include <unordered_map>
 #include <cmath>
@@ -42,45 +44,24 @@ Groups make_groups(const std::vector<std::string>& flower, bool rows_as_groups) 
     return g;
 }
 
-// Least squares with column pivoting: a rank-deficient design (a resample that lost a level) still
-// gives a finite answer.
-VectorXd least_squares(const MatrixXd& x, const VectorXd& y) {
-    if (x.cols() == 0) return VectorXd();
-    Eigen::ColPivHouseholderQR<MatrixXd> qr(x);
-    qr.setThreshold(1e-10);
-    VectorXd beta = qr.solve(y);
-    for (Index k = 0; k < beta.size(); ++k) {
-        if (!std::isfinite(beta(k))) beta(k) = 0.0;
-    }
-    return beta;
-}
-
-MatrixXd join(const std::vector<const MatrixXd*>& blocks, Index n, bool intercept) {
-    Index cols = intercept ? 1 : 0;
-    for (const auto* b : blocks) cols += b->cols();
-    MatrixXd x(n, cols);
-    Index at = 0;
-    if (intercept) x.col(at++).setOnes();
-    for (const auto* b : blocks) {
-        x.middleCols(at, b->cols()) = *b;
-        at += b->cols();
-    }
-    return x;
-}
-
-// A candidate covariate with the raw basis of every shape of every form.
+// A candidate covariate with the raw basis of every shape of every form; a categorical one is a
+// factor (its levels' means), with no columns at all.
 struct Candidate {
     std::size_t column = 0;
     std::vector<TermShape> shapes;
-    std::vector<MatrixXd> bases; // per shape
-    bool block = false;          // categorical: the statistic sums its columns
+    std::vector<MatrixXd> bases; // per shape, numeric: a row-long column
+    bool block = false;          // categorical: the statistic is its levels' whole share
+    Factor factor;
 };
 
 // A term kept in the model: one candidate at one shape.
 struct Term {
     std::size_t candidate = 0;
     TermShape shape;
-    MatrixXd basis;
+    MatrixXd basis; // numeric; empty for a factor
+    bool block = false;
+    Factor factor;
+    Index width() const { return block ? static_cast<Index>(factor.levels) - 1 : basis.cols(); }
 };
 
 struct TestOutcome {
@@ -124,17 +105,11 @@ private:
     Rows within_;
 };
 
-// Projects the columns of b off the span of q (orthonormal) and normalises what is left; a column that
-// lies in the span (collinear with accepted terms) becomes zero.
-MatrixXd orthonormal_rest(const MatrixXd& b, const MatrixXd& q, bool block) {
-    MatrixXd w = b - q * (q.transpose() * b);
-    if (block) {
-        Eigen::ColPivHouseholderQR<MatrixXd> qr(w);
-        qr.setThreshold(1e-8);
-        const Index rank = qr.rank();
-        MatrixXd thin = qr.householderQ() * MatrixXd::Identity(w.rows(), rank);
-        return thin;
-    }
+// The columns of b off the model's span, normalised; a column that lies in the span (collinear with
+// accepted terms) becomes zero.
+MatrixXd orthonormal_rest(const MatrixXd& b, const DesignComplement& model) {
+    MatrixXd w = b;
+    model.apply(w);
     for (Index k = 0; k < w.cols(); ++k) {
         const double before = b.col(k).norm();
         const double norm = w.col(k).norm();
@@ -144,23 +119,22 @@ MatrixXd orthonormal_rest(const MatrixXd& b, const MatrixXd& q, bool block) {
     return w;
 }
 
-MatrixXd orthonormal_basis(const MatrixXd& design) {
-    if (design.cols() == 0) return MatrixXd(design.rows(), 0);
-    Eigen::ColPivHouseholderQR<MatrixXd> qr(design);
-    qr.setThreshold(1e-10);
-    return qr.householderQ() * MatrixXd::Identity(design.rows(), qr.rank());
-}
-
 class Analysis {
 public:
     Analysis(const AnalysisInput& input, const AnalysisOptions& options) : in_(input), opt_(options) {}
     Result<AnalysisResult> run();
 
 private:
-    TestOutcome test(const VectorXd& residual, const MatrixXd& design, const std::vector<std::size_t>& which,
+    TestOutcome test(const VectorXd& residual, const GroupedDesign& design, const std::vector<std::size_t>& which,
                      std::uint64_t stream, const std::string& stage);
     double level_p_value(const VectorXd& residual, std::uint64_t stream) const;
-    MatrixXd design_of(const std::vector<Term>& terms, bool intercept) const;
+    // The intercept (when asked for) and the numeric terms as columns, the categorical ones as factors.
+    GroupedDesign design_of(const std::vector<Term>& terms, bool intercept) const;
+    // A fit's coefficients laid out as the species' terms read them: the intercept, then each term's
+    // (a factor's: a contrast per non-reference level).
+    static VectorXd coefficients_of(const std::vector<Term>& terms, const GroupedFit& fit);
+    // The residual of r_ after the terms' fit over every row.
+    VectorXd residual_after(const std::vector<Term>& terms) const;
     // Grouped CV mean squared error of r by intercept + fixed terms (+ a free form whose shape is
     // chosen on each training fold); oof receives the held-out fits.
     double cv_mse(const std::vector<Term>& fixed, bool intercept, const Candidate* free, const std::string& form,
@@ -180,28 +154,39 @@ private:
     Index n_ = 0;
 };
 
-TestOutcome Analysis::test(const VectorXd& residual, const MatrixXd& design, const std::vector<std::size_t>& which,
+TestOutcome Analysis::test(const VectorXd& residual, const GroupedDesign& design, const std::vector<std::size_t>& which,
                            std::uint64_t stream, const std::string& stage) {
-    const MatrixXd q = orthonormal_basis(design);
-    const VectorXd e = residual - q * (q.transpose() * residual);
+    const DesignComplement model(design);
+    VectorXd e = residual;
+    model.apply(e);
     const double total = std::max(e.squaredNorm(), 1e-300);
-    // Every candidate's shapes side by side, orthonormal to the model: a statistic is then a dot product.
+    // Every numeric candidate's shapes side by side, orthonormal to the model: a statistic is then a
+    // dot product. A categorical candidate's is its whitened level sums (factor_whitening).
     struct Span {
         Index begin, end;
         bool block;
         std::vector<std::size_t> shape_of_column;
+        MatrixXd whitening; // block
+        const Factor* factor = nullptr;
     };
     std::vector<MatrixXd> parts;
     std::vector<Span> spans;
     Index cols = 0;
+    bool any_block = false;
     for (std::size_t c : which) {
         const Candidate& cand = candidates_[c];
-        Span s{cols, cols, cand.block, {}};
-        for (std::size_t k = 0; k < cand.bases.size(); ++k) {
-            MatrixXd w = orthonormal_rest(cand.bases[k], q, cand.block);
-            for (Index j = 0; j < w.cols(); ++j) s.shape_of_column.push_back(k);
-            cols += w.cols();
-            parts.push_back(std::move(w));
+        Span s{cols, cols, cand.block, {}, {}, nullptr};
+        if (cand.block) {
+            s.whitening = level_whitening(cand.factor, model, n_);
+            s.factor = &cand.factor;
+            any_block = true;
+        } else {
+            for (std::size_t k = 0; k < cand.bases.size(); ++k) {
+                MatrixXd w = orthonormal_rest(cand.bases[k], model);
+                for (Index j = 0; j < w.cols(); ++j) s.shape_of_column.push_back(k);
+                cols += w.cols();
+                parts.push_back(std::move(w));
+            }
         }
         s.end = cols;
         spans.push_back(std::move(s));
@@ -214,13 +199,17 @@ TestOutcome Analysis::test(const VectorXd& residual, const MatrixXd& design, con
             at += p.cols();
         }
     }
-    auto statistic = [&](const Span& s, const auto& g, Index column_of_perm, std::size_t* best) {
+    // g: the numeric columns' dot products; off: the vectors themselves off the model (for factors).
+    auto statistic = [&](const Span& s, const auto& g, const MatrixXd& off, Index column_of_perm, std::size_t* best) {
         double stat = 0.0;
+        if (s.block) {
+            if (s.whitening.rows() == 0) return 0.0;
+            const VectorXd sums = sums_by_level(*s.factor, off.col(column_of_perm));
+            return (s.whitening * sums).squaredNorm();
+        }
         for (Index j = s.begin; j < s.end; ++j) {
             const double v = static_cast<double>(g(j, column_of_perm)) * static_cast<double>(g(j, column_of_perm));
-            if (s.block) {
-                stat += v;
-            } else if (v > stat) {
+            if (v > stat) {
                 stat = v;
                 if (best) *best = s.shape_of_column[static_cast<std::size_t>(j - s.begin)];
             }
@@ -230,12 +219,13 @@ TestOutcome Analysis::test(const VectorXd& residual, const MatrixXd& design, con
     TestOutcome out;
     const Eigen::VectorXf ef = e.cast<float>();
     const Eigen::MatrixXf g0 = w.transpose() * ef;
+    const MatrixXd e_off = e; // already off the model
     std::vector<std::size_t> exceed(which.size(), 0);
     std::vector<double> sum(which.size(), 0.0), sum_sq(which.size(), 0.0);
     std::vector<double> permuted(static_cast<std::size_t>(opt_.permutations) * which.size()); // [b * C + c]
     for (std::size_t c = 0; c < which.size(); ++c) {
         std::size_t best = 0;
-        out.observed.push_back(statistic(spans[c], g0, 0, &best) / total);
+        out.observed.push_back(statistic(spans[c], g0, e_off, 0, &best) / total);
         out.best_shape.push_back(best);
     }
     std::mt19937_64 rng(opt_.seed * 0x9E3779B97F4A7C15ULL + stream);
@@ -243,13 +233,18 @@ TestOutcome Analysis::test(const VectorXd& residual, const MatrixXd& design, con
     const std::uint32_t b_total = opt_.permutations;
     constexpr std::uint32_t batch = 64;
     Eigen::MatrixXf perm(n_, batch);
+    MatrixXd perm_off; // the batch off the model, when a factor is tested
     for (std::uint32_t done = 0; done < b_total;) {
         const std::uint32_t now = std::min(batch, b_total - done);
         for (std::uint32_t k = 0; k < now; ++k) permuter.permute(e, rng, perm.col(k).data());
         const Eigen::MatrixXf g = w.transpose() * perm.leftCols(now);
+        if (any_block) {
+            perm_off = perm.leftCols(now).cast<double>();
+            model.apply(perm_off);
+        }
         for (std::uint32_t k = 0; k < now; ++k) {
             for (std::size_t c = 0; c < which.size(); ++c) {
-                const double s = statistic(spans[c], g, static_cast<Index>(k), nullptr) / total;
+                const double s = statistic(spans[c], g, perm_off, static_cast<Index>(k), nullptr) / total;
                 permuted[(done + k) * which.size() + c] = s;
                 sum[c] += s;
                 sum_sq[c] += s * s;
@@ -316,52 +311,92 @@ double Analysis::level_p_value(const VectorXd& residual, std::uint64_t stream) c
     return (1.0 + static_cast<double>(exceed)) / (1.0 + opt_.permutations);
 }
 
-MatrixXd Analysis::design_of(const std::vector<Term>& terms, bool intercept) const {
-    std::vector<const MatrixXd*> blocks;
-    for (const auto& t : terms) blocks.push_back(&t.basis);
-    return join(blocks, n_, intercept);
+GroupedDesign Analysis::design_of(const std::vector<Term>& terms, bool intercept) const {
+    GroupedDesign d;
+    Index cols = intercept ? 1 : 0;
+    for (const auto& t : terms) cols += t.block ? 0 : t.basis.cols();
+    d.dense.resize(n_, cols);
+    Index at = 0;
+    if (intercept) d.dense.col(at++).setOnes();
+    for (const auto& t : terms) {
+        if (t.block) {
+            d.factors.push_back(t.factor);
+        } else {
+            d.dense.middleCols(at, t.basis.cols()) = t.basis;
+            at += t.basis.cols();
+        }
+    }
+    return d;
+}
+
+VectorXd Analysis::coefficients_of(const std::vector<Term>& terms, const GroupedFit& fit) {
+    Index width = 1;
+    for (const auto& t : terms) width += t.width();
+    VectorXd out(width);
+    out(0) = reference_intercept(fit);
+    Index at = 1, dense_at = 1;
+    std::size_t factor = 0;
+    for (const auto& t : terms) {
+        if (t.block) {
+            out.segment(at, t.width()) = contrasts(fit, factor++);
+        } else {
+            out.segment(at, t.width()) = fit.dense.segment(dense_at, t.width());
+            dense_at += t.width();
+        }
+        at += t.width();
+    }
+    return out;
+}
+
+VectorXd Analysis::residual_after(const std::vector<Term>& terms) const {
+    const GroupedDesign design = design_of(terms, true);
+    const RowList rows = all_rows(n_);
+    return r_ - predict_grouped(design, fit_grouped(design, r_, rows), rows);
 }
 
 double Analysis::cv_mse(const std::vector<Term>& fixed, bool intercept, const Candidate* free, const std::string& form,
                         VectorXd* oof) const {
-    const MatrixXd base = design_of(fixed, intercept);
+    const GroupedDesign base = design_of(fixed, intercept);
     std::vector<std::size_t> free_shapes;
     if (free) {
         for (std::size_t k = 0; k < free->shapes.size(); ++k) {
             if (free->shapes[k].form == form) free_shapes.push_back(k);
         }
     }
+    // The base design with the free candidate at shape k.
+    std::vector<GroupedDesign> with;
+    for (std::size_t k : free_shapes) {
+        GroupedDesign d;
+        if (free->block) {
+            d.dense = base.dense;
+            d.factors = base.factors;
+            d.factors.push_back(free->factor);
+        } else {
+            d.dense.resize(n_, base.dense.cols() + free->bases[k].cols());
+            d.dense << base.dense, free->bases[k];
+            d.factors = base.factors;
+        }
+        with.push_back(std::move(d));
+    }
     double sse = 0.0;
     if (oof) oof->setZero(n_);
     const int folds = static_cast<int>(result_.folds);
     for (int f = 0; f < folds; ++f) {
-        Rows train, held;
+        RowList train, held;
         for (Index i = 0; i < n_; ++i) (fold_of_row_[static_cast<std::size_t>(i)] == f ? held : train).push_back(i);
         if (held.empty() || train.empty()) continue;
         const VectorXd y = r_(train);
-        auto fit_with = [&](const MatrixXd* extra, double* train_sse) {
-            MatrixXd x_train(static_cast<Index>(train.size()), base.cols() + (extra ? extra->cols() : 0));
-            x_train.leftCols(base.cols()) = base(train, Eigen::all);
-            if (extra) x_train.rightCols(extra->cols()) = (*extra)(train, Eigen::all);
-            const VectorXd beta = least_squares(x_train, y);
-            if (train_sse) *train_sse = beta.size() ? (y - x_train * beta).squaredNorm() : y.squaredNorm();
-            return beta;
-        };
         VectorXd fit_held = VectorXd::Zero(static_cast<Index>(held.size()));
         if (free_shapes.empty()) {
-            const VectorXd beta = fit_with(nullptr, nullptr);
-            if (beta.size()) fit_held = base(held, Eigen::all) * beta;
+            if (base.dense.cols() || !base.factors.empty()) fit_held = predict_grouped(base, fit_grouped(base, r_, train), held);
         } else {
             double best = INFINITY;
-            for (std::size_t k : free_shapes) {
-                double train_sse = 0.0;
-                const VectorXd beta = fit_with(&free->bases[k], &train_sse);
+            for (const GroupedDesign& d : with) {
+                const GroupedFit fit = fit_grouped(d, r_, train);
+                const double train_sse = (y - predict_grouped(d, fit, train)).squaredNorm();
                 if (train_sse < best) {
                     best = train_sse;
-                    MatrixXd x_held(static_cast<Index>(held.size()), beta.size());
-                    x_held.leftCols(base.cols()) = base(held, Eigen::all);
-                    x_held.rightCols(free->bases[k].cols()) = free->bases[k](held, Eigen::all);
-                    fit_held = x_held * beta;
+                    fit_held = predict_grouped(d, fit, held);
                 }
             }
         }
@@ -373,14 +408,18 @@ double Analysis::cv_mse(const std::vector<Term>& fixed, bool intercept, const Ca
 }
 
 TermShape Analysis::best_shape_on_all(const std::vector<Term>& fixed, const Candidate& c, const std::string& form) const {
-    const MatrixXd base = design_of(fixed, true);
+    if (c.block) return c.shapes[0]; // a factor has one shape
+    const GroupedDesign base = design_of(fixed, true);
+    const RowList rows = all_rows(n_);
     double best = INFINITY;
     TermShape shape;
     for (std::size_t k = 0; k < c.shapes.size(); ++k) {
         if (c.shapes[k].form != form) continue;
-        MatrixXd x(n_, base.cols() + c.bases[k].cols());
-        x << base, c.bases[k];
-        const double sse = (r_ - x * least_squares(x, r_)).squaredNorm();
+        GroupedDesign d;
+        d.dense.resize(n_, base.dense.cols() + c.bases[k].cols());
+        d.dense << base.dense, c.bases[k];
+        d.factors = base.factors;
+        const double sse = (r_ - predict_grouped(d, fit_grouped(d, r_, rows), rows)).squaredNorm();
         if (sse < best) {
             best = sse;
             shape = c.shapes[k];
@@ -560,7 +599,8 @@ Result<AnalysisResult> Analysis::run() {
         cand.column = c;
         cand.block = !column.numeric;
         cand.shapes = all_shapes_of(column);
-        for (const auto& s : cand.shapes) cand.bases.push_back(basis_of(column, s));
+        if (cand.block) cand.factor = {&column.level, column.levels.size()};
+        else for (const auto& s : cand.shapes) cand.bases.push_back(basis_of(column, s));
         candidates_.push_back(std::move(cand));
     }
 
@@ -572,7 +612,8 @@ Result<AnalysisResult> Analysis::run() {
     std::vector<std::size_t> all(candidates_.size());
     std::iota(all.begin(), all.end(), std::size_t{0});
     const double level_p = level_p_value(r_, 0);
-    const MatrixXd intercept_only = MatrixXd::Ones(n_, 1);
+    GroupedDesign intercept_only;
+    intercept_only.dense = MatrixXd::Ones(n_, 1);
     TestOutcome first = test(r_, intercept_only, all, 1, "testing every covariate");
     const std::vector<double>& first_adjusted = first.adjusted;
     for (std::size_t c = 0; c < candidates_.size(); ++c) {
@@ -610,9 +651,7 @@ Result<AnalysisResult> Analysis::run() {
         if (step == 0) {
             t = first;
         } else {
-            const MatrixXd design = design_of(terms, true);
-            const VectorXd e = r_ - design * least_squares(design, r_);
-            t = test(e, design, remaining, 2 + step, "step " + std::to_string(step + 1) + ": given " + std::to_string(terms.size()) + " term(s)");
+            t = test(residual_after(terms), design_of(terms, true), remaining, 2 + step, "step " + std::to_string(step + 1) + ": given " + std::to_string(terms.size()) + " term(s)");
         }
         adjusted = t.adjusted;
         for (std::size_t k = 0; k < remaining.size(); ++k) given_model_p[remaining[k]] = adjusted[k];
@@ -648,7 +687,9 @@ Result<AnalysisResult> Analysis::run() {
                 Term term;
                 term.candidate = c;
                 term.shape = best_shape_on_all(terms, cand, best_form);
-                term.basis = basis_of(in_.covariates.columns[c], term.shape);
+                term.block = cand.block;
+                term.factor = cand.factor;
+                if (!term.block) term.basis = basis_of(in_.covariates.columns[c], term.shape);
                 report("  accepted as " + best_form + ": " + describe_shape(term.shape));
                 terms.push_back(std::move(term));
                 remaining.erase(remaining.begin() + static_cast<std::ptrdiff_t>(k));
@@ -668,9 +709,7 @@ Result<AnalysisResult> Analysis::run() {
         for (std::size_t k = 0; k < terms.size(); ++k) {
             std::vector<Term> others = terms;
             others.erase(others.begin() + static_cast<std::ptrdiff_t>(k));
-            const MatrixXd design = design_of(others, true);
-            const VectorXd e = r_ - design * least_squares(design, r_);
-            const TestOutcome t = test(e, design, {terms[k].candidate}, 100 + round * 16 + k,
+            const TestOutcome t = test(residual_after(others), design_of(others, true), {terms[k].candidate}, 100 + round * 16 + k,
                                        "re-testing '" + in_.covariates.columns[terms[k].candidate].name + "' given the others");
             p.push_back(t.p[0]);
         }
@@ -687,9 +726,7 @@ Result<AnalysisResult> Analysis::run() {
         tested_final_model = false;
     }
     if (!tested_final_model && !remaining.empty()) {
-        const MatrixXd design = design_of(terms, true);
-        const VectorXd e = r_ - design * least_squares(design, r_);
-        const TestOutcome t = test(e, design, remaining, 99, "final model: testing the rest");
+        const TestOutcome t = test(residual_after(terms), design_of(terms, true), remaining, 99, "final model: testing the rest");
         const auto& adjusted = t.adjusted;
         for (std::size_t k = 0; k < remaining.size(); ++k) given_model_p[remaining[k]] = adjusted[k];
     }
@@ -700,9 +737,10 @@ Result<AnalysisResult> Analysis::run() {
     VectorXd fitted = VectorXd::Zero(n_);
     VectorXd oof = VectorXd::Zero(n_);
     if (extended) {
-        const MatrixXd design = design_of(terms, true);
-        const VectorXd beta = least_squares(design, r_);
-        fitted = design * beta;
+        const GroupedDesign design = design_of(terms, true);
+        const RowList every_row = all_rows(n_);
+        const VectorXd beta = coefficients_of(terms, fit_grouped(design, r_, every_row));
+        fitted = r_ - residual_after(terms);
         cv_mse(terms, true, nullptr, "", &oof);
         result_.extension.push_back({.covariate = "level", .form = "constant", .coefficient = beta(0), .scale = 0.0, .category = {}, .origin = 0.0,
                                      .range_low = 0.0, .range_high = 0.0});
@@ -715,8 +753,8 @@ Result<AnalysisResult> Analysis::run() {
             Cause cause;
             cause.covariate = column.name;
             cause.shape = t.shape;
-            cause.coefficients = beta.segment(at, t.basis.cols());
-            at += t.basis.cols();
+            cause.coefficients = beta.segment(at, t.width());
+            at += t.width();
             const auto terms_here = terms_of(column, t.shape, cause.coefficients);
             result_.extension.insert(result_.extension.end(), terms_here.begin(), terms_here.end());
             if (column.numeric) {
@@ -746,8 +784,7 @@ Result<AnalysisResult> Analysis::run() {
             cause.p_value = kept_p[k];
             std::vector<Term> others = terms;
             others.erase(others.begin() + static_cast<std::ptrdiff_t>(k));
-            const MatrixXd without = design_of(others, true);
-            cause.importance = ((r_ - without * least_squares(without, r_)).squaredNorm() - sse_full) / total;
+            cause.importance = (residual_after(others).squaredNorm() - sse_full) / total;
             result_.causes.push_back(std::move(cause));
             result_.diagnostics[t.candidate].cause = true;
             given_model_p[t.candidate] = kept_p[k];
@@ -758,18 +795,18 @@ Result<AnalysisResult> Analysis::run() {
         std::mt19937_64 rng(opt_.seed ^ 0xB007B007ULL);
         std::uniform_int_distribution<std::size_t> pick(0, groups_.rows.size() - 1);
         for (std::uint32_t b = 0; b < opt_.bootstrap; ++b) {
-            Rows rows;
+            RowList rows;
             for (std::size_t g = 0; g < groups_.rows.size(); ++g) {
                 const Rows& gr = groups_.rows[pick(rng)];
                 rows.insert(rows.end(), gr.begin(), gr.end());
             }
-            const VectorXd bb = least_squares(design(rows, Eigen::all), r_(rows));
-            if (bb.size() != design.cols()) continue;
-            levels.push_back(std::exp((design * bb).mean()));
+            const GroupedFit fit = fit_grouped(design, r_, rows);
+            const VectorXd bb = coefficients_of(terms, fit);
+            levels.push_back(std::exp(predict_grouped(design, fit, every_row).mean()));
             Index a = 1;
             for (std::size_t k = 0; k < terms.size(); ++k) {
-                const VectorXd coefficients = bb.segment(a, terms[k].basis.cols());
-                a += terms[k].basis.cols();
+                const VectorXd coefficients = bb.segment(a, terms[k].width());
+                a += terms[k].width();
                 // A category: the same level as the point estimate, not whichever differs most here.
                 std::size_t level = 0;
                 effect_of(result_.causes[k], result_.causes[k].coefficients, &level);
@@ -860,24 +897,33 @@ AnalysisInput screened_input(const AnalysisInput& input, const AnalysisOptions& 
     return kept;
 }
 
-// The design columns the analysis will hold for `input` (each candidate's shapes, with copies), in
-// bytes; the widest column's name.
+// The working memory the analysis will hold for `input`, in bytes, and the name of the column that
+// needs most of it. A numeric shape is a column a row long (its basis, its rest off the model, a fold's
+// copy); a categorical column is a factor: its levels' whitening (levels^2) and, once per analysis, a
+// permutation batch off the model (64 columns) and one indicator column.
 std::pair<std::size_t, std::string> working_memory(const AnalysisInput& input) {
     const std::size_t n = input.measured_gf.size();
-    std::size_t columns = 8; // the intercept, the residuals and the model's own
+    std::size_t bytes = 3 * 8 * n * sizeof(double); // the intercept, the residuals and the model's own
+    bool any_factor = false;
     std::size_t widest = 0;
     std::string widest_name;
     for (const auto& column : input.covariates.columns) {
-        std::size_t width = 0;
-        // A category's basis is a column per level but the first; every numeric shape's is one column.
-        for (const auto& shape : all_shapes_of(column)) width += shape.form == "category" ? column.levels.size() - 1 : 1;
-        columns += width;
-        if (width > widest) {
-            widest = width;
+        std::size_t need = 0;
+        if (column.numeric) {
+            need = 3 * all_shapes_of(column).size() * n * sizeof(double);
+        } else {
+            const std::size_t levels = column.levels.size();
+            need = 3 * levels * levels * sizeof(double);
+            any_factor = true;
+        }
+        bytes += need;
+        if (need > widest) {
+            widest = need;
             widest_name = column.name;
         }
     }
-    return {3 * columns * n * sizeof(double), widest_name}; // the bases, their orthonormal rests, a fold's copy
+    if (any_factor) bytes += (64 + 1) * n * sizeof(double);
+    return {bytes, widest_name};
 }
 
 } // namespace
