@@ -11,10 +11,11 @@ const std::set<std::string> standard = {"flower_id", "insertion", "max_force_gf"
                                         "speed_mm_s", "minutes_since_cut", "hole_reuse", "outcome"};
 }
 
-Result<MeasuredData> read_measured_data(assets::CsvTable table) {
+Result<MeasuredData> read_measured_data(assets::CsvTable table, MeasuredForce need) {
     MeasuredData data;
     const std::string& file = table.label;
     for (const char* required : {"flower_id", "insertion", "max_force_gf"}) {
+        if (need == MeasuredForce::optional && std::string_view(required) == "max_force_gf") continue;
         if (!table.find(required)) return make_error(ErrorCode::parse_error, file + ": missing the required column '" + std::string(required) + "'");
     }
     auto problem = [&](std::size_t row, const std::string& column, const std::string& what) {
@@ -50,8 +51,9 @@ Result<MeasuredData> read_measured_data(assets::CsvTable table) {
         // no hand pushes faster than 5 m/s, and a cut stem is not kept a year.
         auto force = number_in(row, "max_force_gf", 0, 100000, false);
         if (!force) return std::move(force).error();
-        if (!*force || **force <= 0.0) return problem(row, "max_force_gf", "expected a positive number");
-        t.max_force_gf = **force;
+        if (*force && **force <= 0.0) return problem(row, "max_force_gf", "expected a positive number");
+        if (!*force && need == MeasuredForce::required) return problem(row, "max_force_gf", "expected a positive number");
+        t.max_force_gf = force->value_or(0.0);
         if (const auto* s = table.find("species"); s && !s->text[row].empty()) t.species = s->text[row];
         auto angle = number_in(row, "angle_deg", 10, 90, false);
         if (!angle) return std::move(angle).error();
@@ -87,10 +89,10 @@ Result<MeasuredData> read_measured_data(assets::CsvTable table) {
     return data;
 }
 
-Result<MeasuredData> load_measured_data(const std::string& path) {
+Result<MeasuredData> load_measured_data(const std::string& path, MeasuredForce force) {
     auto table = assets::load_csv(path);
     if (!table) return std::move(table).error();
-    return read_measured_data(std::move(table).value());
+    return read_measured_data(std::move(table).value(), force);
 }
 
 } // namespace ikebana::game

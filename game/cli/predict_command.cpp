@@ -21,7 +21,8 @@ int run_predict(const std::string& input, const std::string& species_override, c
         std::cerr << "ikebana predict: -o: " << ok.error().message << "\n";
         return 2;
     }
-    auto data = load_measured_data(input);
+    // A plan of trials not yet run is a normal input: the measured force is for validate.
+    auto data = load_measured_data(input, MeasuredForce::optional);
     if (!data) {
         std::cerr << "ikebana predict: " << data.error().message << "\n";
         return 2;
@@ -84,7 +85,7 @@ void add_predict_command(CLI::App& app, int& exit_code) {
     };
     auto args = std::make_shared<Args>();
     auto* cmd = app.add_subcommand("predict", "Predict every measured insertion through the simulation; rows are written back with predicted_force_gf");
-    cmd->add_option("trials", args->input, "Measured trials (CSV, docs/measured-data.md)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("trials", args->input, "Measured or planned trials (CSV, docs/measured-data.md; max_force_gf may be absent or blank)")->required()->check(CLI::ExistingFile);
     cmd->add_option("--species", args->species, "Species id or file for every row (default: the row's species column, else sunflower)");
     cmd->add_option("-o,--output", args->output, "Where to write the rows with predictions")->required();
     cmd->callback([args, &exit_code] { exit_code = run_predict(args->input, args->species, args->output); });

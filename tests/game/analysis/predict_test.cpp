@@ -86,6 +86,36 @@ TEST(Predict, BadInputNamesFileLineAndColumnAndWritesNothing) {
     EXPECT_NE(outcome.error().message.find("expected stood, fell or broke"), std::string::npos);
 }
 
+// Issue 17: predicting before measuring is a normal use. A plan has no max_force_gf column, or blank
+// cells where a trial has not been run yet; validate, which compares with measurements, still needs it.
+TEST(Predict, APlanOfTrialsNotYetRunIsPredicted) {
+    const auto plan = write("plan.csv", "flower_id,insertion,angle_deg\nA,1,90\nA,2,90\nB,1,60\n");
+    ASSERT_EQ(run_predict(plan, "", temp("plan_out.csv")), 0);
+    const auto out = lines(temp("plan_out.csv"));
+    ASSERT_EQ(out.size(), 4u);
+    EXPECT_EQ(out[0], "flower_id,insertion,angle_deg,predicted_force_gf");
+    const auto measured = write("measured.csv", "flower_id,insertion,max_force_gf,angle_deg\nA,1,480,90\nA,2,460,90\nB,1,300,60\n");
+    ASSERT_EQ(run_predict(measured, "", temp("measured_out.csv")), 0);
+    const auto same = lines(temp("measured_out.csv"));
+    for (std::size_t i = 1; i < 4; ++i) {
+        EXPECT_EQ(out[i].substr(out[i].rfind(',')), same[i].substr(same[i].rfind(','))) << "the measurement plays no part in the prediction";
+    }
+    // Half run: blank cells are trials to come; a cell that is there must still be a force.
+    const auto half = write("half.csv", "flower_id,insertion,max_force_gf\nA,1,480\nA,2,\n");
+    ASSERT_EQ(run_predict(half, "", temp("half_out.csv")), 0);
+    EXPECT_EQ(lines(temp("half_out.csv")).size(), 3u);
+    const auto bad = load_measured_data(write("plan_bad.csv", "flower_id,insertion,max_force_gf\nA,1,-3\n"), MeasuredForce::optional);
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("plan_bad.csv:2: column 'max_force_gf': expected a number in [0, 100000], got '-3'"), std::string::npos) << bad.error().message;
+    const auto for_validate = load_measured_data(plan);
+    ASSERT_FALSE(for_validate);
+    EXPECT_NE(for_validate.error().message.find("plan.csv: missing the required column 'max_force_gf'"), std::string::npos);
+    const auto blank_for_validate = load_measured_data(half);
+    ASSERT_FALSE(blank_for_validate);
+    EXPECT_NE(blank_for_validate.error().message.find("half.csv:3: column 'max_force_gf': expected a positive number"), std::string::npos)
+        << blank_for_validate.error().message;
+}
+
 TEST(Predict, UnknownColumnsBecomeCovariates) {
     const auto data = load_measured_data(write("cov.csv", "flower_id,insertion,max_force_gf,room_c,batch\nA,1,480,21.5,north\n"));
     ASSERT_TRUE(data) << data.error().message;
