@@ -354,7 +354,7 @@ int TraineeSession::build_world() {
         return 2;
     }
     world_ = std::move(world).value();
-    for (const auto& warning : stability_warnings(*world_)) std::cerr << "ikebana: " << warning << "\n";
+    for (const auto& warning : startup_warnings(*world_)) std::cerr << "ikebana: " << warning << "\n";
     for (std::uint8_t hand = 0; hand < 2; ++hand) world_->attach_device(hand, kept[hand] ? std::move(kept[hand]) : mouse_->hand(hand));
     world_->main.resource<components::HudInfo>()->device = device_names_;
     kenzan_at_ = kenzan_origin(*world_);

@@ -39,7 +39,7 @@ int run_sim(const SimOptions& options) {
         return 2;
     }
     World& w = **world;
-    for (const auto& warning : stability_warnings(w)) std::cerr << "ikebana sim: " << warning << "\n";
+    for (const auto& warning : startup_warnings(w)) std::cerr << "ikebana sim: " << warning << "\n";
     // Devices: the command line overrides the scene, hand by hand.
     const std::string* specs[2] = {&options.left_device, &options.right_device};
     for (std::uint8_t hand = 0; hand < 2; ++hand) {

@@ -20,6 +20,8 @@
 #include "components/stem.hpp"
 #include "engine/sched/clocks.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
+#include "game/species/species.hpp"
+#include "game/world/summary.hpp"
 #include "game/world/world.hpp"
 
 namespace ikebana::game {
@@ -144,6 +146,12 @@ Result<TrialResult> run_insertion_trial(const ExperimentOptions& o, std::uint64_
 
 Result<ExperimentResult> run_insertion_experiment(const ExperimentOptions& o, const ExperimentProgress& progress) {
     ExperimentResult result;
+    // An extended species may read columns this run does not set: said before the trials, with the
+    // values used (an unreadable species is reported by the first trial's world, as before).
+    if (auto species = load_species(o.species)) {
+        result.species_id = species->id;
+        result.missing_covariates = systems::insertion::missing_covariates(species->deterioration.terms, o.environment);
+    }
     const auto start = std::chrono::steady_clock::now();
     // Trials are independent worlds, each seeded by its number: they run on every core, and are summed
     // in trial order afterwards, so any thread count gives the same result as one.
@@ -226,6 +234,12 @@ std::string experiment_json(const ExperimentResult& r, const ExperimentOptions& 
     j["paper"] = {{"break", 2.6}, {"fall", 5.8}, {"max_per_pin_gf", {121, 115, 103, 101, 98, 97}}};
     j["force_by_insertion_gf"] = r.force_by_insertion_gf;
     j["pins_engaged_histogram"] = r.pins_histogram;
+    nlohmann::ordered_json missing = nlohmann::ordered_json::array();
+    for (const auto& m : r.missing_covariates) {
+        if (m.numeric) missing.push_back({{"covariate", m.name}, {"used", m.value}, {"fitted_range", {m.low, m.high}}});
+        else missing.push_back({{"covariate", m.name}, {"used", "reference level"}});
+    }
+    j["missing_covariates"] = missing;
     nlohmann::ordered_json trials = nlohmann::ordered_json::array();
     for (const auto& t : r.trials) {
         trials.push_back({{"insertions_until_break", t.broke_at ? nlohmann::ordered_json(*t.broke_at) : nlohmann::ordered_json()},
@@ -286,7 +300,9 @@ std::string experiment_report(const ExperimentResult& r, const ExperimentOptions
         std::snprintf(line, sizeof line, "  %zu pins: %.0f%%", p, 100.0 * r.pins_histogram[p] / std::max(1u, total));
         out << line;
     }
-    std::snprintf(line, sizeof line, "\n\n%.1f s simulated in %.2f s wall time (%.0fx real time, %u thread%s)\n", r.simulated_s, r.wall_s,
+    for (const auto& m : r.missing_covariates) out << "\n\n" << missing_covariate_sentence(r.species_id, m);
+    out << "\n";
+    std::snprintf(line, sizeof line, "\n%.1f s simulated in %.2f s wall time (%.0fx real time, %u thread%s)\n", r.simulated_s, r.wall_s,
                   r.wall_s > 0 ? r.simulated_s / r.wall_s : 0.0, r.threads, r.threads == 1 ? "" : "s");
     out << line;
     return out.str();

@@ -76,6 +76,10 @@ struct ExperimentResult {
     std::uint32_t trials_never_fell = 0;
     std::vector<double> force_by_insertion_gf;      // mean over trials of the largest single-pin force
     std::vector<std::uint32_t> pins_histogram;      // pins engaged at full depth, over all insertions
+    // Columns the species' fitted extension reads that this run's environment does not set, and the
+    // value each was taken at (systems/insertion/deterioration.hpp).
+    std::vector<systems::insertion::MissingCovariate> missing_covariates;
+    std::string species_id;
 };
 
 // Trials finished so far, of how many. Called from the threads that run them, one call at a time.

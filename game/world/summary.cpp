@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 
 #include <glm/gtc/constants.hpp>
 
@@ -13,6 +14,7 @@
 #include "components/insertion.hpp"
 #include "components/kenzan.hpp"
 #include "components/physics.hpp"
+#include "systems/insertion/deterioration.hpp"
 #include "systems/physics/stem_dynamics.hpp"
 
 namespace ikebana::game {
@@ -144,7 +146,20 @@ std::string format_summary(const WorldSummary& s, double seconds) {
     return out;
 }
 
-std::vector<std::string> stability_warnings(World& w) {
+std::string missing_covariate_sentence(const std::string& species, const systems::insertion::MissingCovariate& m) {
+    char line[512];
+    if (m.numeric) {
+        std::snprintf(line, sizeof line,
+                      "species '%s': its fitted extension reads '%s', which is not set: it is taken at %.4g, the centre of the range it was fitted on (%.4g to %.4g); set it with --env %s=VALUE",
+                      species.c_str(), m.name.c_str(), m.value, m.low, m.high, m.name.c_str());
+    } else {
+        std::snprintf(line, sizeof line, "species '%s': its fitted extension reads '%s', which is not set: its reference level is used; set it with --env %s=LEVEL",
+                      species.c_str(), m.name.c_str(), m.name.c_str());
+    }
+    return line;
+}
+
+std::vector<std::string> startup_warnings(World& w) {
     std::vector<std::string> out;
     const double haptic_hz = w.schedule.rates().hz("haptic");
     std::map<std::string, double> needed_hz;
@@ -171,6 +186,15 @@ std::vector<std::string> stability_warnings(World& w) {
                       "its motion and whether it stands will be wrong",
                       haptic_hz, need, species.c_str(), need * periods_per_step_limit);
         out.emplace_back(line);
+    }
+    const auto* environment = w.sim.resource<const systems::insertion::Covariates>();
+    std::set<std::string> said; // once per species
+    for (const auto& f : w.flowers) {
+        const auto* model = w.sim.try_get<PinResistance>(f.entity);
+        if (!model || model->extension.empty() || !said.insert(f.species).second) continue;
+        for (const auto& m : systems::insertion::missing_covariates(model->extension, environment ? *environment : systems::insertion::Covariates{})) {
+            out.push_back(missing_covariate_sentence(f.species, m));
+        }
     }
     return out;
 }

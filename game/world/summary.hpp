@@ -3,6 +3,7 @@
 
 #include "engine/sched/clocks.hpp"
 #include "game/world/world.hpp"
+#include "systems/insertion/deterioration.hpp"
 
 namespace ikebana::game {
 
@@ -51,8 +52,12 @@ struct WorldSummary {
 // branch, ringing at 4.2 kHz, went wrong below about 145 Hz; the sunflower's holding moment
 // drifted 20 % at 300 Hz and went negative at 100 Hz).
 inline constexpr double periods_per_step_limit = 25.0;
-// One sentence per species whose stiffness the haptic rate is too low for (none at the paper's 1 kHz).
-[[nodiscard]] std::vector<std::string> stability_warnings(World& world);
+// One sentence per thing the run would otherwise get wrong without a word: a species whose stiffness
+// the haptic rate is too low for (none at the paper's 1 kHz), and a covariate an extended species reads
+// that the scene's environment (or --env) does not set, with the value taken instead.
+[[nodiscard]] std::vector<std::string> startup_warnings(World& world);
+// The sentence for one such covariate: what is read, the value used, how to set it.
+[[nodiscard]] std::string missing_covariate_sentence(const std::string& species, const systems::insertion::MissingCovariate& missing);
 [[nodiscard]] std::string format_summary(const WorldSummary& s, double seconds);
 // After a real-time run: each lane's wake-up lateness and tick time, and the 1 kHz systems' lateness
 // and missed deadlines.

@@ -46,7 +46,8 @@ double extension_factor(const std::vector<components::DeteriorationTerm>& terms,
         } else if (const auto it = covariates.numeric.find(t.covariate); it != covariates.numeric.end()) {
             x = it->second;
         } else if (t.form != "constant") {
-            continue; // a covariate this world does not have: the term does not apply
+            if (!(t.range_high > t.range_low)) continue; // no fitted range to take the centre of: the term does not apply
+            x = 0.5 * (t.range_low + t.range_high);     // a covariate this world does not have (missing_covariates)
         }
         if (t.range_high > t.range_low) x = std::clamp(x, t.range_low, t.range_high);
         exponent += t.coefficient * term_basis(t.form, x - t.origin, t.scale);
@@ -55,6 +56,26 @@ double extension_factor(const std::vector<components::DeteriorationTerm>& terms,
     // the factor stays within e^-5..e^5 (0.007..148), far outside anything a fit to data gives.
     if (!std::isfinite(exponent)) exponent = 0.0;
     return std::exp(std::clamp(exponent, -5.0, 5.0));
+}
+
+bool set_on_every_insertion(const std::string& covariate) {
+    return covariate == "insertion" || covariate == "minutes_since_cut" || covariate == "angle_deg" || covariate == "hole_reuse" ||
+           covariate == "pins";
+}
+
+std::vector<MissingCovariate> missing_covariates(const std::vector<components::DeteriorationTerm>& terms, const Covariates& world) {
+    std::vector<MissingCovariate> out;
+    for (const auto& t : terms) {
+        if (t.form == "constant" || set_on_every_insertion(t.covariate)) continue;
+        if (std::any_of(out.begin(), out.end(), [&](const MissingCovariate& m) { return m.name == t.covariate; })) continue;
+        if (t.form == "category") {
+            if (!world.category.contains(t.covariate)) out.push_back({t.covariate, false, 0.0, 0.0, 0.0});
+            continue;
+        }
+        if (world.numeric.contains(t.covariate) || !(t.range_high > t.range_low)) continue;
+        out.push_back({t.covariate, true, 0.5 * (t.range_low + t.range_high), t.range_low, t.range_high});
+    }
+    return out;
 }
 
 double soft_resistance_n_per_m(const components::PinResistance& model, std::uint32_t insertion, const Covariates& covariates) {

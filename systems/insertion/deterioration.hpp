@@ -27,10 +27,26 @@ struct Covariates {
 std::vector<double> expand_deterioration(const std::string& model, const std::vector<double>& table);
 
 // exp(sum of terms) for these covariates; 1 when there are no terms. "insertion" is always available.
+// A numeric covariate the world does not have is taken at the centre of the range its term was fitted
+// on (missing_covariates says which; leaving the term out would put the force where no data was, e.g.
+// 18 gf a pin for a species fitted at 100), a category at its reference level.
 // The factor multiplies the resistance of either branch kind (soft table or hard Eq. 6); it is kept
 // within e^-5..e^5, and a non-finite sum counts as 0.
 double extension_factor(const std::vector<components::DeteriorationTerm>& terms, std::uint32_t insertion,
                         const Covariates& covariates);
+
+// Covariates the insertion systems set themselves on every insertion (InsertionResistanceSystem).
+bool set_on_every_insertion(const std::string& covariate);
+
+// A column an extension reads that neither the world's covariates nor the insertion itself sets, and
+// what is used instead: a number at the centre of its fitted range, or a category's reference level.
+struct MissingCovariate {
+    std::string name;
+    bool numeric = true;
+    double value = 0.0;            // numeric: what is used
+    double low = 0.0, high = 0.0;  // numeric: the range the term holds over
+};
+std::vector<MissingCovariate> missing_covariates(const std::vector<components::DeteriorationTerm>& terms, const Covariates& world);
 
 // The basis value of one term's form at x (already less the term's origin); used by the fit as well
 // as by the model, so the two cannot disagree.

@@ -67,6 +67,35 @@ TEST(TermShapes, AFittedTermMeansTheSameInTheSpeciesModel) {
     }
 }
 
+// Issue 17: a term on a column the world does not set once dropped out, leaving the fitted level alone
+// (18 gf a pin for a species fitted at 100: every flower fell). It is taken at the centre of the
+// range it was fitted on, and missing_covariates says so; a category falls back to its reference level.
+TEST(TermShapes, ATermOnAColumnTheWorldDoesNotSetIsTakenAtItsFittedRangesCentre) {
+    const std::vector<components::DeteriorationTerm> terms = {
+        {"level", "constant", -1.2, 0.0, "", 0.0, 0.0, 0.0},
+        {"stem_water_content", "linear", 1.5, 0.0, "", 0.0, 0.6, 0.9},
+        {"vase", "category", 0.2, 0.0, "metal", 0.0, 0.0, 0.0},
+        {"angle_deg", "linear", 0.01, 0.0, "", 0.0, 10.0, 90.0}, // set by the insertion itself
+    };
+    systems::insertion::Covariates none, centre;
+    none.numeric["angle_deg"] = 45.0;
+    centre.numeric["angle_deg"] = 45.0;
+    centre.numeric["stem_water_content"] = 0.75;
+    EXPECT_DOUBLE_EQ(systems::insertion::extension_factor(terms, 1, none), systems::insertion::extension_factor(terms, 1, centre));
+    EXPECT_NEAR(systems::insertion::extension_factor(terms, 1, none), std::exp(-1.2 + 1.5 * 0.75 + 0.45), 1e-12);
+    const auto missing = systems::insertion::missing_covariates(terms, {});
+    ASSERT_EQ(missing.size(), 2u) << "angle_deg is the insertion's own";
+    EXPECT_EQ(missing[0].name, "stem_water_content");
+    EXPECT_TRUE(missing[0].numeric);
+    EXPECT_DOUBLE_EQ(missing[0].value, 0.75);
+    EXPECT_EQ(missing[1].name, "vase");
+    EXPECT_FALSE(missing[1].numeric);
+    systems::insertion::Covariates given;
+    given.numeric["stem_water_content"] = 0.62;
+    given.category["vase"] = "glass";
+    EXPECT_TRUE(systems::insertion::missing_covariates(terms, given).empty());
+}
+
 TEST(TermShapes, AWildTermCannotGiveTheSimulationAnInfiniteFactor) {
     const std::vector<components::DeteriorationTerm> wild = {
         {"x", "power", 50.0, 3.0, "", 0.0, 0.0, 0.0}, {"y", "log", 1.0, 0.0, "", 0.0, 0.0, 0.0}};

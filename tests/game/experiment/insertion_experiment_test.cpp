@@ -1,12 +1,17 @@
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include <nlohmann/json.hpp>
 
 #include "components/insertion.hpp"
 #include "components/kenzan.hpp"
 #include "components/stem.hpp"
+#include "engine/assets/files.hpp"
 #include "engine/sched/clocks.hpp"
+#include "game/asset_paths.hpp"
 #include "game/experiment/insertion_experiment.hpp"
+#include "game/world/summary.hpp"
 #include "game/world/world.hpp"
 
 using namespace ikebana;
@@ -97,6 +102,48 @@ TEST(InsertionExperiment, CutStemHoldsAgain) {
     EXPECT_EQ(trial->insertions[3].counted, 1u) << "the fresh end starts counting again";
     EXPECT_FALSE(trial->insertions[3].broken_before);
     EXPECT_GT(trial->insertions[3].max_pin_force_n, 1.5 * trial->insertions[2].max_pin_force_n);
+}
+
+// Issue 17: an extended species reading a column the run does not set says which, the value used, and
+// how to set it; set with --env, nothing is said.
+TEST(InsertionExperiment, AnExtendedSpeciesSaysWhichCovariatesTheRunDoesNotSet) {
+    auto text = assets::read_text_file(asset_dir() / "species" / "sunflower.json");
+    ASSERT_TRUE(text);
+    auto species = nlohmann::json::parse(*text);
+    species["id"] = "sunflower_lab";
+    species["deterioration"] = {{"model", "extended"},
+                                {"base", "paper_baseline"},
+                                {"terms", {{{"covariate", "stem_water_content"}, {"form", "linear"}, {"coefficient", 1.5}, {"scale", 0}, {"range", {0.6, 0.9}}}}}};
+    const auto path = std::filesystem::temp_directory_path() / "sunflower_lab.json";
+    ASSERT_TRUE(assets::write_text_file(path, species.dump()));
+    ExperimentOptions o;
+    o.trials = 1;
+    o.max_insertions = 1;
+    o.species = path.string();
+    const auto unset = run_insertion_experiment(o);
+    ASSERT_TRUE(unset) << unset.error().message;
+    ASSERT_EQ(unset->missing_covariates.size(), 1u);
+    EXPECT_NE(experiment_report(*unset, o).find("species 'sunflower_lab': its fitted extension reads 'stem_water_content', which is not set: it is taken at "
+                                                 "0.75, the centre of the range it was fitted on (0.6 to 0.9); set it with --env stem_water_content=VALUE"),
+              std::string::npos)
+        << experiment_report(*unset, o);
+    const auto json = nlohmann::json::parse(experiment_json(*unset, o));
+    EXPECT_EQ(json["missing_covariates"][0]["covariate"], "stem_water_content");
+    EXPECT_EQ(json["missing_covariates"][0]["used"], 0.75);
+    // sim and the trainee's window say it at start-up, from the world's environment.
+    const auto scene = experiment_bench_scene(o.species, o.kenzan, 1, {});
+    ASSERT_TRUE(scene);
+    auto world = World::create(*scene);
+    ASSERT_TRUE(world) << world.error().message;
+    const auto warnings = startup_warnings(**world);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0], missing_covariate_sentence("sunflower_lab", unset->missing_covariates[0]));
+    o.environment.numeric["stem_water_content"] = 0.75;
+    const auto set = run_insertion_experiment(o);
+    ASSERT_TRUE(set);
+    EXPECT_TRUE(set->missing_covariates.empty());
+    EXPECT_EQ(experiment_report(*set, o).find("not set"), std::string::npos);
+    EXPECT_EQ(set->force_by_insertion_gf, unset->force_by_insertion_gf) << "unset is the centre, exactly";
 }
 
 TEST(InsertionExperiment, SameSeedSameResult) {

@@ -162,11 +162,11 @@ TEST(Summary, AHapticRateTooLowForAStemIsNamedAndItsRunawayEnergyWarned) {
     {
         auto paper = World::create(scene);
         ASSERT_TRUE(paper);
-        EXPECT_TRUE(stability_warnings(**paper).empty()) << "the paper's 1 kHz suits every shipped species here";
+        EXPECT_TRUE(startup_warnings(**paper).empty()) << "the paper's 1 kHz suits every shipped species here";
     }
     auto world = World::create(scene, WorldOptions{.rate_overrides = {"haptic=1"}, .force_scheme = {}, .main_lane_systems = {}});
     ASSERT_TRUE(world) << world.error().message;
-    const auto warnings = stability_warnings(**world);
+    const auto warnings = startup_warnings(**world);
     ASSERT_EQ(warnings.size(), 2u);
     EXPECT_NE(warnings[0].find("below the 232 Hz the cherry_branch's stiffness needs"), std::string::npos) << warnings[0];
     EXPECT_NE(warnings[1].find("the sunflower's stiffness needs"), std::string::npos) << warnings[1];
