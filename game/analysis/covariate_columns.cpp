@@ -28,6 +28,7 @@ Result<CovariateSet> candidate_covariates(const assets::CsvTable& table, const s
             if (present.empty()) continue;
             std::nth_element(present.begin(), present.begin() + static_cast<std::ptrdiff_t>(present.size() / 2), present.end());
             const double median = present[present.size() / 2];
+            c.fill_value = median;
             c.values.reserve(n);
             for (double v : *column.numbers) {
                 c.missing += std::isfinite(v) ? 0 : 1;

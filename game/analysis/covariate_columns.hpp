@@ -17,6 +17,7 @@ struct CovariateColumn {
     std::vector<std::uint32_t> level;  // categorical: per row, an index into `levels`
     std::vector<std::string> levels;   // categorical: the most common first (the reference level)
     std::size_t missing = 0;           // empty cells (categorical ones are the level "(missing)")
+    double fill_value = 0.0;           // numeric: what an empty cell takes (the median)
 };
 
 struct CovariateSet {

@@ -626,6 +626,8 @@ Result<AnalysisResult> Analysis::run() {
         d.best_shape = describe_shape(candidates_[c].shapes[first.best_shape[c]]);
         d.p_value = first.p[c];
         d.p_adjusted = first_adjusted[c];
+        d.blank = column.missing;
+        d.blank_value = column.fill_value;
         result_.diagnostics.push_back(std::move(d));
     }
     // The level is a family of its own: is the simulation's scale off at all?

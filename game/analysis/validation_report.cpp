@@ -170,7 +170,9 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
                                     {"p_adjusted", d.p_adjusted},
                                     {"p_given_model", d.p_given_model},
                                     {"cause", d.cause},
+                                    {"blank_cells", d.blank},
                                     {"bins", bins}});
+        if (d.blank > 0 && d.numeric) j["diagnostics"].back()["blank_cells_taken_as"] = d.blank_value;
     }
     j["constant_columns"] = v.input.covariates.constant;
     j["screened_columns"] = nlohmann::ordered_json::array();
@@ -197,6 +199,12 @@ std::string validation_summary(const ValidationResult& v) {
         o << "screened:  " << c.covariate << " (" << c.levels << " levels, " << fmt("%.1f", c.flowers_per_level)
           << " flowers a level): not tested level by level; " << fmt("%.1f %%", 100 * c.between_level_share) << " of the residual's variance lies between its levels, "
           << fmt("%.1f %%", 100 * c.chance_share) << " by chance\n";
+    }
+    for (const auto& d : a.diagnostics) {
+        if (d.blank == 0) continue;
+        o << "blank:     " << d.covariate << " is empty in " << d.blank << " of " << a.n_trials << " rows: "
+          << (d.numeric ? "those rows take its median, " + fmt("%.4g", d.blank_value) : std::string("those rows are a level of their own, \"(missing)\""))
+          << "\n";
     }
     o << "baseline:  RMSE " << fmt("%.1f", a.baseline_rmse_gf) << " gf, CV RMSE " << fmt("%.1f", a.baseline_cv_rmse_gf) << " gf";
     if (v.baseline_outcome_accuracy) o << ", outcome accuracy " << fmt("%.0f %%", 100 * *v.baseline_outcome_accuracy);
@@ -248,9 +256,11 @@ Result<void> write_validation_report(const ValidationResult& v, const AnalysisOp
           "(Westfall–Young step-down maxT, the permutation form of Holm's method); "
           "*given model*: the same test against the final model's residual (a column that only mirrors a cause loses "
           "significance here).\n\n";
-    md << "| column | kind | best shape | strength | p | family | given model | cause |\n|---|---|---|---|---|---|---|---|\n";
+    md << "| column | kind | blank cells | best shape | strength | p | family | given model | cause |\n|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& d : a.diagnostics) {
-        md << "| `" << d.covariate << "` | " << (d.numeric ? "numeric" : "categorical") << " | " << d.best_shape << " | " << fmt("%.3f", d.strength)
+        md << "| `" << d.covariate << "` | " << (d.numeric ? "numeric" : "categorical") << " | "
+           << (d.blank == 0 ? std::string("0") : std::to_string(d.blank) + (d.numeric ? " (median " + fmt("%.4g", d.blank_value) + ")" : " (a level)")) << " | "
+           << d.best_shape << " | " << fmt("%.3f", d.strength)
            << " | " << fmt("%.3g", d.p_value) << " | " << fmt("%.3g", d.p_adjusted) << " | " << fmt("%.3g", d.p_given_model) << " | "
            << (d.cause ? "**yes**" : "") << " |\n";
     }

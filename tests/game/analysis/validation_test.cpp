@@ -95,3 +95,46 @@ TEST(Validation, OutcomesAreScoredWhenTheDataHasThem) {
     const auto json = nlohmann::json::parse(validation_json(*v, options.analysis));
     EXPECT_TRUE(json["baseline"].contains("outcome_accuracy"));
 }
+
+// Issue 17: blank cells keep working, and the summary, report and JSON say how many rows each column
+// lost and what those rows were taken as.
+TEST(Validation, BlankCellsAreCountedPerColumnAndSaidWhatTheyWereTakenAs) {
+    const auto path = (std::filesystem::temp_directory_path() / "ikebana_blank_trials.csv").string();
+    {
+        // Eight flowers of three insertions; humidity blank in 3 rows, room in 2 (room's levels each on
+        // at least 3 flowers on average, so it is tested, not screened).
+        std::ofstream out(path);
+        out << "flower_id,insertion,max_force_gf,humidity_pct,room\n";
+        const double force[3] = {480, 450, 400};
+        for (int f = 0; f < 8; ++f) {
+            for (int k = 1; k <= 3; ++k) {
+                const int row = f * 3 + k;
+                out << char('A' + f) << "," << k << "," << force[k - 1] + 3 * f << ",";
+                if (row != 2 && row != 5 && row != 11) out << 40 + row;
+                out << ",";
+                if (row != 3 && row != 8) out << (f % 2 ? "south" : "north");
+                out << "\n";
+            }
+        }
+    }
+    ValidationOptions options;
+    options.analysis.bootstrap = 20;
+    options.analysis.permutations = 99;
+    const auto v = run_validation(path, options);
+    ASSERT_TRUE(v) << v.error().message;
+    const auto summary = validation_summary(*v);
+    EXPECT_NE(summary.find("blank:     humidity_pct is empty in 3 of 24 rows: those rows take its median, 54\n"), std::string::npos) << summary;
+    EXPECT_NE(summary.find("blank:     room is empty in 2 of 24 rows: those rows are a level of their own, \"(missing)\"\n"), std::string::npos) << summary;
+    EXPECT_EQ(summary.find("blank:     insertion"), std::string::npos);
+    const auto json = nlohmann::json::parse(validation_json(*v, options.analysis));
+    for (const auto& d : json["diagnostics"]) {
+        if (d["covariate"] == "humidity_pct") {
+            EXPECT_EQ(d["blank_cells"], 3);
+            EXPECT_EQ(d["blank_cells_taken_as"], 54.0); // 21 values 41..64 less 42, 45, 51: the 11th
+        } else if (d["covariate"] == "room") {
+            EXPECT_EQ(d["blank_cells"], 2);
+        } else {
+            EXPECT_EQ(d["blank_cells"], 0) << d["covariate"];
+        }
+    }
+}
