@@ -70,6 +70,12 @@ std::string explain_cause(const Cause& c) {
                       "Above %s = %.4g the measured force is %s relative to the simulation compared with below it (95 %% interval %s), "
                       "p = %.3g given the other terms.",
                       c.covariate.c_str(), c.shape.scale, percent(c.effect_size).c_str(), interval.c_str(), c.p_value);
+    } else if (c.shape.form == "peaked") {
+        std::snprintf(numbers, sizeof numbers,
+                      "The measured force relative to the simulation is %s at %s = %.4g and %s toward the ends of its range (%.4g to %.4g): "
+                      "%s at the farther end (95 %% interval %s), p = %.3g given the other terms.",
+                      c.effect_size < 0.0 ? "highest" : "lowest", c.covariate.c_str(), c.shape.origin, c.effect_size < 0.0 ? "lower" : "higher",
+                      c.x_low, c.x_high, percent(c.effect_size).c_str(), interval.c_str(), c.p_value);
     } else {
         std::snprintf(numbers, sizeof numbers,
                       "The measured force %s with %s relative to the simulation: %s from %.4g to %.4g, shaped %s (%s; 95 %% interval %s), "
@@ -79,7 +85,10 @@ std::string explain_cause(const Cause& c) {
     }
     std::string text = numbers;
     const auto it = readings().find(c.covariate);
-    if (it != readings().end()) {
+    if (c.shape.form == "peaked") {
+        text += c.effect_size < 0.0 ? " An optimum: the stems resist most at mid values, which no monotone trend of the model gives."
+                                    : " A worst value: the stems resist least at mid values, which no monotone trend of the model gives.";
+    } else if (it != readings().end()) {
         text += " Physical reading: ";
         text += c.effect_size >= 0.0 ? it->second.when_increasing : it->second.when_decreasing;
         text += ".";

@@ -550,6 +550,9 @@ double effect_of(const Cause& cause, const Eigen::VectorXd& coefficients, std::s
     }
     const double b_low = basis_value(cause.shape, cause.x_low);
     const double b_high = basis_value(cause.shape, cause.x_high);
+    // A peak or trough: from its top (or bottom) to the farther end of the range, where the basis is
+    // largest (it is 0 at the peak).
+    if (cause.shape.form == "peaked") return std::exp(coefficients(0) * std::max(b_low, b_high)) - 1.0;
     return std::exp(coefficients(0) * (b_high - b_low)) - 1.0;
 }
 
@@ -671,6 +674,8 @@ Result<AnalysisResult> Analysis::run() {
             std::string best_form;
             double best_cv = INFINITY;
             std::string forms_text;
+            std::string best_monotone;
+            double best_monotone_cv = INFINITY;
             for (const auto& form : forms_for(in_.covariates.columns[c])) {
                 const double cv = cv_mse(terms, true, &cand, form);
                 char part[64];
@@ -679,6 +684,40 @@ Result<AnalysisResult> Analysis::run() {
                 if (cv < best_cv) {
                     best_cv = cv;
                     best_form = form;
+                }
+                if (form != "peaked" && cv < best_monotone_cv) {
+                    best_monotone_cv = cv;
+                    best_monotone = form;
+                }
+            }
+            // A peak or trough must be shown to turn, not just fit a little better: a fast saturating
+            // decay is fitted about as well by a trough near its flat end, whose rise past the vertex no
+            // data shows. So the peaked shapes are tested, with permutations as every candidate is, on
+            // what the best monotone form leaves; without a significant turn the form stays monotone.
+            if (best_form == "peaked" && !best_monotone.empty()) {
+                std::vector<Term> with_monotone = terms;
+                Term mono;
+                mono.candidate = c;
+                mono.shape = best_shape_on_all(terms, cand, best_monotone);
+                mono.basis = basis_of(in_.covariates.columns[c], mono.shape);
+                with_monotone.push_back(std::move(mono));
+                Candidate peaks;
+                peaks.column = c;
+                for (std::size_t s = 0; s < cand.shapes.size(); ++s) {
+                    if (cand.shapes[s].form != "peaked") continue;
+                    peaks.shapes.push_back(cand.shapes[s]);
+                    peaks.bases.push_back(cand.bases[s]);
+                }
+                candidates_.push_back(std::move(peaks));
+                const TestOutcome turn = test(residual_after(with_monotone), design_of(with_monotone, true), {candidates_.size() - 1}, 500 + step,
+                                              "does '" + in_.covariates.columns[c].name + "' turn?");
+                candidates_.pop_back();
+                char part[96];
+                std::snprintf(part, sizeof part, "; a turn beyond %s: p = %.4g", best_monotone.c_str(), turn.p[0]);
+                forms_text += part;
+                if (turn.p[0] > opt_.alpha) {
+                    best_form = best_monotone;
+                    best_cv = best_monotone_cv;
                 }
             }
             char line[512];
@@ -782,13 +821,16 @@ Result<AnalysisResult> Analysis::run() {
             std::size_t level = 0;
             cause.effect_size = effect_of(cause, cause.coefficients, &level);
             if (!column.numeric) cause.category = column.levels[level];
-            cause.direction = cause.effect_size >= 0.0 ? "increases" : "decreases";
+            cause.direction = t.shape.form == "peaked" ? "nonmonotone" : cause.effect_size >= 0.0 ? "increases" : "decreases";
             cause.p_value = kept_p[k];
             std::vector<Term> others = terms;
             others.erase(others.begin() + static_cast<std::ptrdiff_t>(k));
             cause.importance = (residual_after(others).squaredNorm() - sse_full) / total;
             result_.causes.push_back(std::move(cause));
             result_.diagnostics[t.candidate].cause = true;
+            // The screening's strongest single shape can differ from the one the cause was fitted with
+            // (chosen by cross-validation, a peak only when it turns): the table says the cause's.
+            result_.diagnostics[t.candidate].best_shape = describe_shape(t.shape);
             given_model_p[t.candidate] = kept_p[k];
         }
         // Intervals: resample whole flowers, refit the same terms at the same shapes.

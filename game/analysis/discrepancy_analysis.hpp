@@ -84,7 +84,7 @@ struct CovariateDiagnostic {
     bool numeric = true;
     std::vector<ResidualBin> bins;   // the residual's shape against this covariate
     double strength = 0.0;           // share of the baseline residual's variance its best shape explains
-    std::string best_shape;          // that shape
+    std::string best_shape;          // that shape; for a cause, the shape it was fitted with
     double p_value = 1.0;            // against the baseline residual, permutation
     double p_adjusted = 1.0;         // family-wise over all covariates
     double p_given_model = 1.0;      // against the final model's residual (family-wise there)

@@ -14,7 +14,9 @@ std::vector<std::string> forms_for(const CovariateColumn& column) {
     const std::set<double> distinct(column.values.begin(), column.values.end());
     // Two values: every monotone shape is the same contrast; a step names it best (0/1 flags).
     if (distinct.size() <= 2) return {"step"};
-    return {"linear", "log", "saturating", "power", "step"};
+    // An optimum (or a worst value) inside the range needs at least five values to be told from a bend.
+    if (distinct.size() < 5) return {"linear", "log", "saturating", "power", "step"};
+    return {"linear", "log", "saturating", "power", "step", "peaked"};
 }
 
 std::vector<TermShape> shapes_of(const CovariateColumn& column, const std::string& form) {
@@ -33,6 +35,16 @@ std::vector<TermShape> shapes_of(const CovariateColumn& column, const std::strin
     } else if (form == "power") {
         for (double d : {0.2, 1.0}) {
             for (double q : {-1.0, -0.5, 0.5, 2.0, 3.0}) out.push_back({"power", q, lo - d * range});
+        }
+    } else if (form == "peaked") {
+        // ((x - peak) / range)^2 with the peak at the 30th..70th percentile of the rows: a fitted
+        // coefficient below 0 is an optimum there (the force highest at mid values), above 0 a trough.
+        std::vector<double> sorted = column.values;
+        std::sort(sorted.begin(), sorted.end());
+        for (int k = 3; k <= 7; ++k) {
+            const double at = sorted[static_cast<std::size_t>(std::lround(k / 10.0 * static_cast<double>(sorted.size() - 1)))];
+            if (!out.empty() && out.back().origin == at) continue;
+            out.push_back({"peaked", range, at});
         }
     } else if (form == "step") {
         // Thresholds between distinct values with at least 5 % of the rows on either side, at most 15.
@@ -107,6 +119,7 @@ std::string describe_shape(const TermShape& shape) {
     else if (shape.form == "saturating") std::snprintf(text, sizeof text, "1 - exp(-(%s) / %.4g)", x, shape.scale);
     else if (shape.form == "power") std::snprintf(text, sizeof text, "(%s)^%.4g", x, shape.scale);
     else if (shape.form == "step") std::snprintf(text, sizeof text, "step at x >= %.4g", shape.scale);
+    else if (shape.form == "peaked") std::snprintf(text, sizeof text, "((x - %.4g) / %.4g)^2, a peak or trough at %.4g", shape.origin, shape.scale, shape.origin);
     else if (shape.form == "linear") std::snprintf(text, sizeof text, "x");
     else std::snprintf(text, sizeof text, "a factor per level");
     return text;

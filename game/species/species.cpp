@@ -144,7 +144,7 @@ void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
                 c.no_unknown_keys(t, tp, {"covariate", "form", "coefficient", "scale", "origin", "range", "category"});
                 components::DeteriorationTerm term{};
                 term.covariate = c.string(t, tp, "covariate").value_or("");
-                term.form = c.choice(t, tp, "form", {"constant", "linear", "log", "saturating", "power", "step", "category"}).value_or("");
+                term.form = c.choice(t, tp, "form", {"constant", "linear", "log", "saturating", "power", "step", "peaked", "category"}).value_or("");
                 term.coefficient = c.number(t, tp, "coefficient", {-50, 50}).value_or(0);
                 term.scale = c.number(t, tp, "scale", {-1e9, 1e9}, false).value_or(0);
                 term.origin = c.number(t, tp, "origin", {-1e9, 1e9}, false).value_or(0);

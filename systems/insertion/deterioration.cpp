@@ -28,6 +28,7 @@ double term_basis(const std::string& form, double x, double scale) {
     if (form == "saturating") return scale > 0.0 ? 1.0 - std::exp(-x / scale) : 0.0;
     if (form == "power") return std::pow(std::max(x, 0.0), scale);
     if (form == "step") return x >= scale ? 1.0 : 0.0;
+    if (form == "peaked") return scale > 0.0 ? (x / scale) * (x / scale) : 0.0; // x - origin: 0 at the peak (or trough)
     return 0.0;
 }
 

@@ -83,7 +83,7 @@ TEST_P(HiddenEffect, PlantedCauseIsNamedFirstAndTheExtensionPredictsNewFlowers) 
 
 INSTANTIATE_TEST_SUITE_P(Kinds, HiddenEffect,
                          ::testing::Values(PlantedEffect::unknown_numeric, PlantedEffect::category, PlantedEffect::insertion_count,
-                                           PlantedEffect::step_threshold, PlantedEffect::saturating_decay),
+                                           PlantedEffect::step_threshold, PlantedEffect::saturating_decay, PlantedEffect::peaked_optimum),
                          [](const auto& param_info) { return std::string(name_of(param_info.param)); });
 
 TEST(HiddenEffect, NothingIsReportedWhenNothingWasPlanted) {

@@ -19,6 +19,7 @@ PlantedTruth truth_of(PlantedEffect effect) {
     case PlantedEffect::insertion_count: return {"insertion", "decreases"};
     case PlantedEffect::step_threshold: return {"storage_days", "decreases"};
     case PlantedEffect::saturating_decay: return {"soak_minutes", "decreases"};
+    case PlantedEffect::peaked_optimum: return {"humidity_pct", "nonmonotone"};
     }
     return {"", ""};
 }
@@ -32,6 +33,7 @@ const char* name_of(PlantedEffect effect) {
     case PlantedEffect::insertion_count: return "insertion_count";
     case PlantedEffect::step_threshold: return "step_threshold";
     case PlantedEffect::saturating_decay: return "saturating_decay";
+    case PlantedEffect::peaked_optimum: return "peaked_optimum";
     }
     return "?";
 }
@@ -79,6 +81,8 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
             case PlantedEffect::step_threshold: effect = storage >= 6.0 ? -0.2 : 0.0; break;
             case PlantedEffect::saturating_decay: effect = -0.25 * (1.0 - std::exp(-soak / 20.0)); break;
             case PlantedEffect::station: effect = f % 12 == 6 ? -0.15 : 0.0; break;
+            // Stems resist most at 60 % humidity and 15 % less at 40 and 80 %.
+            case PlantedEffect::peaked_optimum: effect = -0.15 * ((humidity - 60.0) / 20.0) * ((humidity - 60.0) / 20.0); break;
             }
             game::InsertionConditions c;
             c.species = "sunflower";

@@ -13,11 +13,11 @@
 
 namespace ikebana::test {
 
-enum class PlantedEffect { none, unknown_numeric, category, insertion_count, step_threshold, saturating_decay, station };
+enum class PlantedEffect { none, unknown_numeric, category, insertion_count, step_threshold, saturating_decay, station, peaked_optimum };
 
 struct PlantedTruth {
     std::string column;    // where the effect is planted (empty: none)
-    std::string direction; // increases / decreases
+    std::string direction; // increases / decreases / nonmonotone
 };
 
 struct SyntheticOptions {
