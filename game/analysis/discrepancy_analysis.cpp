@@ -1,6 +1,7 @@
 #include "game/analysis/discrepancy_analysis.hpp"
 
 #include "game/analysis/grouped_design.hpp"
+#include "systems/insertion/deterioration.hpp"
 
 #include <algorithm>
 #include <unordered_map>
@@ -972,8 +973,66 @@ std::pair<std::size_t, std::string> working_memory(const AnalysisInput& input) {
 
 } // namespace
 
-Result<AnalysisResult> analyse_discrepancy(const AnalysisInput& input, const AnalysisOptions& options) {
-    if (options.permutations < 19) return make_error(ErrorCode::invalid_argument, "at least 19 permutations are needed for p < 0.05");
+namespace {
+
+// The input without the rows in `out` (sorted).
+AnalysisInput without_rows(const AnalysisInput& in, const std::vector<std::size_t>& out) {
+    std::vector<bool> drop(in.measured_gf.size(), false);
+    for (std::size_t i : out) drop[i] = true;
+    AnalysisInput kept;
+    kept.covariates.constant = in.covariates.constant;
+    for (const auto& c : in.covariates.columns) {
+        CovariateColumn k = c;
+        k.values.clear();
+        k.level.clear();
+        kept.covariates.columns.push_back(std::move(k));
+    }
+    for (std::size_t i = 0; i < drop.size(); ++i) {
+        if (drop[i]) continue;
+        kept.flower.push_back(in.flower[i]);
+        kept.measured_gf.push_back(in.measured_gf[i]);
+        kept.predicted_gf.push_back(in.predicted_gf[i]);
+        for (std::size_t c = 0; c < in.covariates.columns.size(); ++c) {
+            const auto& from = in.covariates.columns[c];
+            auto& to = kept.covariates.columns[c];
+            if (from.numeric) to.values.push_back(from.values[i]);
+            else to.level.push_back(from.level[i]);
+        }
+    }
+    return kept;
+}
+
+// The fitted extension's log factor at row i of the input, as the species model applies it.
+double model_log_factor(const std::vector<components::DeteriorationTerm>& extension, const AnalysisInput& in, std::size_t i) {
+    systems::insertion::Covariates covariates;
+    double insertion = 1.0;
+    for (const auto& c : in.covariates.columns) {
+        if (c.numeric) covariates.numeric[c.name] = c.values[i];
+        else covariates.category[c.name] = c.levels[c.level[i]];
+        if (c.numeric && c.name == "insertion") insertion = c.values[i];
+    }
+    return std::log(systems::insertion::extension_factor(extension, static_cast<std::uint32_t>(std::max(1.0, insertion)), covariates));
+}
+
+// Rows whose residual (less `model`, per row) lies beyond z robust standard deviations of the rows
+// not yet set aside; sorted, and with their z.
+std::vector<std::pair<std::size_t, double>> far_rows(const std::vector<double>& residual, double z) {
+    std::vector<double> sorted = residual;
+    std::sort(sorted.begin(), sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    std::vector<double> deviation;
+    for (double r : residual) deviation.push_back(std::abs(r - median));
+    std::vector<double> d = deviation;
+    std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+    const double sd = std::max(1.4826 * d[d.size() / 2], 1e-6); // no row is an outlier of exact data
+    std::vector<std::pair<std::size_t, double>> out;
+    for (std::size_t i = 0; i < residual.size(); ++i) {
+        if (deviation[i] > z * sd) out.emplace_back(i, (residual[i] - median) / sd);
+    }
+    return out;
+}
+
+Result<AnalysisResult> analyse_rows(const AnalysisInput& input, const AnalysisOptions& options) {
     std::vector<ScreenedColumn> screened;
     const AnalysisInput kept = screened_input(input, options, screened);
     if (const auto [bytes, widest] = working_memory(kept); bytes > options.memory_budget_bytes) {
@@ -985,6 +1044,87 @@ Result<AnalysisResult> analyse_discrepancy(const AnalysisInput& input, const Ana
     Analysis analysis(kept, options);
     auto result = analysis.run();
     if (result) result->screened = std::move(screened);
+    return result;
+}
+
+} // namespace
+
+Result<AnalysisResult> analyse_discrepancy(const AnalysisInput& input, const AnalysisOptions& options) {
+    if (options.permutations < 19) return make_error(ErrorCode::invalid_argument, "at least 19 permutations are needed for p < 0.05");
+    const std::size_t n = input.measured_gf.size();
+    if (options.outlier_z <= 0.0 || n < 20 || input.predicted_gf.size() != n) return analyse_rows(input, options);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!(input.measured_gf[i] > 0.0) || !(input.predicted_gf[i] > 0.0)) return analyse_rows(input, options); // refused there, naming the row
+    }
+    // Gross errors: first against the baseline, then against the model fitted without them (an effect
+    // widens the baseline's spread and hides a moderate slip). At most two rounds; a tenth of the rows
+    // at most (beyond that it is not a few slips but the data).
+    std::vector<double> model(n, 0.0);
+    std::vector<std::size_t> aside;
+    Result<AnalysisResult> result = make_error(ErrorCode::invalid_argument, "no analysis");
+    for (int round = 0; round < 2; ++round) {
+        std::vector<double> residual(n);
+        for (std::size_t i = 0; i < n; ++i) residual[i] = std::log(input.measured_gf[i] / input.predicted_gf[i]) - model[i];
+        std::vector<double> others; // the scale from the rows not set aside
+        std::vector<std::size_t> index;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (std::binary_search(aside.begin(), aside.end(), i)) continue;
+            others.push_back(residual[i]);
+            index.push_back(i);
+        }
+        std::vector<std::size_t> now = aside;
+        for (const auto& [k, z] : far_rows(others, options.outlier_z)) now.push_back(index[k]);
+        // A row set aside by the baseline but fitting the model comes back.
+        if (round > 0) {
+            const auto far = far_rows(residual, options.outlier_z);
+            std::vector<std::size_t> still;
+            for (const auto& [i, z] : far) still.push_back(i);
+            now.erase(std::remove_if(now.begin(), now.end(), [&](std::size_t i) { return !std::binary_search(still.begin(), still.end(), i); }), now.end());
+        }
+        std::sort(now.begin(), now.end());
+        now.erase(std::unique(now.begin(), now.end()), now.end());
+        if (now.size() > n / 10) now.clear();
+        if (round > 0 && now == aside) break;
+        aside = std::move(now);
+        result = aside.empty() ? analyse_rows(input, options) : analyse_rows(without_rows(input, aside), options);
+        if (!result) return result;
+        for (std::size_t i = 0; i < n; ++i) model[i] = result->extension.empty() ? 0.0 : model_log_factor(result->extension, input, i);
+        if (aside.empty() && round > 0) break;
+    }
+    if (aside.empty()) return result;
+    // Per-row answers for every row again; the set-aside rows get the model's value.
+    AnalysisResult& a = *result;
+    std::vector<double> fitted(n), cv(n);
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (std::binary_search(aside.begin(), aside.end(), i)) {
+            fitted[i] = cv[i] = model[i];
+            continue;
+        }
+        fitted[i] = a.fitted_log_factor[k];
+        cv[i] = a.cv_log_factor[k];
+        ++k;
+    }
+    a.fitted_log_factor = std::move(fitted);
+    a.cv_log_factor = std::move(cv);
+    // Their distance from the fitted model, in the kept rows' robust standard deviations.
+    std::vector<double> kept_residual;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!std::binary_search(aside.begin(), aside.end(), i)) kept_residual.push_back(std::log(input.measured_gf[i] / input.predicted_gf[i]) - model[i]);
+    }
+    std::vector<double> d;
+    for (double r : kept_residual) d.push_back(std::abs(r));
+    std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+    const double sd = std::max(1.4826 * d[d.size() / 2], 1e-6);
+    for (std::size_t i : aside) {
+        const double expected = input.predicted_gf[i] * std::exp(model[i]);
+        a.suspected.push_back({i, input.measured_gf[i], expected, std::log(input.measured_gf[i] / expected) / sd});
+    }
+    a.n_trials = n;
+    char line[160];
+    std::snprintf(line, sizeof line, "%zu row(s) set aside as suspected gross errors (beyond %.0f robust standard deviations); the analysis ran on the other %zu",
+                  aside.size(), options.outlier_z, n - aside.size());
+    a.log.insert(a.log.begin(), line);
     return result;
 }
 

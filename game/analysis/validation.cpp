@@ -133,6 +133,10 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
     } else {
         std::vector<double> fall(v.data.trials.size(), 0.0);
         double sum = 0.0;
+        // On the rows the analysis used: a row set aside as a gross error is not the model's to explain.
+        std::vector<bool> aside(v.data.trials.size(), false);
+        for (const auto& r : v.analysis.suspected) aside[r.row] = true;
+        std::size_t used = 0;
         for (std::size_t i = 0; i < v.data.trials.size(); ++i) {
             const auto& t = v.data.trials[i];
             const auto p = predictor.predict(conditions_for(t, temporary, outcomes));
@@ -142,11 +146,14 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
             }
             const double gf = p->max_force_n / gram_force_n;
             v.simulated_extended_gf.push_back(gf);
-            sum += (t.max_force_gf - gf) * (t.max_force_gf - gf);
+            if (!aside[i]) {
+                sum += (t.max_force_gf - gf) * (t.max_force_gf - gf);
+                ++used;
+            }
             fall[i] = p->fall_probability;
             if (options.progress) options.progress("simulating the extended species", i + 1, v.data.trials.size());
         }
-        v.simulated_extended_rmse_gf = std::sqrt(sum / static_cast<double>(v.data.trials.size()));
+        v.simulated_extended_rmse_gf = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(used, 1)));
         if (outcomes) v.extended_outcome_accuracy = outcome_accuracy(v.data, fall, nullptr);
     }
     std::filesystem::remove(temporary);

@@ -174,6 +174,14 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
                                     {"bins", bins}});
         if (d.blank > 0 && d.numeric) j["diagnostics"].back()["blank_cells_taken_as"] = d.blank_value;
     }
+    j["suspected_rows"] = nlohmann::ordered_json::array();
+    for (const auto& r : a.suspected) {
+        j["suspected_rows"].push_back({{"line", v.data.trials[r.row].line},
+                                       {"flower_id", v.data.trials[r.row].flower_id},
+                                       {"measured_gf", r.measured_gf},
+                                       {"model_gf", r.expected_gf},
+                                       {"robust_z", r.z}});
+    }
     j["constant_columns"] = v.input.covariates.constant;
     j["screened_columns"] = nlohmann::ordered_json::array();
     for (const auto& c : a.screened) {
@@ -199,6 +207,17 @@ std::string validation_summary(const ValidationResult& v) {
         o << "screened:  " << c.covariate << " (" << c.levels << " levels, " << fmt("%.1f", c.flowers_per_level)
           << " flowers a level): not tested level by level; " << fmt("%.1f %%", 100 * c.between_level_share) << " of the residual's variance lies between its levels, "
           << fmt("%.1f %%", 100 * c.chance_share) << " by chance\n";
+    }
+    if (!a.suspected.empty()) {
+        o << "set aside: " << a.suspected.size() << " row(s) as suspected gross errors (a slipped gauge, a misread scale), far from every "
+          << "other row against the model; the figures below are on the other " << a.n_trials - a.suspected.size() << ":";
+        for (std::size_t k = 0; k < a.suspected.size() && k < 8; ++k) {
+            const auto& r = a.suspected[k];
+            o << (k ? "," : "") << " line " << v.data.trials[r.row].line << " (" << fmt("%.0f", r.measured_gf) << " gf, the model " << fmt("%.0f", r.expected_gf)
+              << ")";
+        }
+        if (a.suspected.size() > 8) o << " and " << a.suspected.size() - 8 << " more (the JSON's suspected_rows)";
+        o << "\n";
     }
     for (const auto& d : a.diagnostics) {
         if (d.blank == 0) continue;
@@ -244,6 +263,17 @@ Result<void> write_validation_report(const ValidationResult& v, const AnalysisOp
               "insertion count (published means) this treats the rows as independent, which they are not quite.\n\n";
     }
     md << "## Summary\n\n```\n" << validation_summary(v) << "```\n\n";
+    if (!a.suspected.empty()) {
+        md << "## Rows set aside\n\nThese rows lie more than " << fmt("%.0f", options.outlier_z)
+           << " robust standard deviations (1.4826 × the median absolute deviation) from the other rows, against the fitted model: a "
+              "slipped gauge or a misread scale looks like this. The analysis ran without them; check them against the lab notes.\n\n"
+              "| line | flower | measured (gf) | the model (gf) | robust z |\n|---|---|---|---|---|\n";
+        for (const auto& r : a.suspected) {
+            md << "| " << v.data.trials[r.row].line << " | " << v.data.trials[r.row].flower_id << " | " << fmt("%.1f", r.measured_gf) << " | "
+               << fmt("%.1f", r.expected_gf) << " | " << fmt("%.1f", r.z) << " |\n";
+        }
+        md << "\n";
+    }
     md << "![simulation against measurement](model_vs_data.svg)\n\n";
     md << "## How the simulation was compared\n\n"
           "Every trial was run through the live insertion and deterioration systems (`ikebana predict`). The residual is "

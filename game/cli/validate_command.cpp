@@ -245,6 +245,10 @@ void add_validate_command(CLI::App& app, int& exit_code) {
     cmd->add_option("--seed", args->analysis.seed, "Seed of the permutations, folds and bootstrap")->capture_default_str();
     cmd->add_option("--permutations", args->analysis.permutations, "Permutations per test")->capture_default_str()->check(CLI::Range(19u, 1000000u));
     auto* alpha = cmd->add_option("--alpha", args->analysis.alpha, "Family-wise significance level")->capture_default_str()->check(finite_in(1e-6, 0.5, ""));
+    cmd->add_option("--outliers", args->analysis.outlier_z,
+                    "Set aside rows this many robust standard deviations from the others against the model (gross errors; 0: keep every row)")
+        ->capture_default_str()
+        ->check(CLI::Number & finite_in(0.0, 100.0, ""));
     cmd->add_option("--ignore", args->ignore, "Columns that are not covariates (repeat or comma-separate)")->delimiter(',');
     cmd->add_option("--memory-mb", args->memory_mb, "Working memory the analysis may use (an input needing more is refused, naming its widest column)")
         ->capture_default_str()

@@ -20,6 +20,7 @@ PlantedTruth truth_of(PlantedEffect effect) {
     case PlantedEffect::step_threshold: return {"storage_days", "decreases"};
     case PlantedEffect::saturating_decay: return {"soak_minutes", "decreases"};
     case PlantedEffect::peaked_optimum: return {"humidity_pct", "nonmonotone"};
+    case PlantedEffect::gross_outliers: return {"humidity_pct", "increases"};
     }
     return {"", ""};
 }
@@ -34,6 +35,7 @@ const char* name_of(PlantedEffect effect) {
     case PlantedEffect::step_threshold: return "step_threshold";
     case PlantedEffect::saturating_decay: return "saturating_decay";
     case PlantedEffect::peaked_optimum: return "peaked_optimum";
+    case PlantedEffect::gross_outliers: return "gross_outliers";
     }
     return "?";
 }
@@ -42,6 +44,8 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
     std::mt19937_64 rng(o.seed);
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
     std::normal_distribution<double> normal(0.0, 1.0);
+    std::mt19937_64 gross_rng(o.seed ^ 0x6055);
+    std::uniform_real_distribution<double> slips(0.0, 1.0);
     const char* vases[] = {"glass", "ceramic", "metal"};
     const char* suppliers[] = {"north", "south", "east"};
     SyntheticData out;
@@ -83,6 +87,7 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
             case PlantedEffect::station: effect = f % 12 == 6 ? -0.15 : 0.0; break;
             // Stems resist most at 60 % humidity and 15 % less at 40 and 80 %.
             case PlantedEffect::peaked_optimum: effect = -0.15 * ((humidity - 60.0) / 20.0) * ((humidity - 60.0) / 20.0); break;
+            case PlantedEffect::gross_outliers: effect = 0.004 * (humidity - 60.0); break;
             }
             game::InsertionConditions c;
             c.species = "sunflower";
@@ -91,7 +96,11 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
             const auto p = predictor.predict(c);
             if (!p) throw std::runtime_error(p.error().message);
             const double simulated = p->max_force_n / game::gram_force_n;
-            const double measured = simulated * std::exp(effect + flower_noise + o.trial_noise_sd * normal(rng));
+            double measured = simulated * std::exp(effect + flower_noise + o.trial_noise_sd * normal(rng));
+            if (o.effect == PlantedEffect::gross_outliers && slips(gross_rng) < 0.03) { // its own stream: the other draws stay
+                measured *= slips(gross_rng) < 0.5 ? 0.35 : 2.5;
+                out.gross_rows.push_back(row_number);
+            }
             out.simulated_gf.push_back(simulated);
             out.true_log_factor.push_back(effect);
             char row[512];

@@ -13,7 +13,9 @@
 
 namespace ikebana::test {
 
-enum class PlantedEffect { none, unknown_numeric, category, insertion_count, step_threshold, saturating_decay, station, peaked_optimum };
+// gross_outliers: a moderate real effect (humidity_pct, +0.4 %/%) with 3 % of the rows misread (the
+// force x 0.35 or x 2.5: a slipped gauge, a misread scale).
+enum class PlantedEffect { none, unknown_numeric, category, insertion_count, step_threshold, saturating_decay, station, peaked_optimum, gross_outliers };
 
 struct PlantedTruth {
     std::string column;    // where the effect is planted (empty: none)
@@ -42,6 +44,7 @@ struct SyntheticData {
     std::vector<double> true_log_factor; // per row: the planted effect (no noise)
     game::MeasuredData data;
     std::vector<double> simulated_gf;    // the simulation's prediction per row
+    std::vector<std::size_t> gross_rows; // rows given a gross error (gross_outliers)
 };
 
 PlantedTruth truth_of(PlantedEffect effect);

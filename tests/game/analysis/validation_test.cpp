@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 #include "game/analysis/validation.hpp"
 #include "game/analysis/validation_report.hpp"
@@ -137,4 +138,32 @@ TEST(Validation, BlankCellsAreCountedPerColumnAndSaidWhatTheyWereTakenAs) {
             EXPECT_EQ(d["blank_cells"], 0) << d["covariate"];
         }
     }
+}
+
+// Issue 17: the rows set aside as gross errors are named by their file lines in the summary, the
+// report and the JSON.
+TEST(Validation, RowsSetAsideAreNamedByTheirLines) {
+    game::InsertionPredictor predictor;
+    const auto synthetic = test::make_synthetic_trials({.effect = test::PlantedEffect::gross_outliers, .seed = 2}, predictor);
+    ASSERT_FALSE(synthetic.gross_rows.empty());
+    const auto dir = std::filesystem::temp_directory_path() / "ikebana_validation_gross";
+    std::filesystem::create_directories(dir);
+    const auto csv = (dir / "trials.csv").string();
+    std::ofstream(csv) << synthetic.csv;
+    ValidationOptions options;
+    options.analysis.bootstrap = 20;
+    const auto v = run_validation(csv, options);
+    ASSERT_TRUE(v) << v.error().message;
+    ASSERT_EQ(v->analysis.suspected.size(), synthetic.gross_rows.size());
+    const auto summary = validation_summary(*v);
+    EXPECT_NE(summary.find("set aside: " + std::to_string(synthetic.gross_rows.size()) + " row(s) as suspected gross errors"), std::string::npos) << summary;
+    const std::size_t first_line = v->data.trials[synthetic.gross_rows[0]].line;
+    EXPECT_NE(summary.find(" line " + std::to_string(first_line) + " ("), std::string::npos) << summary;
+    const auto json = nlohmann::json::parse(validation_json(*v, options.analysis));
+    ASSERT_EQ(json["suspected_rows"].size(), synthetic.gross_rows.size());
+    for (std::size_t k = 0; k < synthetic.gross_rows.size(); ++k) EXPECT_EQ(json["suspected_rows"][k]["line"], v->data.trials[synthetic.gross_rows[k]].line);
+    ASSERT_TRUE(write_validation_report(*v, options.analysis, dir / "report"));
+    const auto md = *assets::read_text_file(dir / "report" / "report.md");
+    EXPECT_NE(md.find("## Rows set aside"), std::string::npos);
+    EXPECT_NE(md.find("| " + std::to_string(first_line) + " | "), std::string::npos);
 }
