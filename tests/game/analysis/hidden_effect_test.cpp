@@ -103,6 +103,80 @@ TEST(HiddenEffect, NothingIsReportedWhenNothingWasPlanted) {
     EXPECT_GE(clean, seeds * 95 / 100);
 }
 
+// Issue 17: two real effects at once (a trend on humidity and a step on storage days): both named with
+// their directions, and the extension predicts new flowers within 10 % of the true model's error.
+TEST(HiddenEffect, TwoEffectsAtOnceAreBothNamedAndPredictAsTheTruthDoes) {
+    std::uint32_t both = 0, close_to_truth = 0;
+    std::vector<double> ratios;
+    for (std::uint64_t seed = 1; seed <= seeds; ++seed) {
+        const auto train = make_synthetic_trials({.effect = PlantedEffect::two_effects, .seed = seed}, shared_predictor());
+        const auto result = analyse_discrepancy(analysis_input(train), options_for(seed));
+        ASSERT_TRUE(result) << result.error().message;
+        auto named = [&](const std::string& column, const std::string& direction) {
+            return std::any_of(result->causes.begin(), result->causes.end(),
+                               [&](const Cause& c) { return c.covariate == column && c.direction == direction; });
+        };
+        const bool ok = named("humidity_pct", "increases") && named("storage_days", "decreases");
+        both += ok ? 1 : 0;
+        const auto test = make_synthetic_trials({.effect = PlantedEffect::two_effects, .seed = seed + 100000}, shared_predictor());
+        std::vector<double> fitted;
+        for (const auto& t : test.data.trials) fitted.push_back(std::log(systems::insertion::extension_factor(result->extension, t.insertion, t.covariates)));
+        const double ratio = held_out_rmse(test, fitted) / held_out_rmse(test, test.true_log_factor);
+        ratios.push_back(ratio);
+        close_to_truth += ratio <= 1.10 ? 1 : 0;
+        if (!ok || ratio > 1.10) {
+            std::printf("seed %llu: ratio %.3f, causes", static_cast<unsigned long long>(seed), ratio);
+            for (const auto& c : result->causes) std::printf(" [%s %s %s]", c.covariate.c_str(), c.direction.c_str(), c.shape.form.c_str());
+            std::printf("\n");
+        }
+    }
+    std::sort(ratios.begin(), ratios.end());
+    std::printf("two effects: both named in %u / %u seeds; held-out RMSE / truth's: median %.3f, worst %.3f\n", both, seeds, ratios[ratios.size() / 2],
+                ratios.back());
+    EXPECT_GE(both, seeds * 95 / 100);
+    EXPECT_GE(close_to_truth, seeds * 95 / 100);
+}
+
+// Issue 17: a small study, 12 flowers of six insertions. A trend within each flower (with the
+// insertion count) has 72 rows behind it; one that varies only between flowers (humidity, a flower's
+// room) has 12 points, and at the family-wise 1 % the trend of the other kinds (+-12 %) is named in
+// about 16 of 40 seeds: it takes +-24 % to be named as reliably as with 60 flowers.
+TEST(HiddenEffect, TwelveFlowersAreEnoughForARealTrend) {
+    for (const auto& [effect, scale] : {std::pair{PlantedEffect::insertion_count, 1.0}, std::pair{PlantedEffect::unknown_numeric, 2.0}}) {
+        std::uint32_t named_first = 0;
+        for (std::uint64_t seed = 1; seed <= seeds; ++seed) {
+            const auto train = make_synthetic_trials({.effect = effect, .seed = seed, .flowers = 12, .effect_scale = scale}, shared_predictor());
+            const auto result = analyse_discrepancy(analysis_input(train), options_for(seed));
+            ASSERT_TRUE(result) << result.error().message;
+            const bool first = !result->causes.empty() && result->causes[0].covariate == train.truth.column && result->causes[0].direction == train.truth.direction;
+            named_first += first ? 1 : 0;
+            if (!first) {
+                std::printf("%s seed %llu: named %s\n", name_of(effect), static_cast<unsigned long long>(seed),
+                            result->causes.empty() ? "nothing" : result->causes[0].covariate.c_str());
+            }
+        }
+        std::printf("12 flowers, %s x%.0f: named first in %u / %u seeds\n", name_of(effect), scale, named_first, seeds);
+        EXPECT_GE(named_first, seeds * 95 / 100) << name_of(effect);
+    }
+}
+
+// Issue 17: no effect, but four near-copies of one column (humidity measured by four sensors): the
+// copies must not add up to a false alarm.
+TEST(HiddenEffect, NearCopiesOfAColumnRaiseNoFalseAlarm) {
+    std::uint32_t clean = 0;
+    for (std::uint64_t seed = 1; seed <= seeds; ++seed) {
+        const auto data = make_synthetic_trials({.effect = PlantedEffect::none, .seed = seed, .near_copies = 4}, shared_predictor());
+        const auto result = analyse_discrepancy(analysis_input(data), options_for(seed));
+        ASSERT_TRUE(result) << result.error().message;
+        clean += result->discrepancy_found ? 0 : 1;
+        if (result->discrepancy_found) {
+            std::printf("seed %llu: reported %s\n", static_cast<unsigned long long>(seed), result->causes.empty() ? "the level" : result->causes[0].covariate.c_str());
+        }
+    }
+    std::printf("near-copies, no effect: clean in %u / %u seeds\n", clean, seeds);
+    EXPECT_GE(clean, seeds * 95 / 100);
+}
+
 // Issue 17: a few percent of gross errors (a slipped gauge, a misread scale) on top of a moderate real
 // effect. Without care they swamp it (nothing was reported); the analysis sets them aside, names them,
 // and finds the effect. Over the seeds: the effect named first with its direction, the misread rows

@@ -21,6 +21,7 @@ PlantedTruth truth_of(PlantedEffect effect) {
     case PlantedEffect::saturating_decay: return {"soak_minutes", "decreases"};
     case PlantedEffect::peaked_optimum: return {"humidity_pct", "nonmonotone"};
     case PlantedEffect::gross_outliers: return {"humidity_pct", "increases"};
+    case PlantedEffect::two_effects: return {"humidity_pct", "increases"}; // and storage_days, decreases
     }
     return {"", ""};
 }
@@ -36,6 +37,7 @@ const char* name_of(PlantedEffect effect) {
     case PlantedEffect::saturating_decay: return "saturating_decay";
     case PlantedEffect::peaked_optimum: return "peaked_optimum";
     case PlantedEffect::gross_outliers: return "gross_outliers";
+    case PlantedEffect::two_effects: return "two_effects";
     }
     return "?";
 }
@@ -46,6 +48,7 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
     std::normal_distribution<double> normal(0.0, 1.0);
     std::mt19937_64 gross_rng(o.seed ^ 0x6055);
     std::uniform_real_distribution<double> slips(0.0, 1.0);
+    std::normal_distribution<double> slips_normal(0.0, 1.0);
     const char* vases[] = {"glass", "ceramic", "metal"};
     const char* suppliers[] = {"north", "south", "east"};
     SyntheticData out;
@@ -57,6 +60,7 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
     for (std::uint32_t k = 0; k < o.extra_covariates; ++k) csv << ",noise_" << k;
     if (o.station_column || o.effect == PlantedEffect::station) csv << ",station";
     if (o.wide_levels > 0) csv << ",batch";
+    for (std::uint32_t k = 0; k < o.near_copies; ++k) csv << ",humidity_copy_" << k + 1;
     csv << "\n";
     std::size_t row_number = 0;
     for (std::uint32_t f = 0; f < o.flowers; ++f) {
@@ -88,6 +92,7 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
             // Stems resist most at 60 % humidity and 15 % less at 40 and 80 %.
             case PlantedEffect::peaked_optimum: effect = -0.15 * ((humidity - 60.0) / 20.0) * ((humidity - 60.0) / 20.0); break;
             case PlantedEffect::gross_outliers: effect = 0.004 * (humidity - 60.0); break;
+            case PlantedEffect::two_effects: effect = 0.004 * (humidity - 60.0) + (storage >= 6.0 ? -0.15 : 0.0); break;
             }
             game::InsertionConditions c;
             c.species = "sunflower";
@@ -96,6 +101,7 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
             const auto p = predictor.predict(c);
             if (!p) throw std::runtime_error(p.error().message);
             const double simulated = p->max_force_n / game::gram_force_n;
+            effect *= o.effect_scale;
             double measured = simulated * std::exp(effect + flower_noise + o.trial_noise_sd * normal(rng));
             if (o.effect == PlantedEffect::gross_outliers && slips(gross_rng) < 0.03) { // its own stream: the other draws stay
                 measured *= slips(gross_rng) < 0.5 ? 0.35 : 2.5;
@@ -111,6 +117,7 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
             if (o.station_column || o.effect == PlantedEffect::station) csv << ",S" << (f % 12 < 9 ? "0" : "") << f % 12 + 1;
             if (o.wide_levels > 0) csv << ",LOT" << row_number / std::max<std::uint32_t>(1, o.rows_per_lot) % o.wide_levels;
             ++row_number;
+            for (std::uint32_t c = 0; c < o.near_copies; ++c) csv << ',' << humidity + 0.5 * slips_normal(gross_rng);
             csv << "\n";
         }
     }

@@ -15,7 +15,8 @@ namespace ikebana::test {
 
 // gross_outliers: a moderate real effect (humidity_pct, +0.4 %/%) with 3 % of the rows misread (the
 // force x 0.35 or x 2.5: a slipped gauge, a misread scale).
-enum class PlantedEffect { none, unknown_numeric, category, insertion_count, step_threshold, saturating_decay, station, peaked_optimum, gross_outliers };
+// two_effects: +0.4 %/% on humidity_pct and -15 % from storage_days >= 6, at once.
+enum class PlantedEffect { none, unknown_numeric, category, insertion_count, step_threshold, saturating_decay, station, peaked_optimum, gross_outliers, two_effects };
 
 struct PlantedTruth {
     std::string column;    // where the effect is planted (empty: none)
@@ -36,6 +37,9 @@ struct SyntheticOptions {
     bool station_column = false;
     std::uint32_t wide_levels = 0;
     std::uint32_t rows_per_lot = 1;
+    // Columns humidity_copy_1.. : humidity_pct plus a little noise (sd 0.5 %), for a null with near-copies.
+    std::uint32_t near_copies = 0;
+    double effect_scale = 1.0; // the planted effect times this
 };
 
 struct SyntheticData {
