@@ -159,6 +159,9 @@ public:
 private:
     TestOutcome test(const VectorXd& residual, const GroupedDesign& design, const std::vector<std::size_t>& which,
                      std::uint64_t stream, const std::string& stage);
+    // The same for candidates that need not be among candidates_ (a column's peaked shapes alone).
+    TestOutcome test(const VectorXd& residual, const GroupedDesign& design, const std::vector<const Candidate*>& which,
+                     std::uint64_t stream, const std::string& stage);
     double level_p_value(const VectorXd& residual, std::uint64_t stream) const;
     // The intercept (when asked for) and the numeric terms as columns, the categorical ones as factors.
     GroupedDesign design_of(const std::vector<Term>& terms, bool intercept) const;
@@ -188,6 +191,13 @@ private:
 
 TestOutcome Analysis::test(const VectorXd& residual, const GroupedDesign& design, const std::vector<std::size_t>& which,
                            std::uint64_t stream, const std::string& stage) {
+    std::vector<const Candidate*> candidates;
+    for (std::size_t c : which) candidates.push_back(&candidates_[c]);
+    return test(residual, design, candidates, stream, stage);
+}
+
+TestOutcome Analysis::test(const VectorXd& residual, const GroupedDesign& design, const std::vector<const Candidate*>& which,
+                           std::uint64_t stream, const std::string& stage) {
     const DesignComplement model(design);
     VectorXd e = residual;
     model.apply(e);
@@ -205,8 +215,8 @@ TestOutcome Analysis::test(const VectorXd& residual, const GroupedDesign& design
     std::vector<Span> spans;
     Index cols = 0;
     bool any_block = false;
-    for (std::size_t c : which) {
-        const Candidate& cand = candidates_[c];
+    for (const Candidate* candidate : which) {
+        const Candidate& cand = *candidate;
         Span s{cols, cols, cand.block, {}, {}, nullptr};
         if (cand.block) {
             s.whitening = level_whitening(cand.factor, model, n_);
@@ -751,10 +761,8 @@ Result<AnalysisResult> Analysis::run() {
                     peaks.shapes.push_back(cand.shapes[s]);
                     peaks.bases.push_back(cand.bases[s]);
                 }
-                candidates_.push_back(std::move(peaks));
-                const TestOutcome turn = test(residual_after(with_monotone), design_of(with_monotone, true), {candidates_.size() - 1}, 500 + step,
-                                              "does '" + in_.covariates.columns[c].name + "' turn?");
-                candidates_.pop_back();
+                const TestOutcome turn = test(residual_after(with_monotone), design_of(with_monotone, true), std::vector<const Candidate*>{&peaks},
+                                              500 + step, "does '" + in_.covariates.columns[c].name + "' turn?");
                 char part[96];
                 std::snprintf(part, sizeof part, "; a turn beyond %s: p = %.4g", best_monotone.c_str(), turn.p[0]);
                 forms_text += part;
@@ -793,7 +801,7 @@ Result<AnalysisResult> Analysis::run() {
         for (std::size_t k = 0; k < terms.size(); ++k) {
             std::vector<Term> others = terms;
             others.erase(others.begin() + static_cast<std::ptrdiff_t>(k));
-            const TestOutcome t = test(residual_after(others), design_of(others, true), {terms[k].candidate}, 100 + round * 16 + k,
+            const TestOutcome t = test(residual_after(others), design_of(others, true), std::vector<std::size_t>{terms[k].candidate}, 100 + round * 16 + k,
                                        "re-testing '" + in_.covariates.columns[terms[k].candidate].name + "' given the others");
             p.push_back(t.p[0]);
         }
