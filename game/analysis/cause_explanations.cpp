@@ -1,6 +1,8 @@
 #include "game/analysis/cause_explanations.hpp"
 
+#include <cmath>
 #include <cstdio>
+#include <string>
 #include <map>
 
 namespace ikebana::game {
@@ -56,6 +58,21 @@ std::string percent(double relative) {
 
 } // namespace
 
+std::string cause_span(const Cause& c) {
+    char text[128];
+    if (c.covariate == "insertion" && c.x_low == std::round(c.x_low) && c.x_high == std::round(c.x_high)) {
+        auto ordinal = [](double v) {
+            const auto n = static_cast<long long>(v);
+            const char* suffix = (n % 100 >= 11 && n % 100 <= 13) ? "th" : n % 10 == 1 ? "st" : n % 10 == 2 ? "nd" : n % 10 == 3 ? "rd" : "th";
+            return std::to_string(n) + suffix;
+        };
+        std::snprintf(text, sizeof text, "from the %s to the %s insertion", ordinal(c.x_low).c_str(), ordinal(c.x_high).c_str());
+    } else {
+        std::snprintf(text, sizeof text, "from %.4g to %.4g", c.x_low, c.x_high);
+    }
+    return text;
+}
+
 std::string explain_cause(const Cause& c) {
     char numbers[512];
     const std::string interval = percent(c.effect_low) + " to " + percent(c.effect_high);
@@ -72,15 +89,15 @@ std::string explain_cause(const Cause& c) {
                       c.covariate.c_str(), c.shape.scale, percent(c.effect_size).c_str(), interval.c_str(), c.p_value);
     } else if (c.shape.form == "peaked") {
         std::snprintf(numbers, sizeof numbers,
-                      "The measured force relative to the simulation is %s at %s = %.4g and %s toward the ends of its range (%.4g to %.4g): "
+                      "The measured force relative to the simulation is %s at %s = %.4g and %s toward the ends of its range (%s): "
                       "%s at the farther end (95 %% interval %s), p = %.3g given the other terms.",
                       c.effect_size < 0.0 ? "highest" : "lowest", c.covariate.c_str(), c.shape.origin, c.effect_size < 0.0 ? "lower" : "higher",
-                      c.x_low, c.x_high, percent(c.effect_size).c_str(), interval.c_str(), c.p_value);
+                      cause_span(c).c_str(), percent(c.effect_size).c_str(), interval.c_str(), c.p_value);
     } else {
         std::snprintf(numbers, sizeof numbers,
-                      "The measured force %s with %s relative to the simulation: %s from %.4g to %.4g, shaped %s (%s; 95 %% interval %s), "
+                      "The measured force %s with %s relative to the simulation: %s %s, shaped %s (%s; 95 %% interval %s), "
                       "p = %.3g given the other terms.",
-                      c.direction.c_str(), c.covariate.c_str(), percent(c.effect_size).c_str(), c.x_low, c.x_high, c.shape.form.c_str(),
+                      c.direction.c_str(), c.covariate.c_str(), percent(c.effect_size).c_str(), cause_span(c).c_str(), c.shape.form.c_str(),
                       describe_shape(c.shape).c_str(), interval.c_str(), c.p_value);
     }
     std::string text = numbers;

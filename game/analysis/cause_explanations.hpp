@@ -9,4 +9,8 @@ namespace ikebana::game {
 
 std::string explain_cause(const Cause& cause);
 
+// The range a numeric cause's effect spans, in the data's own terms: "from 42.8 to 78.5", or for the
+// insertion count "from the 1st to the 6th insertion".
+std::string cause_span(const Cause& cause);
+
 } // namespace ikebana::game

@@ -853,6 +853,12 @@ Result<AnalysisResult> Analysis::run() {
                 const bool step = t.shape.form == "step";
                 cause.x_low = step ? *std::min_element(column.values.begin(), column.values.end()) : quantile(column.values, 0.05);
                 cause.x_high = step ? *std::max_element(column.values.begin(), column.values.end()) : quantile(column.values, 0.95);
+                // A count (insertions, days) is spoken of in its own values: the 1st to the 6th
+                // insertion, not 1.25 to 5.75.
+                if (std::all_of(column.values.begin(), column.values.end(), [](double x) { return x == std::round(x); })) {
+                    cause.x_low = std::round(cause.x_low);
+                    cause.x_high = std::round(cause.x_high);
+                }
                 for (int g = 0; g <= 40; ++g) {
                     const double x = cause.x_low + (cause.x_high - cause.x_low) * g / 40.0;
                     cause.curve_x.push_back(x);

@@ -45,8 +45,12 @@ struct Axis {
                     if (t >= lo * 0.9999 && t <= hi * 1.0001) out.push_back(t);
                 }
             }
-            if (out.size() < 2) out = {lo, hi};
-            return out;
+            if (out.size() >= 3) return out;
+            // Less than a 1-2-5 step wide: evenly stepped round numbers inside (a log axis reads them
+            // as well), never the range's own odd ends.
+            Axis linear = *this;
+            linear.log = false;
+            return linear.ticks();
         }
         const double span = hi - lo;
         const double raw = span / 5.0;
@@ -81,6 +85,22 @@ Axis fit_axis(std::vector<double> values, bool log) {
         a.hi += pad;
     }
     return a;
+}
+
+// One point's marker, centred at (x, y).
+std::string marker(const SvgSeries& s, double x, double y) {
+    std::ostringstream o;
+    const double r = s.radius;
+    const std::string paint = "fill=\"" + s.colour + "\" fill-opacity=\"" + number(s.opacity) + "\"";
+    if (s.marker == "square") {
+        o << "<rect x=\"" << x - r << "\" y=\"" << y - r << "\" width=\"" << 2 * r << "\" height=\"" << 2 * r << "\" " << paint << "/>";
+    } else if (s.marker == "triangle") {
+        o << "<polygon points=\"" << x << ',' << y - 1.2 * r << ' ' << x - 1.1 * r << ',' << y + 0.8 * r << ' ' << x + 1.1 * r << ',' << y + 0.8 * r << "\" "
+          << paint << "/>";
+    } else {
+        o << "<circle cx=\"" << x << "\" cy=\"" << y << "\" r=\"" << r << "\" " << paint << "/>";
+    }
+    return o.str();
 }
 
 } // namespace
@@ -155,9 +175,10 @@ std::string render_svg(const SvgChart& chart, int width, int height) {
                 o << "<line x1=\"" << px(s.x[i]) << "\" x2=\"" << px(s.x[i]) << "\" y1=\"" << py(s.low[i]) << "\" y2=\"" << py(s.high[i])
                   << "\" stroke=\"" << s.colour << "\" stroke-width=\"1.5\"/>";
             }
-            if (!s.line || s.radius > 0.0) {
-                o << "<circle cx=\"" << px(s.x[i]) << "\" cy=\"" << py(s.y[i]) << "\" r=\"" << s.radius << "\" fill=\"" << s.colour
-                  << "\" fill-opacity=\"" << s.opacity << "\"/>";
+            if (!s.line || s.radius > 0.0) o << marker(s, px(s.x[i]), py(s.y[i]));
+            if (i < s.labels.size() && !s.labels[i].empty()) {
+                o << "<text x=\"" << px(s.x[i]) + s.radius + 2 << "\" y=\"" << py(s.y[i]) + 4 << "\" font-size=\"9\" fill=\"" << s.colour << "\">"
+                  << escape(s.labels[i]) << "</text>";
             }
         }
         o << "\n";
@@ -166,7 +187,15 @@ std::string render_svg(const SvgChart& chart, int width, int height) {
     double ly = top + 14;
     for (const auto& s : chart.series) {
         if (s.label.empty()) continue;
-        o << "<rect x=\"" << left + 10 << "\" y=\"" << ly - 9 << "\" width=\"10\" height=\"10\" fill=\"" << s.colour << "\"/>";
+        if (s.line && s.radius <= 0.0) {
+            o << "<line x1=\"" << left + 9 << "\" x2=\"" << left + 21 << "\" y1=\"" << ly - 4 << "\" y2=\"" << ly - 4 << "\" stroke=\"" << s.colour
+              << "\" stroke-width=\"2\"/>";
+        } else {
+            SvgSeries key = s;
+            key.radius = 4.5;
+            key.opacity = 1.0;
+            o << marker(key, left + 15, ly - 4);
+        }
         o << "<text x=\"" << left + 26 << "\" y=\"" << ly << "\">" << escape(s.label) << "</text>\n";
         ly += 16;
     }

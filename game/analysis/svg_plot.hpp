@@ -15,6 +15,8 @@ struct SvgSeries {
     bool line = false;               // joined, else points
     double radius = 2.5;
     double opacity = 0.6;
+    std::string marker = "circle";   // circle, square, triangle: series that overlap stay told apart
+    std::vector<std::string> labels; // a short text beside each point when given (say, its insertion)
 };
 
 struct SvgChart {

@@ -8,6 +8,7 @@
 
 #include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
+#include "game/analysis/cause_explanations.hpp"
 #include "game/analysis/svg_plot.hpp"
 
 namespace ikebana::game {
@@ -52,7 +53,7 @@ std::string residual_chart(const ValidationResult& v, const CovariateDiagnostic&
     chart.y_label = "measured / simulated force";
     chart.log_y = true;
     chart.reference_y = {1.0};
-    SvgSeries rows{"trials", "#7f7f7f", {}, {}, {}, {}, false, 2.0, 0.35};
+    SvgSeries rows{"trials", "#7f7f7f", {}, {}, {}, {}, false, 2.0, 0.35, "circle", {}};
     for (std::size_t i = 0; i < v.input.measured_gf.size(); ++i) {
         // Discrete columns get a little deterministic jitter so that the rows do not hide each other.
         const double jitter = (static_cast<double>((i * 2654435761U) % 1000) / 1000.0 - 0.5) * 0.25;
@@ -60,18 +61,24 @@ std::string residual_chart(const ValidationResult& v, const CovariateDiagnostic&
         rows.y.push_back(v.input.measured_gf[i] / v.input.predicted_gf[i]);
     }
     if (!column.numeric) chart.x_categories = column.levels;
-    SvgSeries bins{"binned mean (±2 s.e.)", "#d62728", {}, {}, {}, {}, false, 4.0, 1.0};
+    // A bin of one trial has no spread to show: it is drawn apart, without an interval.
+    SvgSeries bins{"binned mean (±2 s.e.)", "#d62728", {}, {}, {}, {}, false, 4.0, 1.0, "circle", {}};
+    SvgSeries single{"a single trial (no interval)", "#d62728", {}, {}, {}, {}, false, 4.0, 0.45, "square", {}};
     for (const auto& b : d.bins) {
-        bins.x.push_back(b.x);
-        bins.y.push_back(b.factor);
-        bins.low.push_back(b.low);
-        bins.high.push_back(b.high);
+        SvgSeries& into = b.n > 1 ? bins : single;
+        into.x.push_back(b.x);
+        into.y.push_back(b.factor);
+        if (b.n > 1) {
+            bins.low.push_back(b.low);
+            bins.high.push_back(b.high);
+        }
     }
     chart.series.push_back(rows);
-    chart.series.push_back(bins);
+    if (!bins.x.empty()) chart.series.push_back(bins);
+    if (!single.x.empty()) chart.series.push_back(single);
     if (const Cause* c = cause_named(v, d.covariate)) {
         // The fitted term at the overall level, for comparison with the binned means.
-        SvgSeries fit{"extension (" + c->shape.form + ")", "#1f77b4", {}, {}, {}, {}, column.numeric, column.numeric ? 0.0 : 5.0, 1.0};
+        SvgSeries fit{"extension (" + c->shape.form + ")", "#1f77b4", {}, {}, {}, {}, column.numeric, column.numeric ? 0.0 : 5.0, 1.0, "circle", {}};
         const double level = std::exp(v.analysis.extension.front().coefficient);
         for (std::size_t k = 0; k < c->curve_x.size(); ++k) {
             fit.x.push_back(c->curve_x[k]);
@@ -89,10 +96,16 @@ std::string model_chart(const ValidationResult& v) {
     chart.y_label = "simulated maximum force (gf)";
     chart.log_x = chart.log_y = true;
     chart.identity_line = true;
-    SvgSeries before{"baseline simulation", "#ff7f0e", {}, {}, {}, {}, false, 2.5, 0.5};
-    SvgSeries after{"extended model", "#1f77b4", {}, {}, {}, {}, false, 2.5, 0.5};
-    SvgSeries simulated{"extended species, simulated", "#2ca02c", {}, {}, {}, {}, false, 2.0, 0.5};
-    for (std::size_t i = 0; i < v.input.measured_gf.size(); ++i) {
+    // Three marker shapes (the extended model and its simulation often fall on each other) and, for a
+    // file small enough to read them, each point's insertion number.
+    const std::size_t rows = v.input.measured_gf.size();
+    const bool numbered = rows <= 60;
+    if (numbered) chart.title += " (numbers: the insertion)";
+    SvgSeries before{"baseline simulation", "#ff7f0e", {}, {}, {}, {}, false, 3.0, 0.7, "circle", {}};
+    SvgSeries after{"extended model (fit)", "#1f77b4", {}, {}, {}, {}, false, 3.0, 0.7, "square", {}};
+    SvgSeries simulated{"extended species, simulated", "#2ca02c", {}, {}, {}, {}, false, 3.5, 0.7, "triangle", {}};
+    for (std::size_t i = 0; i < rows; ++i) {
+        if (numbered) before.labels.push_back(std::to_string(v.data.trials[i].insertion));
         before.x.push_back(v.input.measured_gf[i]);
         before.y.push_back(v.input.predicted_gf[i]);
         if (!v.analysis.extension.empty()) {
@@ -100,6 +113,7 @@ std::string model_chart(const ValidationResult& v) {
             after.y.push_back(v.input.predicted_gf[i] * std::exp(v.analysis.fitted_log_factor[i]));
         }
         if (i < v.simulated_extended_gf.size()) {
+            if (numbered) simulated.labels.push_back(std::to_string(v.data.trials[i].insertion));
             simulated.x.push_back(v.input.measured_gf[i]);
             simulated.y.push_back(v.simulated_extended_gf[i]);
         }
@@ -198,11 +212,51 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
     return j.dump(2) + "\n";
 }
 
+// The findings in words a plant-biomechanics reader needs no statistics glossary for: how far the
+// simulation is off, what it misses and by how much, and how much better the extended model predicts
+// trials it was not fitted to. The technical lines follow it.
+std::string in_short(const ValidationResult& v) {
+    const AnalysisResult& a = v.analysis;
+    std::ostringstream o;
+    o << "in short:  ";
+    if (!a.discrepancy_found) {
+        o << "the measurements agree with the simulation: nothing in the data (no column, no overall scale) departs from it by more "
+             "than chance would.\n";
+        return o.str();
+    }
+    const double f = a.calibration.factor;
+    if (a.calibration.significant) {
+        o << "the measured forces are " << fmt("%.2f", f) << " times what the simulation gives (likely between " << fmt("%.2f", a.calibration.low)
+          << " and " << fmt("%.2f", a.calibration.high) << " times)";
+    } else {
+        o << "on average the simulation's forces are of the measured size";
+    }
+    for (std::size_t k = 0; k < a.causes.size(); ++k) {
+        const Cause& c = a.causes[k];
+        o << (k == 0 ? (a.calibration.significant ? ". Beyond that, the measured force " : ", but the measured force ") : "; and it ");
+        const std::string size = fmt("%.0f %%", 100 * std::abs(c.effect_size));
+        if (c.shape.form == "category") {
+            o << "is " << size << (c.effect_size >= 0 ? " higher" : " lower") << " relative to the simulation where " << c.covariate << " = " << c.category
+              << " than at its other values";
+        } else if (c.shape.form == "peaked") {
+            o << "relative to the simulation is " << (c.effect_size < 0 ? "highest" : "lowest") << " at " << c.covariate << " = "
+              << fmt("%.4g", c.shape.origin) << ", " << size << (c.effect_size < 0 ? " lower" : " higher") << " toward the ends of its range";
+        } else {
+            o << (c.effect_size >= 0 ? "rises" : "falls") << " by " << size << " relative to the simulation "
+              << (c.covariate == "insertion" ? cause_span(c) : "as " + c.covariate + " goes " + cause_span(c));
+        }
+    }
+    o << ". With " << (a.causes.empty() ? "that correction" : "these corrections") << " the simulation's typical error on trials it was not fitted to falls from "
+      << fmt("%.0f", a.baseline_cv_rmse_gf) << " to " << fmt("%.0f", a.extended_cv_rmse_gf) << " gf (" << fmt("%.0f %%", 100 * a.gain) << " less).\n";
+    return o.str();
+}
+
 std::string validation_summary(const ValidationResult& v) {
     const AnalysisResult& a = v.analysis;
     std::ostringstream o;
     o << v.measured_file << ": " << a.n_trials << " trials, " << a.n_flowers << " flower(s), species " << (v.species.empty() ? "(several)" : v.species)
       << "\n";
+    o << in_short(v);
     for (const auto& c : a.screened) {
         o << "screened:  " << c.covariate << " (" << c.levels << " levels, " << fmt("%.1f", c.flowers_per_level)
           << " flowers a level): not tested level by level; " << fmt("%.1f %%", 100 * c.between_level_share) << " of the residual's variance lies between its levels, "
@@ -318,7 +372,10 @@ Result<void> write_validation_report(const ValidationResult& v, const AnalysisOp
         figures.emplace_back(name, residual_chart(v, d));
         md << "### `" << d.covariate << "`\n\n![residual against " << d.covariate << "](" << name << ")\n\n";
         md << "| bin | n | measured / simulated | ±2 s.e. |\n|---|---|---|---|\n";
-        for (const auto& b : d.bins) md << "| " << b.label << " | " << b.n << " | " << fmt("%.3f", b.factor) << " | " << fmt("%.3f", b.low) << "–" << fmt("%.3f", b.high) << " |\n";
+        for (const auto& b : d.bins) {
+            md << "| " << b.label << " | " << b.n << " | " << fmt("%.3f", b.factor) << " | "
+               << (b.n > 1 ? fmt("%.3f", b.low) + "–" + fmt("%.3f", b.high) : std::string("— (one trial)")) << " |\n";
+        }
         md << "\n";
     }
     md << "## Causes\n\n";

@@ -176,14 +176,36 @@ TEST(DiscrepancyAnalysis, SameSeedSameAnswer) {
 TEST(SvgPlot, DrawsEveryPointAndEscapesText) {
     SvgChart chart;
     chart.title = "force <gf> & more";
-    chart.series.push_back({"rows", "#000", {1, 2, 3}, {10, 20, 40}, {}, {}, false, 2.0, 1.0});
+    chart.series.push_back({"rows", "#000", {1, 2, 3}, {10, 20, 40}, {}, {}, false, 2.0, 1.0, "circle", {}});
     chart.log_y = true;
     const std::string svg = render_svg(chart);
+    const std::string plot = svg.substr(svg.find("<g>"), svg.find("</g>") - svg.find("<g>")); // the points, not the legend
     std::size_t circles = 0;
-    for (std::size_t at = svg.find("<circle"); at != std::string::npos; at = svg.find("<circle", at + 1)) ++circles;
+    for (std::size_t at = plot.find("<circle"); at != std::string::npos; at = plot.find("<circle", at + 1)) ++circles;
     EXPECT_EQ(circles, 3u);
     EXPECT_NE(svg.find("force &lt;gf&gt; &amp; more"), std::string::npos);
     EXPECT_EQ(svg.find("nan"), std::string::npos);
+}
+
+// Issue 17's report: two series that fall on each other are told apart by their markers, each point
+// can say which insertion it is, and a narrow log axis has round ticks (not 1.828 and 0.9259).
+TEST(SvgPlot, OverlappingSeriesHaveTheirOwnMarkersAndNarrowAxesRoundTicks) {
+    SvgChart chart;
+    chart.log_y = true;
+    chart.series.push_back({"fit", "#1f77b4", {1, 2}, {0.9259, 1.828}, {}, {}, false, 3.0, 1.0, "square", {"1", "2"}});
+    chart.series.push_back({"simulated", "#2ca02c", {1, 2}, {0.9259, 1.828}, {}, {}, false, 3.0, 1.0, "triangle", {}});
+    const std::string svg = render_svg(chart);
+    const std::string plot = svg.substr(svg.find("<g>"), svg.find("</g>") - svg.find("<g>"));
+    std::size_t squares = 0, triangles = 0;
+    for (std::size_t at = plot.find("<rect"); at != std::string::npos; at = plot.find("<rect", at + 1)) ++squares;
+    for (std::size_t at = plot.find("<polygon"); at != std::string::npos; at = plot.find("<polygon", at + 1)) ++triangles;
+    EXPECT_EQ(squares, 2u);
+    EXPECT_EQ(triangles, 2u);
+    EXPECT_NE(plot.find(">1</text>"), std::string::npos) << "the point's label";
+    EXPECT_NE(svg.find(">1.25</text>"), std::string::npos) << svg;
+    EXPECT_NE(svg.find(">1.5</text>"), std::string::npos);
+    EXPECT_EQ(svg.find(">1.828</text>"), std::string::npos);
+    EXPECT_EQ(svg.find(">0.9259</text>"), std::string::npos);
 }
 
 // Mutated measured files: every one either reads, and then analyses to finite figures, or is refused

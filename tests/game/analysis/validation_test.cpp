@@ -45,6 +45,14 @@ TEST(Validation, ExtendedSpeciesRunsInTheSimulationAsItWasFitted) {
     EXPECT_NEAR(*v->simulated_extended_rmse_gf, v->analysis.extended_rmse_gf, 0.05 * v->analysis.extended_rmse_gf);
     EXPECT_LT(*v->simulated_extended_rmse_gf, 0.8 * v->analysis.baseline_rmse_gf);
 
+    // Issue 17: the summary opens in plain words, in the data's own terms.
+    const auto summary = validation_summary(*v);
+    EXPECT_NE(summary.find("in short:  "), std::string::npos) << summary;
+    EXPECT_NE(summary.find("the measured force falls by "), std::string::npos) << summary;
+    EXPECT_NE(summary.find("relative to the simulation from the 1st to the 6th insertion"), std::string::npos) << summary;
+    EXPECT_NE(v->explanations[0].find("from the 1st to the 6th insertion"), std::string::npos) << v->explanations[0];
+    EXPECT_NE(summary.find("on trials it was not fitted to falls from "), std::string::npos) << summary;
+
     const auto json = nlohmann::json::parse(validation_json(*v, options.analysis));
     EXPECT_EQ(json["n_trials"], synthetic.data.trials.size());
     EXPECT_TRUE(json["discrepancy_found"].get<bool>());
