@@ -74,6 +74,13 @@ struct DeteriorationTerm {
     // fitted curve is never extrapolated; equal bounds: no clamp.
     double range_low;
     double range_high;
+    // An interaction: the term's basis times (times_covariate - times_origin), that covariate clamped
+    // into [times_low, times_high] (equal: no clamp); empty: none. The term's effect then grows or
+    // shrinks with the second covariate.
+    std::string times_covariate;
+    double times_origin;
+    double times_low;
+    double times_high;
 };
 
 // The species' resistance model as the systems use it (copied from the species file on spawn).

@@ -62,6 +62,9 @@ struct Term {
     MatrixXd basis; // numeric; empty for a factor
     bool block = false;
     Factor factor;
+    // An interaction: basis is the cause's times (column `times` - times_origin).
+    std::optional<std::size_t> times;
+    double times_origin = 0.0;
     Index width() const { return block ? static_cast<Index>(factor.levels) - 1 : basis.cols(); }
 };
 
@@ -175,6 +178,10 @@ private:
     double cv_mse(const std::vector<Term>& fixed, bool intercept, const Candidate* free, const std::string& form,
                   VectorXd* oof = nullptr) const;
     TermShape best_shape_on_all(const std::vector<Term>& fixed, const Candidate& c, const std::string& form) const;
+    // Each earlier numeric term's form and parameter (a step's threshold, a curve's scale) chosen
+    // again given all the others: chosen before a second cause was in the model, it bent to carry
+    // part of it.
+    void refit_shapes(std::vector<Term>& terms);
     void report(const std::string& line) {
         result_.log.push_back(line);
     }
@@ -481,6 +488,34 @@ TermShape Analysis::best_shape_on_all(const std::vector<Term>& fixed, const Cand
     return shape;
 }
 
+void Analysis::refit_shapes(std::vector<Term>& terms) {
+    if (terms.size() < 2) return;
+    for (std::size_t k = 0; k + 1 < terms.size(); ++k) {
+        Term& t = terms[k];
+        if (t.block) continue;
+        std::vector<Term> others = terms;
+        others.erase(others.begin() + static_cast<std::ptrdiff_t>(k));
+        // Its form too, by the same cross-validation (a peak stays a peak: it passed its turn test).
+        std::string form = t.shape.form;
+        if (form != "peaked") {
+            double best = INFINITY;
+            for (const auto& f : forms_for(in_.covariates.columns[t.candidate])) {
+                if (f == "peaked") continue;
+                const double cv = cv_mse(others, true, &candidates_[t.candidate], f);
+                if (cv < best) {
+                    best = cv;
+                    form = f;
+                }
+            }
+        }
+        const TermShape shape = best_shape_on_all(others, candidates_[t.candidate], form);
+        if (shape.form == t.shape.form && shape.scale == t.shape.scale && shape.origin == t.shape.origin) continue;
+        report("  re-fitted '" + in_.covariates.columns[t.candidate].name + "' given the others: " + describe_shape(t.shape) + " -> " + describe_shape(shape));
+        t.shape = shape;
+        t.basis = basis_of(in_.covariates.columns[t.candidate], shape);
+    }
+}
+
 std::vector<double> holm(const std::vector<double>& p) {
     std::vector<std::size_t> order(p.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
@@ -784,6 +819,7 @@ Result<AnalysisResult> Analysis::run() {
                 if (!term.block) term.basis = basis_of(in_.covariates.columns[c], term.shape);
                 report("  accepted as " + best_form + ": " + describe_shape(term.shape));
                 terms.push_back(std::move(term));
+                refit_shapes(terms);
                 remaining.erase(remaining.begin() + static_cast<std::ptrdiff_t>(k));
                 accepted = true;
                 tested_final_model = false;
@@ -823,9 +859,158 @@ Result<AnalysisResult> Analysis::run() {
         for (std::size_t k = 0; k < remaining.size(); ++k) given_model_p[remaining[k]] = adjusted[k];
     }
 
+    // Interactions: does a kept cause's effect change with another column? For each kept numeric cause
+    // a and every other numeric column b, the product (a's basis - its mean)(b - its mean), taken off b
+    // itself so that a main effect of b cannot pass for one, is tested as a family given the model. A
+    // significant one that lowers the cross-validated error is kept as two terms, a's basis times
+    // (b - mean) and b's own linear term (the same span as the centred product with b), at most two
+    // such pairs.
+    std::vector<Term> interactions;
+    for (int round = 0; round < 2; ++round) {
+        std::vector<Term> model = terms;
+        model.insert(model.end(), interactions.begin(), interactions.end());
+        std::vector<Candidate> pairs;            // the test's column per pair
+        std::vector<Candidate> products;         // the product a's basis x (b - mean), for the fit
+        std::vector<Term> as_terms, companions;  // the terms a kept pair adds
+        std::vector<VectorXd> linears;           // b - its mean, per pair
+        for (const Term& a : terms) {
+            if (a.block) continue;
+            const double a_mean = a.basis.col(0).mean();
+            for (std::size_t b = 0; b < candidates_.size(); ++b) {
+                const CovariateColumn& column = in_.covariates.columns[candidates_[b].column];
+                if (!column.numeric || b == a.candidate) continue;
+                if (std::any_of(interactions.begin(), interactions.end(), [&](const Term& i) { return i.candidate == a.candidate && i.times == b; })) continue;
+                const double mean = std::accumulate(column.values.begin(), column.values.end(), 0.0) / static_cast<double>(n);
+                Term t = a;
+                t.times = b;
+                t.times_origin = mean;
+                VectorXd centred(n_), linear(n_);
+                for (Index i = 0; i < n_; ++i) {
+                    linear(i) = column.values[static_cast<std::size_t>(i)] - mean;
+                    t.basis(i, 0) = a.basis(i, 0) * linear(i);
+                    centred(i) = (a.basis(i, 0) - a_mean) * linear(i);
+                }
+                const double ll = linear.squaredNorm();
+                if (ll > 0.0) centred -= linear * (linear.dot(centred) / ll);
+                Candidate c;
+                c.column = a.candidate;
+                c.shapes.push_back({"interaction", 0.0, mean});
+                c.bases.push_back(centred);
+                pairs.push_back(std::move(c));
+                Candidate product;
+                product.column = a.candidate;
+                product.shapes.push_back({"interaction", 0.0, mean});
+                product.bases.push_back(t.basis);
+                products.push_back(std::move(product));
+                Term main;
+                main.candidate = b;
+                main.shape = {"linear", 0.0, 0.0};
+                main.basis = basis_of(column, main.shape);
+                companions.push_back(std::move(main));
+                as_terms.push_back(std::move(t));
+                linears.push_back(linear);
+            }
+        }
+        if (pairs.empty()) break;
+        std::vector<const Candidate*> which;
+        for (const auto& c : pairs) which.push_back(&c);
+        const TestOutcome t = test(residual_after(model), design_of(model, true), which, 800 + static_cast<std::uint64_t>(round), "interactions between the causes");
+        std::vector<std::size_t> order(pairs.size());
+        std::iota(order.begin(), order.end(), std::size_t{0});
+        std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return t.z[x] > t.z[y]; });
+        const double cv_now = cv_mse(model, true, nullptr, "");
+        bool added = false;
+        for (std::size_t k : order) {
+            const std::string a = in_.covariates.columns[as_terms[k].candidate].name;
+            const std::string b = in_.covariates.columns[*as_terms[k].times].name;
+            // Each pair once: a later round (given a kept interaction) updates its p.
+            auto record = std::find_if(result_.interactions.begin(), result_.interactions.end(),
+                                       [&](const InteractionCheck& i) { return i.covariate == a && i.times == b; });
+            if (record == result_.interactions.end()) record = result_.interactions.insert(result_.interactions.end(), {a, b, t.adjusted[k], false, 0.0});
+            else record->p_value = t.adjusted[k];
+            if (added || t.adjusted[k] > opt_.alpha) continue;
+            std::vector<Term> with_main = model;
+            with_main.push_back(companions[k]);
+            const double cv = cv_mse(with_main, true, &products[k], "interaction");
+            char line[256];
+            std::snprintf(line, sizeof line, "interaction '%s' x '%s': p = %.4g (family-wise over %zu pairs); CV MSE %.5f -> %.5f: %s", a.c_str(), b.c_str(),
+                          t.adjusted[k], pairs.size(), cv_now, cv, cv < cv_now ? "kept" : "not worth a term");
+            report(line);
+            if (cv < cv_now) {
+                // The cause's own shape again, now beside its interaction: chosen without it, a curve
+                // (saturating, a power) bent to carry part of the interaction. Form by cross-validation,
+                // parameter by least squares, the cause and its product together.
+                const auto ia = static_cast<std::size_t>(std::find_if(terms.begin(), terms.end(), [&](const Term& x) { return x.candidate == as_terms[k].candidate; }) -
+                                                         terms.begin());
+                const Candidate& ca = candidates_[terms[ia].candidate];
+                std::vector<Term> rest;
+                for (std::size_t j = 0; j < model.size(); ++j) {
+                    if (j != ia) rest.push_back(model[j]);
+                }
+                rest.push_back(companions[k]);
+                Candidate joint;
+                joint.column = ca.column;
+                for (std::size_t sh = 0; sh < ca.shapes.size(); ++sh) {
+                    if (ca.shapes[sh].form == "peaked" && terms[ia].shape.form != "peaked") continue;
+                    MatrixXd both(n_, 2);
+                    both.col(0) = ca.bases[sh].col(0);
+                    both.col(1) = ca.bases[sh].col(0).cwiseProduct(linears[k]);
+                    joint.shapes.push_back(ca.shapes[sh]);
+                    joint.bases.push_back(std::move(both));
+                }
+                std::string form = terms[ia].shape.form;
+                double best_form_cv = INFINITY;
+                for (const auto& f : forms_for(in_.covariates.columns[ca.column])) {
+                    if (f == "peaked" && terms[ia].shape.form != "peaked") continue;
+                    const double fcv = cv_mse(rest, true, &joint, f);
+                    if (fcv < best_form_cv) {
+                        best_form_cv = fcv;
+                        form = f;
+                    }
+                }
+                const GroupedDesign base = design_of(rest, true);
+                const RowList every = all_rows(n_);
+                double best_sse = INFINITY;
+                for (std::size_t sh = 0; sh < joint.shapes.size(); ++sh) {
+                    if (joint.shapes[sh].form != form) continue;
+                    GroupedDesign d;
+                    d.dense.resize(n_, base.dense.cols() + 2);
+                    d.dense << base.dense, joint.bases[sh];
+                    d.factors = base.factors;
+                    const double sse = (r_ - predict_grouped(d, fit_grouped(d, r_, every), every)).squaredNorm();
+                    if (sse < best_sse) {
+                        best_sse = sse;
+                        terms[ia].shape = joint.shapes[sh];
+                        terms[ia].basis = joint.bases[sh].col(0);
+                        as_terms[k].shape = joint.shapes[sh];
+                        as_terms[k].basis = joint.bases[sh].col(1);
+                    }
+                }
+                report("  with it '" + a + "' is " + describe_shape(terms[ia].shape));
+                interactions.push_back(companions[k]);
+                interactions.push_back(as_terms[k]);
+                record->kept = true;
+                added = true;
+            }
+        }
+        if (!added) break;
+    }
+    // Significant first, then by p.
+    std::stable_sort(result_.interactions.begin(), result_.interactions.end(),
+                     [](const InteractionCheck& x, const InteractionCheck& y) { return x.kept != y.kept ? x.kept : x.p_value < y.p_value; });
+    // The causes, then the interactions: the causes' coefficients come first in every fit below.
+    const std::size_t causes_count = terms.size();
+    terms.insert(terms.end(), interactions.begin(), interactions.end());
+
     // The extended model: a level whenever anything is kept, and the terms.
     const bool extended = !terms.empty() || result_.calibration.significant;
     result_.discrepancy_found = extended;
+    // The width of the causes' coefficients (after the intercept).
+    auto causes_width = [](const std::vector<Term>& list, std::size_t count) {
+        std::size_t w = 0;
+        for (std::size_t k = 0; k < count; ++k) w += static_cast<std::size_t>(list[k].width());
+        return w;
+    };
     VectorXd fitted = VectorXd::Zero(n_);
     VectorXd oof = VectorXd::Zero(n_);
     if (extended) {
@@ -835,11 +1020,32 @@ Result<AnalysisResult> Analysis::run() {
         fitted = r_ - residual_after(terms);
         cv_mse(terms, true, nullptr, "", &oof);
         result_.extension.push_back({.covariate = "level", .form = "constant", .coefficient = beta(0), .scale = 0.0, .category = {}, .origin = 0.0,
-                                     .range_low = 0.0, .range_high = 0.0});
+                                     .range_low = 0.0, .range_high = 0.0, .times_covariate = {}, .times_origin = 0.0, .times_low = 0.0, .times_high = 0.0});
         Index at = 1;
         const double total = std::max((r_.array() - r_.mean()).matrix().squaredNorm(), 1e-300);
         const double sse_full = (r_ - fitted).squaredNorm();
-        for (std::size_t k = 0; k < terms.size(); ++k) {
+        for (std::size_t k = causes_count; k < terms.size(); ++k) {
+            // An interaction: the cause's term times (the other column - its mean), held within the
+            // other column's range and a tenth beyond; and that column's own linear term.
+            const Term& t = terms[k];
+            const CovariateColumn& column = in_.covariates.columns[t.candidate];
+            auto term = terms_of(column, t.shape, beta.segment(1 + static_cast<Index>(causes_width(terms, causes_count)) + static_cast<Index>(k - causes_count), 1)).front();
+            if (!t.times) {
+                result_.extension.push_back(term);
+                continue;
+            }
+            const CovariateColumn& other = in_.covariates.columns[*t.times];
+            const auto [lo, hi] = std::minmax_element(other.values.begin(), other.values.end());
+            term.times_covariate = other.name;
+            term.times_origin = t.times_origin;
+            term.times_low = *lo - 0.1 * (*hi - *lo);
+            term.times_high = *hi + 0.1 * (*hi - *lo);
+            for (auto& i : result_.interactions) {
+                if (i.kept && i.covariate == column.name && i.times == other.name) i.coefficient = term.coefficient;
+            }
+            result_.extension.push_back(term);
+        }
+        for (std::size_t k = 0; k < causes_count; ++k) {
             const Term& t = terms[k];
             const CovariateColumn& column = in_.covariates.columns[t.candidate];
             Cause cause;
@@ -891,7 +1097,7 @@ Result<AnalysisResult> Analysis::run() {
             given_model_p[t.candidate] = kept_p[k];
         }
         // Intervals: resample whole flowers, refit the same terms at the same shapes.
-        std::vector<std::vector<double>> effects(terms.size());
+        std::vector<std::vector<double>> effects(causes_count);
         std::vector<double> levels;
         std::mt19937_64 rng(opt_.seed ^ 0xB007B007ULL);
         std::uniform_int_distribution<std::size_t> pick(0, groups_.rows.size() - 1);
@@ -905,7 +1111,7 @@ Result<AnalysisResult> Analysis::run() {
             const VectorXd bb = coefficients_of(terms, fit);
             levels.push_back(std::exp(predict_grouped(design, fit, every_row).mean()));
             Index a = 1;
-            for (std::size_t k = 0; k < terms.size(); ++k) {
+            for (std::size_t k = 0; k < causes_count; ++k) {
                 const VectorXd coefficients = bb.segment(a, terms[k].width());
                 a += terms[k].width();
                 // A category: the same level as the point estimate, not whichever differs most here.
@@ -914,7 +1120,7 @@ Result<AnalysisResult> Analysis::run() {
                 effects[k].push_back(effect_of(result_.causes[k], coefficients, nullptr, level));
             }
         }
-        for (std::size_t k = 0; k < terms.size(); ++k) {
+        for (std::size_t k = 0; k < causes_count; ++k) {
             result_.causes[k].effect_low = quantile(effects[k], 0.025);
             result_.causes[k].effect_high = quantile(effects[k], 0.975);
         }

@@ -123,6 +123,16 @@ struct SuspectRow {
     double z = 0.0;          // robust standard deviations from the other rows
 };
 
+// A kept cause's effect that changes with a second column: the cause's basis times (that column -
+// its mean), tested for every kept numeric cause against every other numeric column.
+struct InteractionCheck {
+    std::string covariate;   // the cause
+    std::string times;       // the column its effect changes with
+    double p_value = 1.0;    // family-wise over the pairs tested
+    bool kept = false;       // significant and lowered the cross-validated error: a term of the extension
+    double coefficient = 0.0; // when kept
+};
+
 struct Calibration {
     double factor = 1.0;         // geometric mean of measured / predicted the extended model applies
     double low = 1.0, high = 1.0; // 95 % interval
@@ -147,6 +157,7 @@ struct AnalysisResult {
     std::vector<CovariateDiagnostic> diagnostics; // every candidate tested, in the file's order
     std::vector<ScreenedColumn> screened;         // categorical columns too wide to test level by level
     std::vector<Cause> causes;                    // by importance
+    std::vector<InteractionCheck> interactions;   // pairs tested (significant ones first)
     std::vector<components::DeteriorationTerm> extension; // exp(sum) multiplies the force; empty: none
     std::vector<SuspectRow> suspected;            // rows set aside (AnalysisOptions::outlier_z); the figures
                                                   // above are on the other rows, n_trials counts them all

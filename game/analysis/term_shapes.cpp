@@ -98,7 +98,7 @@ std::vector<components::DeteriorationTerm> terms_of(const CovariateColumn& colum
     if (shape.form == "category") {
         for (Eigen::Index k = 0; k < coefficients.size(); ++k) {
             out.push_back({.covariate = column.name, .form = "category", .coefficient = coefficients(k), .scale = 0.0,
-                           .category = column.levels[static_cast<std::size_t>(k) + 1], .origin = 0.0, .range_low = 0.0, .range_high = 0.0});
+                           .category = column.levels[static_cast<std::size_t>(k) + 1], .origin = 0.0, .range_low = 0.0, .range_high = 0.0, .times_covariate = {}, .times_origin = 0.0, .times_low = 0.0, .times_high = 0.0});
         }
         return out;
     }
@@ -106,7 +106,7 @@ std::vector<components::DeteriorationTerm> terms_of(const CovariateColumn& colum
     const auto [lo, hi] = std::minmax_element(column.values.begin(), column.values.end());
     const double margin = 0.1 * (*hi - *lo);
     out.push_back({.covariate = column.name, .form = shape.form, .coefficient = coefficients(0), .scale = shape.scale,
-                   .category = {}, .origin = shape.origin, .range_low = *lo - margin, .range_high = *hi + margin});
+                   .category = {}, .origin = shape.origin, .range_low = *lo - margin, .range_high = *hi + margin, .times_covariate = {}, .times_origin = 0.0, .times_low = 0.0, .times_high = 0.0});
     return out;
 }
 

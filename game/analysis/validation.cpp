@@ -56,6 +56,10 @@ Result<std::string> extended_species_json(const std::string& species, const std:
         if (t.origin != 0.0) j["origin"] = t.origin;
         if (t.range_high > t.range_low) j["range"] = {t.range_low, t.range_high};
         if (t.form == "category") j["category"] = t.category;
+        if (!t.times_covariate.empty()) {
+            j["times"] = {{"covariate", t.times_covariate}, {"origin", t.times_origin}};
+            if (t.times_high > t.times_low) j["times"]["range"] = {t.times_low, t.times_high};
+        }
         out_terms.push_back(j);
     }
     root["deterioration"] = {{"model", "extended"}, {"base", base}, {"terms", out_terms},

@@ -1,5 +1,6 @@
 #include "game/analysis/validation_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -128,6 +129,7 @@ nlohmann::ordered_json term_json(const components::DeteriorationTerm& t) {
     nlohmann::ordered_json j = {{"covariate", t.covariate}, {"form", t.form}, {"coefficient", t.coefficient}, {"scale", t.scale}, {"origin", t.origin}};
     if (t.form == "category") j["category"] = t.category;
     if (t.range_high > t.range_low) j["range"] = {t.range_low, t.range_high};
+    if (!t.times_covariate.empty()) j["times"] = {{"covariate", t.times_covariate}, {"origin", t.times_origin}, {"range", {t.times_low, t.times_high}}};
     return j;
 }
 
@@ -187,6 +189,10 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
                                     {"blank_cells", d.blank},
                                     {"bins", bins}});
         if (d.blank > 0 && d.numeric) j["diagnostics"].back()["blank_cells_taken_as"] = d.blank_value;
+    }
+    j["interactions"] = nlohmann::ordered_json::array();
+    for (const auto& i : a.interactions) {
+        j["interactions"].push_back({{"covariate", i.covariate}, {"times", i.times}, {"p_value", i.p_value}, {"kept", i.kept}, {"coefficient", i.coefficient}});
     }
     j["suspected_rows"] = nlohmann::ordered_json::array();
     for (const auto& r : a.suspected) {
@@ -294,6 +300,13 @@ std::string validation_summary(const ValidationResult& v) {
         o << "cause " << k + 1 << ":   " << c.covariate << (c.category.empty() ? "" : " = " + c.category) << ", " << c.direction << ", "
           << c.shape.form << ", effect " << fmt("%+.1f %%", 100 * c.effect_size) << " [" << fmt("%+.1f", 100 * c.effect_low) << ", "
           << fmt("%+.1f", 100 * c.effect_high) << "], p = " << fmt("%.3g", c.p_value) << "\n";
+    }
+    for (const auto& i : a.interactions) {
+        if (!i.kept) continue;
+        o << "together:  " << i.covariate << "'s effect changes with " << i.times << " (an interaction term), p = " << fmt("%.3g", i.p_value) << "\n";
+    }
+    if (!a.causes.empty() && std::none_of(a.interactions.begin(), a.interactions.end(), [](const InteractionCheck& i) { return i.kept; })) {
+        o << "together:  no cause's effect changes with another column beyond chance (" << a.interactions.size() << " pairs checked)\n";
     }
     o << "extended:  CV RMSE " << fmt("%.1f", a.extended_cv_rmse_gf) << " gf, gain " << fmt("%.1f %%", 100 * a.gain);
     if (v.simulated_extended_rmse_gf) o << "; the extended species simulated: RMSE " << fmt("%.1f", *v.simulated_extended_rmse_gf) << " gf";

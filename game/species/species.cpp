@@ -141,7 +141,7 @@ void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
                     c.problem(tp, "expected an object, got " + JsonChecker::describe(t));
                     continue;
                 }
-                c.no_unknown_keys(t, tp, {"covariate", "form", "coefficient", "scale", "origin", "range", "category"});
+                c.no_unknown_keys(t, tp, {"covariate", "form", "coefficient", "scale", "origin", "range", "category", "times"});
                 components::DeteriorationTerm term{};
                 term.covariate = c.string(t, tp, "covariate").value_or("");
                 term.form = c.choice(t, tp, "form", {"constant", "linear", "log", "saturating", "power", "step", "peaked", "category"}).value_or("");
@@ -158,6 +158,26 @@ void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
                     }
                 }
                 term.category = c.string(t, tp, "category", term.form == "category").value_or("");
+                if (t.contains("times")) {
+                    // An interaction: this term's basis times (that covariate - origin).
+                    const std::string xp = tp + "/times";
+                    if (const Json* times = c.object(t, tp, "times")) {
+                        c.no_unknown_keys(*times, xp, {"covariate", "origin", "range"});
+                        term.times_covariate = c.string(*times, xp, "covariate").value_or("");
+                        if (term.times_covariate.empty()) c.problem(xp + "/covariate", "expected the name of a covariate");
+                        term.times_origin = c.number(*times, xp, "origin", {-1e9, 1e9}, false).value_or(0);
+                        if (times->contains("range")) {
+                            const auto range = c.numbers(*times, xp, "range", {-1e9, 1e9}, 2);
+                            if (range && range->size() != 2) c.problem(xp + "/range", "expected [low, high]");
+                            else if (range && (*range)[0] > (*range)[1]) c.problem(xp + "/range", "expected low <= high");
+                            else if (range) {
+                                term.times_low = (*range)[0];
+                                term.times_high = (*range)[1];
+                            }
+                        }
+                    }
+                    if (term.form == "category" || term.form == "constant") c.problem(xp, "an interaction multiplies a numeric term, not a " + term.form);
+                }
                 out.deterioration.terms.push_back(term);
             }
         }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 namespace ikebana::systems::insertion {
 
@@ -41,17 +42,33 @@ double extension_factor(const std::vector<components::DeteriorationTerm>& terms,
             if (it != covariates.category.end() && it->second == t.category) exponent += t.coefficient;
             continue;
         }
+        // A covariate's value for this insertion: the world's, or (missing_covariates) the centre of
+        // the range it was fitted on; nullopt when neither is known.
+        auto value_of = [&](const std::string& name, double low, double high) -> std::optional<double> {
+            double x = 0.0;
+            if (name == "insertion") {
+                x = static_cast<double>(insertion);
+            } else if (const auto it = covariates.numeric.find(name); it != covariates.numeric.end()) {
+                x = it->second;
+            } else {
+                if (!(high > low)) return std::nullopt;
+                x = 0.5 * (low + high);
+            }
+            return high > low ? std::clamp(x, low, high) : x;
+        };
         double x = 0.0;
-        if (t.covariate == "insertion") {
-            x = static_cast<double>(insertion);
-        } else if (const auto it = covariates.numeric.find(t.covariate); it != covariates.numeric.end()) {
-            x = it->second;
-        } else if (t.form != "constant") {
-            if (!(t.range_high > t.range_low)) continue; // no fitted range to take the centre of: the term does not apply
-            x = 0.5 * (t.range_low + t.range_high);     // a covariate this world does not have (missing_covariates)
+        if (t.form != "constant") {
+            const auto v = value_of(t.covariate, t.range_low, t.range_high);
+            if (!v) continue; // no value and no fitted range to take the centre of: the term does not apply
+            x = *v;
         }
-        if (t.range_high > t.range_low) x = std::clamp(x, t.range_low, t.range_high);
-        exponent += t.coefficient * term_basis(t.form, x - t.origin, t.scale);
+        double times = 1.0;
+        if (!t.times_covariate.empty()) {
+            const auto v = value_of(t.times_covariate, t.times_low, t.times_high);
+            if (!v) continue;
+            times = *v - t.times_origin;
+        }
+        exponent += t.coefficient * term_basis(t.form, x - t.origin, t.scale) * times;
     }
     // A hand-edited or wild term must not give the physics an infinite or vanishing resistance:
     // the factor stays within e^-5..e^5 (0.007..148), far outside anything a fit to data gives.
@@ -66,15 +83,20 @@ bool set_on_every_insertion(const std::string& covariate) {
 
 std::vector<MissingCovariate> missing_covariates(const std::vector<components::DeteriorationTerm>& terms, const Covariates& world) {
     std::vector<MissingCovariate> out;
+    auto said = [&](const std::string& name) { return std::any_of(out.begin(), out.end(), [&](const MissingCovariate& m) { return m.name == name; }); };
+    // A numeric covariate the term reads (itself, or the one an interaction multiplies by).
+    auto numeric = [&](const std::string& name, double low, double high) {
+        if (name.empty() || set_on_every_insertion(name) || world.numeric.contains(name) || said(name) || !(high > low)) return;
+        out.push_back({name, true, 0.5 * (low + high), low, high});
+    };
     for (const auto& t : terms) {
-        if (t.form == "constant" || set_on_every_insertion(t.covariate)) continue;
-        if (std::any_of(out.begin(), out.end(), [&](const MissingCovariate& m) { return m.name == t.covariate; })) continue;
+        if (t.form == "constant") continue;
         if (t.form == "category") {
-            if (!world.category.contains(t.covariate)) out.push_back({t.covariate, false, 0.0, 0.0, 0.0});
+            if (!set_on_every_insertion(t.covariate) && !world.category.contains(t.covariate) && !said(t.covariate)) out.push_back({t.covariate, false, 0.0, 0.0, 0.0});
             continue;
         }
-        if (world.numeric.contains(t.covariate) || !(t.range_high > t.range_low)) continue;
-        out.push_back({t.covariate, true, 0.5 * (t.range_low + t.range_high), t.range_low, t.range_high});
+        numeric(t.covariate, t.range_low, t.range_high);
+        numeric(t.times_covariate, t.times_low, t.times_high);
     }
     return out;
 }

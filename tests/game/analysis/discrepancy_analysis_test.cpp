@@ -72,10 +72,10 @@ TEST(TermShapes, AFittedTermMeansTheSameInTheSpeciesModel) {
 // range it was fitted on, and missing_covariates says so; a category falls back to its reference level.
 TEST(TermShapes, ATermOnAColumnTheWorldDoesNotSetIsTakenAtItsFittedRangesCentre) {
     const std::vector<components::DeteriorationTerm> terms = {
-        {"level", "constant", -1.2, 0.0, "", 0.0, 0.0, 0.0},
-        {"stem_water_content", "linear", 1.5, 0.0, "", 0.0, 0.6, 0.9},
-        {"vase", "category", 0.2, 0.0, "metal", 0.0, 0.0, 0.0},
-        {"angle_deg", "linear", 0.01, 0.0, "", 0.0, 10.0, 90.0}, // set by the insertion itself
+        {"level", "constant", -1.2, 0.0, "", 0.0, 0.0, 0.0, "", 0.0, 0.0, 0.0},
+        {"stem_water_content", "linear", 1.5, 0.0, "", 0.0, 0.6, 0.9, "", 0.0, 0.0, 0.0},
+        {"vase", "category", 0.2, 0.0, "metal", 0.0, 0.0, 0.0, "", 0.0, 0.0, 0.0},
+        {"angle_deg", "linear", 0.01, 0.0, "", 0.0, 10.0, 90.0, "", 0.0, 0.0, 0.0}, // set by the insertion itself
     };
     systems::insertion::Covariates none, centre;
     none.numeric["angle_deg"] = 45.0;
@@ -98,7 +98,7 @@ TEST(TermShapes, ATermOnAColumnTheWorldDoesNotSetIsTakenAtItsFittedRangesCentre)
 
 TEST(TermShapes, AWildTermCannotGiveTheSimulationAnInfiniteFactor) {
     const std::vector<components::DeteriorationTerm> wild = {
-        {"x", "power", 50.0, 3.0, "", 0.0, 0.0, 0.0}, {"y", "log", 1.0, 0.0, "", 0.0, 0.0, 0.0}};
+        {"x", "power", 50.0, 3.0, "", 0.0, 0.0, 0.0, "", 0.0, 0.0, 0.0}, {"y", "log", 1.0, 0.0, "", 0.0, 0.0, 0.0, "", 0.0, 0.0, 0.0}};
     systems::insertion::Covariates cov;
     cov.numeric["x"] = 1e6;
     cov.numeric["y"] = -5.0; // log of a negative: the basis guards it

@@ -22,6 +22,7 @@ PlantedTruth truth_of(PlantedEffect effect) {
     case PlantedEffect::peaked_optimum: return {"humidity_pct", "nonmonotone"};
     case PlantedEffect::gross_outliers: return {"humidity_pct", "increases"};
     case PlantedEffect::two_effects: return {"humidity_pct", "increases"}; // and storage_days, decreases
+    case PlantedEffect::interaction: return {"humidity_pct", "increases"}; // more so the longer stored
     }
     return {"", ""};
 }
@@ -38,6 +39,7 @@ const char* name_of(PlantedEffect effect) {
     case PlantedEffect::peaked_optimum: return "peaked_optimum";
     case PlantedEffect::gross_outliers: return "gross_outliers";
     case PlantedEffect::two_effects: return "two_effects";
+    case PlantedEffect::interaction: return "interaction";
     }
     return "?";
 }
@@ -93,6 +95,7 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
             case PlantedEffect::peaked_optimum: effect = -0.15 * ((humidity - 60.0) / 20.0) * ((humidity - 60.0) / 20.0); break;
             case PlantedEffect::gross_outliers: effect = 0.004 * (humidity - 60.0); break;
             case PlantedEffect::two_effects: effect = 0.004 * (humidity - 60.0) + (storage >= 6.0 ? -0.15 : 0.0); break;
+            case PlantedEffect::interaction: effect = 0.006 * (humidity - 60.0) * storage / 5.0; break;
             }
             game::InsertionConditions c;
             c.species = "sunflower";
@@ -117,7 +120,7 @@ SyntheticData make_synthetic_trials(const SyntheticOptions& o, game::InsertionPr
             if (o.station_column || o.effect == PlantedEffect::station) csv << ",S" << (f % 12 < 9 ? "0" : "") << f % 12 + 1;
             if (o.wide_levels > 0) csv << ",LOT" << row_number / std::max<std::uint32_t>(1, o.rows_per_lot) % o.wide_levels;
             ++row_number;
-            for (std::uint32_t c = 0; c < o.near_copies; ++c) csv << ',' << humidity + 0.5 * slips_normal(gross_rng);
+            for (std::uint32_t copy = 0; copy < o.near_copies; ++copy) csv << ',' << humidity + 0.5 * slips_normal(gross_rng);
             csv << "\n";
         }
     }

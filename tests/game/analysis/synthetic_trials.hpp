@@ -16,7 +16,8 @@ namespace ikebana::test {
 // gross_outliers: a moderate real effect (humidity_pct, +0.4 %/%) with 3 % of the rows misread (the
 // force x 0.35 or x 2.5: a slipped gauge, a misread scale).
 // two_effects: +0.4 %/% on humidity_pct and -15 % from storage_days >= 6, at once.
-enum class PlantedEffect { none, unknown_numeric, category, insertion_count, step_threshold, saturating_decay, station, peaked_optimum, gross_outliers, two_effects };
+// interaction: humidity's effect grows with storage days, +0.6 %/% x storage_days / 5 (none at day 0).
+enum class PlantedEffect { none, unknown_numeric, category, insertion_count, step_threshold, saturating_decay, station, peaked_optimum, gross_outliers, two_effects, interaction };
 
 struct PlantedTruth {
     std::string column;    // where the effect is planted (empty: none)

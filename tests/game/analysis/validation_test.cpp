@@ -11,6 +11,7 @@
 #include "game/analysis/validation_report.hpp"
 #include "game/species/species.hpp"
 #include "synthetic_trials.hpp"
+#include "systems/insertion/deterioration.hpp"
 
 using namespace ikebana;
 using namespace ikebana::game;
@@ -174,4 +175,34 @@ TEST(Validation, RowsSetAsideAreNamedByTheirLines) {
     const auto md = *assets::read_text_file(dir / "report" / "report.md");
     EXPECT_NE(md.find("## Rows set aside"), std::string::npos);
     EXPECT_NE(md.find("| " + std::to_string(first_line) + " | "), std::string::npos);
+}
+
+// Issue 17: an interaction term (a cause's effect that changes with a second column) is written into
+// the extended species, loads again, and the species model applies it as the fit did; a malformed one
+// is refused naming its path.
+TEST(Validation, AnInteractionTermRoundTripsThroughTheSpeciesFile) {
+    const std::vector<components::DeteriorationTerm> terms = {
+        {"level", "constant", 0.01, 0.0, "", 0.0, 0.0, 0.0, "", 0.0, 0.0, 0.0},
+        {"storage_days", "linear", -0.002, 0.0, "", 0.0, -1.0, 11.0, "", 0.0, 0.0, 0.0},
+        {"humidity_pct", "linear", 0.0012, 0.0, "", 0.0, 36.0, 84.0, "storage_days", 5.0, -1.0, 11.0},
+    };
+    const auto json = extended_species_json("sunflower", terms, "lab.csv");
+    ASSERT_TRUE(json) << json.error().message;
+    const auto species = parse_species(*json, "extended");
+    ASSERT_TRUE(species) << species.error().message;
+    ASSERT_EQ(species->deterioration.terms.size(), 3u);
+    EXPECT_EQ(species->deterioration.terms[2].times_covariate, "storage_days");
+    EXPECT_EQ(species->deterioration.terms[2].times_origin, 5.0);
+    systems::insertion::Covariates c;
+    c.numeric["humidity_pct"] = 70.0;
+    c.numeric["storage_days"] = 9.0;
+    EXPECT_NEAR(std::log(systems::insertion::extension_factor(species->deterioration.terms, 1, c)), 0.01 - 0.002 * 9.0 + 0.0012 * 70.0 * (9.0 - 5.0), 1e-12);
+    // Beyond the second column's range the product holds its value.
+    c.numeric["storage_days"] = 40.0;
+    EXPECT_NEAR(std::log(systems::insertion::extension_factor(species->deterioration.terms, 1, c)), 0.01 - 0.002 * 11.0 + 0.0012 * 70.0 * (11.0 - 5.0), 1e-12);
+    auto broken = nlohmann::json::parse(*json);
+    broken["deterioration"]["terms"][2]["times"] = {{"covariat", "storage_days"}};
+    const auto refused = parse_species(broken.dump(), "broken.json");
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("/deterioration/terms/2/times"), std::string::npos) << refused.error().message;
 }

@@ -80,7 +80,7 @@ TEST(ResistanceLaw, OtherDeteriorationModels) {
 TEST(ResistanceLaw, ExtensionTermsMultiplyTheBaseline) {
     PinResistance m{};
     m.n_per_m_by_insertion = {100.0};
-    m.extension = {{"insertion", "log", -0.1, 0.0, "", 0.0, 0.0, 0.0}, {"room", "category", 0.2, 0.0, "humid", 0.0, 0.0, 0.0}};
+    m.extension = {{"insertion", "log", -0.1, 0.0, "", 0.0, 0.0, 0.0, "", 0.0, 0.0, 0.0}, {"room", "category", 0.2, 0.0, "humid", 0.0, 0.0, 0.0, "", 0.0, 0.0, 0.0}};
     Covariates c;
     c.category["room"] = "humid";
     EXPECT_NEAR(soft_resistance_n_per_m(m, 4, c), 100.0 * std::exp(-0.1 * std::log(4.0) + 0.2), 1e-9);
