@@ -305,7 +305,7 @@ std::string validation_summary(const ValidationResult& v) {
         if (!i.kept) continue;
         o << "together:  " << i.covariate << "'s effect changes with " << i.times << " (an interaction term), p = " << fmt("%.3g", i.p_value) << "\n";
     }
-    if (!a.causes.empty() && std::none_of(a.interactions.begin(), a.interactions.end(), [](const InteractionCheck& i) { return i.kept; })) {
+    if (!a.interactions.empty() && std::none_of(a.interactions.begin(), a.interactions.end(), [](const InteractionCheck& i) { return i.kept; })) {
         o << "together:  no cause's effect changes with another column beyond chance (" << a.interactions.size() << " pairs checked)\n";
     }
     o << "extended:  CV RMSE " << fmt("%.1f", a.extended_cv_rmse_gf) << " gf, gain " << fmt("%.1f %%", 100 * a.gain);
