@@ -119,6 +119,13 @@ std::string model_chart(const ValidationResult& v) {
             simulated.y.push_back(v.simulated_extended_gf[i]);
         }
     }
+    // The rows set aside as gross errors, ringed: the figures leave them out.
+    SvgSeries aside{"set aside (suspected gross error)", "#d62728", {}, {}, {}, {}, false, 7.0, 0.25, "circle", {}};
+    for (const auto& r : v.analysis.suspected) {
+        aside.x.push_back(v.input.measured_gf[r.row]);
+        aside.y.push_back(v.input.predicted_gf[r.row]);
+    }
+    if (!aside.x.empty()) chart.series.push_back(aside);
     chart.series.push_back(before);
     if (!after.x.empty()) chart.series.push_back(after);
     if (!simulated.x.empty()) chart.series.push_back(simulated);
