@@ -26,13 +26,15 @@ Result<CovariateSet> candidate_covariates(const assets::CsvTable& table, const s
                 if (std::isfinite(v)) present.push_back(v);
             }
             if (present.empty()) continue;
-            std::nth_element(present.begin(), present.begin() + static_cast<std::ptrdiff_t>(present.size() / 2), present.end());
-            const double median = present[present.size() / 2];
-            c.fill_value = median;
+            // The middle of the present values' range: what the species model takes for a covariate it
+            // is not given (the centre of the fitted range), so a blank row is fitted as it is predicted.
+            const auto [least, most] = std::minmax_element(present.begin(), present.end());
+            const double middle = 0.5 * (*least + *most);
+            c.fill_value = middle;
             c.values.reserve(n);
             for (double v : *column.numbers) {
                 c.missing += std::isfinite(v) ? 0 : 1;
-                c.values.push_back(std::isfinite(v) ? v : median);
+                c.values.push_back(std::isfinite(v) ? v : middle);
             }
             const auto [lo, hi] = std::minmax_element(c.values.begin(), c.values.end());
             if (*lo == *hi) {

@@ -13,11 +13,11 @@ namespace ikebana::game {
 struct CovariateColumn {
     std::string name;
     bool numeric = true;
-    std::vector<double> values;        // numeric: per row; a missing cell takes the column's median
+    std::vector<double> values;        // numeric: per row; a missing cell takes the middle of its range
     std::vector<std::uint32_t> level;  // categorical: per row, an index into `levels`
     std::vector<std::string> levels;   // categorical: the most common first (the reference level)
     std::size_t missing = 0;           // empty cells (categorical ones are the level "(missing)")
-    double fill_value = 0.0;           // numeric: what an empty cell takes (the median)
+    double fill_value = 0.0;           // numeric: what an empty cell takes (the middle of the range)
 };
 
 struct CovariateSet {

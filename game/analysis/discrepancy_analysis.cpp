@@ -320,13 +320,29 @@ TestOutcome Analysis::test(const VectorXd& residual, const GroupedDesign& design
     // and variance: every column's null is then about Exp(1).
     const std::size_t m = which.size();
     std::vector<double> shape_k(m), scale_theta(m);
+    // A column whose permuted statistics hardly vary (or whose match is not finite) is scored by its
+    // rank among them instead: -ln of its permutation p-value.
+    std::vector<std::vector<double>> by_rank(m);
     for (std::size_t c = 0; c < m; ++c) {
         const double mean = sum[c] / std::max(1u, b_total);
-        const double var = std::max(sum_sq[c] / std::max(1u, b_total) - mean * mean, 1e-300);
-        shape_k[c] = mean > 0.0 ? mean * mean / var : 1.0;
-        scale_theta[c] = mean > 0.0 ? var / mean : 1.0;
+        double var = 0.0; // two passes: E[s^2] - mean^2 cancels when they are nearly equal
+        for (std::uint32_t b = 0; b < b_total; ++b) var += (permuted[b * m + c] - mean) * (permuted[b * m + c] - mean);
+        var /= std::max(1u, b_total);
+        shape_k[c] = mean > 0.0 && var > 0.0 ? mean * mean / var : 0.0;
+        scale_theta[c] = mean > 0.0 && var > 0.0 ? var / mean : 0.0;
+        if (!(var > 1e-12 * mean * mean) || !std::isfinite(shape_k[c]) || shape_k[c] > 1e6) {
+            for (std::uint32_t b = 0; b < b_total; ++b) by_rank[c].push_back(permuted[b * m + c]);
+            std::sort(by_rank[c].begin(), by_rank[c].end());
+        }
     }
-    auto score = [&](std::size_t c, double x) { return gamma_tail_score(x / scale_theta[c], shape_k[c]); };
+    auto score = [&](std::size_t c, double x) {
+        if (!by_rank[c].empty()) {
+            const auto above = static_cast<double>(by_rank[c].end() - std::lower_bound(by_rank[c].begin(), by_rank[c].end(), x * (1.0 - 1e-9)));
+            return -std::log((1.0 + above) / (1.0 + static_cast<double>(b_total)));
+        }
+        const double t = gamma_tail_score(x / scale_theta[c], shape_k[c]);
+        return std::isfinite(t) ? t : 0.0;
+    };
     std::vector<double> observed_score(m);
     for (std::size_t c = 0; c < m; ++c) observed_score[c] = score(c, out.observed[c]);
     std::vector<std::size_t> order(m);
@@ -422,6 +438,9 @@ double Analysis::cv_mse(const std::vector<Term>& fixed, bool intercept, const Ca
         for (std::size_t k = 0; k < free->shapes.size(); ++k) {
             if (free->shapes[k].form == form) free_shapes.push_back(k);
         }
+        // A form with no shape here (a step with no threshold that leaves rows on both sides) is no
+        // candidate: it must not win with the base model's error.
+        if (free_shapes.empty()) return INFINITY;
     }
     // The base design with the free candidate at shape k.
     std::vector<GroupedDesign> with;
@@ -1276,27 +1295,39 @@ double model_log_factor(const std::vector<components::DeteriorationTerm>& extens
     return std::log(systems::insertion::extension_factor(extension, static_cast<std::uint32_t>(std::max(1.0, insertion)), covariates));
 }
 
-// Rows whose residual (less `model`, per row) lies beyond z robust standard deviations of the rows
-// not yet set aside; sorted, and with their z.
-std::vector<std::pair<std::size_t, double>> far_rows(const std::vector<double>& residual, double z) {
+// Each residual's distance from their median in robust standard deviations (1.4826 x the median
+// absolute deviation): the one scale rows are set aside by and reported in.
+std::vector<double> robust_z(const std::vector<double>& residual) {
     std::vector<double> sorted = residual;
     std::sort(sorted.begin(), sorted.end());
     const double median = sorted[sorted.size() / 2];
     std::vector<double> deviation;
     for (double r : residual) deviation.push_back(std::abs(r - median));
-    std::vector<double> d = deviation;
-    std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
-    const double sd = std::max(1.4826 * d[d.size() / 2], 1e-6); // no row is an outlier of exact data
-    std::vector<std::pair<std::size_t, double>> out;
-    for (std::size_t i = 0; i < residual.size(); ++i) {
-        if (deviation[i] > z * sd) out.emplace_back(i, (residual[i] - median) / sd);
+    std::nth_element(deviation.begin(), deviation.begin() + static_cast<std::ptrdiff_t>(deviation.size() / 2), deviation.end());
+    const double sd = std::max(1.4826 * deviation[deviation.size() / 2], 1e-6); // no row is an outlier of exact data
+    std::vector<double> z;
+    for (double r : residual) z.push_back((r - median) / sd);
+    return z;
+}
+
+// Numeric columns a row-set-aside left with nothing to test (one value, or no step threshold with rows on
+// both sides) join the constant ones: a candidate needs a shape.
+void drop_untestable(AnalysisInput& in) {
+    auto& columns = in.covariates.columns;
+    for (auto it = columns.begin(); it != columns.end();) {
+        if (it->numeric && all_shapes_of(*it).empty()) {
+            in.covariates.constant.push_back(it->name);
+            it = columns.erase(it);
+        } else {
+            ++it;
+        }
     }
-    return out;
 }
 
 Result<AnalysisResult> analyse_rows(const AnalysisInput& input, const AnalysisOptions& options) {
     std::vector<ScreenedColumn> screened;
-    const AnalysisInput kept = screened_input(input, options, screened);
+    AnalysisInput kept = screened_input(input, options, screened);
+    drop_untestable(kept);
     if (const auto [bytes, widest] = working_memory(kept); bytes > options.memory_budget_bytes) {
         return make_error(ErrorCode::invalid_argument,
                           "the covariates would need " + std::to_string(bytes >> 10) + " KiB of working memory, more than the " +
@@ -1314,38 +1345,32 @@ Result<AnalysisResult> analyse_rows(const AnalysisInput& input, const AnalysisOp
 Result<AnalysisResult> analyse_discrepancy(const AnalysisInput& input, const AnalysisOptions& options) {
     if (options.permutations < 19) return make_error(ErrorCode::invalid_argument, "at least 19 permutations are needed for p < 0.05");
     const std::size_t n = input.measured_gf.size();
-    if (options.outlier_z <= 0.0 || n < 20 || input.predicted_gf.size() != n) return analyse_rows(input, options);
+    if (options.outlier_z <= 0.0 || n < 20 || input.predicted_gf.size() != n || input.flower.size() != n) return analyse_rows(input, options);
+    for (const auto& c : input.covariates.columns) {
+        if ((c.numeric ? c.values.size() : c.level.size()) != n) return analyse_rows(input, options); // refused there, naming the column
+    }
     for (std::size_t i = 0; i < n; ++i) {
-        if (!(input.measured_gf[i] > 0.0) || !(input.predicted_gf[i] > 0.0)) return analyse_rows(input, options); // refused there, naming the row
+        const double m = input.measured_gf[i], p = input.predicted_gf[i];
+        if (!(m > 0.0) || !(p > 0.0) || !std::isfinite(m) || !std::isfinite(p)) return analyse_rows(input, options); // refused there, naming the row
     }
     // Gross errors: first against the baseline, then against the model fitted without them (an effect
-    // widens the baseline's spread and hides a moderate slip). At most two rounds; a tenth of the rows
-    // at most (beyond that it is not a few slips but the data).
+    // widens the baseline's spread and hides a moderate slip; a row the model explains comes back). At
+    // most a tenth of the rows: beyond that it is not a few slips but the data.
     std::vector<double> model(n, 0.0);
     std::vector<std::size_t> aside;
     Result<AnalysisResult> result = make_error(ErrorCode::invalid_argument, "no analysis");
     for (int round = 0; round < 2; ++round) {
         std::vector<double> residual(n);
         for (std::size_t i = 0; i < n; ++i) residual[i] = std::log(input.measured_gf[i] / input.predicted_gf[i]) - model[i];
-        std::vector<double> others; // the scale from the rows not set aside
-        std::vector<std::size_t> index;
+        const std::vector<double> z = robust_z(residual);
+        std::vector<std::size_t> now;
         for (std::size_t i = 0; i < n; ++i) {
-            if (std::binary_search(aside.begin(), aside.end(), i)) continue;
-            others.push_back(residual[i]);
-            index.push_back(i);
+            if (std::abs(z[i]) > options.outlier_z) now.push_back(i);
         }
-        std::vector<std::size_t> now = aside;
-        for (const auto& [k, z] : far_rows(others, options.outlier_z)) now.push_back(index[k]);
-        // A row set aside by the baseline but fitting the model comes back.
-        if (round > 0) {
-            const auto far = far_rows(residual, options.outlier_z);
-            std::vector<std::size_t> still;
-            for (const auto& [i, z] : far) still.push_back(i);
-            now.erase(std::remove_if(now.begin(), now.end(), [&](std::size_t i) { return !std::binary_search(still.begin(), still.end(), i); }), now.end());
+        if (now.size() > n / 10) {
+            if (round == 0) now.clear();
+            else break; // the model's second look finds too many: keep the first look's rows
         }
-        std::sort(now.begin(), now.end());
-        now.erase(std::unique(now.begin(), now.end()), now.end());
-        if (now.size() > n / 10) now.clear();
         if (round > 0 && now == aside) break;
         aside = std::move(now);
         result = aside.empty() ? analyse_rows(input, options) : analyse_rows(without_rows(input, aside), options);
@@ -1369,19 +1394,11 @@ Result<AnalysisResult> analyse_discrepancy(const AnalysisInput& input, const Ana
     }
     a.fitted_log_factor = std::move(fitted);
     a.cv_log_factor = std::move(cv);
-    // Their distance from the fitted model, in the kept rows' robust standard deviations.
-    std::vector<double> kept_residual;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!std::binary_search(aside.begin(), aside.end(), i)) kept_residual.push_back(std::log(input.measured_gf[i] / input.predicted_gf[i]) - model[i]);
-    }
-    std::vector<double> d;
-    for (double r : kept_residual) d.push_back(std::abs(r));
-    std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
-    const double sd = std::max(1.4826 * d[d.size() / 2], 1e-6);
-    for (std::size_t i : aside) {
-        const double expected = input.predicted_gf[i] * std::exp(model[i]);
-        a.suspected.push_back({i, input.measured_gf[i], expected, std::log(input.measured_gf[i] / expected) / sd});
-    }
+    // Their distance from the fitted model, on the scale they were set aside by.
+    std::vector<double> residual(n);
+    for (std::size_t i = 0; i < n; ++i) residual[i] = std::log(input.measured_gf[i] / input.predicted_gf[i]) - model[i];
+    const std::vector<double> z = robust_z(residual);
+    for (std::size_t i : aside) a.suspected.push_back({i, input.measured_gf[i], input.predicted_gf[i] * std::exp(model[i]), z[i]});
     a.n_trials = n;
     char line[160];
     std::snprintf(line, sizeof line, "%zu row(s) set aside as suspected gross errors (beyond %.0f robust standard deviations); the analysis ran on the other %zu",

@@ -94,8 +94,8 @@ struct CovariateDiagnostic {
     double p_adjusted = 1.0;         // family-wise over all covariates
     double p_given_model = 1.0;      // against the final model's residual (family-wise there)
     bool cause = false;              // kept in the final model
-    std::size_t blank = 0;           // rows with an empty cell: numeric ones take the column's median,
-    double blank_value = 0.0;        //   (that median); categorical ones are the level "(missing)"
+    std::size_t blank = 0;           // rows with an empty cell: numeric ones take the middle of the
+    double blank_value = 0.0;        //   column's range (that value); categorical ones are the level "(missing)"
 };
 
 struct Cause {

@@ -68,7 +68,10 @@ const std::set<std::string>* InsertionPredictor::covariates_used(const std::stri
             return nullptr;
         }
         std::set<std::string> used;
-        for (const auto& t : def->deterioration.terms) used.insert(t.covariate);
+        for (const auto& t : def->deterioration.terms) {
+            used.insert(t.covariate);
+            if (!t.times_covariate.empty()) used.insert(t.times_covariate); // an interaction reads it too
+        }
         it = covariates_used_.emplace(species, std::move(used)).first;
     }
     return &it->second;

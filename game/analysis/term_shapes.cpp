@@ -56,6 +56,10 @@ std::vector<TermShape> shapes_of(const CovariateColumn& column, const std::strin
         for (std::size_t i = margin; i + margin <= n; ++i) {
             if (sorted[i] != sorted[i - 1]) thresholds.push_back(0.5 * (sorted[i] + sorted[i - 1]));
         }
+        // A 0/1 flag whose rarer value has fewer rows than the margin still has its one threshold.
+        if (thresholds.empty() && sorted.front() != sorted.back() && std::set<double>(sorted.begin(), sorted.end()).size() == 2) {
+            thresholds.push_back(0.5 * (sorted.front() + sorted.back()));
+        }
         if (thresholds.size() > 15) {
             std::vector<double> thinned;
             for (std::size_t k = 0; k < 15; ++k) thinned.push_back(thresholds[(k * (thresholds.size() - 1)) / 14]);

@@ -289,7 +289,7 @@ std::string validation_summary(const ValidationResult& v) {
     for (const auto& d : a.diagnostics) {
         if (d.blank == 0) continue;
         o << "blank:     " << d.covariate << " is empty in " << d.blank << " of " << a.n_trials << " rows: "
-          << (d.numeric ? "those rows take its median, " + fmt("%.4g", d.blank_value) : std::string("those rows are a level of their own, \"(missing)\""))
+          << (d.numeric ? "those rows take the middle of its range, " + fmt("%.4g", d.blank_value) : std::string("those rows are a level of their own, \"(missing)\""))
           << "\n";
     }
     o << "baseline:  RMSE " << fmt("%.1f", a.baseline_rmse_gf) << " gf, CV RMSE " << fmt("%.1f", a.baseline_cv_rmse_gf) << " gf";
@@ -363,7 +363,7 @@ Result<void> write_validation_report(const ValidationResult& v, const AnalysisOp
     md << "| column | kind | blank cells | best shape | strength | p | family | given model | cause |\n|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& d : a.diagnostics) {
         md << "| `" << d.covariate << "` | " << (d.numeric ? "numeric" : "categorical") << " | "
-           << (d.blank == 0 ? std::string("0") : std::to_string(d.blank) + (d.numeric ? " (median " + fmt("%.4g", d.blank_value) + ")" : " (a level)")) << " | "
+           << (d.blank == 0 ? std::string("0") : std::to_string(d.blank) + (d.numeric ? " (taken as " + fmt("%.4g", d.blank_value) + ")" : " (a level)")) << " | "
            << d.best_shape << " | " << fmt("%.3f", d.strength)
            << " | " << fmt("%.3g", d.p_value) << " | " << fmt("%.3g", d.p_adjusted) << " | " << fmt("%.3g", d.p_given_model) << " | "
            << (d.cause ? "**yes**" : "") << " |\n";

@@ -145,7 +145,9 @@ void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
                 components::DeteriorationTerm term{};
                 term.covariate = c.string(t, tp, "covariate").value_or("");
                 term.form = c.choice(t, tp, "form", {"constant", "linear", "log", "saturating", "power", "step", "peaked", "category"}).value_or("");
-                term.coefficient = c.number(t, tp, "coefficient", {-50, 50}).value_or(0);
+                // An interaction's coefficient is per unit of its second covariate too (a fraction's units
+                // are small): it gets the room the factor's own clamp (e^+-5) bounds anyway.
+                term.coefficient = c.number(t, tp, "coefficient", t.contains("times") ? NumberRange{-1e6, 1e6} : NumberRange{-50, 50}).value_or(0);
                 term.scale = c.number(t, tp, "scale", {-1e9, 1e9}, false).value_or(0);
                 term.origin = c.number(t, tp, "origin", {-1e9, 1e9}, false).value_or(0);
                 if (t.contains("range")) {
@@ -164,9 +166,10 @@ void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
                     if (const Json* times = c.object(t, tp, "times")) {
                         c.no_unknown_keys(*times, xp, {"covariate", "origin", "range"});
                         term.times_covariate = c.string(*times, xp, "covariate").value_or("");
-                        if (term.times_covariate.empty()) c.problem(xp + "/covariate", "expected the name of a covariate");
                         term.times_origin = c.number(*times, xp, "origin", {-1e9, 1e9}, false).value_or(0);
-                        if (times->contains("range")) {
+                        // The range is required: it is where a world without the covariate takes it (its centre).
+                        if (!times->contains("range")) c.problem(xp + "/range", "missing: give [low, high], the values the interaction was fitted over");
+                        else {
                             const auto range = c.numbers(*times, xp, "range", {-1e9, 1e9}, 2);
                             if (range && range->size() != 2) c.problem(xp + "/range", "expected [low, high]");
                             else if (range && (*range)[0] > (*range)[1]) c.problem(xp + "/range", "expected low <= high");

@@ -244,6 +244,28 @@ TEST(HiddenEffect, GrossErrorsAreSetAsideAndNamedAndTheRealEffectIsFound) {
     EXPECT_EQ(false_causes, 0u);
 }
 
+// A flag set only on the misread rows (re-gauged afterwards) has nothing left to test once they are set
+// aside: it is left out, not a crash (it was: a candidate with no shape).
+TEST(HiddenEffect, AColumnLeftConstantByTheRowsSetAsideIsLeftOut) {
+    const auto train = make_synthetic_trials({.effect = PlantedEffect::gross_outliers, .seed = 3}, shared_predictor());
+    ASSERT_GE(train.gross_rows.size(), 2u);
+    AnalysisInput in = analysis_input(train);
+    CovariateColumn flag;
+    flag.name = "regauged";
+    flag.values.assign(in.measured_gf.size(), 0.0);
+    for (std::size_t r : train.gross_rows) flag.values[r] = 1.0;
+    in.covariates.columns.push_back(flag);
+    const auto result = analyse_discrepancy(in, options_for(3));
+    ASSERT_TRUE(result) << result.error().message;
+    EXPECT_EQ(result->suspected.size(), train.gross_rows.size());
+    EXPECT_TRUE(std::none_of(result->diagnostics.begin(), result->diagnostics.end(), [](const CovariateDiagnostic& d) { return d.covariate == "regauged"; }));
+    // An infinite force is refused naming its row, not set aside as an outlier.
+    in.measured_gf[7] = INFINITY;
+    const auto refused = analyse_discrepancy(in, options_for(3));
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("row 8:"), std::string::npos) << refused.error().message;
+}
+
 // Issue 19: a lab's file with a lot number given row by row (10,000 levels, about one row each) beside
 // a real effect on one of 12 stations. The lot number is screened out, with its reason and the share
 // of the residual's variance between its levels, which is what chance gives that many levels; nothing

@@ -133,14 +133,14 @@ TEST(Validation, BlankCellsAreCountedPerColumnAndSaidWhatTheyWereTakenAs) {
     const auto v = run_validation(path, options);
     ASSERT_TRUE(v) << v.error().message;
     const auto summary = validation_summary(*v);
-    EXPECT_NE(summary.find("blank:     humidity_pct is empty in 3 of 24 rows: those rows take its median, 54\n"), std::string::npos) << summary;
+    EXPECT_NE(summary.find("blank:     humidity_pct is empty in 3 of 24 rows: those rows take the middle of its range, 52.5\n"), std::string::npos) << summary;
     EXPECT_NE(summary.find("blank:     room is empty in 2 of 24 rows: those rows are a level of their own, \"(missing)\"\n"), std::string::npos) << summary;
     EXPECT_EQ(summary.find("blank:     insertion"), std::string::npos);
     const auto json = nlohmann::json::parse(validation_json(*v, options.analysis));
     for (const auto& d : json["diagnostics"]) {
         if (d["covariate"] == "humidity_pct") {
             EXPECT_EQ(d["blank_cells"], 3);
-            EXPECT_EQ(d["blank_cells_taken_as"], 54.0); // 21 values 41..64 less 42, 45, 51: the 11th
+            EXPECT_EQ(d["blank_cells_taken_as"], 52.5); // the values run 41..64
         } else if (d["covariate"] == "room") {
             EXPECT_EQ(d["blank_cells"], 2);
         } else {
@@ -205,4 +205,10 @@ TEST(Validation, AnInteractionTermRoundTripsThroughTheSpeciesFile) {
     const auto refused = parse_species(broken.dump(), "broken.json");
     ASSERT_FALSE(refused);
     EXPECT_NE(refused.error().message.find("/deterioration/terms/2/times"), std::string::npos) << refused.error().message;
+    broken["deterioration"]["terms"][2]["times"] = {{"covariate", "storage_days"}, {"origin", 5.0}};
+    const auto no_range = parse_species(broken.dump(), "broken.json");
+    ASSERT_FALSE(no_range);
+    EXPECT_NE(no_range.error().message.find("/deterioration/terms/2/times/range: missing: give [low, high], the values the interaction was fitted over"),
+              std::string::npos)
+        << no_range.error().message;
 }
