@@ -649,7 +649,10 @@ double effect_of(const Cause& cause, const Eigen::VectorXd& coefficients, std::s
         std::size_t best = fixed.value_or(0);
         if (!fixed) {
             for (std::size_t l = 1; l < levels; ++l) {
-                if (std::abs(deviation(l)) > std::abs(deviation(best))) best = l;
+                const double d = std::abs(deviation(l)), b = std::abs(deviation(best));
+                // Two levels differ from each other by the same amount: name the rarer, the one set apart.
+                const bool tie = std::abs(d - b) <= 1e-9 * std::max(d, b);
+                if ((!tie && d > b) || (tie && cause.level_share[l] < cause.level_share[best])) best = l;
             }
         }
         if (level) *level = best;
@@ -1136,10 +1139,19 @@ Result<AnalysisResult> Analysis::run() {
                 // A category: the same level as the point estimate, not whichever differs most here.
                 std::size_t level = 0;
                 effect_of(result_.causes[k], result_.causes[k].coefficients, &level);
+                if (terms[k].block) {
+                    // A resample without one of its levels knows nothing of that level's effect (it enters
+                    // as the mean) and pulls the interval toward 0: such a resample says nothing here.
+                    const auto& of_row = *terms[k].factor.level;
+                    std::vector<bool> present(terms[k].factor.levels, false);
+                    for (Index i : rows) present[of_row[static_cast<std::size_t>(i)]] = true;
+                    if (std::find(present.begin(), present.end(), false) != present.end()) continue;
+                }
                 effects[k].push_back(effect_of(result_.causes[k], coefficients, nullptr, level));
             }
         }
         for (std::size_t k = 0; k < causes_count; ++k) {
+            if (effects[k].empty()) effects[k].push_back(result_.causes[k].effect_size); // no resample had the level
             result_.causes[k].effect_low = quantile(effects[k], 0.025);
             result_.causes[k].effect_high = quantile(effects[k], 0.975);
         }

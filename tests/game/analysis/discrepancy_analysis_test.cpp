@@ -145,6 +145,37 @@ TEST(DiscrepancyAnalysis, FindsATrendAndLeavesTheUnrelatedColumnAlone) {
     EXPECT_LT(result->extended_cv_rmse_gf, result->baseline_cv_rmse_gf);
 }
 
+// A rare level (three flowers of 60) with a real effect: a flower resample that misses it knows
+// nothing of the level and must not count as "no effect" (5 % of resamples did, and the interval
+// reached to 0).
+TEST(DiscrepancyAnalysis, ARareLevelsIntervalIsNotPulledToZeroByResamplesWithoutIt) {
+    AnalysisInput in;
+    CovariateColumn vase;
+    vase.name = "vase";
+    vase.numeric = false;
+    vase.levels = {"glass", "metal"};
+    std::mt19937_64 rng(4);
+    std::normal_distribution<double> noise(0.0, 0.03);
+    for (int f = 0; f < 60; ++f) {
+        for (int k = 0; k < 6; ++k) {
+            const bool metal = f < 3;
+            in.flower.push_back("F" + std::to_string(f));
+            in.predicted_gf.push_back(300.0);
+            in.measured_gf.push_back(300.0 * std::exp((metal ? -0.2 : 0.0) + noise(rng)));
+            vase.level.push_back(metal ? 1u : 0u);
+        }
+    }
+    in.covariates.columns.push_back(vase);
+    AnalysisOptions o;
+    o.bootstrap = 200;
+    const auto result = analyse_discrepancy(in, o);
+    ASSERT_TRUE(result) << result.error().message;
+    ASSERT_FALSE(result->causes.empty());
+    EXPECT_EQ(result->causes[0].category, "metal");
+    EXPECT_LT(result->causes[0].effect_high, -0.12) << "[" << result->causes[0].effect_low << ", " << result->causes[0].effect_high << "]";
+    EXPECT_GT(result->causes[0].effect_low, -0.25);
+}
+
 TEST(DiscrepancyAnalysis, NoEffectGivesNoCausesAndNoGain) {
     const auto result = analyse_discrepancy(small_input(12, 6, 0.0, 4), {});
     ASSERT_TRUE(result) << result.error().message;
