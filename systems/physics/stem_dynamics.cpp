@@ -495,13 +495,19 @@ void cholesky_solve_lanes(double* a, double* b, double* inverse, std::size_t n, 
         }
         Lanes sum = r[bandwidth];
         for (std::size_t m = 0; m < bandwidth; ++m) sum -= r[m] * r[m];
-        for (std::size_t l = 0; l < lanes; ++l) {
-            if (!(sum[l] > 0.0)) {
-                ok[l] = false;
-                sum[l] = 1.0; // the lane's stem is refused; the others go on
+        // The four roots in one instruction (this file is built without errno from sqrt, so the loop
+        // below is one vector square root): a lane's stem that is not positive definite is refused
+        // with 1 in its place, and the others go on. The check is one compare and a rarely taken branch.
+        const auto positive = sum > 0.0;
+        if (!(positive[0] && positive[1] && positive[2] && positive[3])) {
+            for (std::size_t l = 0; l < lanes; ++l) {
+                if (!positive[l]) {
+                    ok[l] = false;
+                    sum[l] = 1.0;
+                }
             }
-            r[bandwidth][l] = std::sqrt(sum[l]);
         }
+        for (std::size_t l = 0; l < lanes; ++l) r[bandwidth][l] = __builtin_sqrt(sum[l]);
         for (std::size_t d = 0; d < stride; ++d) at(ri + d * lanes) = r[d];
         at(inverse + (i + pad) * lanes) = 1.0 / r[bandwidth];
     }
