@@ -22,37 +22,32 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
             stems_.push_back({&points, &rest, &springs, clamp, &loads, parts, held, true});
         });
     if (scratches_.size() < stems_.size()) scratches_.resize(stems_.size());
-    // Stems cut into as many parts step together, their solves four at a time (step_stems); each
-    // stem's results are what stepping it alone gives.
+    // The tick in rounds: round k steps every stem cut into more than k parts by its part, so a stiff
+    // stem's first part is solved beside the others' whole tick and the lanes fill (step_stems: each
+    // stem's results are what stepping it alone gives, whatever shares its register).
     order_.resize(stems_.size());
     for (std::size_t i = 0; i < order_.size(); ++i) order_[i] = i;
-    // Longest first within each run: a group of four costs its longest stem's rows, so similar lengths
-    // share a group, and the one left alone (solved without lanes) is a short one.
-    std::stable_sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
-        if (stems_[a].parts != stems_[b].parts) return stems_[a].parts < stems_[b].parts;
-        return stems_[a].points->position_m.size() > stems_[b].points->position_m.size();
-    });
-    for (std::size_t first = 0, run = 0; first < order_.size(); ++run) {
-        const std::size_t parts = stems_[order_[first]].parts;
-        if (lane_scratch_.size() <= run) lane_scratch_.resize(run + 1);
-        std::size_t last = first;
-        while (last < order_.size() && stems_[order_[last]].parts == parts) ++last;
-        for (std::size_t part = 0; part < parts; ++part) {
-            batch_.clear();
-            batch_stem_.clear();
-            for (std::size_t k = first; k < last; ++k) {
-                auto& stem = stems_[order_[k]];
-                if (!stem.finite) continue;
-                auto& scratch = scratches_[order_[k]];
-                scratch.want_end_force = stem.held && part + 1 == parts; // only a held stem's last part is felt
-                batch_.push_back({stem.points, stem.rest, stem.springs, stem.clamp, &scratch});
-                batch_stem_.push_back(order_[k]);
-            }
-            batch_ok_.assign(batch_.size(), 0);
-            physics::step_stems(batch_, gravity, ctx.dt_s / static_cast<double>(parts), lane_scratch_[run], batch_ok_);
-            for (std::size_t j = 0; j < batch_.size(); ++j) stems_[batch_stem_[j]].finite = batch_ok_[j] != 0;
+    // Longest first: a group of four costs its longest stem's rows, so similar lengths share a group,
+    // and one left alone (solved without lanes) is a short one.
+    std::stable_sort(order_.begin(), order_.end(),
+                     [&](std::size_t a, std::size_t b) { return stems_[a].points->position_m.size() > stems_[b].points->position_m.size(); });
+    std::size_t rounds = 0;
+    for (const auto& stem : stems_) rounds = std::max(rounds, stem.parts);
+    if (lane_scratch_.size() < rounds) lane_scratch_.resize(rounds);
+    for (std::size_t round = 0; round < rounds; ++round) {
+        batch_.clear();
+        batch_stem_.clear();
+        for (const std::size_t k : order_) {
+            auto& stem = stems_[k];
+            if (stem.parts <= round || !stem.finite) continue;
+            auto& scratch = scratches_[k];
+            scratch.want_end_force = stem.held && round + 1 == stem.parts; // only a held stem's last part is felt
+            batch_.push_back({stem.points, stem.rest, stem.springs, stem.clamp, &scratch, ctx.dt_s / static_cast<double>(stem.parts)});
+            batch_stem_.push_back(k);
         }
-        first = last;
+        batch_ok_.assign(batch_.size(), 0);
+        physics::step_stems(batch_, gravity, lane_scratch_[round], batch_ok_);
+        for (std::size_t j = 0; j < batch_.size(); ++j) stems_[batch_stem_[j]].finite = batch_ok_[j] != 0;
     }
     for (std::size_t i = 0; i < stems_.size(); ++i) {
         auto& stem = stems_[i];

@@ -44,7 +44,7 @@ private:
     std::vector<physics::StemStep> batch_;
     std::vector<std::size_t> batch_stem_;
     std::vector<std::uint8_t> batch_ok_;
-    std::vector<physics::LaneScratch> lane_scratch_; // one per run of stems cut into as many parts
+    std::vector<physics::LaneScratch> lane_scratch_; // one per round (see operator())
 };
 
 } // namespace ikebana::systems

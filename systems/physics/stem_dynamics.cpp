@@ -537,12 +537,12 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
     return finish_step(points, clamp, dt, scratch, own);
 }
 
-void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, double dt, LaneScratch& lane_scratch, std::span<std::uint8_t> ok) {
+void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, LaneScratch& lane_scratch, std::span<std::uint8_t> ok) {
     for (std::size_t first = 0; first < stems.size(); first += lanes) {
         const std::size_t group = std::min(lanes, stems.size() - first);
         if (group == 1) { // nothing to share a register with
             const auto& s = stems[first];
-            ok[first] = step_stem(*s.points, *s.rest, *s.springs, s.clamp, gravity, dt, *s.scratch) ? 1 : 0;
+            ok[first] = step_stem(*s.points, *s.rest, *s.springs, s.clamp, gravity, s.dt_s, *s.scratch) ? 1 : 0;
             continue;
         }
         std::size_t n = 0;
@@ -574,13 +574,13 @@ void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, double dt, 
         }
         for (std::size_t l = 0; l < group; ++l) {
             const auto& s = stems[first + l];
-            assemble_step(*s.points, *s.rest, *s.springs, s.clamp, gravity, dt, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes});
+            assemble_step(*s.points, *s.rest, *s.springs, s.clamp, gravity, s.dt_s, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes});
         }
         bool lane_ok[lanes] = {true, true, true, true};
         cholesky_solve_lanes(a.data(), b.data(), inverse.data(), n, lane_ok);
         for (std::size_t l = 0; l < group; ++l) {
             const auto& s = stems[first + l];
-            ok[first + l] = lane_ok[l] && finish_step(*s.points, s.clamp, dt, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes}) ? 1 : 0;
+            ok[first + l] = lane_ok[l] && finish_step(*s.points, s.clamp, s.dt_s, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes}) ? 1 : 0;
             // A failed lane may have carried NaN into its identity rows (0 * NaN): rebuilt next step.
             if (!ok[first + l]) g.n = 0;
         }

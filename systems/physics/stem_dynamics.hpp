@@ -89,13 +89,15 @@ bool step_stem(components::StemPoints& points, const components::StemRestShape& 
                const components::StemSprings& springs, const components::StemClamp* clamp, glm::dvec3 gravity,
                double dt, StemSolverScratch& scratch);
 
-// One stem for step_stems: its parts, and its own working memory.
+// One stem for step_stems: its parts, its own working memory, and its step (stems of different steps
+// share the lanes: a stiff stem's first part is solved beside the others' whole tick).
 struct StemStep {
     components::StemPoints* points;
     const components::StemRestShape* rest;
     const components::StemSprings* springs;
     const components::StemClamp* clamp; // may be null
     StemSolverScratch* scratch;
+    double dt_s;
 };
 
 // The solves of four stems side by side (see step_stems), kept per group of four from call to call:
@@ -111,8 +113,8 @@ struct LaneScratch {
     std::vector<Group> groups;
 };
 
-// Advances every stem by dt, as step_stem does each (the same results bit for bit; ok[i] is 1 where it
-// would return true), their linear solves four at a time in the lanes of one register.
-void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, double dt, LaneScratch& lane_scratch, std::span<std::uint8_t> ok);
+// Advances every stem by its dt_s, as step_stem does each (the same results bit for bit; ok[i] is 1
+// where it would return true), their linear solves four at a time in the lanes of one register.
+void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, LaneScratch& lane_scratch, std::span<std::uint8_t> ok);
 
 } // namespace ikebana::systems::physics
