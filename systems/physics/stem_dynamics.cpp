@@ -107,30 +107,36 @@ void symmetric_product(const Band& a, const double* x, double* y) {
     }
 }
 
-// In-place banded Cholesky factorisation A = L L^T and solve of A x = b (A symmetric positive definite);
-// b is padded like the vectors above. The diagonal's inverses are kept in `inverse` (padded too) so that
-// the solves multiply.
-bool cholesky_solve(const Band& a, double* b, std::vector<double>& inverse_storage) {
+// In-place banded factorisation A = L D L^T (L unit lower, D diagonal; A symmetric positive definite,
+// so every D > 0) and solve of A x = b; b is padded like the vectors above. Row i keeps L's entries left
+// of the diagonal and D_i on it, and D's inverses are kept in `inverse` (padded too) so that the solves
+// multiply. Not Cholesky's L L^T: a row waits for the one before it through a product and a division,
+// without a square root between them (that root was most of the solve's time).
+bool ldlt_solve(const Band& a, double* b, std::vector<double>& inverse_storage) {
     const std::size_t n = a.n;
     size_vector(inverse_storage, n, 1.0);
     double* inverse = inverse_storage.data() + pad;
     for (std::size_t i = 0; i < n; ++i) {
         double* ri = a.row(i);
+        double w[bandwidth]; // L(i, k) D(k) for k = i - bandwidth + m
 #pragma GCC unroll 8
         for (std::size_t d = 0; d < bandwidth; ++d) { // column j = i - bandwidth + d < i
             const double* rj = a.row(i + d - bandwidth);
             double sum = ri[d];
-            // k = i - bandwidth + m for m < d: L(i, k) = ri[m], L(j, k) = rj[m + bandwidth - d]
+            // k = i - bandwidth + m for m < d: L(j, k) = rj[m + bandwidth - d]
 #pragma GCC unroll 8
-            for (std::size_t m = 0; m < d; ++m) sum -= ri[m] * rj[m + bandwidth - d];
-            ri[d] = sum * (inverse - bandwidth)[i + d]; // the padding's inverse (1) left of row 0
+            for (std::size_t m = 0; m < d; ++m) sum -= w[m] * rj[m + bandwidth - d];
+            w[d] = sum;
         }
-        double sum = ri[bandwidth];
+        double diagonal = ri[bandwidth];
 #pragma GCC unroll 8
-        for (std::size_t m = 0; m < bandwidth; ++m) sum -= ri[m] * ri[m];
-        if (!(sum > 0.0)) return false;
-        ri[bandwidth] = std::sqrt(sum);
-        inverse[i] = 1.0 / ri[bandwidth];
+        for (std::size_t m = 0; m < bandwidth; ++m) {
+            ri[m] = w[m] * (inverse - bandwidth)[i + m]; // the padding's inverse (1) left of row 0
+            diagonal -= w[m] * ri[m];
+        }
+        if (!(diagonal > 0.0)) return false;
+        ri[bandwidth] = diagonal;
+        inverse[i] = 1.0 / diagonal;
     }
     for (std::size_t i = 0; i < n; ++i) { // L y = b
         const double* ri = a.row(i);
@@ -138,13 +144,13 @@ bool cholesky_solve(const Band& a, double* b, std::vector<double>& inverse_stora
         double sum = b[i];
 #pragma GCC unroll 8
         for (std::size_t m = 0; m < bandwidth; ++m) sum -= ri[m] * yr[m];
-        b[i] = sum * inverse[i];
+        b[i] = sum;
     }
-    for (std::size_t i = n; i-- > 0;) { // L^T x = y
-        double sum = b[i];
+    for (std::size_t i = n; i-- > 0;) { // L^T x = D^-1 y
+        double sum = b[i] * inverse[i];
 #pragma GCC unroll 8
         for (std::size_t t = 1; t <= bandwidth; ++t) sum -= a.row(i + t)[bandwidth - t] * b[i + t];
-        b[i] = sum * inverse[i];
+        b[i] = sum;
     }
     return true;
 }
@@ -463,7 +469,7 @@ bool finish_step(StemPoints& points, const StemClamp* clamp, double dt, StemSolv
 }
 
 // Four stems' systems solved side by side, one in each lane of a vector of four doubles: each lane
-// does exactly the operations cholesky_solve does on its stem, in the same order (no fused
+// does exactly the operations ldlt_solve does on its stem, in the same order (no fused
 // multiply-add: none is enabled), so its results are the same bit for bit; a 256-bit machine does four
 // stems' work in the instructions of one. Each stem assembles its system straight into its lane
 // (entry by entry, lane by lane); a shorter system is continued by identity rows. `ok[l]`: lane l was
@@ -477,50 +483,52 @@ using LanesAt = double __attribute__((vector_size(8 * lanes), aligned(8), may_al
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 __attribute__((target_clones("avx2", "default")))
 #endif
-void cholesky_solve_lanes(double* a, double* b, double* inverse, std::size_t n, bool* ok) {
+void ldlt_solve_lanes(double* a, double* b, double* inverse, std::size_t n, bool* ok) {
     // a: (n + 2 pad) rows of `stride` entries of `lanes`; b, inverse: (n + 2 pad) of `lanes`. Read and
     // written in place through LanesAt references (no helper functions: one taking or returning a
     // 256-bit vector has a different ABI in each clone).
     const auto at = [](double* p) -> LanesAt& { return *reinterpret_cast<LanesAt*>(p); };
     const auto row = [&](std::size_t i) { return a + (i + pad) * stride * lanes; };
+    const Lanes one = Lanes{} + 1.0;
     for (std::size_t i = 0; i < n; ++i) {
         double* ri = row(i);
-        Lanes r[stride]; // the row in registers (stores through LanesAt may alias every load)
-        for (std::size_t d = 0; d < stride; ++d) r[d] = at(ri + d * lanes);
+        Lanes w[bandwidth];
         for (std::size_t d = 0; d < bandwidth; ++d) {
             double* rj = row(i + d - bandwidth);
-            Lanes sum = r[d];
-            for (std::size_t m = 0; m < d; ++m) sum -= r[m] * at(rj + (m + bandwidth - d) * lanes);
-            r[d] = sum * at(inverse + (i + pad + d - bandwidth) * lanes);
+            Lanes sum = at(ri + d * lanes);
+            for (std::size_t m = 0; m < d; ++m) sum -= w[m] * at(rj + (m + bandwidth - d) * lanes);
+            w[d] = sum;
         }
-        Lanes sum = r[bandwidth];
-        for (std::size_t m = 0; m < bandwidth; ++m) sum -= r[m] * r[m];
-        // The four roots in one instruction (this file is built without errno from sqrt, so the loop
-        // below is one vector square root): a lane's stem that is not positive definite is refused
-        // with 1 in its place, and the others go on. The check is one compare and a rarely taken branch.
-        const auto positive = sum > 0.0;
+        Lanes diagonal = at(ri + bandwidth * lanes);
+        for (std::size_t m = 0; m < bandwidth; ++m) {
+            const Lanes l = w[m] * at(inverse + (i + pad + m - bandwidth) * lanes);
+            at(ri + m * lanes) = l;
+            diagonal -= w[m] * l;
+        }
+        // A lane whose stem is not positive definite is refused with 1 in its place, and the others go
+        // on: one compare and a rarely taken branch.
+        const auto positive = diagonal > 0.0;
         if (!(positive[0] && positive[1] && positive[2] && positive[3])) {
             for (std::size_t l = 0; l < lanes; ++l) {
                 if (!positive[l]) {
                     ok[l] = false;
-                    sum[l] = 1.0;
+                    diagonal[l] = 1.0;
                 }
             }
         }
-        for (std::size_t l = 0; l < lanes; ++l) r[bandwidth][l] = __builtin_sqrt(sum[l]);
-        for (std::size_t d = 0; d < stride; ++d) at(ri + d * lanes) = r[d];
-        at(inverse + (i + pad) * lanes) = 1.0 / r[bandwidth];
+        at(ri + bandwidth * lanes) = diagonal;
+        at(inverse + (i + pad) * lanes) = one / diagonal;
     }
     for (std::size_t i = 0; i < n; ++i) { // L y = b
         double* ri = row(i);
         Lanes sum = at(b + (i + pad) * lanes);
         for (std::size_t m = 0; m < bandwidth; ++m) sum -= at(ri + m * lanes) * at(b + (i + pad + m - bandwidth) * lanes);
-        at(b + (i + pad) * lanes) = sum * at(inverse + (i + pad) * lanes);
+        at(b + (i + pad) * lanes) = sum;
     }
-    for (std::size_t i = n; i-- > 0;) { // L^T x = y
-        Lanes sum = at(b + (i + pad) * lanes);
+    for (std::size_t i = n; i-- > 0;) { // L^T x = D^-1 y
+        Lanes sum = at(b + (i + pad) * lanes) * at(inverse + (i + pad) * lanes);
         for (std::size_t t = 1; t <= bandwidth; ++t) sum -= at(row(i + t) + (bandwidth - t) * lanes) * at(b + (i + pad + t) * lanes);
-        at(b + (i + pad) * lanes) = sum * at(inverse + (i + pad) * lanes);
+        at(b + (i + pad) * lanes) = sum;
     }
 }
 
@@ -533,7 +541,7 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
     size_vector(scratch.rhs, n, 0.0);
     const SystemAt own{scratch.band.data(), scratch.rhs.data(), 1};
     assemble_step(points, rest, springs, clamp, gravity, dt, scratch, own);
-    if (!cholesky_solve(Band{scratch.band.data(), n}, scratch.rhs.data() + pad, scratch.inverse_diagonal)) return false;
+    if (!ldlt_solve(Band{scratch.band.data(), n}, scratch.rhs.data() + pad, scratch.inverse_diagonal)) return false;
     return finish_step(points, clamp, dt, scratch, own);
 }
 
@@ -577,7 +585,7 @@ void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, LaneScratch
             assemble_step(*s.points, *s.rest, *s.springs, s.clamp, gravity, s.dt_s, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes});
         }
         bool lane_ok[lanes] = {true, true, true, true};
-        cholesky_solve_lanes(a.data(), b.data(), inverse.data(), n, lane_ok);
+        ldlt_solve_lanes(a.data(), b.data(), inverse.data(), n, lane_ok);
         for (std::size_t l = 0; l < group; ++l) {
             const auto& s = stems[first + l];
             ok[first + l] = lane_ok[l] && finish_step(*s.points, s.clamp, s.dt_s, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes}) ? 1 : 0;

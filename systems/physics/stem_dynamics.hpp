@@ -12,7 +12,7 @@
 // exactly the static equilibrium of the exact forces (the cantilever test relies on that). The
 // stiffness matrix is a positive semi-definite approximation (exact axial Hessian with the
 // compressive part dropped, small-angle bending Hessian), which keeps the system matrix symmetric
-// positive definite and banded (each point couples to +-2 neighbours): a banded Cholesky solve,
+// positive definite and banded (each point couples to +-2 neighbours): a banded L D L^T solve,
 // O(n) per stem per tick.
 #include <array>
 #include <cstdint>
@@ -60,7 +60,7 @@ struct StemSolverScratch {
     std::vector<double> stiffness;        // H, kept for the end-of-step forces
     std::vector<double> rhs;              // padded; the new velocity once solved
     std::vector<double> motion;           // padded; the step's motion (for the end forces)
-    std::vector<double> inverse_diagonal; // of the Cholesky factor
+    std::vector<double> inverse_diagonal; // D^-1 of the L D L^T factors
     std::vector<double> segment_block;    // each segment's axial Hessian block, 6 values
     std::vector<double> bend_coupling;    // each point's hinge Hessian with itself, p-1, p-2
     std::vector<StemSegment> segments; // this step's
