@@ -56,7 +56,7 @@ ecs::Entity owner_of(ecs::Registry& r, ecs::Entity e) {
 
 void CollisionDetectionSystem::operator()(sched::SystemContext& ctx) {
     begin(ctx.registry);
-    sort_cells(0, 1);
+    gather(0, 1);
     query(0, 1);
     query_pins(ctx.registry);
     publish(ctx.registry);
@@ -64,66 +64,65 @@ void CollisionDetectionSystem::operator()(sched::SystemContext& ctx) {
 
 void CollisionDetectionSystem::begin(ecs::Registry& r) {
     found.clear();
+    pairs.clear();
     pairs_tested = 0;
-    // Index every Active and Passive collider; Inactive ones never enter these views. The Active ones
-    // come first (0 .. active_count - 1).
+    // Every Active and Passive collider as it is now; Inactive ones never enter these views. The Active
+    // ones come first (0 .. active_count - 1), and only they go into the cell index: a dozen stem ends
+    // and hands against hundreds of parts, so the index is small and sorted at once, and every collider
+    // then looks up the cells it covers (sorting an index of every collider's cells was most of the pass).
     cells.clear();
     entities.clear();
     owners.clear();
     active.clear();
     colliders.clear();
-    auto index = [&](ecs::Entity e, const Collider& c, bool is_active) {
+    auto add = [&](ecs::Entity e, const Collider& c, bool is_active) {
         const auto slot = static_cast<std::uint32_t>(entities.size());
         entities.push_back(e);
         colliders.push_back(c);
         owners.push_back(owner_of(r, e));
         active.push_back(is_active ? 1 : 0);
-        for_each_cell(collision::bounds_of(c), cell_size_m, [&](std::int64_t key) { cells.emplace_back(key, slot); });
+        if (is_active) for_each_cell(collision::bounds_of(c), cell_size_m, [&](std::int64_t key) { cells.emplace_back(key, slot); });
     };
-    r.view<const Collider, const ActiveCollider>().each([&](ecs::Entity e, const Collider& c) { index(e, c, true); });
+    r.view<const Collider, const ActiveCollider>().each([&](ecs::Entity e, const Collider& c) { add(e, c, true); });
     active_count = entities.size();
-    r.view<const Collider, const PassiveCollider>().each([&](ecs::Entity e, const Collider& c) { index(e, c, false); });
+    r.view<const Collider, const PassiveCollider>().each([&](ecs::Entity e, const Collider& c) { add(e, c, false); });
+    std::sort(cells.begin(), cells.end());
 }
 
-// Run `run` of `runs` equal runs of the cell index, sorted. Every (cell, collider) entry is unique, so
-// the runs merged are the index sorted whole, entry for entry.
-void CollisionDetectionSystem::sort_cells(std::size_t run, std::size_t runs) {
-    const auto n = cells.size();
-    std::sort(cells.begin() + static_cast<std::ptrdiff_t>(n * run / runs), cells.begin() + static_cast<std::ptrdiff_t>(n * (run + 1) / runs));
-}
-
-void CollisionDetectionSystem::merge_cells(std::size_t runs) {
-    const auto n = cells.size();
-    for (std::size_t run = 1; run < runs; ++run) { // the sorted prefix with the next run, into `merged`
-        const auto middle = cells.begin() + static_cast<std::ptrdiff_t>(n * run / runs);
-        const auto end = cells.begin() + static_cast<std::ptrdiff_t>(n * (run + 1) / runs);
-        merged.clear();
-        std::merge(cells.begin(), middle, middle, end, std::back_inserter(merged));
-        std::copy(merged.begin(), merged.end(), cells.begin());
+void CollisionDetectionSystem::gather(std::size_t slice, std::size_t slices) {
+    // Collider j of slice s meets the Active colliders i in its cells: the pair (i, j), for a Passive j
+    // or an Active one after i (Active x Active once).
+    const std::size_t from = entities.size() * slice / slices;
+    const std::size_t to = entities.size() * (slice + 1) / slices;
+    for (std::size_t j = from; j < to; ++j) {
+        for_each_cell(collision::bounds_of(colliders[j]), cell_size_m, [&](std::int64_t key) {
+            auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key, std::uint32_t{0}));
+            for (; it != cells.end() && it->first == key; ++it) {
+                const std::uint32_t i = it->second;
+                if (i == j || (active[j] && i > j)) continue;
+                pairs.push_back((static_cast<std::uint64_t>(i) << 32) | j);
+            }
+        });
     }
 }
 
 void CollisionDetectionSystem::query(std::size_t slice, std::size_t slices) {
-    // Slice s of the Active colliders, in order: the slices' contacts, one after another, are the
-    // whole pass's.
-    const std::size_t from = active_count * slice / slices;
-    const std::size_t to = active_count * (slice + 1) / slices;
-    for (std::size_t i = from; i < to; ++i) {
-        const Collider& a = colliders[i];
-        candidates.clear();
-        for_each_cell(collision::bounds_of(a), cell_size_m, [&](std::int64_t key) {
-            auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key, std::uint32_t{0}));
-            for (; it != cells.end() && it->first == key; ++it) candidates.push_back(it->second);
-        });
-        std::sort(candidates.begin(), candidates.end());
-        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-        for (const std::uint32_t j : candidates) {
-            if (j == i || owners[j] == owners[i]) continue;
-            if (active[j] && j < i) continue; // Active x Active: each pair once
-            ++pairs_tested;
-            if (const auto hit = collision::collide(a, colliders[j])) {
-                found.push_back({entities[i], entities[j], hit->point_m, hit->normal, hit->depth_m, -1});
-            }
+    // The pairs in order, Active collider by Active collider and each one's partners by index: the
+    // slices' contacts, one after another, are the whole pass's. The first slice sorts them (a pair met
+    // in several cells once).
+    if (slice == 0) {
+        std::sort(pairs.begin(), pairs.end());
+        pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    }
+    const std::size_t from = pairs.size() * slice / slices;
+    const std::size_t to = pairs.size() * (slice + 1) / slices;
+    for (std::size_t k = from; k < to; ++k) {
+        const auto i = static_cast<std::uint32_t>(pairs[k] >> 32);
+        const auto j = static_cast<std::uint32_t>(pairs[k] & 0xFFFFFFFFu);
+        if (owners[j] == owners[i]) continue;
+        ++pairs_tested;
+        if (const auto hit = collision::collide(colliders[i], colliders[j])) {
+            found.push_back({entities[i], entities[j], hit->point_m, hit->normal, hit->depth_m, -1});
         }
     }
 }

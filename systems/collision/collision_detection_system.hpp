@@ -2,7 +2,8 @@
 // Finds the contacts of this pass (paper 2.2): Active x Active and Active x Passive pairs only;
 // Passive x Passive and anything Inactive are never tested. Two broad phases:
 //  - the kenzan's own grid: the pins under a collider are found by dividing by the pitch, O(1);
-//  - a uniform spatial hash (cells sorted once per pass, then binary-searched) for parts and hands.
+//  - a uniform spatial hash of the Active colliders (cells sorted once per pass), in which every
+//    collider looks up the cells it covers, for parts and hands.
 // Parts of one flower do not collide with each other (its springs keep them apart).
 #include <cstdint>
 #include <string_view>
@@ -29,26 +30,24 @@ struct CollisionDetectionSystem {
     // A whole pass: begin, query every Active collider, the pins, publish.
     void operator()(sched::SystemContext& ctx);
 
-    // The pass in parts, for spreading it over ticks (spread_collision_system): index the colliders;
-    // sort the index (in runs, merged); query the Active ones of slice `slice` of `slices`; the pins;
-    // make what was found the Contacts.
+    // The pass in parts, for spreading it over ticks (spread_collision_system): take the colliders and
+    // index the Active ones; gather the pairs of slice `slice` of `slices` of all colliders; test the
+    // pairs of slice `slice` of `slices` (after every gather); the pins; make what was found the Contacts.
     void begin(ecs::Registry& r);
-    void sort_cells(std::size_t run, std::size_t runs); // then, when runs > 1, merge_cells(runs)
-    void merge_cells(std::size_t runs);
+    void gather(std::size_t slice, std::size_t slices);
     void query(std::size_t slice, std::size_t slices);
     void query_pins(ecs::Registry& r);
     void publish(ecs::Registry& r);
 
     double cell_size_m = 0.03;
     // Working memory kept between passes (no allocation in steady state).
-    std::vector<std::pair<std::int64_t, std::uint32_t>> cells;
-    std::vector<std::pair<std::int64_t, std::uint32_t>> merged;
+    std::vector<std::pair<std::int64_t, std::uint32_t>> cells; // (cell, Active collider), sorted
+    std::vector<std::uint64_t> pairs;                          // (Active i) << 32 | j, to be tested
     std::vector<ecs::Entity> entities;
     std::vector<components::Collider> colliders; // as they were at begin(): the pass is one instant's
     std::vector<ecs::Entity> owners;
     std::vector<std::uint8_t> active;
     std::size_t active_count = 0;
-    std::vector<std::uint32_t> candidates;
     std::vector<components::Contact> found; // this pass's, until published
     std::uint64_t pairs_tested = 0;
 };

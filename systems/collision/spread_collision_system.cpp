@@ -16,12 +16,11 @@ void SpreadCollisionSystem::operator()(sched::SystemContext& ctx) {
         step = 0;
         return;
     }
-    const auto runs = static_cast<std::int64_t>(sort_runs);
+    const auto g = static_cast<std::int64_t>(gather_slices);
     const auto n = static_cast<std::int64_t>(slices);
     if (step == 0) pass.begin(r);
-    else if (step <= runs) pass.sort_cells(static_cast<std::size_t>(step - 1), sort_runs);
-    else if (step == runs + 1) pass.merge_cells(sort_runs);
-    else if (step <= runs + 1 + n) pass.query(static_cast<std::size_t>(step - runs - 2), slices);
+    else if (step <= g) pass.gather(static_cast<std::size_t>(step - 1), gather_slices);
+    else if (step <= g + n) pass.query(static_cast<std::size_t>(step - g - 1), slices);
     else {
         pass.query_pins(r);
         pass.publish(r);

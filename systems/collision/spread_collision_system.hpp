@@ -1,9 +1,10 @@
 #pragma once
 // The collision pass spread over the haptic ticks after each collider update, so that no tick carries
 // all of it (it was 62 us at once, on one tick in 62, the haptic tick's 99th percentile): on the
-// update's own tick nothing, then the index, its sorting in runs and their merge, then `slices` slices
-// of the Active colliders, then the pins and the hand-over of the contacts: complete 16 ms after the
-// update, well within the 62.5 ms to the next (nothing steers by them: they are shown and counted).
+// update's own tick nothing, then the colliders taken and the Active ones indexed, then the pairs
+// gathered in `gather_slices` slices of the colliders, tested in `slices` slices, then the pins and the
+// hand-over of the contacts: complete 11 ms after the update, well within the 62.5 ms to the next
+// (nothing steers by them: they are shown and counted).
 // The pass works on the colliders as they were at its index (a hand's moves every tick are seen at the
 // next pass), so its contacts are one instant's, as the whole pass's are.
 #include <cstdint>
@@ -25,11 +26,11 @@ struct SpreadCollisionSystem {
 
     void operator()(sched::SystemContext& ctx);
 
-    std::uint32_t sort_runs = 4; // the index is sorted in this many runs, one a tick, then merged
-    std::uint32_t slices = 8;
+    std::uint32_t gather_slices = 4; // of all colliders, one a tick
+    std::uint32_t slices = 4;        // of the pairs, one a tick
     CollisionDetectionSystem pass;
     std::uint64_t seen_generation = 0;
-    std::int64_t step = -1; // -1: waiting for an update; 0: index; then sort runs, merge, slices, pins
+    std::int64_t step = -1; // -1: waiting for an update; 0: index; then gathers, slices, pins
 };
 
 } // namespace ikebana::systems
