@@ -54,7 +54,7 @@ Bend bend_between(glm::dvec3 e_a, glm::dvec3 e_b) {
     Bend bend;
     bend.angle = angle_of(s, glm::dot(e_a, e_b));
     if (s > straight_sine) {
-        bend.normal = c / s;
+        bend.normal = c * (1.0 / s); // one division, not three
         bend.has_plane = true;
     }
     return bend;
@@ -172,7 +172,7 @@ void measure_segments(const StemPoints& points, std::vector<StemSegment>& segmen
     for (std::size_t i = 1; i < count; ++i) {
         const glm::dvec3 d = x[i] - x[i - 1];
         const double length = glm::length(d);
-        segments[i - 1] = {length > 0.0 ? d / length : glm::dvec3{0.0}, length};
+        segments[i - 1] = {length > 0.0 ? d * (1.0 / length) : glm::dvec3{0.0}, length}; // one division, not three
     }
 }
 
@@ -207,8 +207,9 @@ void forces_of(const StemPoints& points, const std::vector<StemSegment>& segment
         // fades with the angle, to none when straight, where the plane is undefined.
         const double rest_angle = rest.hinge_angle_rad[i - 1];
         if (rest_angle > 0.0 && bend.angle < 0.5 * rest_angle) torque *= bend.angle / (0.5 * rest_angle);
-        const glm::dvec3 f_prev = torque * glm::cross(bend.normal, -e_in) / l_in;
-        const glm::dvec3 f_next = -torque * glm::cross(bend.normal, e_out) / l_out;
+        // (Divisions are the hinge's slowest operations: one per scalar, not one per component.)
+        const glm::dvec3 f_prev = glm::cross(bend.normal, -e_in) * (torque / l_in);
+        const glm::dvec3 f_next = glm::cross(bend.normal, e_out) * (-torque / l_out);
         f[i - 1] += f_prev;
         f[i + 1] += f_next;
         f[i] -= f_prev + f_next;
@@ -219,7 +220,7 @@ void forces_of(const StemPoints& points, const std::vector<StemSegment>& segment
         const double l = segments[0].length_m;
         const Bend bend = bend_between(clamp->direction, e);
         if (bend.has_plane) {
-            const glm::dvec3 f_next = -clamp->hinge_nm_per_rad * bend.angle * glm::cross(bend.normal, e) / l;
+            const glm::dvec3 f_next = glm::cross(bend.normal, e) * (-clamp->hinge_nm_per_rad * bend.angle / l);
             f[1] += f_next;
             f[0] -= f_next;
         }
