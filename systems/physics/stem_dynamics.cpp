@@ -32,8 +32,12 @@ struct Bend {
 // atan2(s, c) for s >= 0. A stem's hinges are nearly straight (a 20-segment stem bent 45 degrees turns
 // 2.25 degrees at each): for s <= c / 8 the series t - t^3/3 + ... - t^19/19 of t = s / c, whose first
 // omitted term is under 5e-20 of the result; elsewhere the library's atan2, 5x as many instructions.
-double angle_of(double s, double c) {
-    if (!(c > 0.0 && s <= 0.125 * c)) return std::atan2(s, c);
+// The library's atan2 out of line and out of the hinge loop's way (a hinge bent beyond 7 degrees is rare).
+[[gnu::noinline, gnu::cold]] double library_angle(double s, double c) { return std::atan2(s, c); }
+
+[[gnu::always_inline]] inline double angle_of(double s, double c) {
+    if (!(c > 0.0 && s <= 0.125 * c)) [[unlikely]]
+        return library_angle(s, c);
     const double t = s / c;
     const double u = t * t;
     // -1/3 + u/5 - ... - u^8/19 by Estrin's scheme: four short chains side by side, not Horner's nine
@@ -48,7 +52,7 @@ double angle_of(double s, double c) {
     return t + t * u * p;
 }
 
-Bend bend_between(glm::dvec3 e_a, glm::dvec3 e_b) {
+[[gnu::always_inline]] inline Bend bend_between(glm::dvec3 e_a, glm::dvec3 e_b) {
     const glm::dvec3 c = glm::cross(e_a, e_b);
     const double s = glm::length(c);
     Bend bend;
