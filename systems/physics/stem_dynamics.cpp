@@ -485,7 +485,9 @@ using Lanes = double __attribute__((vector_size(8 * lanes)));
 // The same at any double's address, aliasing doubles: the interleaved arrays are read through it.
 using LanesAt = double __attribute__((vector_size(8 * lanes), aligned(8), may_alias));
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// Not under ThreadSanitizer: the clones' resolver runs while the program is being loaded, before TSan
+// is set up, and TSan's instrumentation of it crashed every TSan binary at start.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
 __attribute__((target_clones("avx2", "default")))
 #endif
 void ldlt_solve_lanes(double* a, double* b, double* inverse, std::size_t n, bool* ok) {
