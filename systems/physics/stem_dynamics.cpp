@@ -271,16 +271,26 @@ StemEnergy stem_energy(const StemPoints& points, const StemRestShape& rest, cons
 std::size_t stable_substeps(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs, const StemClamp* clamp, double dt) {
     // The diagonal of M^-1 H for the hinges (each pulls its middle point with k (1/l_in + 1/l_out)^2)
     // bounds the fastest bending mode from below within a factor of about 2: enough to choose a count.
-    double omega_squared = 0.0;
+    // Each hinge's k (1/l_in + 1/l_out)^2 / m = k (l_in + l_out)^2 / (m l_in^2 l_out^2), compared as
+    // fractions (a > b/c as a c > b): one division a stem, not two a hinge, every tick.
+    double top = 0.0, bottom = 1.0; // the largest so far: top / bottom
+    const auto consider = [&](double numerator, double denominator) {
+        if (denominator > 0.0 && numerator * bottom > top * denominator) {
+            top = numerator;
+            bottom = denominator;
+        }
+    };
     const std::size_t count = points.position_m.size();
     for (std::size_t i = 1; i + 1 < count && i - 1 < springs.hinge_nm_per_rad.size(); ++i) {
-        const double c = 1.0 / rest.segment_length_m[i - 1] + 1.0 / rest.segment_length_m[i];
-        if (points.mass_kg[i] > 0.0) omega_squared = std::max(omega_squared, springs.hinge_nm_per_rad[i - 1] * c * c / points.mass_kg[i]);
+        const double l_in = rest.segment_length_m[i - 1], l_out = rest.segment_length_m[i];
+        const double lengths = l_in * l_out;
+        consider(springs.hinge_nm_per_rad[i - 1] * (l_in + l_out) * (l_in + l_out), points.mass_kg[i] * lengths * lengths);
     }
-    if (clamp_active(clamp) && count >= 2 && points.mass_kg[1] > 0.0) {
-        const double c = 1.0 / rest.segment_length_m[0];
-        omega_squared = std::max(omega_squared, clamp->hinge_nm_per_rad * c * c / points.mass_kg[1]);
+    if (clamp_active(clamp) && count >= 2) {
+        const double l = rest.segment_length_m[0];
+        consider(clamp->hinge_nm_per_rad, points.mass_kg[1] * l * l);
     }
+    const double omega_squared = top / bottom;
     const double steps = std::ceil(std::sqrt(omega_squared) * dt / max_omega_dt);
     if (!std::isfinite(steps) || steps <= 1.0) return 1;
     return std::min(max_substeps, static_cast<std::size_t>(steps));
