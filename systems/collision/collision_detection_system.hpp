@@ -27,7 +27,7 @@ struct CollisionDetectionSystem {
                                     components::PassiveCollider, ecs::ChildOf>;
     using writes = sched::Components<components::Contacts>;
 
-    // A whole pass: begin, query every Active collider, the pins, publish.
+    // A whole pass: begin, gather every pair, test them, the pins, publish.
     void operator()(sched::SystemContext& ctx);
 
     // The pass in parts, for spreading it over ticks (spread_collision_system): take the colliders and

@@ -525,7 +525,9 @@ void ldlt_solve_lanes(double* a, double* b, double* inverse, std::size_t n, bool
         // A lane whose stem is not positive definite is refused with 1 in its place, and the others go
         // on: one compare and a rarely taken branch.
         const auto positive = diagonal > 0.0;
-        if (!(positive[0] && positive[1] && positive[2] && positive[3])) {
+        bool all_positive = true;
+        for (std::size_t l = 0; l < lanes; ++l) all_positive = all_positive && positive[l] != 0;
+        if (!all_positive) {
             for (std::size_t l = 0; l < lanes; ++l) {
                 if (!positive[l]) {
                     ok[l] = false;
