@@ -57,7 +57,7 @@ struct AnalysisOptions {
     // that would need more is refused naming its widest column, instead of swapping.
     std::size_t memory_budget_bytes = std::size_t{1} << 30;
     // Gross errors (a slipped gauge, a misread scale): a row whose ln(measured / model) lies more than
-    // this many robust standard deviations (1.4826 x the median absolute deviation) from the rest is
+    // this many robust standard deviations (1.4826 x the median absolute deviation) from the median of all rows is
     // set aside, said so, and the analysis runs without it; 0 turns it off. Checked on the baseline's
     // residual, then once more on the fitted model's (an effect widens the first). Needs 20 rows.
     double outlier_z = 5.0;
@@ -120,7 +120,7 @@ struct SuspectRow {
     std::size_t row = 0;     // index into the input
     double measured_gf = 0.0;
     double expected_gf = 0.0; // the simulation times the fitted model at that row
-    double z = 0.0;          // robust standard deviations from the other rows
+    double z = 0.0;          // robust standard deviations from the median of all rows, against the model it was last judged by
 };
 
 // A kept cause's effect that changes with a second column: the cause's basis times (that column -

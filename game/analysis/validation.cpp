@@ -58,7 +58,7 @@ Result<std::string> extended_species_json(const std::string& species, const std:
         if (t.form == "category") j["category"] = t.category;
         if (!t.times_covariate.empty()) {
             j["times"] = {{"covariate", t.times_covariate}, {"origin", t.times_origin}};
-            if (t.times_high > t.times_low) j["times"]["range"] = {t.times_low, t.times_high};
+            j["times"]["range"] = {t.times_low, t.times_high}; // the reader needs it, equal ends or not
         }
         out_terms.push_back(j);
     }

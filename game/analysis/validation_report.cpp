@@ -339,7 +339,7 @@ Result<void> write_validation_report(const ValidationResult& v, const AnalysisOp
     md << "## Summary\n\n```\n" << validation_summary(v) << "```\n\n";
     if (!a.suspected.empty()) {
         md << "## Rows set aside\n\nThese rows lie more than " << fmt("%.0f", options.outlier_z)
-           << " robust standard deviations (1.4826 × the median absolute deviation) from the other rows, against the fitted model: a "
+           << " robust standard deviations (1.4826 × the median absolute deviation) from the median of all rows, against the fitted model: a "
               "slipped gauge or a misread scale looks like this. The analysis ran without them; check them against the lab notes.\n\n"
               "| line | flower | measured (gf) | the model (gf) | robust z |\n|---|---|---|---|---|\n";
         for (const auto& r : a.suspected) {

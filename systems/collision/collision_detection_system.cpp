@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 
 #include "engine/ecs/registry.hpp"
 #include "systems/collision/narrow_phase.hpp"
@@ -99,7 +98,7 @@ void CollisionDetectionSystem::gather(std::size_t slice, std::size_t slices) {
             auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key, std::uint32_t{0}));
             for (; it != cells.end() && it->first == key; ++it) {
                 const std::uint32_t i = it->second;
-                if (i == j || (active[j] && i > j)) continue;
+                if (i == j || (active[j] && i > j) || owners[i] == owners[j]) continue; // one flower's parts never meet
                 pairs.push_back((static_cast<std::uint64_t>(i) << 32) | j);
             }
         });

@@ -29,12 +29,12 @@ struct Bend {
     bool has_plane = false;
 };
 
-// atan2(s, c) for s >= 0. A stem's hinges are nearly straight (a 20-segment stem bent 45 degrees turns
-// 2.25 degrees at each): for s <= c / 8 the series t - t^3/3 + ... - t^19/19 of t = s / c, whose first
-// omitted term is under 5e-20 of the result; elsewhere the library's atan2, 5x as many instructions.
 // The library's atan2 out of line and out of the hinge loop's way (a hinge bent beyond 7 degrees is rare).
 [[gnu::noinline, gnu::cold]] double library_angle(double s, double c) { return std::atan2(s, c); }
 
+// atan2(s, c) for s >= 0. A stem's hinges are nearly straight (a 20-segment stem bent 45 degrees turns
+// 2.25 degrees at each): for s <= c / 8 the series t - t^3/3 + ... - t^19/19 of t = s / c, whose first
+// omitted term is under 5e-20 of the result; elsewhere the library's atan2, 5x as many instructions.
 [[gnu::always_inline]] inline double angle_of(double s, double c) {
     if (!(c > 0.0 && s <= 0.125 * c)) [[unlikely]]
         return library_angle(s, c);
