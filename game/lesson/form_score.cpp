@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <map>
 
@@ -741,6 +742,67 @@ std::vector<glm::dvec3> risen_path(glm::dvec2 base, double length_m, double rise
     return {knee, knee + lesson_direction(lo, azimuth_rad) * upper};
 }
 
+// Stems that rise as one line stand on neighbouring spots of a 3 x 3 block a pin row apart, placed so
+// that their lines stay together longest once they part, each toward its own side at its own rate
+// (`ways`: the sideways run of a stem per unit of height): of every way to put them there, the one whose
+// widest gap, summed over a few heights above the base, is smallest (ties: the first found), of those
+// whose lines never come closer than a pin row (a stem does not go through another). Two stems parting
+// to opposite sides thus start each on the side the other leans to, a little aside, and pass beside
+// each other before they part (the shoka's soe and tai: 8 mm apart at the base, 5.7 at the closest).
+std::vector<glm::dvec2> one_line_bases(const std::vector<glm::dvec2>& ways) {
+    constexpr double pitch_m = 0.004;
+    std::vector<glm::dvec2> spots;
+    for (int j = -1; j <= 1; ++j) {
+        for (int i = -1; i <= 1; ++i) spots.push_back(glm::dvec2{i, j} * pitch_m);
+    }
+    std::vector<glm::dvec2> best, now;
+    if (ways.size() > spots.size()) {
+        for (std::size_t i = 0; i < ways.size(); ++i) best.push_back({(static_cast<double>(i) - 1.0) * pitch_m, 0.0});
+        return best;
+    }
+    double best_cost = std::numeric_limits<double>::infinity();
+    std::vector<bool> taken(spots.size(), false);
+    // Infinite for lines that would pass through each other (closer than a pin row on their way up).
+    const auto cost = [&] {
+        for (std::size_t a = 0; a < now.size(); ++a) {
+            for (std::size_t b = a + 1; b < now.size(); ++b) {
+                for (int mm = 0; mm <= 60; ++mm) {
+                    if (glm::length((now[a] + mm * 1e-3 * ways[a]) - (now[b] + mm * 1e-3 * ways[b])) < 0.9 * pitch_m) return std::numeric_limits<double>::infinity();
+                }
+            }
+        }
+        double sum = 0.0;
+        for (double z : {0.0, 0.01, 0.02, 0.03}) {
+            double widest = 0.0;
+            for (std::size_t a = 0; a < now.size(); ++a) {
+                for (std::size_t b = a + 1; b < now.size(); ++b) widest = std::max(widest, glm::length((now[a] + z * ways[a]) - (now[b] + z * ways[b])));
+            }
+            sum += widest;
+        }
+        return sum;
+    };
+    const std::function<void()> place = [&] {
+        if (now.size() == ways.size()) {
+            const double c = cost();
+            if (c < best_cost - 1e-12) {
+                best_cost = c;
+                best = now;
+            }
+            return;
+        }
+        for (std::size_t i = 0; i < spots.size(); ++i) {
+            if (taken[i]) continue;
+            taken[i] = true;
+            now.push_back(spots[i]);
+            place();
+            now.pop_back();
+            taken[i] = false;
+        }
+    };
+    place();
+    return best;
+}
+
 } // namespace
 
 Arrangement model_arrangement(const LessonDef& l, const KenzanFootprint& k) {
@@ -761,13 +823,26 @@ Arrangement model_arrangement(const LessonDef& l, const KenzanFootprint& k) {
         s.length_m = nominal_length_m(l, i);
         s.tilt_rad = m.tilt_rad.target;
         s.azimuth_rad = m.azimuth_rad ? m.azimuth_rad->target : 0.0;
-        // Stems that rise as one line share a point; the others take their region's centre.
-        s.base_m = one_line ? glm::dvec2{(static_cast<double>(i) - 1.0) * 0.004, 0.0} : region_centre(m.region, k.size_m, i);
+        // Stems that rise as one line share a point (below); the others take their region's centre.
+        s.base_m = region_centre(m.region, k.size_m, i);
         if (one_line) {
             const double rise = water_level_m(l, k) + 0.5 * (one_line->min_m + one_line->max_m);
-            if (rise < s.length_m) s.path_m = risen_path(s.base_m, s.length_m, rise, s.tilt_rad, s.azimuth_rad);
+            if (rise < s.length_m) s.path_m = risen_path({0.0, 0.0}, s.length_m, rise, s.tilt_rad, s.azimuth_rad);
         }
         a.stems.push_back(std::move(s));
+    }
+    if (one_line) {
+        std::vector<glm::dvec2> ways;
+        for (const auto& s : a.stems) {
+            const glm::dvec3 d = s.path_m.size() == 2 ? glm::normalize(s.path_m[1] - s.path_m[0]) : lesson_direction(s.tilt_rad, s.azimuth_rad);
+            ways.push_back(glm::dvec2{d.x, d.y} / std::max(d.z, 0.1));
+        }
+        const auto bases = one_line_bases(ways);
+        for (std::size_t i = 0; i < a.stems.size(); ++i) {
+            auto& s = a.stems[i];
+            for (auto& q : s.path_m) q += glm::dvec3(bases[i], 0.0); // its path was drawn from (0, 0)
+            s.base_m = bases[i];
+        }
     }
     if (rule(RuleKind::kenzan_hidden_front)) {
         // Supporting stems from the materials no main stem plays, low and leaning toward the viewer,

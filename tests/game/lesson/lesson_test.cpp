@@ -355,6 +355,51 @@ TEST(FormScore, StraightStemsDoNotRiseAsOneLineFromTheWater) {
     EXPECT_NE(line->tip.find("the form keeps them one line for 60-80 mm before they spread"), std::string::npos) << line->tip;
 }
 
+// The model's one-line stems stand on the pin rows of a 3 x 3 block at the kenzan's centre, placed so
+// that their lines, once parted (each its way at its rate), stay closer together than in a plain row,
+// and never pass through each other on the way up.
+TEST(ModelArrangement, OneLineStemsStandCloseSoThatTheirLinesPartLateAndNeverThroughEachOther) {
+    const LessonDef l = lesson("ikenobo_shoka_shofutai");
+    Arrangement a = model_arrangement(l, footprint(l));
+    ASSERT_EQ(a.stems.size(), 3u);
+    std::vector<glm::dvec2> ways;
+    for (std::size_t i = 0; i < a.stems.size(); ++i) {
+        const auto& s = a.stems[i];
+        ASSERT_EQ(s.path_m.size(), 2u) << s.role;
+        EXPECT_NEAR(s.path_m[0].x, s.base_m.x, 1e-12) << s.role << ": its rise starts over its base";
+        EXPECT_NEAR(s.path_m[0].y, s.base_m.y, 1e-12) << s.role;
+        EXPECT_LE(std::max(std::abs(s.base_m.x), std::abs(s.base_m.y)), 0.004 + 1e-12) << s.role << ": within a pin row of the centre";
+        const glm::dvec3 d = glm::normalize(s.path_m[1] - s.path_m[0]);
+        ways.push_back(glm::dvec2{d.x, d.y} / d.z);
+    }
+    const auto widest = [&](const std::vector<glm::dvec2>& bases, double z) {
+        double w = 0.0;
+        for (std::size_t i = 0; i < bases.size(); ++i) {
+            for (std::size_t j = i + 1; j < bases.size(); ++j) w = std::max(w, glm::length(bases[i] + z * ways[i] - bases[j] - z * ways[j]));
+        }
+        return w;
+    };
+    std::vector<glm::dvec2> bases, row;
+    for (std::size_t i = 0; i < a.stems.size(); ++i) {
+        bases.push_back(a.stems[i].base_m);
+        row.push_back({(static_cast<double>(i) - 1.0) * 0.004, 0.0});
+    }
+    EXPECT_LT(widest(bases, 0.02), widest(row, 0.02)) << "parted 20 mm up, closer than a row of three";
+    for (std::size_t i = 0; i < bases.size(); ++i) {
+        for (std::size_t j = i + 1; j < bases.size(); ++j) {
+            for (int mm = 0; mm <= 60; ++mm) {
+                const double z = mm * 1e-3;
+                EXPECT_GE(glm::length(bases[i] + z * ways[i] - bases[j] - z * ways[j]), 0.0036) << a.stems[i].role << " and " << a.stems[j].role << " at " << mm << " mm";
+            }
+        }
+    }
+    const auto scored = score_form(l, a, footprint(l));
+    ASSERT_TRUE(scored.ok());
+    const RuleResult* line = rule(*scored, "one_line_at_water");
+    ASSERT_NE(line, nullptr);
+    EXPECT_TRUE(line->ok) << line->tip;
+}
+
 TEST(FormScore, ARoleNotInTheLessonOrGivenTwiceIsRefusedByField) {
     const LessonDef l = lesson("sogetsu_basic_upright");
     Arrangement a = model_arrangement(l, footprint(l));
