@@ -249,7 +249,7 @@ int demo_lesson(const DemoArgs& args) {
     }
     char heading[200];
     std::snprintf(heading, sizeof heading, "%s, demonstrated in %.1f s of simulated time through %s: %zu steps", lesson->title.c_str(), demo->simulated_s,
-                  args.window ? "the X pointer in the window" : args.mouse ? "the mouse" : "one hand", demo->steps.size());
+                  args.window ? "the X pointer in the window" : args.mouse ? "the mouse" : "the hands' devices", demo->steps.size());
     std::vector<std::string> before{heading};
     for (const auto& step : demo->steps) {
         char line[300];

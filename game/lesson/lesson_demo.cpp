@@ -47,18 +47,25 @@ Result<devices::DeviceSample> PuppetDevice::poll(std::int64_t now_us) {
 
 namespace {
 
+// Two puppet devices, one for each hand.
 class PuppetHand final : public TeacherHand {
 public:
-    PuppetHand(std::shared_ptr<PuppetDevice::Pose> pose, World& world) : pose_(std::move(pose)), w_(world) {}
-    glm::dvec3 position() const override { return pose_->position_m; }
-    glm::dvec3 angles() const override { return pose_->rotation_rad; }
-    void go(glm::dvec3 position_m) override { pose_->position_m = position_m; }
-    void turn(glm::dvec3 angles_rad) override { pose_->rotation_rad = angles_rad; }
-    void grab(bool down) override { pose_->buttons = down ? 1u : 0u; }
-    void cut(double keep_m) override { w_.trainee.push({systems::TraineeCommand::Kind::cut, 1, keep_m}); }
+    PuppetHand(std::array<std::shared_ptr<PuppetDevice::Pose>, 2> poses, World& world) : poses_(std::move(poses)), w_(world) {}
+    glm::dvec3 position() const override { return poses_[using_]->position_m; }
+    glm::dvec3 angles() const override { return poses_[using_]->rotation_rad; }
+    void go(glm::dvec3 position_m) override { poses_[using_]->position_m = position_m; }
+    void turn(glm::dvec3 angles_rad) override { poses_[using_]->rotation_rad = angles_rad; }
+    void grab(bool down) override { poses_[using_]->buttons = down ? 1u : 0u; }
+    void cut(double keep_m) override { w_.trainee.push({systems::TraineeCommand::Kind::cut, static_cast<std::uint8_t>(using_), keep_m}); }
+    bool use(std::uint8_t hand) override {
+        using_ = hand & 1u;
+        return true;
+    }
+    bool two_hands() const override { return true; }
 
 private:
-    std::shared_ptr<PuppetDevice::Pose> pose_;
+    std::array<std::shared_ptr<PuppetDevice::Pose>, 2> poses_;
+    std::size_t using_ = 1;
     World& w_;
 };
 
@@ -153,8 +160,23 @@ public:
     MouseHand(World& world, sched::DeterministicClock& clock, devices::MouseKeyboardHands& mouse, ScriptedPointer& pointer, LessonControls& controls,
               XdoScript& script, PointerView view)
         : w_(world), clock_(clock), mouse_(mouse), pointer_(pointer), controls_(controls), script_(script), config_(lesson_mouse_config()), view_(view) {}
-    glm::dvec3 position() const override { return mouse_.sample(1, clock_.now_us()).position; }
-    glm::dvec3 angles() const override { return mouse_.sample(1, clock_.now_us()).rotation; }
+    glm::dvec3 position() const override { return mouse_.sample(mouse_.active_hand(), clock_.now_us()).position; }
+    glm::dvec3 angles() const override { return mouse_.sample(mouse_.active_hand(), clock_.now_us()).rotation; }
+    // Tab, as the window reads it; the cursor goes onto the hand switched to.
+    bool two_hands() const override { return true; }
+    bool use(std::uint8_t hand) override {
+        if (mouse_.active_hand() == (hand & 1u)) return true;
+        script_.event("key Tab", now_s());
+        pointer_.state.switch_hand = true;
+        aim();
+        clock_.run_for_us(40'000);
+        after_wait();
+        pointer_.state.switch_hand = false;
+        aim();
+        clock_.run_for_us(40'000);
+        after_wait();
+        return mouse_.active_hand() == (hand & 1u);
+    }
     // The window's first frames: the cursor goes onto the hand.
     void start() {
         aim();
@@ -271,6 +293,7 @@ public:
         const auto& rest = w_.sim.get<StemRestShape>(e);
         f.length_m = std::accumulate(rest.segment_length_m.begin(), rest.segment_length_m.end(), 0.0);
         f.diameter_m = rest.diameter_m;
+        if (const auto* bending = w_.sim.try_get<const Bending>(e)) f.keeps_bend_beyond_rad = bending->permanent_set_rad;
         const auto& engagement = w_.sim.get<PinEngagement>(e);
         const auto& grip = w_.sim.get<KenzanGrip>(e);
         f.in_kenzan = engagement.in_kenzan;
@@ -284,13 +307,14 @@ public:
         }
         return f;
     }
-    std::optional<std::size_t> held() const override {
-        const ecs::Entity e = w_.sim.get<HandGrip>(w_.hands[1]).held;
+    std::optional<std::size_t> held(std::uint8_t hand) const override {
+        const ecs::Entity e = w_.sim.get<HandGrip>(w_.hands[hand & 1u]).held;
         for (std::size_t i = 0; i < w_.flowers.size(); ++i) {
             if (w_.flowers[i].entity == e) return i;
         }
         return std::nullopt;
     }
+    glm::dvec3 hand_at(std::uint8_t hand) const override { return w_.sim.get<HandProxy>(w_.hands[hand & 1u]).position_m; }
     glm::dvec3 kenzan_origin_m() const override { return w_.sim.single<Kenzan>()->origin_m; }
     double pin_height_m() const override { return w_.sim.single<Kenzan>()->pin_height_m(); }
 
@@ -313,9 +337,12 @@ Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& o
     World& w = **world;
     sched::DeterministicClock clock(w.schedule);
     // The puppet device, or the mouse with the window's settings and keys.
-    auto pose = std::make_shared<PuppetDevice::Pose>();
-    pose->position_m = w.sim.get<HandProxy>(w.hands[1]).position_m;
-    PuppetHand puppet(pose, w);
+    std::array<std::shared_ptr<PuppetDevice::Pose>, 2> poses;
+    for (std::size_t h = 0; h < 2; ++h) {
+        poses[h] = std::make_shared<PuppetDevice::Pose>();
+        poses[h]->position_m = w.sim.get<HandProxy>(w.hands[h]).position_m;
+    }
+    PuppetHand puppet(poses, w);
     ScriptedPointer pointer;
     devices::MouseKeyboardHands mouse(pointer, lesson_mouse_config());
     LessonControls controls(lesson, *footprint);
@@ -328,7 +355,8 @@ Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& o
         w.attach_device(1, mouse.hand(1));
         mouse_hand.start();
     } else {
-        w.attach_device(1, std::make_unique<PuppetDevice>(pose));
+        w.attach_device(0, std::make_unique<PuppetDevice>(poses[0]));
+        w.attach_device(1, std::make_unique<PuppetDevice>(poses[1]));
     }
     TeacherHand& hand = options.through_mouse ? static_cast<TeacherHand&>(mouse_hand) : static_cast<TeacherHand&>(puppet);
     std::unique_ptr<SessionRecorder> recorder;

@@ -1,7 +1,8 @@
 #pragma once
 // The teacher's demonstration: a scripted trainee arranges the lesson's model form through the same
-// hands, grips, cuts and insertions a trainee uses. It holds one hand's device (a puppet the script
-// moves between simulation steps), picks each material off the table, cuts it to length, turns it to
+// hands, grips, cuts and insertions a trainee uses. It holds both hands' devices (puppets the script
+// moves between simulation steps), picks each material off the table, cuts it to length, bends it with
+// both hands where the form wants it to rise straight before it leans (a shoka's stems), turns it to
 // the role's tilt and direction, pushes it into the kenzan where the role enters it and lets go; then
 // the arrangement is measured from the simulation and scored. Nothing places a stem: where the
 // physics leaves one is what is scored.

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <thread>
 
 #include <fcntl.h>
@@ -27,6 +28,7 @@
 #include "game/lesson/lesson_scene.hpp"
 #include "game/lesson/teacher.hpp"
 #include "game/lesson/window_state.hpp"
+#include "game/species/species.hpp"
 
 extern char** environ;
 
@@ -80,7 +82,8 @@ public:
         started_ = std::chrono::steady_clock::now();
         // The window has put the cursor on the hand; wait until it shows so.
         seen(steady_us());
-        position_ = state_.hands[1].device_m;
+        for (std::uint8_t h = 0; h < 2; ++h) position_[h] = state_.hands[h].device_m;
+        active_ = state_.active_hand & 1u;
         cursor_ = state_.cursor_px;
         return true;
     }
@@ -111,26 +114,46 @@ public:
         f.yield_gravity_nm = s.yield_gravity_nm;
         f.pins = s.pins_engaged;
         f.depth_m = s.depth_m;
+        // How far it springs back from a bend, as a teacher knows the material (the species' file).
+        auto known = species_.find(s.species);
+        if (known == species_.end()) {
+            auto def = load_species(s.species);
+            known = species_.emplace(s.species, def ? def->permanent_set_rad : 0.0).first;
+        }
+        f.keeps_bend_beyond_rad = known->second;
         return f;
     }
-    std::optional<std::size_t> held() const override {
-        const auto held = state_.hands[1].held_flower;
+    std::optional<std::size_t> held(std::uint8_t hand) const override {
+        const auto held = state_.hands[hand & 1u].held_flower;
         return held >= 0 ? std::optional<std::size_t>(static_cast<std::size_t>(held)) : std::nullopt;
     }
+    glm::dvec3 hand_at(std::uint8_t hand) const override { return state_.hands[hand & 1u].position_m; }
     glm::dvec3 kenzan_origin_m() const override { return state_.kenzan_origin_m.value_or(glm::dvec3{0.0}); }
     double pin_height_m() const override { return state_.kenzan_pin_height_m; }
 
     // TeacherHand: the X pointer. Where the hand is, as this session has moved it (the window
     // follows every pixel); look() takes it from the window again before each stem.
-    glm::dvec3 position() const override { return position_; }
-    glm::dvec3 angles() const override { return angles_; }
+    glm::dvec3 position() const override { return position_[active_]; }
+    glm::dvec3 angles() const override { return angles_[active_]; }
+    // Tab, as a trainee presses it: the mouse drives the other hand (the window puts the cursor on it,
+    // and the button as it is goes with it).
+    bool two_hands() const override { return true; }
+    bool use(std::uint8_t hand) override {
+        hand &= 1u;
+        if (hand == active_) return true;
+        press_key("Tab");
+        if ((state_.active_hand & 1u) != hand) return fail("Tab did not hand the mouse to the other hand");
+        active_ = hand;
+        position_[hand] = state_.hands[hand].device_m;
+        return true;
+    }
     // Small steps, about one a frame: a held stem swung in frame-sized jumps of centimetres hits
     // the pins on its way. Turns are read a quarter second apart (Ctrl must be seen down each time).
     double step_s() const override { return 0.05; }
     double step_m() const override { return 0.01; }
     double turn_step_s() const override { return 0.2; }
     void look() override {
-        if (!state_.hands[1].holding) position_ = state_.hands[1].device_m;
+        if (!state_.hands[active_].holding) position_[active_] = state_.hands[active_].device_m;
     }
     void go(glm::dvec3 target) override {
         // How far the cursor moves for a metre of the hand, where the hand is now (the window aims the
@@ -139,25 +162,27 @@ public:
         const glm::dvec2 px_per_m = state_.px_per_m.x > 0.0 && state_.px_per_m.y > 0.0
                                         ? state_.px_per_m
                                         : glm::dvec2{state_.window_px.x / config_.workspace_width_m, state_.window_px.y / config_.workspace_height_m};
-        const glm::dvec3 d = glm::clamp(target, config_.reach_min_m, config_.reach_max_m) - position_;
+        glm::dvec3& at = position_[active_];
+        const glm::dvec3 d = glm::clamp(target, config_.reach_min_m, config_.reach_max_m) - at;
         const int x = static_cast<int>(std::lround(d.x * px_per_m.x));
         const int up = static_cast<int>(std::lround(d.z * px_per_m.y));
         const int away = static_cast<int>(std::lround(d.y * px_per_m.y));
-        position_.x += x / px_per_m.x;
-        position_.z += up / px_per_m.y;
-        position_.y += away / px_per_m.y;
+        at.x += x / px_per_m.x;
+        at.z += up / px_per_m.y;
+        at.y += away / px_per_m.y;
         if (x != 0 || up != 0) move_pointer(x, -up);
         if (away != 0) held_down("shift", [&] { move_pointer(0, -away); });
     }
     void turn(glm::dvec3 target) override {
-        const glm::dvec3 d = target - angles_;
+        glm::dvec3& turned = angles_[active_];
+        const glm::dvec3 d = target - turned;
         const int clicks = static_cast<int>(std::lround(d.z / config_.turn_per_scroll_rad));
         const int x = static_cast<int>(std::lround(d.y / config_.tilt_per_window_rad * state_.window_px.x));
         const int y = static_cast<int>(std::lround(-d.x / config_.tilt_per_window_rad * state_.window_px.y));
         if (clicks == 0 && x == 0 && y == 0) return;
-        angles_.z += clicks * config_.turn_per_scroll_rad;
-        angles_.y += x / state_.window_px.x * config_.tilt_per_window_rad;
-        angles_.x -= y / state_.window_px.y * config_.tilt_per_window_rad;
+        turned.z += clicks * config_.turn_per_scroll_rad;
+        turned.y += x / state_.window_px.x * config_.tilt_per_window_rad;
+        turned.x -= y / state_.window_px.y * config_.tilt_per_window_rad;
         std::string wheel;
         for (int c = 0; c < std::abs(clicks); ++c) wheel += std::string(clicks > 0 ? "click 4 " : "click 5 ") + "sleep 0.02 ";
         held_down("ctrl", [&] {
@@ -302,7 +327,9 @@ private:
     WindowState state_;
     std::string failure_;
     std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
-    glm::dvec3 position_{0.0}, angles_{0.0};
+    glm::dvec3 position_[2]{glm::dvec3{0.0}, glm::dvec3{0.0}}, angles_[2]{glm::dvec3{0.0}, glm::dvec3{0.0}}; // each hand's, as moved from here
+    std::uint8_t active_ = 1;                                                                            // the hand the mouse drives
+    mutable std::map<std::string, double> species_;                                                              // permanent set, by species
     bool motion_unseen_ = false; // plain motion sent since the window last showed it had read input
     glm::dvec2 cursor_{0.0};     // where the cursor is in the window, with the motion sent since
 };

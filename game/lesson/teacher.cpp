@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <optional>
 
 #include <glm/gtc/quaternion.hpp>
 
@@ -31,8 +33,63 @@ glm::dquat turn_between(glm::dvec3 a, glm::dvec3 b) {
     return glm::angleAxis(std::atan2(s, c), axis / s);
 }
 
+// The device's turn for its angles (systems::device_turn at an unturned camera: z, then y, then x).
+glm::dquat turn_of(glm::dvec3 angles) {
+    return glm::angleAxis(angles.z, glm::dvec3{0, 0, 1}) * glm::angleAxis(angles.y, glm::dvec3{0, 1, 0}) * glm::angleAxis(angles.x, glm::dvec3{1, 0, 0});
+}
+
 // From this tilt on, a stem is set at its band's upper edge (see teach).
 constexpr double low_stem_rad = 60.0 * pi / 180.0;
+// A shoka's stems rise from the water as one line and then part (lessons with one_line_at_water):
+// each is bent in the hands first (the bending system's two-hand bend, Eq. 4-5, over its span L) and
+// goes in nearly upright, its part below the bend leaning rise_tilt_rad its way so that the part
+// above stays on that side (the model has no stiffness against twisting: a bend settles where its
+// weight takes it). Measured with the Ikenobo lesson at 3° and the bend's middle 5 mm above where the
+// form's stems part: 100; at every lean of 2-4° with the middle 0-10 mm above, 96-100; with it 5 mm
+// below, 88-99 (the stems part too low). A stem that would lean less than min_bend_rad above the line
+// is not bent: it goes in upright and its own curve leans it (a willow shin at 0° stood 12° from
+// vertical, 7 mm from soe 60 mm up; at 3°, 14° and 12 mm).
+constexpr double rise_tilt_rad = 3.0 * pi / 180.0;
+constexpr double bend_above_knee_m = 0.005;
+constexpr double min_bend_rad = 15.0 * pi / 180.0;
+constexpr double bend_span_m = 0.08;               // the bending system's span_m
+constexpr double bend_grip_m = 0.012;              // each hand this far from the middle of a bend
+constexpr double hands_together_m = 0.045;         // closer than the bending system's 50 mm, to be sure
+constexpr double bend_seen_rad = 3.0 * pi / 180.0; // a joint bent more than this is part of a bend
+// Before it is raised, a bent stem is held leaning this far its way for at most roll_wait_s, for the
+// bend to roll down to that side.
+constexpr double roll_tilt_rad = 25.0 * pi / 180.0;
+constexpr double roll_wait_s = 10.0;
+
+// The point `distance_m` along a stem from its bottom end.
+glm::dvec3 along_stem(const std::vector<glm::dvec3>& points, double distance_m) {
+    for (std::size_t i = 1; i < points.size(); ++i) {
+        const glm::dvec3 d = points[i] - points[i - 1];
+        const double segment = glm::length(d);
+        if (segment <= 0.0) continue;
+        if (distance_m <= segment || i + 1 == points.size()) return points[i - 1] + d * (std::min(distance_m, segment) / segment);
+        distance_m -= segment;
+    }
+    return points.empty() ? glm::dvec3{0.0} : points.back();
+}
+
+// How far along a stem from its bottom end its nearest point to `p` is.
+double along_to(const std::vector<glm::dvec3>& points, glm::dvec3 p) {
+    double best = std::numeric_limits<double>::infinity(), at = 0.0, run = 0.0;
+    for (std::size_t i = 1; i < points.size(); ++i) {
+        const glm::dvec3 d = points[i] - points[i - 1];
+        const double segment = glm::length(d);
+        if (segment <= 0.0) continue;
+        const double t = std::clamp(glm::dot(p - points[i - 1], d) / (segment * segment), 0.0, 1.0);
+        const double off = glm::length(points[i - 1] + t * d - p);
+        if (off < best) {
+            best = off;
+            at = run + t * segment;
+        }
+        run += segment;
+    }
+    return at;
+}
 
 class Teacher {
 public:
@@ -57,9 +114,29 @@ public:
     }
     void turn_to(glm::dvec3 angles, double seconds) {
         const glm::dvec3 from = hand_.angles();
+        // The same turn the short way round: a wrist at 179° going to -179° turns by 2°, not by a whole turn
+        // (the roll and the heading are whole turns apart; the pitch stays within a quarter).
+        angles.x = from.x + std::remainder(angles.x - from.x, 2.0 * pi);
+        angles.z = from.z + std::remainder(angles.z - from.z, 2.0 * pi);
         const int steps = std::max(1, static_cast<int>(seconds / hand_.turn_step_s()));
         for (int i = 1; i <= steps; ++i) {
             hand_.turn(from + (angles - from) * (static_cast<double>(i) / steps));
+            wait(hand_.turn_step_s());
+        }
+    }
+    // The hand turned by `by` (about axes fixed in the room) along the shortest way, at an even speed: a
+    // stem held by a point and its neighbour turns with its axis and does not spin about it, so the way
+    // it is turned decides where its bend faces.
+    void turn_by(const glm::dquat& by, double seconds) {
+        const glm::dquat from = turn_of(hand_.angles());
+        const glm::dquat to = by * from;
+        const int steps = std::max(1, static_cast<int>(seconds / hand_.turn_step_s()));
+        for (int i = 1; i <= steps; ++i) {
+            glm::dvec3 angles = device_angles(glm::slerp(from, to, static_cast<double>(i) / steps));
+            const glm::dvec3 now = hand_.angles();
+            angles.x = now.x + std::remainder(angles.x - now.x, 2.0 * pi);
+            angles.z = now.z + std::remainder(angles.z - now.z, 2.0 * pi);
+            hand_.turn(angles);
             wait(hand_.turn_step_s());
         }
     }
@@ -69,7 +146,11 @@ public:
     }
 
     // One stem of the model: from the table, cut, turned, into the kenzan at its place, let go.
-    bool place(std::size_t flower, const std::string& role, const ArrangementStem& target) {
+    struct Rise {
+        double knee_m;   // from the new bottom to the middle of the bend
+        double bend_rad; // kept at the knee
+    };
+    bool place(std::size_t flower, const std::string& role, const ArrangementStem& target, std::optional<Rise> rise = std::nullopt) {
         const double in_pins = room_.pin_height_m();
         const double keep = target.length_m + in_pins;
         const SeenFlower lying = room_.flower(flower);
@@ -79,7 +160,8 @@ public:
         }
         const double cut = lying.length_m - keep;
         // Take it a little above where its new bottom will be: a hand holds a stem near its base to push it in.
-        const double grip_from_new_bottom = std::min(0.06, 0.3 * keep);
+        // A stem to be bent is taken where the right hand will hold it while the left bends it.
+        const double grip_from_new_bottom = rise ? rise->knee_m - bend_grip_m : std::min(0.06, 0.3 * keep);
         // On the stem as it lies (a branch's curve lifts it off the line between its ends).
         double to_go = std::max(0.0, cut) + grip_from_new_bottom;
         glm::dvec3 grip_at = lying.points_m.back();
@@ -94,9 +176,13 @@ public:
         say(role + ": take the " + target.species + " from the table");
         hand_.look();
         move_to(grip_at + glm::dvec3{0, 0, 0.06});
+        // Looked at again above it: after a long way the hand is not quite where it was sent (the X
+        // pointer moves in whole pixels, fewer of them for a metre far from the camera than near it).
+        hand_.look();
+        move_to(grip_at + glm::dvec3{0, 0, 0.06});
         move_to(grip_at);
         press(true);
-        if (room_.held() != flower) {
+        if (room_.held(1) != flower) {
             say(role + ": missed the " + target.species);
             press(false);
             return false;
@@ -115,11 +201,29 @@ public:
                 say(what);
             }
         }
+        // Where the bend's middle is from the bottom: where the hands bent it (or would have).
+        const std::optional<double> bent_at = rise && rise->bend_rad > 0.0 ? bend_in_hand(flower, role, *rise, glm::dvec3{0, 0, 1}) : std::nullopt;
+        if (rise && rise->bend_rad > 0.0 && room_.held(1) != flower) {
+            say(role + ": the " + target.species + " slipped from the hands");
+            press(false);
+            return false;
+        }
+        const bool bent = bent_at.has_value();
+        const bool upright = rise.has_value();
+        const double knee_m = bent_at.value_or(rise ? rise->knee_m : 0.0);
         // Turn it: first the held stem's own direction onto the role's, then correct by what it shows
-        // (a head bends a stem, a branch has its curve).
-        const glm::dvec3 want = lesson_direction(target.tilt_rad, target.azimuth_rad);
-        std::snprintf(what, sizeof what, "%s: tilt it %.0f° toward the %s", role.c_str(), target.tilt_rad * 180 / pi, direction_words(target.azimuth_rad).c_str());
+        // (a head bends a stem, a branch has its curve). A bent stem is turned by its part below the
+        // bend, which goes in nearly upright.
+        // (A stem that rises unbent goes in upright: its own curve leans it, and keeps it with the others.)
+        const glm::dvec3 want = lesson_direction(upright ? (bent ? rise_tilt_rad : 0.0) : target.tilt_rad, target.azimuth_rad);
+        if (upright) std::snprintf(what, sizeof what, bent ? "%s: hold it upright below the bend" : "%s: hold it upright", role.c_str());
+        else std::snprintf(what, sizeof what, "%s: tilt it %.0f° toward the %s", role.c_str(), target.tilt_rad * 180 / pi, direction_words(target.azimuth_rad).c_str());
         say(what);
+        const auto lower_direction = [&] {
+            const auto x = room_.flower(flower).points_m;
+            if (!upright) return glm::normalize(x.back() - x.front());
+            return glm::normalize(along_stem(x, std::max(0.01, knee_m - 0.5 * bend_span_m)) - x.front());
+        };
         // A branch's curve, which lay bowing up on the table, is turned to hang down: a curve held any
         // other way rolls down under its own weight once let go (a stem has no stiffness against
         // twisting in the model), so that is where it settles. The stem's axis lay along +x, its curve
@@ -127,12 +231,45 @@ public:
         glm::dvec3 down = glm::dvec3{0, 0, -1} - glm::dot(glm::dvec3{0, 0, -1}, want) * want;
         down = glm::length(down) > 1e-6 ? glm::normalize(down) : glm::dvec3{0, -1, 0};
         glm::dquat turn = glm::quat_cast(glm::dmat3(want, glm::cross(down, want), down));
-        for (int round = 0; round < 4; ++round) {
-            const auto x = room_.flower(flower).points_m;
-            const glm::dvec3 now = glm::normalize(x.back() - x.front());
-            if (round > 0) turn = turn_between(now, want) * turn;
-            turn_to(device_angles(turn), round == 0 ? 1.5 : 0.5);
-            wait(0.4);
+        if (upright) {
+            // A bend made on the level droops in its vertical plane. Its lower part is laid level in that
+            // plane, swung about the upright until it points the role's way, and raised in that plane:
+            // each turn about an axis square to the stem, so it carries the bend round with it (a stem
+            // turned any other way twists under the grip, which the model cannot hold), and the part
+            // above the bend ends leaning the role's way.
+            const auto level = [](glm::dvec3 d) {
+                const glm::dvec3 h{d.x, d.y, 0.0};
+                return glm::length(h) > 1e-9 ? glm::normalize(h) : glm::dvec3{1, 0, 0};
+            };
+            turn_by(turn_between(lower_direction(), level(lower_direction())), 0.8);
+            wait(0.3);
+            const glm::dvec3 now = level(lower_direction()), to = level(want);
+            const double yaw = std::atan2(now.x * to.y - now.y * to.x, glm::dot(now, to));
+            turn_by(glm::angleAxis(yaw, glm::dvec3{0, 0, 1}), 0.5 + 0.5 * std::abs(yaw));
+            wait(0.3);
+            // Raised to lean well the role's way, the bend rolls down into that side under its weight:
+            // held there until it hangs the role's way, then raised in that plane.
+            const glm::dvec3 lean = lesson_direction(roll_tilt_rad, target.azimuth_rad);
+            for (int round = 0; round < 3; ++round) {
+                turn_by(turn_between(lower_direction(), lean), round == 0 ? 1.0 : 0.4);
+                wait(0.3);
+            }
+            const auto upper_off = [&] {
+                const auto x = room_.flower(flower).points_m;
+                const glm::dvec3 d = x.back() - along_stem(x, knee_m + 0.5 * bend_span_m);
+                return std::remainder(target.azimuth_rad - std::atan2(-d.x, -d.y), 2.0 * pi);
+            };
+            for (double t = 0.0; t < roll_wait_s && std::abs(upper_off()) > 3.0 * pi / 180; t += 0.25) wait(0.25);
+            for (int round = 0; round < 4; ++round) {
+                turn_by(turn_between(lower_direction(), want), round == 0 ? 1.5 : 0.4);
+                wait(0.4);
+            }
+        } else {
+            for (int round = 0; round < 4; ++round) {
+                if (round > 0) turn = turn_between(lower_direction(), want) * turn;
+                turn_to(device_angles(turn), round == 0 ? 1.5 : 0.5);
+                wait(0.4);
+            }
         }
         // Over its place, just above the pins; then straight down into them.
         const glm::dvec3 kenzan = room_.kenzan_origin_m();
@@ -141,7 +278,10 @@ public:
         for (int round = 0; round < 3; ++round) {
             const glm::dvec3 bottom = room_.flower(flower).points_m.front();
             const glm::dvec3 goal = base + glm::dvec3{0, 0, in_pins + 0.008};
-            move_to(hand_.position() + (goal - bottom), 0.15);
+            // Across at the height it is carried, then down: carried down and across at once, the stem's
+            // end caught a tall vase's rim on its way into the mouth.
+            if (round == 0 && bottom.z > goal.z) move_to(hand_.position() + glm::dvec3{goal.x - bottom.x, goal.y - bottom.y, 0.0}, 0.15);
+            move_to(hand_.position() + (goal - room_.flower(flower).points_m.front()), 0.15);
             wait(0.2);
         }
         say(role + ": push it into the pins");
@@ -185,6 +325,93 @@ public:
         else std::snprintf(what, sizeof what, "%s: not in the pins: its bottom is at [%.0f, %.0f, %.0f] mm from the kenzan's centre", role.c_str(), bottom.x * 1e3, bottom.y * 1e3, bottom.z * 1e3);
         say(what);
         return now.in_kenzan && !now.fallen;
+    }
+
+    // Bends the held stem with both hands (the paper's two-hand bending, Eq. 4-5): the left hand takes
+    // it beside the right (the bend's middle between them) and rolls against the right until the stem
+    // is bent `bend_rad` beyond what springs back; eased back to `bend_rad`; the right takes it again
+    // below the bend and the left lets go. The stem keeps `bend_rad` there (its permanent set). Where
+    // the bend's middle is from the bottom, or nothing if the left hand missed (the right still holds
+    // it, straight) or the right could not take it below (it holds it inside the bend).
+    std::optional<double> bend_in_hand(std::size_t flower, const std::string& role, const Rise& rise, glm::dvec3 from_side) {
+        const SeenFlower held = room_.flower(flower);
+        if (held.points_m.size() < 3 || rise.bend_rad <= 0.0 || !hand_.two_hands()) return std::nullopt;
+        // Beside the right hand where it really holds the stem (a pointer's grab lands a little off
+        // where it was aimed; apart by more than a hand's width, the two would not bend it).
+        const double knee = along_to(held.points_m, room_.hand_at(1)) + bend_grip_m;
+        char what[200];
+        std::snprintf(what, sizeof what, "%s: bend it %.0f° with both hands, %.0f mm from its bottom", role.c_str(), rise.bend_rad * 180 / pi, knee * 1e3);
+        say(what);
+        const glm::dvec3 above{0, 0, 0.05};
+        const glm::dvec3 left_at = along_stem(held.points_m, knee + bend_grip_m);
+        // With a mouse, Tab hands the pressed button over: the left hand lets it go before it reaches the stem.
+        hand_.use(0);
+        press(false);
+        hand_.look();
+        move_to(left_at + from_side * 0.05);
+        // Hands further apart than a hand's width do not bend a stem between them: taken again closer.
+        for (int attempt = 0; attempt < 2; ++attempt) {
+            hand_.look(); // after a long way, where it really is (see place)
+            move_to(left_at + from_side * 0.05);
+            move_to(along_stem(room_.flower(flower).points_m, knee + bend_grip_m), 0.1);
+            press(true);
+            if (room_.held(0) == flower && glm::length(room_.hand_at(0) - room_.hand_at(1)) <= hands_together_m) break;
+            press(false);
+            move_to(hand_.position() + from_side * 0.05, 0.1);
+        }
+        if (room_.held(0) != flower) {
+            say(role + ": the left hand missed it; it stays straight");
+            press(false);
+            move_to(hand_.position() + above);
+            press(true);
+            hand_.use(1);
+            return std::nullopt;
+        }
+        const glm::dvec3 straight = hand_.angles();
+        turn_to(straight + glm::dvec3{rise.bend_rad + held.keeps_bend_beyond_rad, 0, 0}, 1.2);
+        wait(0.3);
+        turn_to(straight + glm::dvec3{rise.bend_rad, 0, 0}, 0.6);
+        wait(0.2);
+        // The right hand takes it again below the bend while the left holds it: held inside the bend, the
+        // part below would swing round the hand (nothing in the model holds a bend's plane but its weight).
+        hand_.use(1);
+        press(false);
+        // Where the bend starts, as it shows once the right hand has let it spring back: the first joint
+        // from the bottom that is bent more than the stem's own curve. The hand closes on the point
+        // below it, so that both points it holds are below the bend.
+        wait(0.2);
+        const auto shape = room_.flower(flower).points_m;
+        std::size_t first_bent = shape.size() - 1;
+        for (std::size_t i = 1; i + 1 < shape.size(); ++i) {
+            const double angle = std::acos(std::clamp(glm::dot(glm::normalize(shape[i] - shape[i - 1]), glm::normalize(shape[i + 1] - shape[i])), -1.0, 1.0));
+            if (angle > bend_seen_rad) {
+                first_bent = i;
+                break;
+            }
+        }
+        const std::size_t below = std::max<std::size_t>(1, first_bent - 1);
+        hand_.look();
+        move_to(room_.flower(flower).points_m[below] + from_side * 0.05, 0.15);
+        move_to(room_.flower(flower).points_m[below], 0.1);
+        press(true);
+        const bool retaken = room_.held(1) == flower;
+        if (!retaken) {
+            // The left still holds it: the right takes it where it held it before.
+            press(false);
+            move_to(along_stem(room_.flower(flower).points_m, knee - bend_grip_m), 0.1);
+            press(true);
+        }
+        hand_.use(0);
+        press(false);
+        move_to(hand_.position() + from_side * 0.05, 0.1);
+        // With a mouse, Tab hands the button over as it is: pressed again on nothing, so the right keeps its grip.
+        press(true);
+        hand_.use(1);
+        if (!retaken) {
+            say(role + ": the right hand missed it below the bend; it holds it in the bend");
+            return std::nullopt;
+        }
+        return knee;
     }
 
 private:
@@ -232,10 +459,19 @@ void teach(const LessonDef& lesson, const Arrangement& model, Classroom& room, T
                           held_at != options.tilt_deg.end() ? "as asked" : "a low stem sinks once let go", aimed.tilt_rad * 180 / pi, target.tilt_rad * 180 / pi);
             teacher.say(why);
         }
+        // A stem that rises straight before it leans (a shoka's stems leave the water as one line) is
+        // bent in the hands first, and goes in nearly upright.
+        std::optional<Teacher::Rise> rise;
+        if (target.path_m.size() == 2 && hand.two_hands()) {
+            const glm::dvec3 knee = target.path_m[0], tip = target.path_m[1];
+            const double lean = std::acos(std::clamp(glm::normalize(tip - knee).z, -1.0, 1.0));
+            if (options.tilt_deg.find(target.role) == options.tilt_deg.end())
+                rise = Teacher::Rise{in_pins + knee.z + bend_above_knee_m, lean > rise_tilt_rad + min_bend_rad ? lean - rise_tilt_rad : 0.0};
+        }
         // A stem that tipped over, or slipped from the hand, is taken again once, as a teacher would.
-        if (!teacher.place(*pick, target.role, aimed)) {
+        if (!teacher.place(*pick, target.role, aimed, rise)) {
             teacher.say(target.role + ": it did not stand: take it again");
-            teacher.place(*pick, target.role, aimed);
+            teacher.place(*pick, target.role, aimed, rise);
         }
     }
     teacher.say("done: let the arrangement settle");

@@ -1,9 +1,11 @@
 #pragma once
 // The teacher of the demonstration (lesson_demo.hpp), apart from what it works through: it sees the
-// stems (a Classroom: the simulation itself, or the window's state read from outside), moves one hand
-// (a TeacherHand: a puppet device, the mouse as the window reads it, or the real X pointer), and
-// arranges the lesson's model form with them, one stem at a time.
+// stems (a Classroom: the simulation itself, or the window's state read from outside), moves the hands
+// (a TeacherHand: puppet devices, the mouse as the window reads it, or the real X pointer; the right
+// hand does most, the left joins it to bend a stem), and arranges the lesson's model form with them,
+// one stem at a time.
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +30,7 @@ struct SeenFlower {
     double yield_holding_nm = 0.0, yield_gravity_nm = 0.0; // 0: the pins never gave way
     std::uint32_t pins = 0;
     double depth_m = 0.0;
+    double keeps_bend_beyond_rad = 0.0; // bent further than this, it stays bent (the species' permanent set)
 };
 
 // What the teacher sees, and time passing.
@@ -38,7 +41,8 @@ public:
     virtual void wait(double seconds) = 0;
     [[nodiscard]] virtual std::size_t flower_count() const = 0;
     [[nodiscard]] virtual SeenFlower flower(std::size_t i) const = 0;
-    [[nodiscard]] virtual std::optional<std::size_t> held() const = 0; // by the teacher's hand (the right)
+    [[nodiscard]] virtual std::optional<std::size_t> held(std::uint8_t hand = 1) const = 0; // by the teacher's right (1) or left (0) hand
+    [[nodiscard]] virtual glm::dvec3 hand_at(std::uint8_t hand) const = 0; // where a hand's cube is seen (1: the right)
     [[nodiscard]] virtual glm::dvec3 kenzan_origin_m() const = 0;
     [[nodiscard]] virtual double pin_height_m() const = 0;
 };
@@ -60,10 +64,16 @@ public:
     [[nodiscard]] virtual double turn_step_s() const { return 0.01; } // a turn likewise
     // Before a stem is taken: where the hand really is, if the hand can find out.
     virtual void look() {}
+    // From now on the moves, turns and presses go to this hand (0 the left, 1 the right); false if the
+    // teacher has only the right. With a mouse this is Tab, and the button as it is goes with it to the
+    // hand switched to: the hand switched away from keeps its grip.
+    virtual bool use(std::uint8_t hand) { return hand == 1; }
+    [[nodiscard]] virtual bool two_hands() const { return false; }
 };
 
-// Arranges the model form through the hand: for each stem, the shortest unused material of its
-// species long enough, taken, cut, turned, pushed in at its place and let go. Steps go to `result`.
+// Arranges the model form through the hands: for each stem, the shortest unused material of its
+// species long enough, taken, cut, bent if the form's line rises before it leans (and the hands are
+// two), turned, pushed in at its place and let go. Steps go to `result`.
 void teach(const LessonDef& lesson, const Arrangement& model, Classroom& room, TeacherHand& hand, DemoResult& result, const DemoOptions& options);
 
 } // namespace ikebana::game
