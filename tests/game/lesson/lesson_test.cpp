@@ -750,6 +750,25 @@ TEST(LessonControls, AStemHeldFarFromItsBottomEndIsToBeTakenAgainNearThatEnd) {
     EXPECT_NE(near_bottom.find("holding a cherry_branch: 340 mm long"), std::string::npos) << near_bottom;
 }
 
+// In a shoka the stems rise from the water as one line: the HUD tells a trainee holding soe's cherry
+// branch to bend it first, where and about how far, and how with a mouse; Sogetsu's forms want no bend.
+TEST(LessonControls, AShokaRoleThatLeansAwayFromTheLineIsToBeBentWithBothHandsFirst) {
+    components::FrameSnapshot frame = holding_a_lying_cherry_branch();
+    frame.hands[1].position_m = frame.flowers[0].points_m[3];
+    const auto says = [&](const char* id) {
+        const LessonDef l = lesson(id);
+        std::string all;
+        for (const auto& line : advise_held_stem(l, footprint(l), frame, 1).lines) all += line + "\n";
+        return all;
+    };
+    const std::string shoka = says("ikenobo_shoka_shofutai");
+    EXPECT_NE(shoka.find("for soe: C cuts it to"), std::string::npos) << shoka;
+    EXPECT_NE(shoka.find("the form's stems rise as one line 60-80 mm above the water: first bend it about 40° 70 mm from its cut end"), std::string::npos) << shoka; // this kenzan{} has no pins
+    EXPECT_NE(shoka.find("to bend: Tab, take it with the other hand beside this one"), std::string::npos) << shoka;
+    const std::string upright = says("sogetsu_basic_upright");
+    EXPECT_EQ(upright.find("bend"), std::string::npos) << upright;
+}
+
 // A demonstration on record (device samples, the cuts as the simulation took them) replays on the
 // deterministic clock to the same score and the same final state, component by component.
 TEST(LessonSession, ADemonstrationOnRecordReplaysToTheSameScoreAndStateHash) {
