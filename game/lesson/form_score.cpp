@@ -800,6 +800,9 @@ std::vector<glm::dvec2> one_line_bases(const std::vector<glm::dvec2>& ways) {
         }
     };
     place();
+    if (best.empty()) { // no way at all (cannot happen with nine spots and a finite cost): the plain row
+        for (std::size_t i = 0; i < ways.size(); ++i) best.push_back({(static_cast<double>(i) - 1.0) * pitch_m, 0.0});
+    }
     return best;
 }
 

@@ -336,7 +336,7 @@ Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& o
     if (!world) return std::move(world).error();
     World& w = **world;
     sched::DeterministicClock clock(w.schedule);
-    // The puppet device, or the mouse with the window's settings and keys.
+    // The puppet devices (one a hand), or the mouse with the window's settings and keys.
     std::array<std::shared_ptr<PuppetDevice::Pose>, 2> poses;
     for (std::size_t h = 0; h < 2; ++h) {
         poses[h] = std::make_shared<PuppetDevice::Pose>();

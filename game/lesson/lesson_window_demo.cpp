@@ -6,6 +6,7 @@
 // Every motion waits until the window has read it (its state says when it last read input): the
 // window reads the mouse once a frame, a few frames a second on lavapipe under Xvfb, and a modifier
 // or a key must be down while a frame reads it.
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -327,9 +328,9 @@ private:
     WindowState state_;
     std::string failure_;
     std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
-    glm::dvec3 position_[2]{glm::dvec3{0.0}, glm::dvec3{0.0}}, angles_[2]{glm::dvec3{0.0}, glm::dvec3{0.0}}; // each hand's, as moved from here
-    std::uint8_t active_ = 1;                                                                            // the hand the mouse drives
-    mutable std::map<std::string, double> species_;                                                              // permanent set, by species
+    std::array<glm::dvec3, 2> position_{}, angles_{}; // each hand's, as moved from here
+    std::uint8_t active_ = 1;                         // the hand the mouse drives
+    mutable std::map<std::string, double> species_;   // permanent set, by species (read once)
     bool motion_unseen_ = false; // plain motion sent since the window last showed it had read input
     glm::dvec2 cursor_{0.0};     // where the cursor is in the window, with the motion sent since
 };
