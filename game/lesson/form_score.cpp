@@ -808,6 +808,11 @@ std::vector<glm::dvec2> one_line_bases(const std::vector<glm::dvec2>& ways) {
 
 } // namespace
 
+double lean_above_rise_rad(const ArrangementStem& s) {
+    if (s.path_m.size() != 2) return 0.0;
+    return std::acos(std::clamp(glm::normalize(s.path_m[1] - s.path_m[0]).z, -1.0, 1.0));
+}
+
 Arrangement model_arrangement(const LessonDef& l, const KenzanFootprint& k) {
     Arrangement a;
     a.kenzan_offset_m = l.kenzan_offset_m;

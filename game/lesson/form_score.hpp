@@ -77,6 +77,12 @@ struct FormScore {
 };
 
 // Where the kenzan is, for the rules that look at it.
+// A one-line form's stem (one with a straight rise, `path_m` of two points) leaning more than this above
+// its rise is bent before it goes in: the demonstration bends it, the HUD tells a trainee to.
+inline constexpr double one_line_bend_beyond_rad = 18.0 * 3.14159265358979323846 / 180.0;
+// How far a stem's line leans from upright above its straight rise (0 for a stem without one).
+[[nodiscard]] double lean_above_rise_rad(const ArrangementStem& s);
+
 struct KenzanFootprint {
     glm::dvec2 size_m{0.08, 0.08};
     double plate_thickness_m = 0.008;

@@ -124,9 +124,6 @@ namespace ikebana::game {
 namespace {
 // Held further than this from its bottom end (and than a third of its length), a stem is taken again.
 constexpr double far_from_end_m = 0.1;
-// A one-line form's stem leaning more than this above the line is bent first (the demonstration's
-// teacher: 15° beyond the 3° its part below the bend leans).
-constexpr double bend_worth_rad = 18.0 * 3.14159265358979323846 / 180.0;
 } // namespace
 
 HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footprint, const components::FrameSnapshot& frame, std::size_t hand) {
@@ -200,8 +197,8 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
             if (rule.kind != RuleKind::one_line_at_water) continue;
             for (const auto& s : model_arrangement(l, footprint).stems) {
                 if (s.role != m.role || s.path_m.size() != 2) continue;
-                const double upper = std::acos(std::clamp(glm::normalize(s.path_m[1] - s.path_m[0]).z, -1.0, 1.0));
-                if (upper < bend_worth_rad) break;
+                const double upper = lean_above_rise_rad(s);
+                if (upper <= one_line_bend_beyond_rad) break;
                 std::snprintf(text, sizeof text, "the form's stems rise as one line %.0f-%.0f mm above the water: first bend it about %.0f° %.0f mm from its cut end",
                               rule.min_m * 1e3, rule.max_m * 1e3, 5.0 * std::round(upper * deg / 5.0), (s.path_m[0].z + pins) * 1e3);
                 advice.lines.emplace_back(text);

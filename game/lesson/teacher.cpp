@@ -33,6 +33,14 @@ glm::dquat turn_between(glm::dvec3 a, glm::dvec3 b) {
     return glm::angleAxis(std::atan2(s, c), axis / s);
 }
 
+// `angles` the short way round from `from`: a wrist at 179° going to -179° turns by 2°, not by a whole
+// turn (the roll and the heading are whole turns apart; the pitch stays within a quarter).
+glm::dvec3 nearest_angles(glm::dvec3 angles, glm::dvec3 from) {
+    angles.x = from.x + std::remainder(angles.x - from.x, 2.0 * pi);
+    angles.z = from.z + std::remainder(angles.z - from.z, 2.0 * pi);
+    return angles;
+}
+
 // The device's turn for its angles (systems::device_turn at an unturned camera: z, then y, then x).
 glm::dquat turn_of(glm::dvec3 angles) {
     return glm::angleAxis(angles.z, glm::dvec3{0, 0, 1}) * glm::angleAxis(angles.y, glm::dvec3{0, 1, 0}) * glm::angleAxis(angles.x, glm::dvec3{1, 0, 0});
@@ -48,13 +56,11 @@ constexpr double low_stem_rad = 60.0 * pi / 180.0;
 // form's stems part: 100, headless and through the mouse. Around it (lean 2-4°, middle 5 mm below to
 // 10 mm above; 24 runs) 20 scored 95-100; a stem fell twice with the middle at 0 (the tai's end stuck
 // outside the vase's mouth on its way in), the stems parted 82 mm up once (86) and one run scored 67:
-// the demonstration keeps its settings; its test says when a change moves it. A stem that would lean
-// less than min_bend_rad above the line
-// is not bent: it goes in upright and its own curve leans it (a willow shin at 0° stood 12° from
-// vertical, 7 mm from soe 60 mm up; at 3°, 14° and 12 mm).
+// the demonstration keeps its settings; its test says when a change moves it. A stem that leans less
+// than one_line_bend_beyond_rad above its rise is not bent: it goes in upright and its own curve leans
+// it (a willow shin at 0° stood 12° from vertical, 7 mm from soe 60 mm up; at 3°, 14° and 12 mm).
 constexpr double rise_tilt_rad = 3.0 * pi / 180.0;
 constexpr double bend_above_knee_m = 0.005;
-constexpr double min_bend_rad = 15.0 * pi / 180.0;
 constexpr double bend_span_m = 0.08;               // the bending system's span_m
 constexpr double bend_grip_m = 0.012;              // each hand this far from the middle of a bend
 constexpr double hands_together_m = 0.045;         // closer than the bending system's 50 mm, to be sure
@@ -118,10 +124,7 @@ public:
     }
     void turn_to(glm::dvec3 angles, double seconds) {
         const glm::dvec3 from = hand_.angles();
-        // The same turn the short way round: a wrist at 179° going to -179° turns by 2°, not by a whole turn
-        // (the roll and the heading are whole turns apart; the pitch stays within a quarter).
-        angles.x = from.x + std::remainder(angles.x - from.x, 2.0 * pi);
-        angles.z = from.z + std::remainder(angles.z - from.z, 2.0 * pi);
+        angles = nearest_angles(angles, from);
         const int steps = std::max(1, static_cast<int>(seconds / hand_.turn_step_s()));
         for (int i = 1; i <= steps; ++i) {
             hand_.turn(from + (angles - from) * (static_cast<double>(i) / steps));
@@ -136,11 +139,7 @@ public:
         const glm::dquat to = by * from;
         const int steps = std::max(1, static_cast<int>(seconds / hand_.turn_step_s()));
         for (int i = 1; i <= steps; ++i) {
-            glm::dvec3 angles = device_angles(glm::slerp(from, to, static_cast<double>(i) / steps));
-            const glm::dvec3 now = hand_.angles();
-            angles.x = now.x + std::remainder(angles.x - now.x, 2.0 * pi);
-            angles.z = now.z + std::remainder(angles.z - now.z, 2.0 * pi);
-            hand_.turn(angles);
+            hand_.turn(nearest_angles(device_angles(glm::slerp(from, to, static_cast<double>(i) / steps)), hand_.angles()));
             wait(hand_.turn_step_s());
         }
     }
@@ -169,16 +168,7 @@ public:
         // bends it (one that will not be bent too: it is then held by the part that stands upright).
         const double grip_from_new_bottom = rise ? rise->knee_m - bend_grip_m : std::min(0.06, 0.3 * keep);
         // On the stem as it lies (a branch's curve lifts it off the line between its ends).
-        double to_go = std::max(0.0, cut) + grip_from_new_bottom;
-        glm::dvec3 grip_at = lying.points_m.back();
-        for (std::size_t i = 1; i < lying.points_m.size(); ++i) {
-            const double segment = glm::length(lying.points_m[i] - lying.points_m[i - 1]);
-            if (to_go <= segment) {
-                grip_at = lying.points_m[i - 1] + (lying.points_m[i] - lying.points_m[i - 1]) * (to_go / segment);
-                break;
-            }
-            to_go -= segment;
-        }
+        const glm::dvec3 grip_at = along_stem(lying.points_m, std::max(0.0, cut) + grip_from_new_bottom);
         say(role + ": take the " + target.species + " from the table");
         hand_.look();
         move_to(grip_at + glm::dvec3{0, 0, 0.06});
@@ -235,9 +225,6 @@ public:
         // other way rolls down under its own weight once let go (a stem has no stiffness against
         // twisting in the model), so that is where it settles. The stem's axis lay along +x, its curve
         // rising toward +z: x goes to the role's direction, z to straight down across it.
-        glm::dvec3 down = glm::dvec3{0, 0, -1} - glm::dot(glm::dvec3{0, 0, -1}, want) * want;
-        down = glm::length(down) > 1e-6 ? glm::normalize(down) : glm::dvec3{0, -1, 0};
-        glm::dquat turn = glm::quat_cast(glm::dmat3(want, glm::cross(down, want), down));
         if (upright) {
             // A bend made on the level droops in its vertical plane. Its lower part is laid level in that
             // plane, swung about the upright until it points the role's way, and raised in that plane:
@@ -274,6 +261,9 @@ public:
                 wait(0.4);
             }
         } else {
+            glm::dvec3 down = glm::dvec3{0, 0, -1} - glm::dot(glm::dvec3{0, 0, -1}, want) * want;
+            down = glm::length(down) > 1e-6 ? glm::normalize(down) : glm::dvec3{0, -1, 0};
+            glm::dquat turn = glm::quat_cast(glm::dmat3(want, glm::cross(down, want), down));
             for (int round = 0; round < 4; ++round) {
                 if (round > 0) turn = turn_between(lower_direction(), want) * turn;
                 turn_to(device_angles(turn), round == 0 ? 1.5 : 0.5);
@@ -476,10 +466,9 @@ void teach(const LessonDef& lesson, const Arrangement& model, Classroom& room, T
         // bent in the hands first, and goes in nearly upright.
         std::optional<Teacher::Rise> rise;
         if (target.path_m.size() == 2 && hand.two_hands()) {
-            const glm::dvec3 knee = target.path_m[0], tip = target.path_m[1];
-            const double lean = std::acos(std::clamp(glm::normalize(tip - knee).z, -1.0, 1.0));
+            const double lean = lean_above_rise_rad(target);
             if (options.tilt_deg.find(target.role) == options.tilt_deg.end())
-                rise = Teacher::Rise{in_pins + knee.z + bend_above_knee_m, lean > rise_tilt_rad + min_bend_rad ? lean - rise_tilt_rad : 0.0};
+                rise = Teacher::Rise{in_pins + target.path_m[0].z + bend_above_knee_m, lean > one_line_bend_beyond_rad ? lean - rise_tilt_rad : 0.0};
         }
         // A stem that tipped over, or slipped from the hand, is taken again once, as a teacher would.
         if (!teacher.place(*pick, target.role, aimed, rise)) {
