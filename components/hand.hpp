@@ -40,6 +40,25 @@ struct WorkspaceMapping {
 // HandInput (hand_input: what the device said), HandProxy (hand_input: where the cube is), HandGrip
 // (grab: what it holds) and HandForce (the force systems: what it should feel).
 
+// What a hand's device link is doing, for the HUD and the session's figures.
+enum class DeviceLink : std::uint8_t {
+    answering,
+    not_answering, // never answered yet (a device being opened)
+    unplugged,     // its reads fail: gone from the bus
+    silent,        // plugged in but sending nothing new (a hung firmware, a stalled hub)
+    lost,          // it stopped taking forces (writes failed again and again): being reopened
+};
+[[nodiscard]] inline const char* device_link_words(DeviceLink link) {
+    switch (link) {
+    case DeviceLink::answering: return "answering";
+    case DeviceLink::not_answering: return "not answering";
+    case DeviceLink::unplugged: return "unplugged";
+    case DeviceLink::silent: return "silent: no reports, hand released, force faded out";
+    case DeviceLink::lost: return "not taking forces: released, reconnecting";
+    }
+    return "unknown";
+}
+
 struct HandInput {
     bool connected;
     glm::dvec3 device_m;        // where the device puts the hand

@@ -11,9 +11,11 @@
 
 #include "components/appearance.hpp"
 #include "components/flower.hpp"
+#include "components/hand.hpp"
 #include "components/insertion.hpp"
 #include "components/kenzan.hpp"
 #include "components/physics.hpp"
+#include "engine/devices/haptic_device.hpp"
 
 namespace ikebana::components {
 
@@ -42,12 +44,18 @@ struct HandStatus {
     bool connected;     // its device answers
     std::uint64_t disconnects;
     bool holding;       // it holds a stem
-    glm::dvec3 force_n; // what it feels (before the device's safety layer)
+    glm::dvec3 force_n; // what the simulation asks it to feel (before the device's safety chain)
     glm::dvec3 position_m; // where its cube is
     double edge_m;
     std::int32_t held_flower = -1; // which of the frame's flowers it holds (-1: none)
     glm::dvec3 device_m{0.0};      // where its device puts it (the cube stops above the table; this does not)
     bool grab_button = false;      // its grab button is down (with nothing held: a press that took nothing)
+    // What its device really got: the force after the safety chain (clamp, rate limit, wait, ramp),
+    // why that differs from force_n, and the state of the link. `pushes`: false for a device that
+    // pushes nothing (the mouse), whose hand feels nothing.
+    devices::SentForce sent{};
+    DeviceLink link = DeviceLink::answering;
+    std::uint64_t write_failures = 0;
 };
 
 struct FrameSnapshot {

@@ -1,13 +1,9 @@
 #include "engine/assets/files.hpp"
 
-#include <atomic>
 #include <cerrno>
-#include <condition_variable>
 #include <cstring>
-#include <mutex>
 #include <streambuf>
 #include <string>
-#include <thread>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -95,59 +91,6 @@ protected:
 
 private:
     int fd_;
-};
-
-// The same, for a thread that must not wait for the disk (the 1 kHz loop): a full buffer or a flush
-// hands the bytes to a writer thread of its own, which writes them. A failed write shows at the next
-// flush; the destructor hands over what is left, waits for the writer and closes.
-class BackgroundBuffer final : public ChunkBuffer {
-public:
-    explicit BackgroundBuffer(int fd) : fd_(fd), writer_([this] { write_out(); }) {}
-    ~BackgroundBuffer() override {
-        sync();
-        {
-            const std::lock_guard lock(mutex_);
-            stop_ = true;
-        }
-        wake_.notify_one();
-        writer_.join();
-        ::close(fd_);
-    }
-
-protected:
-    bool drain(const char* data, std::size_t size) override {
-        if (size > 0) {
-            {
-                const std::lock_guard lock(mutex_);
-                pending_.append(data, size);
-            }
-            wake_.notify_one();
-        }
-        return !failed_.load();
-    }
-
-private:
-    void write_out() {
-        std::string out;
-        for (;;) {
-            {
-                std::unique_lock lock(mutex_);
-                wake_.wait(lock, [&] { return stop_ || !pending_.empty(); });
-                if (pending_.empty() && stop_) return;
-                out.swap(pending_);
-            }
-            if (!write_all(fd_, out.data(), out.size())) failed_.store(true);
-            out.clear();
-        }
-    }
-
-    int fd_;
-    std::mutex mutex_;
-    std::condition_variable wake_;
-    std::string pending_;
-    bool stop_ = false;
-    std::atomic<bool> failed_{false};
-    std::thread writer_; // last: it starts when everything it uses is there
 };
 
 template <typename Buffer>
@@ -258,12 +201,6 @@ Result<std::unique_ptr<std::ostream>> open_output_stream(const std::filesystem::
     auto fd = open_for_writing(path);
     if (!fd) return std::move(fd).error();
     return std::unique_ptr<std::ostream>(std::make_unique<DescriptorStream<DescriptorBuffer>>(*fd));
-}
-
-Result<std::unique_ptr<std::ostream>> open_background_output_stream(const std::filesystem::path& path) {
-    auto fd = open_for_writing(path);
-    if (!fd) return std::move(fd).error();
-    return std::unique_ptr<std::ostream>(std::make_unique<DescriptorStream<BackgroundBuffer>>(*fd));
 }
 
 Result<void> create_output_folder(const std::filesystem::path& path) {

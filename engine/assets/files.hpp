@@ -37,10 +37,7 @@ Result<void> write_text_file(const std::filesystem::path& path, const std::strin
 // symbolic link, never a device or FIFO. Data reaches the file at each flush(), so a crash loses at
 // most what came after the last one.
 Result<std::unique_ptr<std::ostream>> open_output_stream(const std::filesystem::path& path);
-// The same for a thread that must not wait for the disk (the 1 kHz loop recording a session): writes
-// and flushes hand the bytes to a writer thread of the stream's own, which writes them at once; a
-// failed write shows at the next flush. One thread writes to it at a time.
-Result<std::unique_ptr<std::ostream>> open_background_output_stream(const std::filesystem::path& path);
+// (The 1 kHz loop never writes to one itself: it hands lines to an AsyncLineWriter, whose thread does.)
 
 // Creates the folder (and its parents) that outputs go to; refuses a path that exists and is not a
 // folder (or a link to one).

@@ -15,6 +15,8 @@ enum class ErrorCode {
     schedule_conflict, // systems that write the same data with no order between them
     io_error,          // the operating system refused a read or write
     device_error,      // a device (Vulkan, HID) is missing or misbehaves
+    device_silent,     // a force device is plugged in but has sent no report for longer than its limit
+    device_lost,       // a force device stopped taking forces (writes failed again and again)
 };
 
 struct Error {

@@ -41,6 +41,9 @@ DiyForceDevice::DiyForceDevice(std::unique_ptr<HidTransport> transport, double m
     caps_.max_force_n = max_force_n;
     caps_.workspace_half_extent_m = glm::dvec3{0.08};
     caps_.reports_position = true;
+    caps_.silent_after_us = diy_silent_after_us;
+    caps_.coupling_n_per_m = diy_coupling_n_per_m;
+    caps_.coupling_damping_ns_per_m = diy_coupling_damping_ns_per_m;
 }
 
 Result<DeviceSample> DiyForceDevice::poll(std::int64_t now_us) {
@@ -55,14 +58,18 @@ Result<DeviceSample> DiyForceDevice::poll(std::int64_t now_us) {
             continue;
         }
         last_ = *report;
+        report_us_ = now_us;
         // The device's own limit tightens ours (never loosens it).
         if (last_.max_force_n > 0.0 && last_.max_force_n < caps_.max_force_n) {
             caps_.max_force_n = last_.max_force_n;
             max_force_n_.store(last_.max_force_n);
         }
     }
+    // Until the first report, silence is measured from the first poll.
+    if (report_us_ == std::numeric_limits<std::int64_t>::min()) report_us_ = now_us;
     DeviceSample s;
     s.time_us = now_us;
+    s.report_us = report_us_; // the last good report's time, not now's: a hung device shows its age
     s.position = glm::dvec3(last_.position_um) * 1e-6;
     s.rotation = glm::dvec3(last_.rotation_mrad) * 1e-3;
     s.buttons = last_.buttons;

@@ -2,6 +2,7 @@
 // HapticDevice backends over a HidTransport: the SpaceMouse family (6-DoF input, no force) and the DIY
 // force-feedback device (docs/diy-haptic-protocol.md).
 #include <atomic>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -16,6 +17,14 @@ namespace ikebana::devices {
 // The DIY device's USB ids (pid.codes' open-source vendor id; change both in firmware and here).
 inline constexpr std::uint16_t diy_vendor_id = 0x1209;
 inline constexpr std::uint16_t diy_product_id = 0x1d3a;
+// The DIY device's profile beyond what its reports say (docs/haptics.md, "Limits per profile"). It
+// sends a state report every millisecond (docs/diy-haptic-protocol.md): 20 ms without one is a hung
+// device, long before its own 500 ms watchdog would say so. Protocol v1 declares no stiffness limit
+// (the builds differ: a delta, a pantograph), so the coupling is the profile's own, a conservative
+// 400 N/m and 2 N s/m that a desk-sized build renders without buzzing.
+inline constexpr std::int64_t diy_silent_after_us = 20'000;
+inline constexpr double diy_coupling_n_per_m = 400.0;
+inline constexpr double diy_coupling_damping_ns_per_m = 2.0;
 
 // Which profile, if any, a HID device matches: for `ikebana devices` and automatic selection.
 struct DeviceMatch {
@@ -63,6 +72,7 @@ private:
     diy::StateReport last_{};
     std::atomic<std::uint16_t> outbound_{0};
     std::uint64_t refused_ = 0;
+    std::int64_t report_us_ = std::numeric_limits<std::int64_t>::min(); // when the newest accepted report arrived
     DeviceCapabilities caps_;
 };
 

@@ -4,6 +4,8 @@
 
 #include <hidapi/hidapi.h>
 
+#include "engine/core/pi_mutex.hpp"
+
 namespace ikebana::devices {
 
 namespace {
@@ -34,8 +36,9 @@ public:
         return static_cast<std::size_t>(n);
     }
     Result<void> write(std::span<const std::uint8_t> report) override {
-        // The device may be written from the haptic loop and from the force watchdog's thread.
-        std::lock_guard lock(write_mutex_);
+        // The device may be written from the haptic loop and from the force watchdog's thread: a
+        // priority-inheriting lock, held for one report's write.
+        const std::lock_guard lock(write_mutex_);
         if (hid_write(device_, report.data(), report.size()) < 0) {
             return make_error(ErrorCode::device_error, path_ + ": write failed (unplugged?)");
         }
@@ -45,7 +48,7 @@ public:
 private:
     hid_device* device_;
     std::string path_;
-    std::mutex write_mutex_;
+    PiMutex write_mutex_;
 };
 
 } // namespace
@@ -64,7 +67,7 @@ Result<std::vector<HidDeviceInfo>> enumerate_hid_devices() {
 Result<std::unique_ptr<HidTransport>> open_hid_device(const std::string& path) {
     if (auto ok = init_once(); !ok) return std::move(ok).error();
     hid_device* device = hid_open_path(path.c_str());
-    if (!device) return make_error(ErrorCode::device_error, path + ": cannot be opened (permissions? see docs/devices.md)");
+    if (!device) return make_error(ErrorCode::device_error, path + ": cannot be opened (permissions? see docs/haptics.md, 'Checking it')");
     return std::unique_ptr<HidTransport>(std::make_unique<HidapiTransport>(device, path));
 }
 

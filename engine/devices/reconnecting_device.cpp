@@ -1,47 +1,95 @@
 #include "engine/devices/reconnecting_device.hpp"
 
+#include <chrono>
+
 namespace ikebana::devices {
 
 ReconnectingDevice::ReconnectingDevice(Opener opener, DeviceCapabilities expected, std::int64_t retry_us)
-    : opener_(std::move(opener)), expected_(std::move(expected)), retry_us_(retry_us) {}
+    : opener_(std::move(opener)), expected_(std::move(expected)), retry_us_(retry_us), opener_thread_([this] { open_loop(); }) {}
+
+ReconnectingDevice::~ReconnectingDevice() {
+    {
+        const std::lock_guard lock(wake_mutex_);
+        stop_ = true;
+    }
+    wake_.notify_one();
+    opener_thread_.join();
+    delete ready_.exchange(nullptr);
+    delete retired_.exchange(nullptr);
+}
 
 const DeviceCapabilities& ReconnectingDevice::capabilities() const { return inner_ ? inner_->capabilities() : expected_; }
 
+void ReconnectingDevice::open_loop() {
+    std::unique_lock lock(wake_mutex_);
+    while (!stop_) {
+        lock.unlock();
+        // Closing a dropped device may block (hid_close): here, never on the caller's thread.
+        delete retired_.exchange(nullptr, std::memory_order_acq_rel);
+        bool retry_later = false;
+        if (wanted_.load(std::memory_order_acquire) && ready_.load(std::memory_order_acquire) == nullptr) {
+            attempts_.fetch_add(1, std::memory_order_relaxed);
+            auto opened = opener_();
+            if (opened) {
+                ready_.store(std::move(opened).value().release(), std::memory_order_release);
+                wanted_.store(false, std::memory_order_release);
+            } else {
+                retry_later = true;
+            }
+        }
+        lock.lock();
+        if (stop_) break;
+        // Asleep until the retry is due, or until the caller drops a device (it wakes this thread).
+        const auto wait = retry_later ? std::chrono::microseconds(std::max<std::int64_t>(retry_us_, 1000)) : std::chrono::microseconds(50'000);
+        wake_.wait_for(lock, wait, [&] {
+            return stop_ || (!retry_later && wanted_.load(std::memory_order_acquire)) || retired_.load(std::memory_order_acquire) != nullptr;
+        });
+    }
+}
+
+void ReconnectingDevice::detach() {
+    std::unique_ptr<HapticDevice> old;
+    {
+        const std::lock_guard lock(swap_mutex_);
+        old = std::move(inner_);
+    }
+    // The opener thread closes it; the slot is empty by now (that thread empties it before it opens
+    // the device that replaced the last one), so nothing is ever overwritten.
+    delete retired_.exchange(old.release(), std::memory_order_acq_rel);
+    wanted_.store(true, std::memory_order_release);
+    wake_.notify_one(); // takes no lock; a wake-up lost to a race costs at most the thread's 50 ms sleep
+}
+
 Result<DeviceSample> ReconnectingDevice::poll(std::int64_t now_us) {
     if (!inner_) {
-        if (now_us < next_try_us_) return make_error(ErrorCode::device_error, expected_.name + ": disconnected");
-        auto opened = opener_();
-        if (!opened) {
-            next_try_us_ = now_us + retry_us_;
-            return std::move(opened).error();
+        HapticDevice* ready = ready_.exchange(nullptr, std::memory_order_acq_rel);
+        if (!ready) return make_error(ErrorCode::device_error, expected_.name + ": disconnected");
+        {
+            const std::lock_guard lock(swap_mutex_);
+            inner_.reset(ready);
         }
-        std::lock_guard lock(inner_mutex_);
-        inner_ = std::move(opened).value();
         if (ever_attached_) ++reconnects_;
         ever_attached_ = true;
     }
     auto sample = inner_->poll(now_us);
-    if (!sample) {
-        std::lock_guard lock(inner_mutex_);
-        inner_.reset();
-        next_try_us_ = now_us + retry_us_;
-    }
+    if (!sample) detach();
     return sample;
+}
+
+bool ReconnectingDevice::drop() {
+    if (inner_) detach();
+    return true;
 }
 
 Result<void> ReconnectingDevice::send_force(glm::dvec3 force_n) {
     // The same lock as zero_force(): the watchdog's zero and this force must not interleave on the wire.
-    std::lock_guard lock(inner_mutex_);
+    const std::lock_guard lock(swap_mutex_);
     if (!inner_) return {}; // nothing to push against: the hand is released and its force zero
     return inner_->send_force(force_n);
 }
 
-} // namespace ikebana::devices
-
-namespace ikebana::devices {
-
 Result<void> ReconnectingDevice::zero_force() {
-    std::lock_guard lock(inner_mutex_);
+    const std::lock_guard lock(swap_mutex_);
     return inner_ ? inner_->zero_force() : Result<void>{};
 }
 

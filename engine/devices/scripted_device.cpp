@@ -124,29 +124,21 @@ Result<void> ScriptedDevice::send_force(glm::dvec3 force_n) {
     return {};
 }
 
-DeviceRecorder::DeviceRecorder(std::ostream& out) : out_(out) { out_ << header << "\n" << std::flush; }
+DeviceRecorder::DeviceRecorder(std::ostream& out, AsyncLineWriter::WhenFull when_full) : writer_(out, when_full) {
+    (void)writer_.write(std::string(header) + "\n");
+}
 
 void DeviceRecorder::record(const DeviceSample& s) {
     // Bit for bit (0.0 and -0.0 compare equal, and a replay must read what was read).
     const bool same = wrote_ && std::memcmp(&s.position, &last_.position, sizeof s.position) == 0 &&
                       std::memcmp(&s.rotation, &last_.rotation, sizeof s.rotation) == 0 && s.buttons == last_.buttons;
-    if (same) {
-        if (s.time_us - last_flush_us_ >= flush_every_us) {
-            out_.flush();
-            last_flush_us_ = s.time_us;
-        }
-        return;
-    }
+    if (same) return;
     wrote_ = true;
     last_ = s;
-    char line[512];
-    std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%u\n", static_cast<double>(s.time_us) * 1e-6,
-                  s.position.x, s.position.y, s.position.z, s.rotation.x, s.rotation.y, s.rotation.z, s.buttons);
-    out_ << line;
-    if (s.time_us - last_flush_us_ >= flush_every_us || s.time_us < last_flush_us_) {
-        out_.flush();
-        last_flush_us_ = s.time_us;
-    }
+    char line[AsyncLineWriter::max_line_bytes];
+    const int n = std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%u\n", static_cast<double>(s.time_us) * 1e-6,
+                                s.position.x, s.position.y, s.position.z, s.rotation.x, s.rotation.y, s.rotation.z, s.buttons);
+    (void)writer_.write(std::string_view(line, static_cast<std::size_t>(std::clamp(n, 0, static_cast<int>(sizeof line) - 1))));
 }
 
 } // namespace ikebana::devices

@@ -17,8 +17,9 @@
 #include <utility>
 #include <vector>
 
-#include "engine/core/result.hpp"
 #include "engine/assets/files.hpp"
+#include "engine/core/async_line_writer.hpp"
+#include "engine/core/result.hpp"
 #include "engine/devices/haptic_device.hpp"
 
 namespace ikebana::devices {
@@ -69,17 +70,21 @@ private:
 // Writes the samples a device produced, with their times, in the trajectory format: each one that
 // differs from the last written (a mouse's hand stands still most of the time). Replayed in
 // ScriptedDevice's replay mode, which holds each sample until the next, every tick reads what it read.
-// Writes samples as they come; flushes the header at once and then every flush_every_us of device
-// time, so that a recording cut short by a crash keeps all but its last moments.
+// record() runs on the 1 kHz thread: it formats the line and hands it to an AsyncLineWriter, whose
+// own thread writes it and flushes every 100 ms (a recording cut short by a crash keeps all but its
+// last moments). `when_full`: drop (and count) in real time, wait in a headless run.
 class DeviceRecorder {
 public:
-    static constexpr std::int64_t flush_every_us = 100'000;
-    explicit DeviceRecorder(std::ostream& out);
+    explicit DeviceRecorder(std::ostream& out, AsyncLineWriter::WhenFull when_full);
     void record(const DeviceSample& sample);
+    // Everything recorded so far is in the stream (not for the 1 kHz thread).
+    void flush() { writer_.flush(); }
+    // Samples lost because the writer fell seconds behind (real time only): a replay of this recording
+    // would part from the session.
+    [[nodiscard]] std::uint64_t dropped() const noexcept { return writer_.dropped(); }
 
 private:
-    std::ostream& out_;
-    std::int64_t last_flush_us_ = 0;
+    AsyncLineWriter writer_;
     bool wrote_ = false;
     DeviceSample last_;
 };

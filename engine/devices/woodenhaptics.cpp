@@ -53,7 +53,7 @@ Result<WoodenHapticsProfile> parse_woodenhaptics_profile(std::string_view text, 
     c.no_unknown_keys(*root, "", {"format", "name", "notes", "length_body_a_m", "length_body_b_m", "length_body_c_m",
                                   "capstan_diameter_m", "drum_diameter_m", "workspace_origin_m", "workspace_radius_m",
                                   "torque_constant_nm_per_a", "encoder_counts_per_rev", "max_force_n", "max_stiffness_n_per_m",
-                                  "max_damping_ns_per_m"});
+                                  "max_damping_ns_per_m", "silent_after_ms"});
     const auto format = c.string(*root, "", "format");
     if (format && *format != profile_format) c.problem("/format", std::string("expected \"") + profile_format + "\", got \"" + *format + "\"");
     (void)c.string(*root, "", "notes", false);
@@ -82,6 +82,10 @@ Result<WoodenHapticsProfile> parse_woodenhaptics_profile(std::string_view text, 
     p.max_force_n = c.number(*root, "", "max_force_n", {0.0, 50.0, true}).value_or(0.0);
     p.max_stiffness_n_per_m = c.number(*root, "", "max_stiffness_n_per_m", {0.0, 1e5, true}).value_or(0.0);
     p.max_damping_ns_per_m = c.number(*root, "", "max_damping_ns_per_m", {0.0, 1000.0}).value_or(0.0);
+    // Optional (files written before it: the published firmware's 20 ms): how long without a report
+    // makes the device silent. Under 2 ms the loop's own jitter would trip it; over a second a hung
+    // device would be pushed against for that long.
+    if (root->contains("silent_after_ms")) p.silent_after_ms = c.number(*root, "", "silent_after_ms", {2.0, 1000.0}).value_or(p.silent_after_ms);
     if (!c.ok()) return c.error();
     return p;
 }
@@ -159,6 +163,9 @@ WoodenHapticsDevice::WoodenHapticsDevice(std::unique_ptr<HidTransport> transport
     caps_.max_force_n = profile_.max_force_n;
     caps_.workspace_half_extent_m = glm::dvec3{profile_.workspace_radius_m};
     caps_.reports_position = true;
+    caps_.silent_after_us = static_cast<std::int64_t>(profile_.silent_after_ms * 1000.0);
+    caps_.max_stiffness_n_per_m = profile_.max_stiffness_n_per_m;
+    caps_.max_damping_ns_per_m = profile_.max_damping_ns_per_m;
     angles_ = woodenhaptics_angles(profile_, counts_);
 }
 
@@ -175,10 +182,15 @@ Result<DeviceSample> WoodenHapticsDevice::poll(std::int64_t now_us) {
             continue;
         }
         counts_ = *counts;
+        report_us_ = now_us;
     }
+    // Until the first report, the device counts as having reported when it was first polled (its
+    // silence is measured from there).
+    if (report_us_ == std::numeric_limits<std::int64_t>::min()) report_us_ = now_us;
     angles_ = woodenhaptics_angles(profile_, counts_);
     DeviceSample s;
     s.time_us = now_us;
+    s.report_us = report_us_;
     s.position = woodenhaptics_to_device_frame(woodenhaptics_position(profile_, angles_));
     return s;
 }
@@ -193,7 +205,7 @@ Result<void> WoodenHapticsDevice::zero_force() { return write(encode_woodenhapti
 Result<void> WoodenHapticsDevice::write(std::span<const std::uint8_t> report) {
     // Only the write itself is held: the report is made before, so the watchdog's zero never waits on
     // the kinematics.
-    std::lock_guard lock(write_mutex_);
+    const std::lock_guard lock(write_mutex_);
     return transport_->write(report);
 }
 

@@ -10,10 +10,10 @@
 // device class turns that into this project's device frame (x right, y away from the user, z up, as
 // the DIY device reports): device = (wh.y, -wh.x, wh.z).
 #include <array>
+#include <limits>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -21,6 +21,7 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/core/pi_mutex.hpp"
 #include "engine/core/result.hpp"
 #include "engine/devices/haptic_device.hpp"
 #include "engine/devices/hid_transport.hpp"
@@ -72,6 +73,8 @@ struct WoodenHapticsProfile {
     double max_force_n = 5.0;
     double max_stiffness_n_per_m = 1000.0;
     double max_damping_ns_per_m = 8.0;
+    // The 2017 firmware streams its encoders at about 1 kHz: 20 ms without one is a hung device.
+    double silent_after_ms = 20.0;
 };
 
 // Reads a profile through JsonChecker: every field present and in range, unknown keys refused, each
@@ -128,12 +131,13 @@ private:
     Result<void> write(std::span<const std::uint8_t> report);
 
     std::unique_ptr<HidTransport> transport_;
-    std::mutex write_mutex_; // send_force (haptic loop) and zero_force (watchdog) write the same device
+    PiMutex write_mutex_; // send_force (haptic loop) and zero_force (watchdog) write the same device
     WoodenHapticsProfile profile_;
     DeviceCapabilities caps_;
     WoodenHapticsCounts counts_{};
     glm::dvec3 angles_{};
     std::uint64_t refused_ = 0;
+    std::int64_t report_us_ = std::numeric_limits<std::int64_t>::min(); // when the newest report arrived
 };
 
 } // namespace ikebana::devices

@@ -413,7 +413,7 @@ void TraineeSession::start_recording() {
     std::error_code ec;
     for (int n = 2; std::filesystem::exists(folder, ec) && n < 100; ++n) folder = parent / (stamp + "-" + lesson_->id + "-" + std::to_string(n));
     std::filesystem::create_directories(parent, ec);
-    auto recorder = SessionRecorder::create(folder);
+    auto recorder = SessionRecorder::create(folder, /*real_time=*/true);
     if (!recorder) {
         std::cerr << "ikebana: the session is not recorded: " << recorder.error().message << "\n";
         return;
@@ -820,7 +820,9 @@ int TraineeSession::run_once() {
             }
             config.on_skip = [this, sim_lane](std::size_t lane, std::int64_t due_us, std::int64_t until_us) {
                 if (lane != sim_lane) return;
-                recorder_->commands() << due_us << ",skip,0," << until_us << "\n";
+                char line[64];
+                const int n = std::snprintf(line, sizeof line, "%lld,skip,0,%lld\n", static_cast<long long>(due_us), static_cast<long long>(until_us));
+                (void)recorder_->commands().write(std::string_view(line, static_cast<std::size_t>(n)));
             };
         }
         sched::RealtimeClock clock(w.schedule, config);

@@ -75,7 +75,9 @@ int run_sim(const SimOptions& options) {
                 return 2;
             }
             record_files[hand] = std::move(*file);
-            recorders[hand] = std::make_unique<devices::DeviceRecorder>(*record_files[hand]);
+            // In real time a disk seconds behind costs samples (counted below), never the haptic loop's time.
+            recorders[hand] = std::make_unique<devices::DeviceRecorder>(
+                *record_files[hand], options.realtime ? AsyncLineWriter::WhenFull::drop : AsyncLineWriter::WhenFull::wait);
             slots->recorder[static_cast<std::size_t>(hand)] = recorders[hand].get();
         }
         std::printf("recording every device sample to %s/{left,right}.csv (replay with --left replay:FILE)\n", options.record_dir.c_str());
@@ -129,14 +131,27 @@ int run_sim(const SimOptions& options) {
         std::string felt;
         if (const auto* safe = dynamic_cast<const devices::SafeForceDevice*>(device)) {
             const auto counters = safe->counters();
-            char text[160];
-            std::snprintf(text, sizeof text, ", force after the safety chain at most %.2f N (%llu clamped, %llu rate-limited)", safe->peak_output_n(),
-                          static_cast<unsigned long long>(counters.clamped), static_cast<unsigned long long>(counters.rate_limited));
+            const auto& asked = w.sim.get<components::HandForce>(w.hands[hand]).force_n;
+            const auto* links = w.sim.resource<const systems::HandLinks>();
+            char text[320];
+            std::snprintf(text, sizeof text,
+                          ", force after the safety chain at most %.2f N, at the end %.2f N of the %.2f N asked (%llu clamped, %llu rate-limited, "
+                          "%llu stalls, %llu engagements, %llu failed writes)",
+                          safe->peak_output_n(), glm::length(safe->last_output()), glm::length(asked), static_cast<unsigned long long>(counters.clamped),
+                          static_cast<unsigned long long>(counters.rate_limited), static_cast<unsigned long long>(counters.stalls),
+                          static_cast<unsigned long long>(counters.engagements),
+                          static_cast<unsigned long long>(links ? links->write_failures[hand] : 0));
             felt = text;
         }
         std::printf("%s hand: %s, %s, %llu disconnect(s)%s%s\n", hand ? "right" : "left",
                     device ? device->capabilities().name.c_str() : "no device", input.connected ? "connected" : "not connected",
                     static_cast<unsigned long long>(input.disconnects), grip.held.is_null() ? "" : ", holding a flower", felt.c_str());
+    }
+    for (int hand = 0; hand < 2; ++hand) {
+        if (recorders[hand] && recorders[hand]->dropped() > 0) {
+            std::printf("%s hand: %llu samples not recorded (the disk fell behind): a replay will part from this run\n", hand ? "right" : "left",
+                        static_cast<unsigned long long>(recorders[hand]->dropped()));
+        }
     }
     std::printf("wall time %.3f s (%.1fx real time)\n", wall, wall > 0 ? options.seconds / wall : 0.0);
     if (options.stats) std::printf("\n%s", w.schedule.stats_table().c_str());

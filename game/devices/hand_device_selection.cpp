@@ -12,7 +12,8 @@ namespace ikebana::game {
 
 namespace {
 
-Result<std::unique_ptr<devices::HapticDevice>> open_hid(const devices::HidDeviceInfo& info) {
+// Runs on the reconnecting device's own thread (never the 1 kHz one): it enumerates and opens.
+Result<std::unique_ptr<devices::HapticDevice>> open_hid(const devices::HidDeviceInfo& info, const devices::WoodenHapticsProfile& woodenhaptics) {
     const auto match = devices::match_hid_device(info);
     auto transport = devices::open_hid_device(info.path);
     if (!transport) return std::move(transport).error();
@@ -20,12 +21,7 @@ Result<std::unique_ptr<devices::HapticDevice>> open_hid(const devices::HidDevice
         return std::unique_ptr<devices::HapticDevice>(std::make_unique<devices::DiyForceDevice>(std::move(transport).value()));
     }
     if (match.kind == devices::DeviceMatch::Kind::woodenhaptics) {
-        // Its kinematics live on the host, so the geometry comes from a profile file: the builder's
-        // own measurements if they gave one, else the published design's.
-        auto profile = devices::load_woodenhaptics_profile(woodenhaptics_profile_path());
-        if (!profile) return std::move(profile).error();
-        return std::unique_ptr<devices::HapticDevice>(
-            std::make_unique<devices::WoodenHapticsDevice>(std::move(transport).value(), std::move(profile).value()));
+        return std::unique_ptr<devices::HapticDevice>(std::make_unique<devices::WoodenHapticsDevice>(std::move(transport).value(), woodenhaptics));
     }
     if (match.kind == devices::DeviceMatch::Kind::spacemouse) {
         return std::unique_ptr<devices::HapticDevice>(std::make_unique<devices::SpaceMouseDevice>(
@@ -39,24 +35,44 @@ bool pushes(devices::DeviceMatch::Kind kind) {
     return kind == devices::DeviceMatch::Kind::diy_force || kind == devices::DeviceMatch::Kind::woodenhaptics;
 }
 
-OpenedDevice reconnecting(const devices::HidDeviceInfo& info) {
+Result<OpenedDevice> reconnecting(const devices::HidDeviceInfo& info) {
     const auto match = devices::match_hid_device(info);
+    // A WoodenHaptics' kinematics live on the host, so its geometry comes from a profile file (the
+    // builder's own measurements if they gave one, else the published design's): read here, once,
+    // not by the opener at every reconnection.
+    devices::WoodenHapticsProfile woodenhaptics;
+    if (match.kind == devices::DeviceMatch::Kind::woodenhaptics) {
+        auto profile = devices::load_woodenhaptics_profile(woodenhaptics_profile_path());
+        if (!profile) return std::move(profile).error();
+        woodenhaptics = std::move(profile).value();
+    }
+    // What the device will be while it is away: its profile's name, force, silence limit and coupling.
     devices::DeviceCapabilities expected;
     expected.name = match.profile;
     expected.has_force_output = pushes(match.kind);
     expected.reports_position = expected.has_force_output;
+    if (match.kind == devices::DeviceMatch::Kind::diy_force) {
+        expected.silent_after_us = devices::diy_silent_after_us;
+        expected.coupling_n_per_m = devices::diy_coupling_n_per_m;
+        expected.coupling_damping_ns_per_m = devices::diy_coupling_damping_ns_per_m;
+    } else if (match.kind == devices::DeviceMatch::Kind::woodenhaptics) {
+        expected.max_force_n = woodenhaptics.max_force_n;
+        expected.silent_after_us = static_cast<std::int64_t>(woodenhaptics.silent_after_ms * 1000.0);
+        expected.max_stiffness_n_per_m = woodenhaptics.max_stiffness_n_per_m;
+        expected.max_damping_ns_per_m = woodenhaptics.max_damping_ns_per_m;
+    }
     auto device = std::make_unique<devices::ReconnectingDevice>(
-        [info]() -> Result<std::unique_ptr<devices::HapticDevice>> {
+        [info, woodenhaptics]() -> Result<std::unique_ptr<devices::HapticDevice>> {
             // Plugged back in, a device may come back under another path: look it up by its ids.
             auto found = devices::enumerate_hid_devices();
             if (!found) return std::move(found).error();
             for (const auto& d : *found) {
-                if (d.vendor_id == info.vendor_id && d.product_id == info.product_id) return open_hid(d);
+                if (d.vendor_id == info.vendor_id && d.product_id == info.product_id) return open_hid(d, woodenhaptics);
             }
             return make_error(ErrorCode::device_error, info.product + ": not plugged in");
         },
         expected);
-    return {std::move(device), match.profile + " at " + info.path};
+    return OpenedDevice{std::move(device), match.profile + " at " + info.path};
 }
 
 } // namespace

@@ -60,8 +60,7 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     HeldStemAdvice advice;
     if (form) advice = advise_held_stem(lesson_, footprint_, latest, hand);
     for (const auto& line : advice.lines) say("> " + line);
-    if (in.cut_key && !cut_was_down_ && advice.keep_length_m > 0.0) {
-        trainee.push({systems::TraineeCommand::Kind::cut, hand, advice.keep_length_m});
+    if (in.cut_key && !cut_was_down_ && advice.keep_length_m > 0.0 && trainee.push({systems::TraineeCommand::Kind::cut, hand, advice.keep_length_m})) {
         effects.cut_for = advice.role;
         effects.cut_to_m = advice.keep_length_m;
     }

@@ -56,7 +56,7 @@ public:
     void go(glm::dvec3 position_m) override { poses_[using_]->position_m = position_m; }
     void turn(glm::dvec3 angles_rad) override { poses_[using_]->rotation_rad = angles_rad; }
     void grab(bool down) override { poses_[using_]->buttons = down ? 1u : 0u; }
-    void cut(double keep_m) override { w_.trainee.push({systems::TraineeCommand::Kind::cut, static_cast<std::uint8_t>(using_), keep_m}); }
+    void cut(double keep_m) override { (void)w_.trainee.push({systems::TraineeCommand::Kind::cut, static_cast<std::uint8_t>(using_), keep_m}); }
     bool use(std::uint8_t hand) override {
         using_ = hand & 1u;
         return true;
@@ -361,7 +361,7 @@ Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& o
     TeacherHand& hand = options.through_mouse ? static_cast<TeacherHand&>(mouse_hand) : static_cast<TeacherHand&>(puppet);
     std::unique_ptr<SessionRecorder> recorder;
     if (!options.record_dir.empty()) {
-        auto made = SessionRecorder::create(options.record_dir);
+        auto made = SessionRecorder::create(options.record_dir, /*real_time=*/false);
         if (!made) return std::move(made).error();
         recorder = std::move(made).value();
         recorder->attach(w);

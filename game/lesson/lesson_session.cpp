@@ -37,26 +37,28 @@ std::string hex(std::uint64_t v) {
 }
 } // namespace
 
-Result<std::unique_ptr<SessionRecorder>> SessionRecorder::create(const std::filesystem::path& folder) {
+Result<std::unique_ptr<SessionRecorder>> SessionRecorder::create(const std::filesystem::path& folder, bool real_time) {
     if (auto made = assets::create_output_folder(folder); !made) return std::move(made).error();
     auto recorder = std::unique_ptr<SessionRecorder>(new SessionRecorder());
     recorder->folder_ = folder;
     for (int i = 0; i < 3; ++i) {
-        // Written on the 1 kHz thread: the disk is waited for by the stream's own writer, not by it.
-        auto file = assets::open_background_output_stream(folder / file_names[i]);
+        // Only the writers' threads touch these streams: the 1 kHz thread hands its lines to them.
+        auto file = assets::open_output_stream(folder / file_names[i]);
         if (!file) return std::move(file).error();
         recorder->files_[i] = std::move(file).value();
     }
-    for (int hand = 0; hand < 2; ++hand) recorder->recorders_[hand] = std::make_unique<devices::DeviceRecorder>(*recorder->files_[hand]);
+    const auto when_full = real_time ? AsyncLineWriter::WhenFull::drop : AsyncLineWriter::WhenFull::wait;
+    for (int hand = 0; hand < 2; ++hand) recorder->recorders_[hand] = std::make_unique<devices::DeviceRecorder>(*recorder->files_[hand], when_full);
+    recorder->commands_ = std::make_unique<AsyncLineWriter>(*recorder->files_[2], when_full);
     return recorder;
 }
 
 void SessionRecorder::attach(World& world) {
     auto* slots = world.sim.resource<systems::HandDevices>();
     for (std::size_t hand = 0; hand < 2; ++hand) slots->recorder[hand] = recorders_[hand].get();
-    world.trainee.log = files_[2].get();
-    world.view.log = files_[2].get();
-    slots->events = files_[2].get();
+    world.trainee.log = commands_.get();
+    world.view.log = commands_.get();
+    slots->events = commands_.get();
 }
 
 void SessionRecorder::detach(World& world) {
@@ -78,9 +80,12 @@ Result<void> SessionRecorder::finish_window(const LessonDef& lesson, const std::
     return write(lesson, kind, std::min(run.scored_frame_us + 1, end_us), end_us, score, world, &run);
 }
 
+std::uint64_t SessionRecorder::dropped() const { return recorders_[0]->dropped() + recorders_[1]->dropped() + commands_->dropped(); }
+
 Result<void> SessionRecorder::write(const LessonDef& lesson, const std::string& kind, std::int64_t scored_us, std::int64_t end_us, double score,
                                     const World& world, const WindowRun* window) {
-    for (auto& f : files_) f->flush();
+    for (auto& r : recorders_) r->flush();
+    commands_->flush();
     nlohmann::ordered_json j;
     j["format"] = "ikebana-session/1";
     // A shipped lesson by its id (the recording then replays on another checkout), another by its file.
@@ -282,7 +287,7 @@ void SessionPlayback::run_until(std::int64_t t_us) {
         const SessionCommand& c = commands_[next_];
         clock_->run_until(c.at_us); // the ticks before it; the one at its time takes it
         switch (c.what) {
-        case SessionCommand::What::cut: world_->trainee.push(c.command); break;
+        case SessionCommand::What::cut: (void)world_->trainee.push(c.command); break; // one at a time: the ring never fills
         case SessionCommand::What::view: world_->view.yaw_rad.store(c.value); break;
         case SessionCommand::What::skip: clock_->skip_lane(sim_lane_, static_cast<std::int64_t>(c.value)); break;
         case SessionCommand::What::gone:

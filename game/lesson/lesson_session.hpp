@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/core/async_line_writer.hpp"
 #include "engine/core/result.hpp"
 #include "engine/devices/scripted_device.hpp"
 #include "game/lesson/form_score.hpp"
@@ -36,7 +37,10 @@ namespace ikebana::game {
 class SessionRecorder {
 public:
     // Makes the folder (refused if it is a file or a link; files in it are replaced whole at the end).
-    static Result<std::unique_ptr<SessionRecorder>> create(const std::filesystem::path& folder);
+    // The 1 kHz thread writes its lines through rings (AsyncLineWriter); `real_time`: a ring the disk
+    // fell seconds behind on drops and counts lines rather than hold the haptic loop; headless, the
+    // simulation waits for room (it has no deadline, and the recording stays whole).
+    static Result<std::unique_ptr<SessionRecorder>> create(const std::filesystem::path& folder, bool real_time);
     // Before the session runs (the hands' samples, the trainee's commands, the camera's turns).
     void attach(World& world);
     // After it, before the recorder goes: the world writes nothing more here.
@@ -53,8 +57,11 @@ public:
         bool rate_device[2] = {false, false};
     };
     Result<void> finish_window(const LessonDef& lesson, const std::string& kind, const WindowRun& run, std::int64_t end_us, double score, const World& world);
-    // The commands file (cuts, the camera's turns, the clock's skips), for a real-time clock's on_skip.
-    [[nodiscard]] std::ostream& commands() { return *files_[2]; }
+    // The commands file (cuts, the camera's turns, the clock's skips), for a real-time clock's on_skip:
+    // written from the simulation's thread only.
+    [[nodiscard]] AsyncLineWriter& commands() { return *commands_; }
+    // Lines the rings dropped (real time, the disk seconds behind): a replay would part.
+    [[nodiscard]] std::uint64_t dropped() const;
     [[nodiscard]] const std::filesystem::path& folder() const { return folder_; }
 
 private:
@@ -62,7 +69,9 @@ private:
                        const WindowRun* window);
     std::filesystem::path folder_;
     std::unique_ptr<std::ostream> files_[3]; // left, right, commands
+    // After the files: they are stopped (and have written everything) before the files close.
     std::unique_ptr<devices::DeviceRecorder> recorders_[2];
+    std::unique_ptr<AsyncLineWriter> commands_;
 };
 
 struct ReplayResult {

@@ -15,7 +15,9 @@ using Json = nlohmann::json;
 void take_snapshot(WindowState& state, const components::FrameSnapshot& frame) {
     state.sim_time_us = frame.sim_time_us;
     for (int h = 0; h < 2; ++h) {
-        state.hands[h] = {frame.hands[h].holding, frame.hands[h].held_flower, frame.hands[h].position_m, frame.hands[h].device_m};
+        const auto& hand = frame.hands[h];
+        state.hands[h] = {hand.holding,   hand.held_flower,  hand.position_m, hand.device_m, hand.force_n, hand.sent.sent_n,
+                          hand.sent.pushes, components::device_link_words(hand.link)};
     }
     state.flowers.resize(frame.flowers.size());
     for (std::size_t i = 0; i < frame.flowers.size(); ++i) {
@@ -87,7 +89,16 @@ std::string window_state_json(const WindowState& s) {
     j["cursor_px"] = vec(s.cursor_px);
     j["pointer"] = {{"active_hand", s.active_hand}, {"px_per_m", vec(s.px_per_m)}};
     j["hands"] = Json::array();
-    for (const auto& h : s.hands) j["hands"].push_back({{"holding", h.holding}, {"held_flower", h.held_flower}, {"position_m", vec(h.position_m)}, {"device_m", vec(h.device_m)}});
+    for (const auto& h : s.hands) {
+        j["hands"].push_back({{"holding", h.holding},
+                              {"held_flower", h.held_flower},
+                              {"position_m", vec(h.position_m)},
+                              {"device_m", vec(h.device_m)},
+                              {"force_asked_n", vec(h.force_asked_n)},
+                              {"force_sent_n", vec(h.force_sent_n)},
+                              {"force_pushes", h.pushes},
+                              {"link", h.link}});
+    }
     j["flowers"] = Json::array();
     for (const auto& f : s.flowers) {
         Json points = Json::array();
@@ -140,6 +151,13 @@ Result<WindowState> parse_window_state(std::string_view text, const std::string&
         s.hands[h].held_flower = r.get<std::int32_t>(hands[h], "held_flower", -1);
         s.hands[h].position_m = r.vector<3>(hands[h], "position_m");
         s.hands[h].device_m = r.vector<3>(hands[h], "device_m");
+        // Written since the force the device got was reported; older states have none.
+        if (r.error.empty() && hands[h].contains("force_sent_n")) {
+            s.hands[h].force_asked_n = r.vector<3>(hands[h], "force_asked_n");
+            s.hands[h].force_sent_n = r.vector<3>(hands[h], "force_sent_n");
+            s.hands[h].pushes = r.get<bool>(hands[h], "force_pushes");
+            s.hands[h].link = r.get<std::string>(hands[h], "link");
+        }
     }
     const auto flowers = r.get<Json>(j, "flowers");
     if (r.error.empty() && !flowers.is_array()) r.error = "field 'flowers' should be an array";

@@ -30,6 +30,12 @@ struct WindowState {
         std::int32_t held_flower = -1;
         glm::dvec3 position_m{0.0}; // its cube
         glm::dvec3 device_m{0.0};   // where its device puts it
+        // The force the simulation asks for and the one its device got after the safety chain
+        // (`pushes` false: a device that pushes nothing, the mouse), and the state of its link.
+        glm::dvec3 force_asked_n{0.0};
+        glm::dvec3 force_sent_n{0.0};
+        bool pushes = false;
+        std::string link = "answering";
     };
     Hand hands[2];
     struct Flower {

@@ -300,6 +300,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
         w->flowers.push_back({spawn_flower(r, sp, f, scene.table_height_m), sp.id});
     }
     r.set_resource<systems::HandDevices>();
+    r.set_resource<systems::HandLinks>();
     r.set_resource<SentForceLog>();
     for (std::size_t hand_index = 0; hand_index < scene.hands.size(); ++hand_index) {
         const auto& h = scene.hands[hand_index];
@@ -337,7 +338,14 @@ void World::attach_device(std::uint8_t hand, std::unique_ptr<devices::HapticDevi
     auto* slots = sim.resource<systems::HandDevices>();
     // Every device that can push goes through the one safety layer, whoever opened it.
     hand_devices[hand] = devices::make_force_safe(std::move(device));
-    if (slots) slots->device[hand] = hand_devices[hand].get();
+    if (slots) {
+        slots->device[hand] = hand_devices[hand].get();
+        // The coupling this device renders stably: its profile's, capped by its declared maximum.
+        const devices::DeviceCapabilities defaults;
+        const auto& caps = hand_devices[hand] ? hand_devices[hand]->capabilities() : defaults;
+        slots->coupling_n_per_m[hand] = devices::coupling_stiffness_n_per_m(caps);
+        slots->coupling_damping_ns_per_m[hand] = devices::coupling_damping_ns_per_m(caps);
+    }
     if (auto* hud = main.resource<HudInfo>()) hud->device[hand] = hand_devices[hand] ? hand_devices[hand]->capabilities().name : "no device";
 }
 

@@ -19,22 +19,23 @@
 
 namespace ikebana::systems {
 
-// The force a hand feels now, from the live state (shared by both schemes): the coupling spring, and
-// the loads the physics computed this tick on the points the grip holds (never computed again here).
-glm::dvec3 hand_feels(ecs::Registry& registry, const components::HandInput& input, const components::HandProxy& proxy,
-                      const components::HandGrip& grip);
+// The force a hand feels now, from the live state (shared by both schemes): the coupling spring (its
+// device's), and the loads the physics computed this tick on the points the grip holds (never computed
+// again here).
+glm::dvec3 hand_feels(ecs::Registry& registry, const components::HandCube& cube, const components::HandInput& input,
+                      const components::HandProxy& proxy, const components::HandGrip& grip);
 
 // Everything hand_feels reads.
-using HandFeelsReads = sched::Components<HandDevices, components::HandInput, components::HandProxy, components::HandGrip,
-                                         components::StemLoads, components::Bending>;
+using HandFeelsReads = sched::Components<HandDevices, components::HandCube, components::HandInput, components::HandProxy,
+                                         components::HandGrip, components::StemLoads, components::Bending>;
 
 struct HandForceSystem {
     static constexpr std::string_view name = "hand_force";
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "output";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Joined<HandFeelsReads, sched::Components<components::HandCube>>;
-    using writes = sched::Components<components::HandForce, components::SentForceLog>;
+    using reads = HandFeelsReads;
+    using writes = sched::Components<components::HandForce, components::SentForceLog, HandLinks>;
     void operator()(sched::SystemContext& ctx);
 };
 
@@ -66,7 +67,7 @@ struct ForceOutputSystem {
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<HandDevices, components::HandCube, components::HandInput>;
     // HandForce: a hand whose device is gone is set to feel nothing.
-    using writes = sched::Components<components::HandForce, components::SentForceLog>;
+    using writes = sched::Components<components::HandForce, components::SentForceLog, HandLinks>;
     void operator()(sched::SystemContext& ctx);
 };
 

@@ -33,17 +33,27 @@ void HandInputSystem::operator()(sched::SystemContext& ctx) {
             const auto note = [&](const char* what) {
                 if (!devices->events) return;
                 char line[64];
-                std::snprintf(line, sizeof line, "%lld,%s,%u,0\n", static_cast<long long>(ctx.time_us), what, static_cast<unsigned>(cube.hand));
-                *devices->events << line;
+                const int n = std::snprintf(line, sizeof line, "%lld,%s,%u,0\n", static_cast<long long>(ctx.time_us), what, static_cast<unsigned>(cube.hand));
+                (void)devices->events->write(std::string_view(line, static_cast<std::size_t>(n)));
             };
+            auto* links = r.resource<HandLinks>();
             if (!sample) {
                 if (input.connected || ctx.firing == 0) note("gone");
                 if (input.connected) ++input.disconnects;
                 input.connected = false;
+                if (links && cube.hand < 2) {
+                    // Silent or lost, the device is still there: say why the hand let go.
+                    const auto code = sample.error().code;
+                    links->link[cube.hand] = code == ErrorCode::device_silent ? DeviceLink::silent
+                                             : code == ErrorCode::device_lost ? DeviceLink::lost
+                                             : input.disconnects > 0         ? DeviceLink::unplugged
+                                                                             : DeviceLink::not_answering;
+                }
                 return;
             }
             if (!input.connected && ctx.firing > 0) note("back");
             input.connected = true;
+            if (links && cube.hand < 2) links->link[cube.hand] = DeviceLink::answering;
             if (devices->recorder[cube.hand]) devices->recorder[cube.hand]->record(*sample);
             const double c = std::cos(map.yaw_rad);
             const double s = std::sin(map.yaw_rad);

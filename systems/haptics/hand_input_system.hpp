@@ -34,7 +34,7 @@ struct HandInputSystem {
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<HandDevices, components::WorkspaceMapping, components::HandCube, components::HandGrip,
                                     components::Kenzan, components::Table, components::StemPoints, components::StemRestShape>;
-    using writes = sched::Components<components::HandInput, components::HandProxy, components::Collider>;
+    using writes = sched::Components<components::HandInput, components::HandProxy, components::Collider, HandLinks>;
 
     void operator()(sched::SystemContext& ctx);
 };

@@ -4,15 +4,13 @@
 // this system, on the simulation's thread, turns each into a CutRequest on the stem that hand holds
 // (the cutting system does the cut: section 1's cutting, the same for every caller).
 #include <cstdint>
-#include <mutex>
-#include <ostream>
-#include <utility>
 #include <string_view>
-#include <vector>
 
 #include "components/hand.hpp"
 #include "components/insertion.hpp"
 #include "components/stem.hpp"
+#include "engine/core/async_line_writer.hpp"
+#include "engine/core/spsc_ring.hpp"
 #include "engine/sched/system.hpp"
 
 namespace ikebana::systems {
@@ -25,23 +23,20 @@ struct TraineeCommand {
 };
 
 // Main thread (or a driver) to simulation thread; the World owns it (the sim registry holds a pointer).
+// One producer (the main thread, or the driver of a headless demonstration) and one consumer (the
+// simulation): a lock-free ring, so the 1 kHz thread never waits for the main thread.
 class TraineeChannel {
 public:
-    void push(const TraineeCommand& command) {
-        const std::lock_guard lock(mutex_);
-        pending_.push_back(command);
-    }
-    std::vector<TraineeCommand> take() {
-        const std::lock_guard lock(mutex_);
-        return std::exchange(pending_, {});
-    }
+    // False when 64 commands are already waiting (a trainee cannot press that fast): the command is
+    // not taken, and the caller says so.
+    [[nodiscard]] bool push(const TraineeCommand& command) noexcept { return pending_.push(command); }
+    [[nodiscard]] bool pop(TraineeCommand& command) noexcept { return pending_.pop(command); }
     // When set (before the session runs): each command as the simulation takes it, one CSV line
     // "time_us,cut,hand,keep_length_m", so that a replay gives it at the same tick.
-    std::ostream* log = nullptr;
+    AsyncLineWriter* log = nullptr;
 
 private:
-    std::mutex mutex_;
-    std::vector<TraineeCommand> pending_;
+    SpscRing<TraineeCommand> pending_{64};
 };
 
 struct TraineeCommandSystem {

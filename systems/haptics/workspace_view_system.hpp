@@ -4,10 +4,10 @@
 // that pushing a device "forward" still moves the hand away from the viewer. Nothing else crosses
 // from the main thread into the simulation's registry.
 #include <atomic>
-#include <ostream>
 #include <string_view>
 
 #include "components/hand.hpp"
+#include "engine/core/async_line_writer.hpp"
 #include "engine/sched/system.hpp"
 
 namespace ikebana::systems {
@@ -17,7 +17,7 @@ struct ViewChannel {
     std::atomic<double> yaw_rad{0.0};
     // When set (before the session runs): each new yaw as the simulation takes it, one CSV line
     // "time_us,view,0,yaw_rad" (a session's commands.csv), so that a replay turns at the same tick.
-    std::ostream* log = nullptr;
+    AsyncLineWriter* log = nullptr;
     double logged_yaw_rad = 0.0; // the simulation thread's: the last yaw it wrote down
 };
 

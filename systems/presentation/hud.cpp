@@ -8,6 +8,30 @@ namespace ikebana::systems {
 
 using components::HudInfo;
 
+std::string felt_words(const components::HandStatus& hand) {
+    // A device outside the safety chain (the mouse) pushes nothing: there is nothing to feel to report.
+    if (!hand.sent.pushes) return "";
+    const double sent = glm::length(hand.sent.sent_n);
+    const double asked = glm::length(hand.force_n);
+    char text[160];
+    const int n = std::snprintf(text, sizeof text, "   feels %.2f N", sent);
+    std::string words(text, static_cast<std::size_t>(std::max(n, 0)));
+    // Said only where the request is far from what the hand gets.
+    if (asked - sent <= std::max(0.5, 0.2 * asked)) return words;
+    using devices::ForceHeld;
+    switch (hand.sent.held) {
+    case ForceHeld::at_limit: std::snprintf(text, sizeof text, " (pushing back at its %.0f N limit; the contact asks %.1f N)", hand.sent.max_force_n, asked); break;
+    case ForceHeld::waiting:
+        std::snprintf(text, sizeof text, " (not pushing yet: it engages once the force asked is small; ease the handle back, it asks %.1f N)", asked);
+        break;
+    case ForceHeld::ramping: std::snprintf(text, sizeof text, " (ramping up towards %.1f N)", std::min(asked, hand.sent.max_force_n)); break;
+    case ForceHeld::fading: std::snprintf(text, sizeof text, " (fading out: the device is not answering)"); break;
+    case ForceHeld::rate_limited:
+    case ForceHeld::none: std::snprintf(text, sizeof text, " (catching up with the %.1f N asked)", asked); break;
+    }
+    return words + text;
+}
+
 std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const HudInfo& info) {
     std::vector<std::string> lines;
     char text[160];
@@ -62,12 +86,12 @@ std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const
     for (std::size_t h = 0; h < 2; ++h) {
         const auto& hand = frame.hands[h];
         if (!hand.present) continue;
-        const char* state = hand.connected ? "" : hand.disconnects > 0 ? " (unplugged)" : " (not answering)";
         const std::string device = info.device[h].empty() || info.device[h] == "no device" ? "no device" : info.device[h];
-        if (device == "no device") state = "";
+        std::string state;
+        if (!hand.connected && device != "no device") state = std::string(" (") + components::device_link_words(hand.link) + ")";
         // A press that took nothing says so (a first-time trainee otherwise presses again and again).
         const bool took_nothing = !hand.holding && hand.grab_button;
-        std::snprintf(text, sizeof text, "%s hand: %s%s   feels %.2f N%s", h ? "right" : "left", device.c_str(), state, glm::length(hand.force_n),
+        std::snprintf(text, sizeof text, "%s hand: %s%s%s%s", h ? "right" : "left", device.c_str(), state.c_str(), felt_words(hand).c_str(),
                       hand.holding ? "   holding a stem" : took_nothing ? "   took nothing" : "");
         lines.emplace_back(text);
         if (took_nothing) lines.emplace_back("  nothing in reach: put the cube on a stem (yellow: what it takes)");

@@ -13,6 +13,10 @@
 namespace ikebana::systems {
 
 std::vector<std::string> hud_lines(const components::FrameSnapshot& frame, const components::HudInfo& info);
+// What a hand feels, as the HUD says it: the force its device really got (after the safety chain),
+// and where that is far from what the simulation asks, why ("pushing back at its 3 N limit"). Empty
+// for a hand whose device pushes nothing (the mouse).
+std::string felt_words(const components::HandStatus& hand);
 std::vector<render::OverlayPanel> hud_panels(const components::FrameSnapshot& frame, const components::HudInfo& info);
 
 } // namespace ikebana::systems

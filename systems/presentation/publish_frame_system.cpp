@@ -96,8 +96,17 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
                 for (std::size_t i = 0; i < order.size(); ++i) {
                     if (order[i] == grip.held) held = static_cast<std::int32_t>(i);
                 }
-                frame.hands[cube.hand] = HandStatus{true, input.connected, input.disconnects, !grip.held.is_null(), force.force_n,
-                                                    proxy.position_m, cube.edge_m, held, input.device_m, (input.buttons & 1u) != 0};
+                HandStatus status{true, input.connected, input.disconnects, !grip.held.is_null(), force.force_n,
+                                  proxy.position_m, cube.edge_m, held, input.device_m, (input.buttons & 1u) != 0};
+                // What the device really got, after the safety chain, and the state of its link.
+                if (const auto* devices = r.resource<const HandDevices>(); devices && devices->device[cube.hand]) {
+                    status.sent = devices->device[cube.hand]->last_sent();
+                }
+                if (const auto* links = r.resource<const HandLinks>()) {
+                    status.link = input.connected ? DeviceLink::answering : links->link[cube.hand];
+                    status.write_failures = links->write_failures[cube.hand];
+                }
+                frame.hands[cube.hand] = status;
             }
         });
     const auto* contacts = r.resource<const Contacts>();

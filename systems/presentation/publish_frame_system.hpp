@@ -15,6 +15,7 @@
 #include "components/physics.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/system.hpp"
+#include "systems/haptics/hand_devices.hpp"
 #include "systems/presentation/frame_channel.hpp"
 
 namespace ikebana::systems {
@@ -28,7 +29,8 @@ struct PublishFrameSystem {
                                     components::FlowerLook, components::Part, ecs::Children, components::Contacts,
                                     components::HandCube, components::HandInput, components::HandProxy, components::HandGrip,
                                     components::HandForce, components::InsertionHistory, components::PinEngagement,
-                                    components::KenzanGrip, components::Kenzan, components::Table, components::Container>;
+                                    components::KenzanGrip, components::Kenzan, components::Table, components::Container,
+                                    HandDevices, HandLinks>;
     using writes = sched::Components<>;
 
     void operator()(sched::SystemContext& ctx);

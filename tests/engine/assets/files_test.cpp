@@ -54,7 +54,6 @@ TEST(Files, AnOutputThatIsALinkIsRefusedAndTheLinkAndItsTargetKept) {
     EXPECT_EQ(contents(dir / "precious"), "keep");
     const auto stream = open_output_stream(dir / "out.txt");
     ASSERT_FALSE(stream);
-    EXPECT_FALSE(open_background_output_stream(dir / "out.txt"));
     EXPECT_EQ(contents(dir / "precious"), "keep");
 }
 
@@ -79,7 +78,6 @@ TEST(Files, DevicesFifosAndFoldersAreNeverOutputs) {
         ASSERT_FALSE(w) << path;
         EXPECT_EQ(w.error().message, path.string() + ": is " + kind + ", not a file; refusing to write to it");
         EXPECT_FALSE(open_output_stream(path)) << path;
-        EXPECT_FALSE(open_background_output_stream(path)) << path;
     }
     EXPECT_TRUE(fs::is_character_file("/dev/null")) << "the device is still a device";
     EXPECT_TRUE(fs::is_fifo(dir / "fifo"));
@@ -88,31 +86,6 @@ TEST(Files, DevicesFifosAndFoldersAreNeverOutputs) {
     EXPECT_EQ(missing.error().message, (dir / "no_such_folder" / "out.txt").string() + ": the folder " + (dir / "no_such_folder").string() + " does not exist");
 }
 
-// A stream the 1 kHz thread writes to: a flush hands the bytes to the stream's own writer, which gets
-// them to the file soon after (a crash loses at most what came after it), and closing it writes the
-// rest, in order, whatever the buffer's size.
-TEST(Files, ABackgroundStreamGetsEveryLineToTheFileInOrder) {
-    Folder dir("background");
-    auto stream = open_background_output_stream(dir / "log.csv");
-    ASSERT_TRUE(stream) << stream.error().message;
-    std::string expected;
-    for (int i = 0; i < 20'000; ++i) { // more than one 64 KiB buffer
-        const std::string line = std::to_string(i) + ",view,0," + std::to_string(0.001 * i) + "\n";
-        **stream << line;
-        expected += line;
-        if (i == 100) (*stream)->flush();
-    }
-    // Flushed at line 100: on disk soon, with the rest still in the stream.
-    bool seen = false;
-    for (int i = 0; i < 200 && !seen; ++i) {
-        seen = contents(dir / "log.csv").find("100,view,0,0.1") != std::string::npos;
-        if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    EXPECT_TRUE(seen) << "a flush reaches the file without closing the stream";
-    EXPECT_TRUE((*stream)->good());
-    stream->reset();
-    EXPECT_EQ(contents(dir / "log.csv"), expected);
-}
 
 TEST(Files, DevicesAndFifosAreRefusedAsInputsWithoutBlocking) {
     Folder dir("inputs");

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/devices/hid_devices.hpp"
+#include "engine/devices/safe_force_device.hpp"
 #include "tests/support/fake_transport.hpp"
 
 using namespace ikebana;
@@ -104,4 +105,40 @@ TEST(HidDevices, ZeroForceReachesTheDeviceThroughTheInterface) {
     const auto report = diy::decode_force(fake->written[0]);
     ASSERT_TRUE(report);
     EXPECT_EQ(report->force_n, glm::dvec3(0.0));
+}
+
+// A DIY device that stays plugged in but stops reporting (a firmware hang, a stalled hub) used to hand
+// back its last report stamped with the current time, so the host pushed on against a frozen position.
+// Its samples now carry the time their report arrived, and behind the safety chain it is silent after
+// 20 ms: the poll fails (the hand lets go) and the force fades; when reports resume it answers again.
+TEST(HidDevices, AStaleDiyDeviceSaysHowOldItsReportIsAndFallsSilent) {
+    auto transport = std::make_unique<FakeTransport>();
+    auto* fake = transport.get();
+    std::int64_t now = 0;
+    SafeForceDevice device(std::make_unique<DiyForceDevice>(std::move(transport)), ForceSafetyConfig{}, [&now] { return now; });
+    std::uint16_t seq = 0;
+    const auto report = [&] {
+        const std::lock_guard lock(fake->mutex);
+        fake->inbound.push_back(state(++seq, {1000, 0, 0}, 0));
+    };
+    for (int tick = 0; tick < 100; ++tick) {
+        report();
+        const auto s = device.poll(now += 1000);
+        ASSERT_TRUE(s);
+        EXPECT_EQ(s->report_us, now);
+        (void)device.send_force({0.0, 0.0, 0.1});
+    }
+    const std::int64_t last_report = now;
+    // Hung: nothing more arrives.
+    for (int tick = 1; tick <= 20; ++tick) {
+        const auto s = device.poll(now += 1000);
+        ASSERT_TRUE(s) << tick;
+        EXPECT_EQ(s->report_us, last_report) << "the sample keeps its report's time";
+    }
+    const auto silent = device.poll(now += 1000);
+    ASSERT_FALSE(silent);
+    EXPECT_EQ(silent.error().code, ErrorCode::device_silent);
+    EXPECT_EQ(silent.error().message, "DIY force-feedback device: sent nothing for 21 ms");
+    report();
+    EXPECT_TRUE(device.poll(now += 1000)) << "reports again: it answers again";
 }

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <deque>
+#include <thread>
 #include <functional>
 #include <mutex>
 
@@ -11,8 +13,10 @@
 #include "engine/devices/safe_force_device.hpp"
 #include "engine/devices/woodenhaptics.hpp"
 #include "engine/sched/clocks.hpp"
+#include "game/devices/hand_device_selection.hpp"
 #include "game/scene/scene.hpp"
 #include "game/world/world.hpp"
+#include "systems/haptics/hand_devices.hpp"
 #include "tests/support/fake_transport.hpp"
 
 using namespace ikebana;
@@ -24,12 +28,13 @@ namespace {
 struct Probe final : devices::HapticDevice {
     std::vector<glm::dvec3>& sent;
     devices::DeviceCapabilities caps{"probe", true, 10.0, glm::dvec3{0.1}, true};
+    double height_m = -0.05;
     explicit Probe(std::vector<glm::dvec3>& s) : sent(s) {}
     const devices::DeviceCapabilities& capabilities() const override { return caps; }
     Result<devices::DeviceSample> poll(std::int64_t now_us) override {
         devices::DeviceSample s;
         s.time_us = now_us;
-        s.position = {0.3, 0.3, -0.05};
+        s.position = {0.3, 0.3, height_m};
         return s;
     }
     Result<void> send_force(glm::dvec3 f) override {
@@ -120,6 +125,9 @@ TEST(ForceSafety, WrapsEveryForceDevice) {
         std::function<std::vector<glm::dvec3>()> wire;
         w->attach_device(0, backend.make(wire));
         ASSERT_NE(dynamic_cast<devices::SafeForceDevice*>(w->hand_devices[0].get()), nullptr) << "wrapped when attached";
+        // A reconnecting device is opened on a thread of its own: wait until it is there.
+        const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        while (!w->hand_devices[0]->poll(0) && std::chrono::steady_clock::now() < give_up) std::this_thread::sleep_for(std::chrono::milliseconds(1));
         sched::DeterministicClock clock(w->schedule);
         clock.run_for_us(300'000);
         const auto& hand = w->sim.get<components::HandForce>(w->hands[0]);
@@ -130,6 +138,40 @@ TEST(ForceSafety, WrapsEveryForceDevice) {
         }
         EXPECT_LT(glm::length(sent.front()), 0.31) << "the first force starts from zero";
         for (const auto& f : sent) ASSERT_LE(glm::length(f), 3.0 + 0.01); // 0.01 N: whole milliamps on the WoodenHaptics wire
+    }
+}
+
+// A hand resting inside the table asks 24 N from the first tick. Engaging into that would throw the
+// handle up at the device's full force the moment the ramp allowed it; the chain waits until the force
+// asked has been small for a moment (the handle lifted out of the table), then ramps. Each backend.
+TEST(ForceSafety, AHandInsideTheTableIsNotPushedUntilItsForceIsSmall) {
+    for (const bool lift : {false, true}) {
+        SCOPED_TRACE(lift ? "lifted out after 0.3 s" : "left inside");
+        auto w = world_with_one_hand();
+        std::vector<glm::dvec3> sent;
+        auto probe = std::make_unique<Probe>(sent);
+        auto* raw = probe.get();
+        w->attach_device(0, std::move(probe));
+        sched::DeterministicClock clock(w->schedule);
+        clock.run_for_us(300'000);
+        ASSERT_FALSE(sent.empty());
+        EXPECT_GT(glm::length(w->sim.get<components::HandForce>(w->hands[0]).force_n), 10.0) << "the hand asks for a lot";
+        double most = 0.0;
+        for (const auto& f : sent) most = std::max(most, glm::length(f));
+        EXPECT_EQ(most, 0.0) << "nothing reaches the wire while the force asked is large";
+        EXPECT_EQ(w->hand_devices[0]->last_sent().held, devices::ForceHeld::waiting);
+        if (!lift) continue;
+        raw->height_m = 0.15; // above the table: the hand asks little
+        sent.clear();
+        // The chain waits on the wall clock (a real device's): run at about real time for 150 ms.
+        for (int tick = 0; tick < 150; ++tick) {
+            clock.run_for_us(1'000);
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        most = 0.0;
+        for (const auto& f : sent) most = std::max(most, glm::length(f));
+        EXPECT_TRUE(w->hand_devices[0]->last_sent().held != devices::ForceHeld::waiting) << "engaged once the force was small";
+        EXPECT_LT(most, 1.0);
     }
 }
 
@@ -144,4 +186,45 @@ TEST(ForceSafety, WrapsOnceAndLeavesInputOnlyDevicesAlone) {
     probe->caps.has_force_output = false;
     auto* raw = probe.get();
     EXPECT_EQ(devices::make_force_safe(std::move(probe)).get(), raw);
+}
+
+// The virtual coupling was 400 N/m and 2 N s/m for every device, and WoodenHaptics' declared maximum
+// stiffness and damping were read and never used: above them a device goes unstable and buzzes. Each
+// shipped profile's coupling, capped by what the device declares, and the force it makes.
+TEST(ForceSafety, TheCouplingIsEachProfilesOwnCappedByWhatTheDeviceRendersStably) {
+    const auto coupling_of = [](std::unique_ptr<devices::HapticDevice> device) {
+        auto w = world_with_one_hand();
+        w->attach_device(0, std::move(device));
+        const auto* slots = w->sim.resource<const systems::HandDevices>();
+        return std::pair{slots->coupling_n_per_m[0], slots->coupling_damping_ns_per_m[0]};
+    };
+    const auto diy = coupling_of(std::make_unique<devices::DiyForceDevice>(std::make_unique<test::FakeTransport>()));
+    EXPECT_EQ(diy, (std::pair{devices::diy_coupling_n_per_m, devices::diy_coupling_damping_ns_per_m})) << "DIY: protocol v1 declares no maximum";
+    const auto shipped = devices::load_woodenhaptics_profile(woodenhaptics_profile_path());
+    ASSERT_TRUE(shipped) << shipped.error().message;
+    EXPECT_EQ(shipped->max_stiffness_n_per_m, 1000.0);
+    EXPECT_EQ(coupling_of(std::make_unique<devices::WoodenHapticsDevice>(std::make_unique<test::FakeTransport>(), *shipped)), (std::pair{400.0, 2.0}))
+        << "WoodenHaptics as published: 400 N/m and 2 N s/m are within its 1000 N/m and 8 N s/m";
+    auto soft = *shipped;
+    soft.max_stiffness_n_per_m = 250.0;
+    soft.max_damping_ns_per_m = 1.0;
+    EXPECT_EQ(coupling_of(std::make_unique<devices::WoodenHapticsDevice>(std::make_unique<test::FakeTransport>(), soft)), (std::pair{250.0, 1.0}))
+        << "a build that declares less gets no more";
+    EXPECT_EQ(coupling_of(std::make_unique<devices::SpaceMouseDevice>(std::make_unique<test::FakeTransport>(), *devices::find_spacemouse_profile(0x256f, 0xc62e))),
+              (std::pair{400.0, 2.0}))
+        << "a SpaceMouse pushes nothing; its hand keeps the default";
+
+    // And the hand feels it: pressed 6 cm into the table, 400 N/m asks 24 N, a 250 N/m device 15 N.
+    for (const double stiffness : {0.0, 250.0}) {
+        auto w = world_with_one_hand();
+        std::vector<glm::dvec3> sent;
+        auto probe = std::make_unique<Probe>(sent);
+        probe->caps.max_stiffness_n_per_m = stiffness;
+        w->attach_device(0, std::move(probe));
+        sched::DeterministicClock clock(w->schedule);
+        clock.run_for_us(50'000);
+        const double asked = w->sim.get<components::HandForce>(w->hands[0]).force_n.z;
+        const double gap_m = w->sim.get<components::HandProxy>(w->hands[0]).position_m.z - w->sim.get<components::HandInput>(w->hands[0]).device_m.z;
+        EXPECT_NEAR(asked, (stiffness > 0.0 ? stiffness : 400.0) * gap_m, 1e-6) << stiffness;
+    }
 }

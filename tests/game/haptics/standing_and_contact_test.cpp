@@ -281,9 +281,46 @@ TEST(ReachCues, ThePointAPressWouldTakeIsMarkedAndAPressThatTookNothingSaysSo) {
     hand.position_m = {0.041, 0.05, 0.052};
     std::string said;
     for (const auto& line : systems::hud_lines(frame, HudInfo{})) said += line + "\n";
-    EXPECT_NE(said.find("right hand: no device   feels 0.00 N   took nothing\n  nothing in reach: put the cube on a stem (yellow: what it takes)"), std::string::npos) << said;
+    EXPECT_NE(said.find("right hand: no device   took nothing\n  nothing in reach: put the cube on a stem (yellow: what it takes)"), std::string::npos) << said;
     hand.holding = true;
     said.clear();
     for (const auto& line : systems::hud_lines(frame, HudInfo{})) said += line + "\n";
     EXPECT_EQ(said.find("nothing in reach"), std::string::npos) << said;
+}
+
+// The HUD used to print the force the simulation asked for, before the safety chain: with the mouse it
+// read "feels 5294.89 N", at the table 24 N while the device was clamped to 3 N. It says the force the
+// device got, and the request beside it in words where the two are far apart; a hand whose device
+// pushes nothing (the mouse) feels nothing, and the HUD says nothing of force.
+TEST(Hud, AHandFeelsWhatItsDeviceGotAndIsToldWhyThatDiffersFromTheRequest) {
+    components::HandStatus hand{};
+    hand.present = true;
+    hand.connected = true;
+    hand.force_n = {0.0, 0.0, 24.0};
+    EXPECT_EQ(systems::felt_words(hand), "") << "the mouse: nothing to feel";
+    hand.sent.pushes = true;
+    hand.sent.max_force_n = 3.0;
+    hand.sent.sent_n = {0.0, 0.0, 3.0};
+    hand.sent.held = devices::ForceHeld::at_limit;
+    EXPECT_EQ(systems::felt_words(hand), "   feels 3.00 N (pushing back at its 3 N limit; the contact asks 24.0 N)");
+    hand.sent.sent_n = {0.0, 0.0, 0.0};
+    hand.sent.held = devices::ForceHeld::waiting;
+    EXPECT_EQ(systems::felt_words(hand), "   feels 0.00 N (not pushing yet: it engages once the force asked is small; ease the handle back, it asks 24.0 N)");
+    hand.sent.sent_n = {0.0, 0.0, 1.2};
+    hand.sent.held = devices::ForceHeld::ramping;
+    EXPECT_EQ(systems::felt_words(hand), "   feels 1.20 N (ramping up towards 3.0 N)");
+    hand.force_n = {0.0, 0.0, 1.3};
+    EXPECT_EQ(systems::felt_words(hand), "   feels 1.20 N") << "close to the request: no explanation";
+
+    components::FrameSnapshot frame{};
+    frame.hands[1] = hand;
+    frame.hands[1].connected = false;
+    frame.hands[1].link = components::DeviceLink::silent;
+    HudInfo info;
+    info.device[1] = "DIY force-feedback device";
+    std::string said;
+    for (const auto& line : systems::hud_lines(frame, info)) said += line + "\n";
+    EXPECT_NE(said.find("right hand: DIY force-feedback device (silent: no reports, hand released, force faded out)   feels 1.20 N\n"),
+              std::string::npos)
+        << said;
 }

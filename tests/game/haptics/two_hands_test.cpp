@@ -159,12 +159,14 @@ TEST(TwoHands, ReplayedSessionGivesTheSameWorldHash) {
     };
     std::ostringstream left_file;
     std::ostringstream right_file;
-    devices::DeviceRecorder left(left_file);
-    devices::DeviceRecorder right(right_file);
+    devices::DeviceRecorder left(left_file, AsyncLineWriter::WhenFull::wait);
+    devices::DeviceRecorder right(right_file, AsyncLineWriter::WhenFull::wait);
     auto live = make_live();
     live->sim.resource<systems::HandDevices>()->recorder = {&left, &right};
     sched::DeterministicClock live_clock(live->schedule);
     live_clock.run_for_us(2'000'000);
+    left.flush();
+    right.flush();
 
     auto replay = lying_flower();
     for (int h = 0; h < 2; ++h) {
@@ -371,7 +373,11 @@ TEST(TwoHands, TheWorkspaceTurnsWithTheView) {
 TEST(TwoHands, AViolentScriptedHandIsFollowedAtAHandsSpeedAndItsForceIsMadeSafe) {
     auto w = lying_flower();
     const glm::dvec3 p10 = point(*w, 10);
-    std::vector<ikebana::test::Key> keys{{0.0, p10.x, p10.y, p10.z, 1}, {0.5, p10.x, p10.y, 0.06, 1}};
+    // Free above the stem for the first 0.1 s (the chain engages once the force asked has been small for
+    // a moment), then it comes down, takes the stem and lifts it.
+    std::vector<ikebana::test::Key> keys{{0.0, p10.x, p10.y, p10.z + 0.05, 0}, {0.1, p10.x, p10.y, p10.z + 0.05, 0}, {0.15, p10.x, p10.y, p10.z, 0},
+                                         {0.151, p10.x, p10.y, p10.z, 1},
+                                         {0.5, p10.x, p10.y, 0.06, 1}};
     for (int k = 1; k <= 300; ++k) keys.push_back({0.5 + 0.001 * k, k % 2 ? 0.65 : -0.65, p10.y, 0.06, 1});
     w->attach_device(0, script(keys));
     const auto* safe = dynamic_cast<const devices::SafeForceDevice*>(w->hand_devices[0].get());

@@ -608,7 +608,7 @@ TEST(LessonWithTheMouse, CtrlDragTiltsTheHeldStemUpright) {
     frames(3, {0, 0}, false);
     ASSERT_EQ(test::hand_view(w, 1).held, willow) << "one press took it";
     frames(10, {0.0, -0.2 * px_per_m_y / 10}, false); // lift 200 mm
-    w.trainee.push({systems::TraineeCommand::Kind::cut, 1, 0.448});
+    ASSERT_TRUE(w.trainee.push({systems::TraineeCommand::Kind::cut, 1, 0.448}));
     frames(3, {0, 0}, false);
     double length = 0.0;
     for (const double l_m : w.sim.get<StemRestShape>(willow).segment_length_m) length += l_m;
@@ -715,7 +715,8 @@ TEST(LessonControls, EachKeyActsOncePerPress) {
     EXPECT_LT((*enter.score)->score, 20.0) << "nothing in the kenzan yet: only rules such as the kenzan off centre hold";
     EXPECT_FALSE(enter_held.score.has_value());
     EXPECT_TRUE(press(&platform::PointerState::cut_key).first.cut_for.empty()) << "nothing held, nothing cut";
-    EXPECT_TRUE(w.trainee.take().empty());
+    systems::TraineeCommand left_over;
+    EXPECT_FALSE(w.trainee.pop(left_over));
     EXPECT_NE(controls.hud_lines().front().find("Sogetsu: Basic Upright Style"), std::string::npos) << controls.hud_lines().front();
 }
 
@@ -825,7 +826,7 @@ namespace {
 // the newest frame then, as the window takes it, and the session ends at `end_us`. The score, or none.
 std::optional<double> record_window_session(World& w, const LessonDef& l, const std::filesystem::path& dir, std::int64_t end_us,
                                             const std::function<void(sched::DeterministicClock&, SessionRecorder&)>& until_enter) {
-    auto recorder = SessionRecorder::create(dir);
+    auto recorder = SessionRecorder::create(dir, /*real_time=*/false);
     if (!recorder.ok()) {
         ADD_FAILURE() << recorder.error().message;
         return std::nullopt;
@@ -869,7 +870,7 @@ TEST(LessonSession, AWindowSessionsTurnsAndSkipsReplayAtTheirTicks) {
         clock.run_until(1'000'000);
         w.view.yaw_rad.store(0.6); // the trainee turns the camera
         clock.run_until(1'500'000);
-        recorder.commands() << 1'500'000 << ",skip,0," << 1'700'000 << "\n"; // as the window's on_skip writes it
+        EXPECT_TRUE(recorder.commands().write("1500000,skip,0,1700000\n")); // as the window's on_skip writes it
         clock.skip_lane(0, 1'700'000);
         clock.run_until(2'000'000);
     });
@@ -998,7 +999,7 @@ TEST(WindowState, WhatTheWindowWritesIsReadBackTheSame) {
     s.sim_time_us = 5'000'000;
     s.window_px = {1200, 675};
     s.cursor_px = {600.5, 300};
-    s.hands[1] = {true, 1, {0.1, -0.2, 0.3}, {0.1, -0.2, 0.25}};
+    s.hands[1] = {true, 1, {0.1, -0.2, 0.3}, {0.1, -0.2, 0.25}, {0.0, 0.0, 24.0}, {0.0, 0.0, 3.0}, true, "answering"};
     WindowState::Flower f;
     f.species = "cherry_branch";
     f.points_m = {{0, 0, 0.01}, {0.01, 0, 0.2}};
@@ -1020,6 +1021,9 @@ TEST(WindowState, WhatTheWindowWritesIsReadBackTheSame) {
     EXPECT_EQ(back->cursor_px, s.cursor_px);
     EXPECT_EQ(back->hands[1].held_flower, 1);
     EXPECT_EQ(back->hands[1].device_m, s.hands[1].device_m);
+    EXPECT_EQ(back->hands[1].force_sent_n, s.hands[1].force_sent_n) << "the force the device got, after the safety chain";
+    EXPECT_EQ(back->hands[1].force_asked_n, s.hands[1].force_asked_n);
+    EXPECT_TRUE(back->hands[1].pushes);
     ASSERT_EQ(back->flowers.size(), 1u);
     EXPECT_EQ(back->flowers[0].points_m, f.points_m);
     EXPECT_EQ(back->flowers[0].fall_reason, components::FallReason::tipped);
