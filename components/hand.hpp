@@ -53,7 +53,7 @@ enum class DeviceLink : std::uint8_t {
     case DeviceLink::answering: return "answering";
     case DeviceLink::not_answering: return "not answering";
     case DeviceLink::unplugged: return "unplugged";
-    case DeviceLink::silent: return "silent: no reports, hand released, force faded out";
+    case DeviceLink::silent: return "silent: no reports; hand released, force taken away";
     case DeviceLink::lost: return "not taking forces: released, reconnecting";
     }
     return "unknown";

@@ -44,8 +44,10 @@ bool AsyncLineWriter::write(std::string_view text) noexcept {
     std::memcpy(slot->text, text.data(), text.size());
     slot->size = static_cast<std::uint16_t>(text.size());
     ring_.commit();
-    // A quarter full: wake the writer now rather than at its next period (notify takes no lock).
-    if (ring_.size() == ring_.capacity() / 4) wake_.notify_one();
+    // A headless producer wakes the writer at a quarter full. A real-time one never does: glibc's
+    // notify takes the condition variable's internal lock, which is not priority inheriting; the
+    // writer looks every 10 ms, and the ring holds seconds.
+    if (when_full_ == WhenFull::wait && ring_.size() == ring_.capacity() / 4) wake_.notify_one();
     return true;
 }
 

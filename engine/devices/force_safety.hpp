@@ -63,6 +63,13 @@ public:
     // Back to zero, waiting for a small force and then ramping from zero (a device re-attached, or
     // back from a silence).
     void reset() noexcept;
+    // Back to waiting for a small force and a ramp from zero, but from the output as it is: it comes
+    // down at the rate limit (a device back from a silence, whose force was still fading).
+    void disengage() noexcept {
+        engaged_ = !config_.wait_for_small_force;
+        level_ = 0.0;
+        small_since_us_ = -1;
+    }
     // The device was zeroed behind our back (the watchdog): the output is zero from here, so the next
     // step rises from zero at the rate limit; the ramp's level pays for the gap that caused it.
     void zeroed() noexcept { output_ = glm::dvec3{0.0}; }

@@ -31,15 +31,17 @@ void ReconnectingDevice::open_loop() {
             attempts_.fetch_add(1, std::memory_order_relaxed);
             auto opened = opener_();
             if (opened) {
-                ready_.store(std::move(opened).value().release(), std::memory_order_release);
+                // Not wanted any more *before* it is handed over: once the caller holds it, only the
+                // caller may say it is wanted again (a store after the hand-over could undo that).
                 wanted_.store(false, std::memory_order_release);
+                ready_.store(std::move(opened).value().release(), std::memory_order_release);
             } else {
                 retry_later = true;
             }
         }
         lock.lock();
         if (stop_) break;
-        // Asleep until the retry is due, or until the caller drops a device (it wakes this thread).
+        // Asleep until the retry is due, or 50 ms (a device the caller dropped is seen within that).
         const auto wait = retry_later ? std::chrono::microseconds(std::max<std::int64_t>(retry_us_, 1000)) : std::chrono::microseconds(50'000);
         wake_.wait_for(lock, wait, [&] {
             return stop_ || (!retry_later && wanted_.load(std::memory_order_acquire)) || retired_.load(std::memory_order_acquire) != nullptr;
@@ -57,7 +59,8 @@ void ReconnectingDevice::detach() {
     // the device that replaced the last one), so nothing is ever overwritten.
     delete retired_.exchange(old.release(), std::memory_order_acq_rel);
     wanted_.store(true, std::memory_order_release);
-    wake_.notify_one(); // takes no lock; a wake-up lost to a race costs at most the thread's 50 ms sleep
+    // No notify: glibc's takes the condition variable's internal lock, which is not priority
+    // inheriting. The opener thread looks again within its 50 ms sleep.
 }
 
 Result<DeviceSample> ReconnectingDevice::poll(std::int64_t now_us) {

@@ -6,7 +6,8 @@
 // Opening a HID device enumerates the bus and opens a file: milliseconds, or hundreds of them on a
 // stalled hub. None of it happens on the caller's thread (the 1 kHz loop): a thread of this device's
 // own tries the opener every `retry_us` while no device is attached and hands a ready one over through
-// an atomic slot; a dropped device goes back to that thread through another slot to be closed there.
+// an atomic slot; a dropped device goes back to that thread through another slot to be closed there
+// (seen within the thread's 50 ms sleep: waking it would take a lock that is not priority inheriting).
 // The caller's poll() only looks at the slot. The swap of the inner device is guarded against the
 // watchdog's zero_force() by a priority-inheriting mutex, held for a pointer's move.
 #include <atomic>

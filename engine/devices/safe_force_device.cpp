@@ -8,6 +8,10 @@ namespace ikebana::devices {
 SafeForceDevice::SafeForceDevice(std::unique_ptr<HapticDevice> inner, ForceSafetyConfig config, WallClock wall_clock_us)
     : inner_(std::move(inner)), clock_(std::move(wall_clock_us)), safety_(config) {}
 
+SafeForceDevice::~SafeForceDevice() {
+    if (inner_ && inner_->capabilities().has_force_output) (void)inner_->zero_force();
+}
+
 std::unique_ptr<SafeForceDevice> SafeForceDevice::on_timeline(std::unique_ptr<HapticDevice> inner, ForceSafetyConfig config) {
     auto device = std::make_unique<SafeForceDevice>(std::move(inner), config);
     SafeForceDevice* self = device.get();
@@ -43,9 +47,10 @@ Result<DeviceSample> SafeForceDevice::poll(std::int64_t now_us) {
     const std::int64_t report = sample->report_time_us();
     if (!reporting_ || report != last_report_us_) {
         if (silent_) {
-            // Reports again: back through the wait for a small force and the ramp.
+            // Reports again: back through the wait for a small force and the ramp; what is still
+            // fading goes on fading at the rate limit (a reset would drop it in one step).
             silent_ = false;
-            safety_.reset();
+            safety_.disengage();
         }
         reporting_ = true;
         last_report_us_ = report;

@@ -42,6 +42,8 @@ public:
     // The safety chain on the time the device is polled with (a scripted or replayed hand): the same
     // clamp, rate limit, ramp and watchdog, deterministic, so that a recording shows what it would feel.
     [[nodiscard]] static std::unique_ptr<SafeForceDevice> on_timeline(std::unique_ptr<HapticDevice> inner, ForceSafetyConfig config = {});
+    // Zeroes the device as it goes: nothing pushes once its chain is gone.
+    ~SafeForceDevice() override;
     SafeForceDevice(const SafeForceDevice&) = delete;
     SafeForceDevice& operator=(const SafeForceDevice&) = delete;
 

@@ -837,7 +837,8 @@ int TraineeSession::run_once() {
         }
     }
     for (std::size_t hand = 0; hand < 2; ++hand) {
-        if (w.hand_devices[hand]) (void)w.hand_devices[hand]->send_force(glm::dvec3{0.0}); // nothing pushes after the session
+        // Nothing pushes after the session: zero now (a send through the chain would only step down).
+        if (w.hand_devices[hand]) (void)w.hand_devices[hand]->zero_force();
     }
     finish_recording();
     write_screenshot();

@@ -89,6 +89,10 @@ int run_sim(const SimOptions& options) {
         const HandForceWatchdogs watchdogs(w);
         sched::RealtimeClock clock(w.schedule, sched::RealtimeConfig{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 20, .on_skip = {}});
         const auto reports = clock.run_for(options.seconds);
+        // Nothing pushes after the run (the watchdogs stop with this block).
+        for (auto& device : w.hand_devices) {
+            if (device) (void)device->zero_force();
+        }
         for (std::size_t hand = 0; hand < 2; ++hand) {
             if (!watchdogs.armed(hand)) continue;
             std::printf("%s hand force watchdog: tripped %llu time(s)\n", hand ? "right" : "left",

@@ -63,9 +63,13 @@ Result<OpenedDevice> reconnecting(const devices::HidDeviceInfo& info) {
     }
     auto device = std::make_unique<devices::ReconnectingDevice>(
         [info, woodenhaptics]() -> Result<std::unique_ptr<devices::HapticDevice>> {
-            // Plugged back in, a device may come back under another path: look it up by its ids.
+            // Its own path first (two identical devices must not swap hands); plugged back in, a device
+            // may come back under another path: then by its ids.
             auto found = devices::enumerate_hid_devices();
             if (!found) return std::move(found).error();
+            for (const auto& d : *found) {
+                if (d.path == info.path && d.vendor_id == info.vendor_id && d.product_id == info.product_id) return open_hid(d, woodenhaptics);
+            }
             for (const auto& d : *found) {
                 if (d.vendor_id == info.vendor_id && d.product_id == info.product_id) return open_hid(d, woodenhaptics);
             }

@@ -16,8 +16,8 @@ std::string felt_words(const components::HandStatus& hand) {
     char text[160];
     const int n = std::snprintf(text, sizeof text, "   feels %.2f N", sent);
     std::string words(text, static_cast<std::size_t>(std::max(n, 0)));
-    // Said only where the request is far from what the hand gets.
-    if (asked - sent <= std::max(0.5, 0.2 * asked)) return words;
+    // Said only where the request is far from what the hand gets, or while it fades out.
+    if (hand.sent.held != devices::ForceHeld::fading && asked - sent <= std::max(0.5, 0.2 * asked)) return words;
     using devices::ForceHeld;
     switch (hand.sent.held) {
     case ForceHeld::at_limit: std::snprintf(text, sizeof text, " (pushing back at its %.0f N limit; the contact asks %.1f N)", hand.sent.max_force_n, asked); break;
@@ -25,7 +25,7 @@ std::string felt_words(const components::HandStatus& hand) {
         std::snprintf(text, sizeof text, " (not pushing yet: it engages once the force asked is small; ease the handle back, it asks %.1f N)", asked);
         break;
     case ForceHeld::ramping: std::snprintf(text, sizeof text, " (ramping up towards %.1f N)", std::min(asked, hand.sent.max_force_n)); break;
-    case ForceHeld::fading: std::snprintf(text, sizeof text, " (fading out: the device is not answering)"); break;
+    case ForceHeld::fading: std::snprintf(text, sizeof text, " (fading out)"); break;
     case ForceHeld::rate_limited:
     case ForceHeld::none: std::snprintf(text, sizeof text, " (catching up with the %.1f N asked)", asked); break;
     }

@@ -318,9 +318,11 @@ TEST(Hud, AHandFeelsWhatItsDeviceGotAndIsToldWhyThatDiffersFromTheRequest) {
     frame.hands[1].link = components::DeviceLink::silent;
     HudInfo info;
     info.device[1] = "DIY force-feedback device";
+    frame.hands[1].sent.held = devices::ForceHeld::fading; // what the chain says while a silent device's force fades
+    frame.hands[1].force_n = glm::dvec3{0.0};              // a released hand asks nothing
     std::string said;
     for (const auto& line : systems::hud_lines(frame, info)) said += line + "\n";
-    EXPECT_NE(said.find("right hand: DIY force-feedback device (silent: no reports, hand released, force faded out)   feels 1.20 N\n"),
+    EXPECT_NE(said.find("right hand: DIY force-feedback device (silent: no reports; hand released, force taken away)   feels 1.20 N (fading out)\n"),
               std::string::npos)
         << said;
 }
