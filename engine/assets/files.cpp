@@ -203,6 +203,12 @@ Result<std::unique_ptr<std::ostream>> open_output_stream(const std::filesystem::
     return std::unique_ptr<std::ostream>(std::make_unique<DescriptorStream<DescriptorBuffer>>(*fd));
 }
 
+std::filesystem::file_time_type last_changed(const std::filesystem::path& path) {
+    std::error_code ec;
+    const auto t = std::filesystem::last_write_time(path, ec);
+    return ec ? std::filesystem::file_time_type::min() : t;
+}
+
 Result<void> create_output_folder(const std::filesystem::path& path) {
     std::error_code ec;
     const auto status = std::filesystem::status(path, ec);

@@ -39,6 +39,10 @@ Result<void> write_text_file(const std::filesystem::path& path, const std::strin
 Result<std::unique_ptr<std::ostream>> open_output_stream(const std::filesystem::path& path);
 // (The 1 kHz loop never writes to one itself: it hands lines to an AsyncLineWriter, whose thread does.)
 
+// When the file was last written; the earliest time there is when it cannot be read (gone, mid-save),
+// so that a watcher sees any later save as a change.
+[[nodiscard]] std::filesystem::file_time_type last_changed(const std::filesystem::path& path);
+
 // Creates the folder (and its parents) that outputs go to; refuses a path that exists and is not a
 // folder (or a link to one).
 Result<void> create_output_folder(const std::filesystem::path& path);

@@ -8,16 +8,6 @@
 namespace ikebana::devices {
 
 namespace {
-std::int64_t monotonic_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
-} // namespace
-
-std::int64_t monotonic_us() noexcept { return monotonic_ns() / 1000; }
-
-namespace {
 bool finite(glm::dvec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 } // namespace
 

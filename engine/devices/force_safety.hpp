@@ -22,12 +22,12 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/core/monotonic_clock.hpp"
 #include "engine/devices/haptic_device.hpp"
 
 namespace ikebana::devices {
 
-// CLOCK_MONOTONIC in microseconds: the wall clock every force safety decision is made on.
-[[nodiscard]] std::int64_t monotonic_us() noexcept;
+using ikebana::monotonic_us; // the wall clock every force safety decision is made on
 
 struct ForceSafetyConfig {
     double max_force_n = 3.0;

@@ -11,17 +11,12 @@
 #include <sched.h>
 #include <sys/prctl.h>
 
+#include "engine/core/monotonic_clock.hpp"
 #include "engine/ecs/registry.hpp"
 
 namespace ikebana::sched {
 
 namespace {
-
-std::int64_t monotonic_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
 
 // Sleeps until an absolute point of CLOCK_MONOTONIC, so that lateness in one tick never shifts the
 // deadlines after it.

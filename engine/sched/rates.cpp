@@ -5,15 +5,11 @@
 #include <sstream>
 #include <string>
 
+#include "engine/core/number_text.hpp"
+
 namespace ikebana::sched {
 
 namespace {
-std::string number_text(double v) {
-    std::ostringstream out;
-    out << v;
-    return out.str();
-}
-
 Result<void> check_hz(std::string_view name, double hz) {
     if (!std::isfinite(hz) || hz <= 0.0) {
         return make_error(ErrorCode::invalid_argument,

@@ -11,6 +11,7 @@
 
 #include <GLFW/glfw3.h>
 
+#include "engine/assets/files.hpp"
 #include "engine/render/png_image.hpp"
 #include "game/app/window_stack.hpp"
 #include "systems/presentation/draw_list.hpp"
@@ -21,12 +22,6 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846;
 const char* const who = "ikebana species preview: ";
-
-std::filesystem::file_time_type changed_at(const std::filesystem::path& p) {
-    std::error_code ec;
-    const auto t = std::filesystem::last_write_time(p, ec);
-    return ec ? std::filesystem::file_time_type::min() : t;
-}
 
 } // namespace
 
@@ -83,7 +78,7 @@ int run_preview_window(const PreviewWindowOptions& o, const std::function<Result
     double drag_x = 0.0;
     std::vector<bool> held(views->size(), false);
     std::string problem; // the last save that did not load, said over the last good preview
-    auto seen = changed_at(o.file);
+    auto seen = assets::last_changed(o.file);
     auto last_check = std::chrono::steady_clock::now();
     auto last_frame = last_check;
     std::uint32_t presented = 0, measured = 1, after_last = 0;
@@ -112,9 +107,9 @@ int run_preview_window(const PreviewWindowOptions& o, const std::function<Result
 
         if (o.watch && now - last_check > std::chrono::milliseconds(250)) {
             last_check = now;
-            if (const auto t = changed_at(o.file); t != seen) {
+            if (const auto t = assets::last_changed(o.file); t != seen) {
                 std::this_thread::sleep_for(std::chrono::milliseconds(150)); // a save is often a truncate and a write
-                seen = changed_at(o.file);
+                seen = assets::last_changed(o.file);
                 ++measured;
                 auto again = measure();
                 if (again && !again->empty()) {

@@ -4,15 +4,11 @@
 #include <cmath>
 #include <sstream>
 
+#include "engine/core/number_text.hpp"
+
 namespace ikebana::game {
 
 namespace {
-std::string text_of(double v) {
-    std::ostringstream out;
-    out << v;
-    return out.str();
-}
-
 // Whole text as a finite double, or the reason it is not one.
 std::string parse_finite(const std::string& text, double& value) {
     const auto* end = text.data() + text.size();
@@ -25,7 +21,7 @@ std::string parse_finite(const std::string& text, double& value) {
 } // namespace
 
 CLI::Validator finite_in(double lo, double hi, const std::string& unit) {
-    const std::string range = "[" + text_of(lo) + ", " + text_of(hi) + "]" + (unit.empty() ? "" : " " + unit);
+    const std::string range = "[" + number_text(lo) + ", " + number_text(hi) + "]" + (unit.empty() ? "" : " " + unit);
     return CLI::Validator(
         [lo, hi, range](std::string& text) -> std::string {
             double v = 0.0;

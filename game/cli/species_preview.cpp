@@ -184,12 +184,6 @@ int preview_once(const PreviewOptions& o, render::StereoRenderer& renderer) {
     return 0;
 }
 
-std::filesystem::file_time_type changed_at(const std::filesystem::path& p) {
-    std::error_code ec;
-    const auto t = std::filesystem::last_write_time(p, ec);
-    return ec ? std::filesystem::file_time_type::min() : t;
-}
-
 } // namespace
 
 int run_species_preview(const PreviewOptions& o) {
@@ -232,7 +226,7 @@ int run_species_preview(const PreviewOptions& o) {
         std::cerr << who << renderer.error().message << "\n";
         return 3;
     }
-    auto seen = changed_at(o.file);
+    auto seen = assets::last_changed(o.file);
     int code = preview_once(o, **renderer);
     if (!o.watch) return code;
     // Again each time the file is saved, until interrupted (or `passes` previews, for scripts and tests).
@@ -240,12 +234,12 @@ int run_species_preview(const PreviewOptions& o) {
     std::fflush(stdout);
     for (std::uint32_t passes = 1; o.passes == 0 || passes < o.passes;) {
         std::this_thread::sleep_for(std::chrono::milliseconds(250));
-        const auto now = changed_at(o.file);
+        const auto now = assets::last_changed(o.file);
         if (now == seen) continue;
         seen = now;
         // A save is often a truncate and a write: let it finish.
         std::this_thread::sleep_for(std::chrono::milliseconds(150));
-        seen = changed_at(o.file);
+        seen = assets::last_changed(o.file);
         std::printf("\n%s changed:\n", o.file.c_str());
         code = preview_once(o, **renderer);
         ++passes;
