@@ -18,8 +18,11 @@
 
 namespace ikebana::systems {
 
+// The whole collision pass in one call. The world does not schedule it: it schedules
+// SpreadCollisionSystem ("collision_detection"), which runs these same parts over the ticks after each
+// collider update. Its own name says so, so that the two never share one in a schedule or a table.
 struct CollisionDetectionSystem {
-    static constexpr std::string_view name = "collision_detection";
+    static constexpr std::string_view name = "collision_pass";
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "collision";
     static constexpr std::string_view rate = "position_check";

@@ -1,0 +1,150 @@
+#include "game/render/offscreen_render.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <vector>
+
+#include <unistd.h>
+
+#include "engine/assets/files.hpp"
+#include "engine/render/stereo_renderer.hpp"
+#include "engine/sched/clocks.hpp"
+#include "game/asset_paths.hpp"
+#include "game/scene/scene.hpp"
+#include "game/world/world.hpp"
+#include "components/presentation.hpp"
+
+namespace ikebana::game {
+
+namespace {
+
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)))];
+}
+
+} // namespace
+
+// The offscreen draw: the main lane's last phase, like the window's present, drawing what
+// prepare_frame_system prepared (the world, the sample, the HUD) into PNGs.
+struct OffscreenDrawSystem {
+    static constexpr std::string_view name = "offscreen_draw";
+    static constexpr std::string_view lane = "main";
+    static constexpr std::string_view phase = "draw";
+    static constexpr std::string_view rate = "render";
+    using reads = sched::Components<components::PreparedFrame>;
+    using writes = sched::Components<>;
+    std::function<void(const components::PreparedFrame&)> draw;
+    void operator()(sched::SystemContext& ctx) {
+        if (const auto* prepared = ctx.registry.resource<const components::PreparedFrame>()) draw(*prepared);
+    }
+};
+
+render::StereoRig rig_of(const DisplayDef& display) {
+    render::StereoRig rig;
+    rig.eye_separation_m = display.eye_separation_m;
+    rig.screen_distance_m = display.screen_distance_m;
+    rig.vertical_fov_rad = display.vertical_fov_rad;
+    if (display.camera_position_m) rig.position_m = *display.camera_position_m;
+    if (display.camera_target_m) rig.target_m = *display.camera_target_m;
+    return rig;
+}
+
+int run_render(const RenderOptions& o) {
+    auto scene = load_scene(o.scene);
+    if (!scene) {
+        std::cerr << "ikebana render: " << scene.error().message << "\n";
+        return 2;
+    }
+    auto mode = render::parse_stereo_mode(o.stereo.empty() ? scene->display.stereo : o.stereo);
+    if (!mode) {
+        std::cerr << "ikebana render: " << mode.error().message << "\n";
+        return 2;
+    }
+    if (auto folder = assets::create_output_folder(o.out); !folder) {
+        std::cerr << "ikebana render: --out: " << folder.error().message << "\n";
+        return 2;
+    }
+    auto ctx = render::VulkanContext::create({.validation = o.validation, .require_validation = false, .instance_extensions = {}});
+    if (!ctx) {
+        std::cerr << "ikebana render: " << ctx.error().message << "\n";
+        return 3;
+    }
+    render::RendererOptions ro;
+    ro.eye_width = o.width;
+    ro.eye_height = o.height;
+    ro.mode = *mode;
+    ro.asset_dir = asset_dir();
+    ro.msaa_samples = o.msaa;
+    auto renderer = render::StereoRenderer::create(**ctx, ro);
+    if (!renderer) {
+        std::cerr << "ikebana render: " << renderer.error().message << "\n";
+        return 3;
+    }
+    render::StereoRig rig = rig_of(scene->display);
+    rig = render::orbited(rig, o.yaw_deg * M_PI / 180.0, o.pitch_deg * M_PI / 180.0);
+    const bool tty = isatty(fileno(stderr)) != 0;
+    std::vector<double> record, execute, readback, shadow, scene_pass, composite;
+    std::uint32_t written = 0;
+    int code = 0;
+    OffscreenDrawSystem offscreen;
+    offscreen.draw = [&](const components::PreparedFrame& prepared) {
+        if (code != 0 || written >= o.frames) return;
+        (*renderer)->set_overlay(prepared.overlay);
+        auto frame = (*renderer)->render(prepared.list, rig, true);
+        if (!frame) {
+            std::cerr << "ikebana render: frame " << written + 1 << ": " << frame.error().message << "\n";
+            code = 3;
+            return;
+        }
+        for (const auto& warning : (*renderer)->take_warnings()) std::cerr << "ikebana render: warning: " << warning << "\n";
+        ++written;
+        record.push_back(frame->timing.record_ms);
+        execute.push_back(frame->timing.execute_ms);
+        readback.push_back(frame->timing.readback_ms);
+        shadow.push_back(frame->timing.shadow_ms);
+        scene_pass.push_back(frame->timing.scene_ms);
+        composite.push_back(frame->timing.composite_ms);
+        char name[64];
+        for (const auto& [suffix, image] : {std::pair{"left", &frame->left}, std::pair{"right", &frame->right}, std::pair{"composed", &frame->composed}}) {
+            std::snprintf(name, sizeof name, "frame_%04u_%s.png", written, suffix);
+            if (auto wr = render::write_png(std::filesystem::path(o.out) / name, *image); !wr) {
+                std::cerr << "ikebana render: " << wr.error().message << "\n";
+                code = 1;
+                return;
+            }
+        }
+        if (tty && !o.quiet) std::fprintf(stderr, "\r\033[Kframe %u / %u", written, o.frames);
+    };
+    // The same world, systems and presentation path as the window: only the last phase differs.
+    auto world = World::create(*scene, WorldOptions{.rate_overrides = {}, .force_scheme = {}, .main_lane_systems = {sched::describe(offscreen)}});
+    if (!world) {
+        std::cerr << "ikebana render: " << world.error().message << "\n";
+        return 2;
+    }
+    World& w = **world;
+    sched::DeterministicClock clock(w.schedule);
+    // One frame at each render firing: the first shows the scene after its first tick.
+    const auto step_us = static_cast<std::int64_t>(std::llround(1e6 / w.schedule.rates().hz("render")));
+    while (written < o.frames && code == 0) clock.run_for_us(step_us);
+    if (tty && !o.quiet) std::fprintf(stderr, "\r\033[K");
+    if (code != 0) return code;
+    const auto out_extent = (*renderer)->output_extent();
+    std::printf("rendered %u frame(s) of the scene on %s (%s, %s, %ux%u per eye, %ux anti-aliasing, composed %ux%u) into %s\n", o.frames,
+                (*ctx)->device_name().c_str(), render::stereo_mode_name(*mode), (*renderer)->multiview() ? "multiview" : "one pass per eye",
+                o.width, o.height, (*renderer)->samples(), out_extent.width, out_extent.height, o.out.c_str());
+    std::printf("frame time, ms (p50 / p95): record %.2f / %.2f, device %.2f / %.2f, readback %.2f / %.2f\n", percentile(record, 0.5),
+                percentile(record, 0.95), percentile(execute, 0.5), percentile(execute, 0.95), percentile(readback, 0.5), percentile(readback, 0.95));
+    std::printf("device time by pass, ms (p50 / p95): shadow %.2f / %.2f, both eyes %.2f / %.2f, composite and HUD %.2f / %.2f\n",
+                percentile(shadow, 0.5), percentile(shadow, 0.95), percentile(scene_pass, 0.5), percentile(scene_pass, 0.95),
+                percentile(composite, 0.5), percentile(composite, 0.95));
+    if ((*ctx)->validation_enabled()) std::printf("validation: %u errors, %u warnings\n", (*ctx)->validation_errors(), (*ctx)->validation_warnings());
+    return (*ctx)->validation_errors() == 0 ? 0 : 4;
+}
+
+} // namespace ikebana::game
