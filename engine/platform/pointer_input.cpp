@@ -21,15 +21,18 @@ GlfwPointerSource::~GlfwPointerSource() {
 }
 
 void GlfwPointerSource::on_key(int key, int action) {
+    if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z) {
+        KeyTaps& letter = letter_taps_[key - GLFW_KEY_A];
+        if (action == GLFW_PRESS) letter.press();
+        else if (action == GLFW_RELEASE) letter.release();
+        return;
+    }
     int tap = -1;
     switch (key) {
     case GLFW_KEY_ENTER:
     case GLFW_KEY_KP_ENTER: tap = enter; break;
     case GLFW_KEY_ESCAPE: tap = escape; break;
     case GLFW_KEY_TAB: tap = tab; break;
-    case GLFW_KEY_C: tap = cut; break;
-    case GLFW_KEY_G: tap = ghost; break;
-    case GLFW_KEY_R: tap = reset; break;
     default: return;
     }
     if (action == GLFW_PRESS) taps_[tap].press();
@@ -54,9 +57,7 @@ PointerState GlfwPointerSource::read() {
     s.finish_key = taps_[enter].report();
     s.quit_key = taps_[escape].report();
     s.tilt_modifier = key(GLFW_KEY_LEFT_CONTROL) > 0.0 || key(GLFW_KEY_RIGHT_CONTROL) > 0.0;
-    s.cut_key = taps_[cut].report();
-    s.ghost_key = taps_[ghost].report();
-    s.reset_key = taps_[reset].report();
+    for (int i = 0; i < 26; ++i) s.set_letter(static_cast<char>('A' + i), letter_taps_[i].report());
     // The hands follow the cursor's motion, and a cursor stops at the window's edge: one that reaches
     // it (a hand carried far to a side, a long Ctrl+drag) is put back in the middle, its motion up to
     // the edge still counted (the hand does not jump, and it can go on).

@@ -34,12 +34,17 @@ struct PointerState {
     glm::dvec2 arrows{0.0};     // x: right minus left, y: up minus down (each -1, 0 or 1)
     bool finish_key = false;    // Enter
     bool quit_key = false;      // Escape
-    // Lessons: Ctrl held, mouse motion tilts the held stem instead of moving the hand (left-right
-    // tilts it left-right, up-down toward or away from the viewer; the wheel turns it about the vertical).
+    // Ctrl held: what the game makes of mouse motion then is its own (a lesson tilts the held stem).
     bool tilt_modifier = false;  // Ctrl
-    bool cut_key = false;        // C: cut the held stem to the length its role wants
-    bool ghost_key = false;      // G: show or hide the form's targets over the kenzan
-    bool reset_key = false;      // R: start the lesson again
+    // The letter keys, each read from its events like Enter (bit i: 'A' + i). What a letter does is
+    // the game's (a lesson's C cuts, G shows the form, R starts again): the engine only reads keys.
+    std::uint32_t letters = 0;
+    [[nodiscard]] bool letter(char c) const noexcept { return c >= 'A' && c <= 'Z' && (letters >> (c - 'A') & 1u) != 0; }
+    void set_letter(char c, bool down) noexcept {
+        if (c < 'A' || c > 'Z') return;
+        const std::uint32_t bit = 1u << (c - 'A');
+        letters = down ? letters | bit : letters & ~bit;
+    }
     // Set when the reader put the cursor back in the window's middle this reading: where it was then
     // (the motion up to there still counts); negative when it was not moved.
     glm::dvec2 warped_from_px{-1.0, -1.0};
@@ -86,8 +91,8 @@ public:
 };
 
 // Reads a GLFW window: the cursor and buttons as they are, the scroll wheel accumulated, and the keys
-// that act when pressed (Enter, Esc, Tab, C, G, R) from GLFW's key events, so no tap is lost between
-// two frames. Held keys (Ctrl, Shift, the arrows) are read as they are.
+// that act when pressed (Enter, Esc, Tab, the letters A-Z) from GLFW's key events, so no tap is lost
+// between two frames. Held keys (Ctrl, Shift, the arrows) are read as they are.
 class GlfwPointerSource final : public PointerSource {
 public:
     explicit GlfwPointerSource(GLFWwindow* window);
@@ -98,6 +103,7 @@ public:
     // Drops the key presses not yet read (letters typed into a text field are no cuts).
     void forget_taps() noexcept {
         for (auto& t : taps_) t = KeyTaps{};
+        for (auto& t : letter_taps_) t = KeyTaps{};
     }
     ~GlfwPointerSource() override;
     GlfwPointerSource(const GlfwPointerSource&) = delete;
@@ -105,13 +111,14 @@ public:
     [[nodiscard]] PointerState read() override;
 
     // The keys read from events; an index into taps_.
-    enum Tap : int { enter, escape, tab, cut, ghost, reset, tap_count };
+    enum Tap : int { enter, escape, tab, tap_count };
 
 private:
     void on_key(int key, int action);
     GLFWwindow* window_;
     double scroll_ = 0.0;
     KeyTaps taps_[tap_count];
+    KeyTaps letter_taps_[26]; // A to Z
     bool recentre_at_edges_ = false;
 };
 

@@ -18,7 +18,7 @@ struct ReplayWindowOptions {
     std::uint32_t width = 1280, height = 720;
     std::uint32_t frames = 0;   // stop after this many presented frames (0: until Esc or the window closes)
     std::string screenshot;     // the last frame, as PNG
-    std::string state_out;      // what the window shows, as JSON each frame (game/lesson/window_state.hpp)
+    std::string state_out;      // what the window shows, as JSON each frame (game/session/window_state.hpp)
     bool validation = false;
 };
 

@@ -21,7 +21,7 @@
 #include "components/insertion.hpp"
 #include "engine/devices/mouse_keyboard_device.hpp"
 #include "engine/platform/pointer_input.hpp"
-#include "game/app/pointer_aim.hpp"
+#include "game/render/pointer_aim.hpp"
 #include "game/app/replay_window.hpp"
 #include "game/app/start_screen.hpp"
 #include "game/app/window_stack.hpp"
@@ -33,21 +33,21 @@
 #include "engine/sched/rates.hpp"
 #include "engine/assets/files.hpp"
 #include "game/asset_paths.hpp"
-#include "game/cli/render_command.hpp"
+#include "game/render/offscreen_render.hpp"
 #include "components/presentation.hpp"
 #include "game/training/arrangement_score.hpp"
-#include "game/training/sample_arrangement.hpp"
+#include "game/world/sample_arrangement.hpp"
 #include "game/devices/hand_device_selection.hpp"
 #include "game/scene/scene.hpp"
 #include "game/world/summary.hpp"
 #include "game/world/world.hpp"
 #include "game/devices/force_watchdogs.hpp"
-#include "game/lesson/form_score.hpp"
-#include "game/lesson/lesson_controls.hpp"
+#include "game/training/form_score.hpp"
+#include "game/session/lesson_controls.hpp"
 #include "game/lesson/lesson.hpp"
-#include "game/lesson/lesson_scene.hpp"
-#include "game/lesson/lesson_session.hpp"
-#include "game/lesson/window_state.hpp"
+#include "game/world/lesson_scene.hpp"
+#include "game/session/lesson_session.hpp"
+#include "game/session/window_state.hpp"
 #include "game/progress/progress_db.hpp"
 #include "systems/presentation/receive_frame_system.hpp"
 
@@ -543,8 +543,8 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     shared_pointer_.store(hands_reading_);
     platform::PointerState keys = in;
     keys.finish_key = keys.finish_key || act.finish;
-    keys.ghost_key = keys.ghost_key || act.ghosts;
-    keys.reset_key = keys.reset_key || act.restart;
+    if (act.ghosts) keys.set_letter(ghost_letter, true);
+    if (act.restart) keys.set_letter(reset_letter, true);
     if (o_.finish_at_frame > 0 && presented_ + 1 == o_.finish_at_frame) keys.finish_key = true; // a test's Enter
     if (lesson_) lesson_keys(keys, main_lane); // a form lesson's Enter is scored there
     const bool form = lesson_ && lesson_->scoring == "form";

@@ -37,7 +37,7 @@ struct TraineeAppOptions {
     bool validation = true; // the validation layer is always on in debug builds
 #endif
     std::uint32_t finish_at_frame = 0; // as if Enter were pressed then (tests, demos)
-    // Each frame, what the window shows as data (game/lesson/window_state.hpp), for a script that works
+    // Each frame, what the window shows as data (game/session/window_state.hpp), for a script that works
     // the window from outside (`ikebana lesson demo --window`). Empty: not written.
     std::string state_out;
     // Where each scored lesson session is stored (game/progress/progress_db.hpp); empty: nowhere

@@ -16,7 +16,7 @@
 #include "game/app/preview_window.hpp"
 #include "game/asset_paths.hpp"
 #include "game/cli/option_checks.hpp"
-#include "game/species/species_mechanics.hpp"
+#include "game/world/species_mechanics.hpp"
 #include "systems/presentation/draw_list.hpp"
 
 namespace ikebana::game {

@@ -16,7 +16,7 @@
 
 #include "components/snapshot.hpp"
 #include "engine/core/result.hpp"
-#include "game/lesson/form_score.hpp"
+#include "game/training/form_score.hpp"
 
 struct sqlite3;
 

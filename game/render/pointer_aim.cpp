@@ -1,4 +1,4 @@
-#include "game/app/pointer_aim.hpp"
+#include "game/render/pointer_aim.hpp"
 
 #include <cmath>
 

@@ -1,8 +1,8 @@
-#include "game/lesson/lesson_controls.hpp"
+#include "game/session/lesson_controls.hpp"
 
 #include <utility>
 
-#include "game/lesson/lesson_scene.hpp"
+#include "game/world/lesson_scene.hpp"
 #include "systems/haptics/trainee_command_system.hpp"
 
 namespace ikebana::game {
@@ -60,24 +60,24 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     HeldStemAdvice advice;
     if (form) advice = advise_held_stem(lesson_, footprint_, latest, hand);
     for (const auto& line : advice.lines) say("> " + line);
-    if (in.cut_key && !cut_was_down_ && advice.keep_length_m > 0.0 && trainee.push({systems::TraineeCommand::Kind::cut, hand, advice.keep_length_m})) {
+    if (in.letter(cut_letter) && !cut_was_down_ && advice.keep_length_m > 0.0 && trainee.push({systems::TraineeCommand::Kind::cut, hand, advice.keep_length_m})) {
         effects.cut_for = advice.role;
         effects.cut_to_m = advice.keep_length_m;
     }
-    cut_was_down_ = in.cut_key;
-    if (in.ghost_key && !ghost_was_down_ && form) {
+    cut_was_down_ = in.letter(cut_letter);
+    if (in.letter(ghost_letter) && !ghost_was_down_ && form) {
         ghosts_ = !ghosts_;
         effects.ghosts_toggled = true;
     }
-    ghost_was_down_ = in.ghost_key;
+    ghost_was_down_ = in.letter(ghost_letter);
     if (ghosts_) {
         std::string legend = "  targets (G):";
         for (std::size_t i = 0; i < lesson_.stems.size(); ++i) legend += " " + lesson_.stems[i].role + " " + ghost_colour_name(i);
         lines_.push_back(legend);
         lines_.push_back("  the model stands behind the container, right; each stem named");
     }
-    effects.restart = in.reset_key && !reset_was_down_;
-    reset_was_down_ = in.reset_key;
+    effects.restart = in.letter(reset_letter) && !reset_was_down_;
+    reset_was_down_ = in.letter(reset_letter);
     if (in.finish_key && !enter_was_down_ && form) effects.score = score_form(lesson_, measure_arrangement(latest), footprint_);
     enter_was_down_ = in.finish_key;
     return effects;

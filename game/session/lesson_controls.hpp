@@ -12,7 +12,7 @@
 #include "components/snapshot.hpp"
 #include "engine/devices/mouse_keyboard_device.hpp"
 #include "engine/platform/pointer_input.hpp"
-#include "game/lesson/form_score.hpp"
+#include "game/training/form_score.hpp"
 #include "game/lesson/lesson.hpp"
 
 namespace ikebana::systems {
@@ -31,6 +31,11 @@ namespace ikebana::game {
 // The mouse on a lesson's table: the window's width spans 0.7 m, its height 0.6 m; the hands reach
 // the materials in front of the container and the tallest stem's height above it.
 [[nodiscard]] devices::MouseKeyboardHands::Config lesson_mouse_config();
+
+// A lesson's keys (the engine reads letters; what they do is the lesson's).
+inline constexpr char cut_letter = 'C';   // cut the held stem to the length its role wants
+inline constexpr char ghost_letter = 'G'; // show or hide the form's targets and its model
+inline constexpr char reset_letter = 'R'; // start the lesson again
 
 class LessonControls {
 public:

@@ -1,4 +1,4 @@
-#include "game/lesson/lesson_demo.hpp"
+#include "game/session/lesson_demo.hpp"
 
 #include <algorithm>
 #include <array>
@@ -15,12 +15,12 @@
 #include "engine/assets/files.hpp"
 #include "engine/devices/mouse_keyboard_device.hpp"
 #include "engine/sched/clocks.hpp"
-#include "game/app/pointer_aim.hpp"
-#include "game/cli/render_command.hpp"
-#include "game/lesson/lesson_controls.hpp"
-#include "game/lesson/lesson_scene.hpp"
-#include "game/lesson/lesson_session.hpp"
-#include "game/lesson/teacher.hpp"
+#include "game/render/pointer_aim.hpp"
+#include "game/render/offscreen_render.hpp"
+#include "game/session/lesson_controls.hpp"
+#include "game/world/lesson_scene.hpp"
+#include "game/session/lesson_session.hpp"
+#include "game/session/teacher.hpp"
 #include "game/world/world.hpp"
 #include "systems/haptics/grab_system.hpp"
 #include "systems/presentation/frame_channel.hpp"
@@ -208,10 +208,10 @@ public:
     void cut(double) override {
         // C, as the window reads it: LessonControls cuts the held stem for the role it is heading for.
         script_.event("key c", now_s());
-        pointer_.state.cut_key = true;
+        pointer_.state.set_letter(cut_letter, true);
         clock_.run_for_us(40'000);
         after_wait();
-        pointer_.state.cut_key = false;
+        pointer_.state.set_letter(cut_letter, false);
         clock_.run_for_us(40'000);
         after_wait();
     }

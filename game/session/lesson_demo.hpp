@@ -13,7 +13,7 @@
 
 #include "engine/core/result.hpp"
 #include "engine/devices/haptic_device.hpp"
-#include "game/lesson/form_score.hpp"
+#include "game/training/form_score.hpp"
 #include "game/lesson/lesson.hpp"
 #include "game/progress/progress_db.hpp"
 

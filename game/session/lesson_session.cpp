@@ -1,4 +1,4 @@
-#include "game/lesson/lesson_session.hpp"
+#include "game/session/lesson_session.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -14,7 +14,7 @@
 #include "engine/assets/json_checker.hpp"
 #include "engine/sched/clocks.hpp"
 #include "game/asset_paths.hpp"
-#include "game/lesson/lesson_scene.hpp"
+#include "game/world/lesson_scene.hpp"
 #include "game/scene/scene.hpp"
 #include "game/world/world.hpp"
 #include "systems/haptics/hand_devices.hpp"

@@ -17,9 +17,9 @@
 #include "engine/core/async_line_writer.hpp"
 #include "engine/core/result.hpp"
 #include "engine/devices/scripted_device.hpp"
-#include "game/lesson/form_score.hpp"
+#include "game/training/form_score.hpp"
 #include "game/lesson/lesson.hpp"
-#include "game/lesson/lesson_scene.hpp"
+#include "game/world/lesson_scene.hpp"
 #include "systems/haptics/trainee_command_system.hpp"
 
 namespace ikebana::game {

@@ -24,11 +24,11 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/assets/files.hpp"
-#include "game/lesson/lesson_controls.hpp"
-#include "game/lesson/lesson_demo.hpp"
-#include "game/lesson/lesson_scene.hpp"
-#include "game/lesson/teacher.hpp"
-#include "game/lesson/window_state.hpp"
+#include "game/session/lesson_controls.hpp"
+#include "game/session/lesson_demo.hpp"
+#include "game/world/lesson_scene.hpp"
+#include "game/session/teacher.hpp"
+#include "game/session/window_state.hpp"
 #include "game/species/species.hpp"
 
 extern char** environ;

@@ -1,4 +1,4 @@
-#include "game/lesson/session_timeline.hpp"
+#include "game/session/session_timeline.hpp"
 
 #include <algorithm>
 #include <cstdio>

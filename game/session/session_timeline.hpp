@@ -9,7 +9,7 @@
 
 #include "components/snapshot.hpp"
 #include "engine/core/result.hpp"
-#include "game/lesson/lesson_session.hpp"
+#include "game/session/lesson_session.hpp"
 
 namespace ikebana::game {
 

@@ -1,4 +1,4 @@
-#include "game/lesson/teacher.hpp"
+#include "game/session/teacher.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -13,8 +13,8 @@
 #include <glm/glm.hpp>
 
 #include "components/insertion.hpp"
-#include "game/lesson/form_score.hpp"
-#include "game/lesson/lesson_demo.hpp"
+#include "game/training/form_score.hpp"
+#include "game/session/lesson_demo.hpp"
 
 namespace ikebana::game {
 

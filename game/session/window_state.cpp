@@ -1,4 +1,4 @@
-#include "game/lesson/window_state.hpp"
+#include "game/session/window_state.hpp"
 
 #include <type_traits>
 #include <utility>

@@ -1,4 +1,4 @@
-#include "game/lesson/form_score.hpp"
+#include "game/training/form_score.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,10 +1,11 @@
-#include "game/training/sample_arrangement.hpp"
+#include "game/world/sample_arrangement.hpp"
 
 #include <cmath>
 
 #include "components/insertion.hpp"
 #include "components/kenzan.hpp"
 #include "components/stem.hpp"
+#include "game/training/arrangement_score.hpp"
 #include "game/world/world.hpp"
 
 namespace ikebana::game {

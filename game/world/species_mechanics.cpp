@@ -1,4 +1,4 @@
-#include "game/species/species_mechanics.hpp"
+#include "game/world/species_mechanics.hpp"
 
 #include <algorithm>
 #include <cmath>

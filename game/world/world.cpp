@@ -21,7 +21,7 @@
 #include "game/asset_paths.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
 #include "game/scene/placement_checks.hpp"
-#include "game/training/sample_arrangement.hpp"
+#include "game/world/sample_arrangement.hpp"
 #include "systems/collision/collision_module.hpp"
 #include "systems/haptics/hand_devices.hpp"
 #include "systems/haptics/haptics_module.hpp"

@@ -1,7 +1,7 @@
 // libFuzzer: game::parse_arrangement (`lesson score --arrangement`) on arbitrary bytes, and what it
 // accepts scored against a shipped lesson with every rule (role assignment, crossings, the line at
 // the water walk the stems' paths).
-#include "game/lesson/form_score.hpp"
+#include "game/training/form_score.hpp"
 #include "game/lesson/lesson.hpp"
 #include "tests/fuzz/fuzz_target.hpp"
 

@@ -1,6 +1,6 @@
 // libFuzzer: game::parse_lesson, the reader of a lesson file, on arbitrary bytes; and what it accepts,
 // modelled and scored (a designer's lesson drives both).
-#include "game/lesson/form_score.hpp"
+#include "game/training/form_score.hpp"
 #include "game/lesson/lesson.hpp"
 #include "tests/fuzz/fuzz_target.hpp"
 

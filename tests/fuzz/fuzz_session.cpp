@@ -1,8 +1,8 @@
 // libFuzzer: the readers of a lesson session on record (session.json and commands.csv, what `lesson
 // replay DIR` reads) and of the window's state (`ikebana --state-out`, what `lesson demo --window`
 // reads back), on arbitrary bytes. The first byte picks the reader.
-#include "game/lesson/lesson_session.hpp"
-#include "game/lesson/window_state.hpp"
+#include "game/session/lesson_session.hpp"
+#include "game/session/window_state.hpp"
 #include "tests/fuzz/fuzz_target.hpp"
 
 using namespace ikebana;

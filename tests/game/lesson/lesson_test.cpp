@@ -13,13 +13,13 @@
 
 #include "engine/assets/files.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
-#include "game/lesson/form_score.hpp"
-#include "game/lesson/lesson_controls.hpp"
-#include "game/lesson/lesson_demo.hpp"
-#include "game/lesson/lesson_scene.hpp"
-#include "game/lesson/lesson_session.hpp"
-#include "game/lesson/session_timeline.hpp"
-#include "game/lesson/window_state.hpp"
+#include "game/training/form_score.hpp"
+#include "game/session/lesson_controls.hpp"
+#include "game/session/lesson_demo.hpp"
+#include "game/world/lesson_scene.hpp"
+#include "game/session/lesson_session.hpp"
+#include "game/session/session_timeline.hpp"
+#include "game/session/window_state.hpp"
 #include "game/world/world.hpp"
 #include "systems/haptics/trainee_command_system.hpp"
 #include "systems/presentation/frame_channel.hpp"
@@ -690,31 +690,33 @@ TEST(LessonControls, EachKeyActsOncePerPress) {
     const auto& frame = w.main.resource<const systems::ReceivedFrames>()->latest();
     LessonControls controls(l, footprint(l));
     platform::PointerState in;
-    const auto press = [&](bool platform::PointerState::*key) {
-        in.*key = true;
+    // A letter key (the lesson's), or Enter.
+    const auto press_key = [&](const std::function<void(bool)>& set) {
+        set(true);
         const auto down = controls.update(in, 1, frame, w.trainee);
         const auto held = controls.update(in, 1, frame, w.trainee);
-        in.*key = false;
+        set(false);
         controls.update(in, 1, frame, w.trainee);
         return std::pair{down, held};
     };
-    const auto [restart, restart_held] = press(&platform::PointerState::reset_key);
+    const auto press = [&](char letter) { return press_key([&](bool down) { in.set_letter(letter, down); }); };
+    const auto [restart, restart_held] = press(reset_letter);
     EXPECT_TRUE(restart.restart);
     EXPECT_FALSE(restart_held.restart) << "held down, it does not ask again";
     EXPECT_FALSE(controls.ghosts());
-    EXPECT_TRUE(press(&platform::PointerState::ghost_key).first.ghosts_toggled);
+    EXPECT_TRUE(press(ghost_letter).first.ghosts_toggled);
     EXPECT_TRUE(controls.ghosts());
     bool legend = false;
     for (const auto& line : controls.hud_lines()) legend = legend || line.find("targets (G): shin") != std::string::npos;
     EXPECT_TRUE(legend);
-    press(&platform::PointerState::ghost_key);
+    press(ghost_letter);
     EXPECT_FALSE(controls.ghosts());
-    const auto [enter, enter_held] = press(&platform::PointerState::finish_key);
+    const auto [enter, enter_held] = press_key([&](bool down) { in.finish_key = down; });
     ASSERT_TRUE(enter.score.has_value());
     ASSERT_TRUE(enter.score->ok());
     EXPECT_LT((*enter.score)->score, 20.0) << "nothing in the kenzan yet: only rules such as the kenzan off centre hold";
     EXPECT_FALSE(enter_held.score.has_value());
-    EXPECT_TRUE(press(&platform::PointerState::cut_key).first.cut_for.empty()) << "nothing held, nothing cut";
+    EXPECT_TRUE(press(cut_letter).first.cut_for.empty()) << "nothing held, nothing cut";
     systems::TraineeCommand left_over;
     EXPECT_FALSE(w.trainee.pop(left_over));
     EXPECT_NE(controls.hud_lines().front().find("Sogetsu: Basic Upright Style"), std::string::npos) << controls.hud_lines().front();

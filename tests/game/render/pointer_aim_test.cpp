@@ -4,7 +4,7 @@
 #include <optional>
 #include <vector>
 
-#include "game/app/pointer_aim.hpp"
+#include "game/render/pointer_aim.hpp"
 
 using namespace ikebana;
 using namespace ikebana::game;

@@ -19,7 +19,7 @@
 #include "game/app/trainee_app.hpp"
 #include "game/asset_paths.hpp"
 #include "game/scene/scene.hpp"
-#include "game/training/sample_arrangement.hpp"
+#include "game/world/sample_arrangement.hpp"
 #include "game/world/world.hpp"
 #include "components/presentation.hpp"
 #include "engine/sched/clocks.hpp"

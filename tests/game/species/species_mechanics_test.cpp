@@ -3,7 +3,7 @@
 #include <filesystem>
 
 #include "engine/assets/files.hpp"
-#include "game/species/species_mechanics.hpp"
+#include "game/world/species_mechanics.hpp"
 
 using namespace ikebana;
 using namespace ikebana::game;

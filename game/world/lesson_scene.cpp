@@ -1,4 +1,4 @@
-#include "game/lesson/lesson_scene.hpp"
+#include "game/world/lesson_scene.hpp"
 
 #include <algorithm>
 #include <cstdio>

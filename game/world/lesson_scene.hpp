@@ -6,7 +6,7 @@
 #include <map>
 #include "components/snapshot.hpp"
 #include "engine/core/result.hpp"
-#include "game/lesson/form_score.hpp"
+#include "game/training/form_score.hpp"
 #include "game/lesson/lesson.hpp"
 #include "game/scene/scene.hpp"
 #include "game/species/species.hpp"
