@@ -70,7 +70,7 @@ struct Backend {
 // Whichever backend a hand gets, the force on its wire went through the one safety layer. The devices
 // of no particular backend are held above the table until the chain engages (on the wall clock: at
 // about real time) and then pressed 5 cm into it: the hand asks 20 N and more, the wire rises from
-// zero and stops at 3 N. The HID backends report no position here (no reports are fed), so their hand
+// zero to 3 N and no further. The HID backends report no position here (no reports are fed), so their hand
 // sits in the table from the start and their wires carry what the chain lets through while it waits:
 // the check there is that every byte on the wire decodes to a force within the limit.
 TEST(ForceSafety, WrapsEveryForceDevice) {
@@ -151,7 +151,18 @@ TEST(ForceSafety, WrapsEveryForceDevice) {
         probe_height_m = 0.15;
         run_real_time(150);
         probe_height_m = -0.05;
-        run_real_time(hid ? 50 : 700);
+        if (hid) {
+            run_real_time(50);
+        } else {
+            // The ramp takes 0.5 s of wall time, and a loaded machine's stalls cost it some of its
+            // level: pressed until the wire reaches the limit, 10 s at most.
+            const auto give_up_at = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+            const auto reached = [&] {
+                const auto now = wire();
+                return !now.empty() && glm::length(now.back()) > 2.9;
+            };
+            while (!reached() && std::chrono::steady_clock::now() < give_up_at) run_real_time(50);
+        }
         const auto& hand = w->sim.get<components::HandForce>(w->hands[0]);
         const auto sent = wire();
         ASSERT_GT(sent.size(), 100u);
@@ -164,7 +175,7 @@ TEST(ForceSafety, WrapsEveryForceDevice) {
         if (!hid) {
             EXPECT_GT(glm::length(hand.force_n), 3.0) << "the hand asks for more than any device may give";
             EXPECT_GE(dynamic_cast<devices::SafeForceDevice&>(*w->hand_devices[0]).counters().engagements, 1u);
-            EXPECT_GT(most, 2.0) << "engaged, the force on the wire rose towards the limit";
+            EXPECT_GT(most, 2.9) << "engaged, the force on the wire rose to the limit";
         }
     }
 }
@@ -191,12 +202,15 @@ TEST(ForceSafety, AHandInsideTheTableIsNotPushedUntilItsForceIsSmall) {
         if (!lift) continue;
         raw->height_m = 0.009; // lifted until it only just presses on the table: the hand asks about 0.4 N
         sent.clear();
-        // The chain waits on the wall clock (a real device's): run at about real time for 150 ms.
-        for (int tick = 0; tick < 150; ++tick) {
+        // The chain waits on the wall clock (a real device's): run at about real time until the wire
+        // carries 0.1 N (a loaded machine's stalls slow the ramp), 10 s at most.
+        const auto give_up_at = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        most = 0.0;
+        while (most <= 0.1 && std::chrono::steady_clock::now() < give_up_at) {
             clock.run_for_us(1'000);
             std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            if (!sent.empty()) most = std::max(most, glm::length(sent.back()));
         }
-        most = 0.0;
         for (const auto& f : sent) most = std::max(most, glm::length(f));
         EXPECT_EQ(dynamic_cast<devices::SafeForceDevice&>(*w->hand_devices[0]).counters().engagements, 1u) << "engaged once the force was small";
         EXPECT_GT(most, 0.1) << "and then it pushes";
