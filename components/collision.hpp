@@ -1,6 +1,7 @@
 #pragma once
 // Collision shapes and the contacts the collision system reports each pass.
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -32,6 +33,25 @@ struct Contact {
 struct Contacts {
     std::vector<Contact> list;
     std::uint64_t pairs_tested;
+};
+
+// A collision pass in progress (one entity has it; the pass makes it on first use). Spread over the
+// haptic ticks, a pass keeps what it took at its start and what it found so far from tick to tick, so
+// that is state of the world: kept here, in the registry, it enters the state hash and is restored with
+// the world, never left behind in a system object.
+struct CollisionPass {
+    double cell_size_m = 0.03;
+    std::int64_t step = -1;               // spread pass: -1 waiting for an update; 0 index; then gathers, slices, pins
+    std::uint64_t seen_generation = 0;    // the collider update this pass started from
+    std::vector<std::pair<std::int64_t, std::uint32_t>> cells; // (cell, Active collider), sorted
+    std::vector<std::uint64_t> pairs;     // (Active i) << 32 | j, to be tested
+    std::vector<ecs::Entity> entities;
+    std::vector<Collider> colliders;      // as they were at the start: the pass is one instant's
+    std::vector<ecs::Entity> owners;
+    std::vector<std::uint8_t> active;
+    std::uint64_t active_count = 0;
+    std::vector<Contact> found;           // this pass's, until published
+    std::uint64_t pairs_tested = 0;
 };
 
 // Counts the collider updates: a pass of detection spread over the ticks after one starts when this

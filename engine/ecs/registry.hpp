@@ -40,6 +40,10 @@ struct AccessMask {
     enum : std::uint8_t { none = 0, read = 1, write = 2 };
     std::string system;
     std::vector<std::uint8_t> by_type;
+    // What the system has really done so far (none, read, write), by type id: a declaration wider than
+    // this, after a run that exercised the system, is reported (Schedule::unused_access). Written only
+    // by the thread running the system, read after its clock stopped; as long as by_type.
+    mutable std::vector<std::uint8_t> used;
 };
 
 // An access the running system did not declare: a programming error, found by the first test or run
@@ -193,7 +197,10 @@ public:
     [[nodiscard]] bool iterating() const noexcept { return iteration_depth_ > 0; }
 
     // --- singletons (EnTT's context): per-world resources such as configuration and RNG state ------
+    // No pointer is a resource: `resource<T* const>()` passed the read check while the system wrote
+    // through it. What lives outside the registry is held in an ecs::Port (engine/ecs/port.hpp).
     template <typename T, typename... Args>
+        requires(!std::is_pointer_v<T>)
     T& set_resource(Args&&... args) {
         check_access<T>();
         auto& slot = resources_[std::type_index(typeid(T))];
@@ -203,6 +210,7 @@ public:
     }
     // resource<const T>() reads, resource<T>() may write (and is checked so).
     template <typename T>
+        requires(!std::is_pointer_v<std::remove_const_t<T>>)
     [[nodiscard]] T* resource() {
         check_access<T>();
         auto it = resources_.find(std::type_index(typeid(T)));
@@ -264,6 +272,7 @@ public:
 private:
     template <typename, typename>
     friend class View;
+    friend class CommandBuffer; // checks a queued emplace or remove against the system queuing it
 
     struct Slot {
         std::uint32_t generation;
@@ -286,7 +295,12 @@ private:
         const auto id = type_id<T>();
         const std::uint8_t declared = id < access_->by_type.size() ? access_->by_type[id] : std::uint8_t{AccessMask::none};
         const bool writes = !std::is_const_v<T>;
-        if (declared == AccessMask::write || (declared == AccessMask::read && !writes)) return;
+        if (declared == AccessMask::write || (declared == AccessMask::read && !writes)) {
+            const std::uint8_t level = writes ? AccessMask::write : AccessMask::read;
+            // Sized with by_type when the mask was made (a declared id is inside it): nothing allocates here.
+            if (access_->used[id] < level) access_->used[id] = level;
+            return;
+        }
         throw UndeclaredAccess("system '" + access_->system + "' " + (writes ? "writes" : "reads") + " '" +
                                std::string(type_name<std::remove_const_t<T>>()) + "' without declaring it" +
                                (declared == AccessMask::read ? " (declared read only: view it as const)" : ""));

@@ -101,6 +101,8 @@ inline void CommandBuffer::destroy(Entity e) {
 
 template <typename T, typename... Args>
 void CommandBuffer::emplace(Entity e, Args&&... args) {
+    // Checked as it is queued, against the system queuing it: a deferred write is still that system's.
+    registry_.template check_access<T>();
     ops_.emplace_back([e, value = make<T>(std::forward<Args>(args)...)](Registry& r) mutable {
         if (r.valid(e)) r.template emplace_or_replace<T>(e, std::move(value));
     });
@@ -108,6 +110,7 @@ void CommandBuffer::emplace(Entity e, Args&&... args) {
 
 template <typename T>
 void CommandBuffer::remove(Entity e) {
+    registry_.template check_access<T>();
     ops_.emplace_back([e](Registry& r) { r.template remove<T>(e); });
 }
 

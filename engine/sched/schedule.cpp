@@ -36,6 +36,7 @@ std::shared_ptr<const ecs::AccessMask> mask_of(const SystemDesc& d) {
     };
     mark(d.read_ids, ecs::AccessMask::read);
     mark(d.write_ids, ecs::AccessMask::write);
+    mask->used.assign(mask->by_type.size(), ecs::AccessMask::none);
     return mask;
 }
 } // namespace
@@ -248,6 +249,27 @@ const ScheduledSystem* Schedule::find(std::string_view name) const {
         if (s.desc.name == name) return &s;
     }
     return nullptr;
+}
+
+std::vector<std::string> Schedule::unused_access() const {
+    std::vector<std::string> out;
+    for (const auto& s : systems_) {
+        if (!s.access || s.firing == 0) continue;
+        const auto& used = s.access->used;
+        const auto level = [&](std::uint32_t id) { return id < used.size() ? used[id] : std::uint8_t{ecs::AccessMask::none}; };
+        const auto& d = s.desc;
+        for (std::size_t i = 0; i < d.write_ids.size(); ++i) {
+            const auto got = level(d.write_ids[i]);
+            if (got == ecs::AccessMask::write) continue;
+            out.push_back("system '" + d.name + "' declares writing '" + d.writes[i] + "' and " +
+                          (got == ecs::AccessMask::read ? "only reads it" : "never touches it"));
+        }
+        for (std::size_t i = 0; i < d.read_ids.size(); ++i) {
+            if (std::find(d.write_ids.begin(), d.write_ids.end(), d.read_ids[i]) != d.write_ids.end()) continue;
+            if (level(d.read_ids[i]) == ecs::AccessMask::none) out.push_back("system '" + d.name + "' declares reading '" + d.reads[i] + "' and never reads it");
+        }
+    }
+    return out;
 }
 
 std::string Schedule::stats_table() const {

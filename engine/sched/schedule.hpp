@@ -92,6 +92,12 @@ public:
     [[nodiscard]] const std::vector<ScheduledSystem>& systems() const noexcept { return systems_; }
     [[nodiscard]] const ScheduledSystem* find(std::string_view name) const;
 
+    // Over-declaring, as found by running: for each checked system that has fired, every type it declared
+    // and never touched, and every type it declared written and only read, one sentence each (empty:
+    // every declaration was used). A declaration wider than the body orders systems that need no order
+    // and hides the access that matters; the reverse, an undeclared access, throws as it happens.
+    [[nodiscard]] std::vector<std::string> unused_access() const;
+
     // A table of per-system statistics for --stats.
     [[nodiscard]] std::string stats_table() const;
 

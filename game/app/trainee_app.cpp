@@ -49,6 +49,8 @@
 #include "game/session/lesson_session.hpp"
 #include "game/session/window_state.hpp"
 #include "game/progress/progress_db.hpp"
+#include "systems/haptics/trainee_command_system.hpp"
+#include "systems/haptics/workspace_view_system.hpp"
 #include "systems/presentation/receive_frame_system.hpp"
 
 namespace ikebana::game {
@@ -100,7 +102,8 @@ struct WindowInputSystem {
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "render"; // frames at the scheduler's render rate (30 Hz by default)
     using reads = sched::Components<systems::ReceivedFrames>;
-    using writes = sched::Components<components::HudInfo, components::Scenery>;
+    // The Ports: the camera's turn goes to the hands' workspace, a cut to the simulation.
+    using writes = sched::Components<components::HudInfo, components::Scenery, ecs::Port<systems::ViewChannel>, ecs::Port<systems::TraineeChannel>>;
     std::function<void(sched::SystemContext&)> body;
     void operator()(sched::SystemContext& ctx) { body(ctx); }
 };
@@ -518,7 +521,7 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     }
     pitch_ = std::clamp(pitch_, -0.5, 1.0);
     // "Forward" on the device stays "away from the viewer".
-    world_->view.yaw_rad.store(yaw_, std::memory_order_relaxed);
+    main_lane.registry.resource<ecs::Port<systems::ViewChannel>>()->use().yaw_rad.store(yaw_, std::memory_order_relaxed);
     // The cursor aimed through the camera as drawn this frame, and kept on the hand it drives (a
     // test's scripted pointer moves the hands by the window's size instead).
     const PointerView view = pointer_view();
@@ -602,7 +605,7 @@ void TraineeSession::show_result(const std::vector<std::string>& lines, componen
 void TraineeSession::lesson_keys(const platform::PointerState& in, sched::SystemContext& main_lane) {
     const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
     auto& hud = *main_lane.registry.resource<components::HudInfo>();
-    const auto effects = controls_->update(in, mouse_->active_hand(), latest, world_->trainee);
+    const auto effects = controls_->update(in, mouse_->active_hand(), latest, main_lane.registry.resource<ecs::Port<systems::TraineeChannel>>()->use());
     hud.lesson = controls_->hud_lines();
     if (!effects.cut_for.empty()) std::printf("ikebana: cut for %s to %.0f mm\n", effects.cut_for.c_str(), effects.cut_to_m * 1e3);
     if (effects.ghosts_toggled) {

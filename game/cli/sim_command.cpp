@@ -78,7 +78,7 @@ int run_sim(const SimOptions& options) {
             // In real time a disk seconds behind costs samples (counted below), never the haptic loop's time.
             recorders[hand] = std::make_unique<devices::DeviceRecorder>(
                 *record_files[hand], options.realtime ? AsyncLineWriter::WhenFull::drop : AsyncLineWriter::WhenFull::wait);
-            slots->recorder[static_cast<std::size_t>(hand)] = recorders[hand].get();
+            slots->record_to(static_cast<std::size_t>(hand), recorders[hand].get());
         }
         std::printf("recording every device sample to %s/{left,right}.csv (replay with --left replay:FILE)\n", options.record_dir.c_str());
     }
@@ -158,7 +158,11 @@ int run_sim(const SimOptions& options) {
         }
     }
     std::printf("wall time %.3f s (%.1fx real time)\n", wall, wall > 0 ? options.seconds / wall : 0.0);
-    if (options.stats) std::printf("\n%s", w.schedule.stats_table().c_str());
+    if (options.stats) {
+        std::printf("\n%s", w.schedule.stats_table().c_str());
+        // Declarations this run did not use (a system that never met what it handles says so too).
+        for (const auto& line : w.schedule.unused_access()) std::printf("declared, unused in this run: %s\n", line.c_str());
+    }
     if (options.hash) std::printf("state-hash: %016" PRIx64 "\n", w.state_hash());
     return 0;
 }

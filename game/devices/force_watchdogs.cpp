@@ -12,14 +12,14 @@ HandForceWatchdogs::HandForceWatchdogs(World& world) : world_(world) {
         auto* device = world_.hand_devices[hand].get();
         if (!device || !device->capabilities().has_force_output) continue;
         dogs_[hand] = std::make_unique<devices::ForceWatchdog>([device] { (void)device->zero_force(); });
-        slots->watchdog[hand] = dogs_[hand].get();
+        slots->feed_after_sending(hand, dogs_[hand].get());
     }
 }
 
 HandForceWatchdogs::~HandForceWatchdogs() {
     if (auto* slots = world_.sim.resource<systems::HandDevices>()) {
         for (std::size_t hand = 0; hand < 2; ++hand) {
-            if (dogs_[hand]) slots->watchdog[hand] = nullptr;
+            if (dogs_[hand]) slots->feed_after_sending(hand, nullptr);
         }
     }
 }

@@ -391,6 +391,7 @@ Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& o
     result.score = std::move(*scored).value();
     result.simulated_s = room.now_s();
     result.state_hash = w.state_hash();
+    result.unused_access = w.schedule.unused_access();
     result.flowers = flower_outcomes(w.main.resource<const systems::ReceivedFrames>()->latest());
     if (recorder) {
         if (auto written = recorder->finish(lesson, "demonstration", scored_at_us, clock.now_us(), result.score.score, w); !written)

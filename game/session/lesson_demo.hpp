@@ -32,6 +32,8 @@ struct DemoResult {
     double simulated_s = 0.0;
     std::uint64_t state_hash = 0; // the world's at the end (headless only)
     std::vector<FlowerOutcome> flowers; // how each flower ended (headless only: the window stores its own)
+    // The systems' declared access this demonstration did not use (Schedule::unused_access; headless only).
+    std::vector<std::string> unused_access;
 };
 
 struct DemoOptions {

@@ -55,16 +55,16 @@ Result<std::unique_ptr<SessionRecorder>> SessionRecorder::create(const std::file
 
 void SessionRecorder::attach(World& world) {
     auto* slots = world.sim.resource<systems::HandDevices>();
-    for (std::size_t hand = 0; hand < 2; ++hand) slots->recorder[hand] = recorders_[hand].get();
+    for (std::size_t hand = 0; hand < 2; ++hand) slots->record_to(hand, recorders_[hand].get());
     world.trainee.log = commands_.get();
     world.view.log = commands_.get();
-    slots->events = commands_.get();
+    slots->note_events_to(commands_.get());
 }
 
 void SessionRecorder::detach(World& world) {
     auto* slots = world.sim.resource<systems::HandDevices>();
-    for (std::size_t hand = 0; hand < 2; ++hand) slots->recorder[hand] = nullptr;
-    slots->events = nullptr;
+    for (std::size_t hand = 0; hand < 2; ++hand) slots->record_to(hand, nullptr);
+    slots->note_events_to(nullptr);
     world.trainee.log = nullptr;
     world.view.log = nullptr;
 }

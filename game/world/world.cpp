@@ -253,10 +253,13 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     r.set_resource<PhysicsSettings>(scene.gravity_m_s2);
     r.set_resource<Table>(scene.table_height_m, 0.6);
     r.set_resource<Contacts>();
-    r.set_resource<systems::FrameChannel*>(&w->channel);
-    r.set_resource<systems::ViewChannel*>(&w->view);
-    r.set_resource<systems::TraineeChannel*>(&w->trainee);
-    w->main.set_resource<systems::FrameChannel*>(&w->channel);
+    // Each lane's ends of the channels the world owns: using one is a declared write of its Port.
+    r.set_resource<ecs::Port<systems::FrameChannel>>(w->channel);
+    r.set_resource<ecs::Port<systems::ViewChannel>>(w->view);
+    r.set_resource<ecs::Port<systems::TraineeChannel>>(w->trainee);
+    w->main.set_resource<ecs::Port<systems::FrameChannel>>(w->channel);
+    w->main.set_resource<ecs::Port<systems::ViewChannel>>(w->view);
+    w->main.set_resource<ecs::Port<systems::TraineeChannel>>(w->trainee);
     w->main.set_resource<systems::ReceivedFrames>();
     w->main.set_resource<HudInfo>();
     w->main.set_resource<PreparedFrame>();
@@ -300,6 +303,7 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
         w->flowers.push_back({spawn_flower(r, sp, f, scene.table_height_m), sp.id});
     }
     r.set_resource<systems::HandDevices>();
+    r.set_resource<systems::HandCoupling>();
     r.set_resource<systems::HandLinks>();
     r.set_resource<SentForceLog>();
     for (std::size_t hand_index = 0; hand_index < scene.hands.size(); ++hand_index) {
@@ -338,13 +342,13 @@ void World::attach_device(std::uint8_t hand, std::unique_ptr<devices::HapticDevi
     auto* slots = sim.resource<systems::HandDevices>();
     // Every device that can push goes through the one safety layer, whoever opened it.
     hand_devices[hand] = devices::make_force_safe(std::move(device));
-    if (slots) {
-        slots->device[hand] = hand_devices[hand].get();
+    if (slots) slots->attach(hand, hand_devices[hand].get());
+    if (auto* coupling = sim.resource<systems::HandCoupling>()) {
         // The coupling this device renders stably: its profile's, capped by its declared maximum.
         const devices::DeviceCapabilities defaults;
         const auto& caps = hand_devices[hand] ? hand_devices[hand]->capabilities() : defaults;
-        slots->coupling_n_per_m[hand] = devices::coupling_stiffness_n_per_m(caps);
-        slots->coupling_damping_ns_per_m[hand] = devices::coupling_damping_ns_per_m(caps);
+        coupling->n_per_m[hand] = devices::coupling_stiffness_n_per_m(caps);
+        coupling->damping_ns_per_m[hand] = devices::coupling_damping_ns_per_m(caps);
     }
     if (auto* hud = main.resource<HudInfo>()) hud->device[hand] = hand_devices[hand] ? hand_devices[hand]->capabilities().name : "no device";
 }

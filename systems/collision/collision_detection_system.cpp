@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "engine/ecs/registry.hpp"
 #include "systems/collision/narrow_phase.hpp"
@@ -54,41 +55,53 @@ ecs::Entity owner_of(ecs::Registry& r, ecs::Entity e) {
 } // namespace
 
 void CollisionDetectionSystem::operator()(sched::SystemContext& ctx) {
-    begin(ctx.registry);
-    gather(0, 1);
-    query(0, 1);
-    query_pins(ctx.registry);
-    publish(ctx.registry);
+    auto& r = ctx.registry;
+    auto& pass = collision_pass::of(r);
+    collision_pass::begin(r, pass);
+    collision_pass::gather(pass, 0, 1);
+    collision_pass::query(pass, 0, 1);
+    collision_pass::query_pins(r, pass);
+    collision_pass::publish(r, pass);
 }
 
-void CollisionDetectionSystem::begin(ecs::Registry& r) {
-    found.clear();
-    pairs.clear();
-    pairs_tested = 0;
+namespace collision_pass {
+
+CollisionPass& of(ecs::Registry& r) {
+    if (auto* pass = r.single<CollisionPass>()) return *pass;
+    return r.emplace<CollisionPass>(r.create());
+}
+
+void begin(ecs::Registry& r, CollisionPass& pass) {
+    pass.found.clear();
+    pass.pairs.clear();
+    pass.pairs_tested = 0;
     // Every Active and Passive collider as it is now; Inactive ones never enter these views. The Active
     // ones come first (0 .. active_count - 1), and only they go into the cell index: a dozen stem ends
     // and hands against hundreds of parts, so the index is small and sorted at once, and every collider
     // then looks up the cells it covers (sorting an index of every collider's cells was most of the pass).
-    cells.clear();
-    entities.clear();
-    owners.clear();
-    active.clear();
-    colliders.clear();
+    pass.cells.clear();
+    pass.entities.clear();
+    pass.owners.clear();
+    pass.active.clear();
+    pass.colliders.clear();
     auto add = [&](ecs::Entity e, const Collider& c, bool is_active) {
-        const auto slot = static_cast<std::uint32_t>(entities.size());
-        entities.push_back(e);
-        colliders.push_back(c);
-        owners.push_back(owner_of(r, e));
-        active.push_back(is_active ? 1 : 0);
-        if (is_active) for_each_cell(collision::bounds_of(c), cell_size_m, [&](std::int64_t key) { cells.emplace_back(key, slot); });
+        const auto slot = static_cast<std::uint32_t>(pass.entities.size());
+        pass.entities.push_back(e);
+        pass.colliders.push_back(c);
+        pass.owners.push_back(owner_of(r, e));
+        pass.active.push_back(is_active ? 1 : 0);
+        if (is_active) for_each_cell(collision::bounds_of(c), pass.cell_size_m, [&](std::int64_t key) { pass.cells.emplace_back(key, slot); });
     };
     r.view<const Collider, const ActiveCollider>().each([&](ecs::Entity e, const Collider& c) { add(e, c, true); });
-    active_count = entities.size();
+    pass.active_count = pass.entities.size();
     r.view<const Collider, const PassiveCollider>().each([&](ecs::Entity e, const Collider& c) { add(e, c, false); });
-    std::sort(cells.begin(), cells.end());
+    std::sort(pass.cells.begin(), pass.cells.end());
 }
 
-void CollisionDetectionSystem::gather(std::size_t slice, std::size_t slices) {
+void gather(CollisionPass& pass, std::size_t slice, std::size_t slices) {
+    const auto& [entities, colliders, owners, active, cells, cell_size_m] =
+        std::tie(pass.entities, pass.colliders, pass.owners, pass.active, pass.cells, pass.cell_size_m);
+    auto& pairs = pass.pairs;
     // Collider j of slice s meets the Active colliders i in its cells: the pair (i, j), for a Passive j
     // or an Active one after i (Active x Active once).
     const std::size_t from = entities.size() * slice / slices;
@@ -105,7 +118,9 @@ void CollisionDetectionSystem::gather(std::size_t slice, std::size_t slices) {
     }
 }
 
-void CollisionDetectionSystem::query(std::size_t slice, std::size_t slices) {
+void query(CollisionPass& pass, std::size_t slice, std::size_t slices) {
+    auto [pairs, found, pairs_tested] = std::tie(pass.pairs, pass.found, pass.pairs_tested);
+    const auto& [entities, colliders, owners] = std::tie(pass.entities, pass.colliders, pass.owners);
     // The pairs in order, Active collider by Active collider and each one's partners by index: the
     // slices' contacts, one after another, are the whole pass's. The first slice sorts them (a pair met
     // in several cells once).
@@ -126,7 +141,9 @@ void CollisionDetectionSystem::query(std::size_t slice, std::size_t slices) {
     }
 }
 
-void CollisionDetectionSystem::query_pins(ecs::Registry& r) {
+void query_pins(ecs::Registry& r, CollisionPass& pass) {
+    auto [found, pairs_tested] = std::tie(pass.found, pass.pairs_tested);
+    const auto& [entities, colliders, active_count] = std::tie(pass.entities, pass.colliders, pass.active_count);
     // The kenzan: its grid is the broad phase. Only Active capsules (stem ends) meet the pins.
     r.view<const Kenzan>().each([&](ecs::Entity kenzan_entity, const Kenzan& k) {
         const double top = k.origin_m.z + k.pin_height_m();
@@ -153,11 +170,13 @@ void CollisionDetectionSystem::query_pins(ecs::Registry& r) {
     });
 }
 
-void CollisionDetectionSystem::publish(ecs::Registry& r) {
+void publish(ecs::Registry& r, CollisionPass& pass) {
     auto* contacts = r.resource<Contacts>();
     if (!contacts) contacts = &r.set_resource<Contacts>();
-    contacts->list.swap(found); // the old list's memory becomes the next pass's
-    contacts->pairs_tested = pairs_tested;
+    contacts->list.swap(pass.found); // the old list's memory becomes the next pass's
+    contacts->pairs_tested = pass.pairs_tested;
 }
+
+} // namespace collision_pass
 
 } // namespace ikebana::systems

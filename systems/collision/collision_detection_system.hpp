@@ -28,31 +28,26 @@ struct CollisionDetectionSystem {
     static constexpr std::string_view rate = "position_check";
     using reads = sched::Components<components::Collider, components::Kenzan, components::ActiveCollider,
                                     components::PassiveCollider, ecs::ChildOf>;
-    using writes = sched::Components<components::Contacts>;
+    using writes = sched::Components<components::Contacts, components::CollisionPass>;
 
     // A whole pass: begin, gather every pair, test them, the pins, publish.
     void operator()(sched::SystemContext& ctx);
-
-    // The pass in parts, for spreading it over ticks (spread_collision_system): take the colliders and
-    // index the Active ones; gather the pairs of slice `slice` of `slices` of all colliders; test the
-    // pairs of slice `slice` of `slices` (after every gather); the pins; make what was found the Contacts.
-    void begin(ecs::Registry& r);
-    void gather(std::size_t slice, std::size_t slices);
-    void query(std::size_t slice, std::size_t slices);
-    void query_pins(ecs::Registry& r);
-    void publish(ecs::Registry& r);
-
-    double cell_size_m = 0.03;
-    // Working memory kept between passes (no allocation in steady state).
-    std::vector<std::pair<std::int64_t, std::uint32_t>> cells; // (cell, Active collider), sorted
-    std::vector<std::uint64_t> pairs;                          // (Active i) << 32 | j, to be tested
-    std::vector<ecs::Entity> entities;
-    std::vector<components::Collider> colliders; // as they were at begin(): the pass is one instant's
-    std::vector<ecs::Entity> owners;
-    std::vector<std::uint8_t> active;
-    std::size_t active_count = 0;
-    std::vector<components::Contact> found; // this pass's, until published
-    std::uint64_t pairs_tested = 0;
 };
+
+// The pass in parts, for spreading it over ticks (spread_collision_system), on the world's
+// CollisionPass (its working memory is kept between passes: no allocation in steady state).
+namespace collision_pass {
+// The world's pass state, made on first use (outside any view's iteration).
+components::CollisionPass& of(ecs::Registry& r);
+// Takes the colliders and indexes the Active ones.
+void begin(ecs::Registry& r, components::CollisionPass& pass);
+// Gathers the pairs of slice `slice` of `slices` of all colliders.
+void gather(components::CollisionPass& pass, std::size_t slice, std::size_t slices);
+// Tests the pairs of slice `slice` of `slices` (after every gather).
+void query(components::CollisionPass& pass, std::size_t slice, std::size_t slices);
+void query_pins(ecs::Registry& r, components::CollisionPass& pass);
+// Makes what was found the Contacts.
+void publish(ecs::Registry& r, components::CollisionPass& pass);
+} // namespace collision_pass
 
 } // namespace ikebana::systems

@@ -22,15 +22,14 @@ struct SpreadCollisionSystem {
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::Collider, components::Kenzan, components::ActiveCollider,
                                     components::PassiveCollider, ecs::ChildOf, components::ColliderPass>;
-    using writes = sched::Components<components::Contacts>;
+    // CollisionPass: where the pass is and what it took and found so far (the world's, in the registry).
+    using writes = sched::Components<components::Contacts, components::CollisionPass>;
 
     void operator()(sched::SystemContext& ctx);
 
+    // Configuration only: every change from tick to tick is in the registry's CollisionPass.
     std::uint32_t gather_slices = 4; // of all colliders, one a tick
     std::uint32_t slices = 4;        // of the pairs, one a tick
-    CollisionDetectionSystem pass;
-    std::uint64_t seen_generation = 0;
-    std::int64_t step = -1; // -1: waiting for an update; 0: index; then gathers, slices, pins
 };
 
 } // namespace ikebana::systems

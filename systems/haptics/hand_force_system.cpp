@@ -8,25 +8,25 @@ using namespace components;
 
 namespace {
 void send(ecs::Registry& r, const HandCube& cube, const HandForce& force) {
-    const auto* devices = r.resource<const HandDevices>();
-    if (devices && cube.hand < 2 && devices->device[cube.hand]) {
+    auto* devices = r.resource<HandDevices>();
+    if (auto* device = devices ? devices->device(cube.hand) : nullptr) {
         // A failed write is counted here for the HUD and the figures; the safety chain counts it too and,
         // after a few in a row, zeroes, drops and reopens the device (SafeForceDevice).
-        if (!devices->device[cube.hand]->send_force(force.force_n)) {
+        if (!device->send_force(force.force_n)) {
             if (auto* links = r.resource<HandLinks>()) ++links->write_failures[cube.hand];
         }
-        if (devices->watchdog[cube.hand]) devices->watchdog[cube.hand]->feed();
+        if (auto* watchdog = devices->watchdog(cube.hand)) watchdog->feed();
     }
     if (auto* log = r.resource<SentForceLog>(); log && log->enabled && cube.hand < 2) log->hand[cube.hand].push_back(force.force_n);
 }
 } // namespace
 
 glm::dvec3 hand_feels(ecs::Registry& r, const HandCube& cube, const HandInput& input, const HandProxy& proxy, const HandGrip& grip) {
-    const auto* devices = r.resource<const HandDevices>();
-    if (!devices || !input.connected || cube.hand >= 2) return glm::dvec3{0.0};
+    const auto* coupling = r.resource<const HandCoupling>();
+    if (!coupling || !input.connected || cube.hand >= 2) return glm::dvec3{0.0};
     // Virtual coupling: a spring and a damper between the device and the proxy it drives.
-    glm::dvec3 force = devices->coupling_n_per_m[cube.hand] * (proxy.position_m - input.device_m) +
-                       devices->coupling_damping_ns_per_m[cube.hand] * proxy.slip_m_s;
+    glm::dvec3 force = coupling->n_per_m[cube.hand] * (proxy.position_m - input.device_m) +
+                       coupling->damping_ns_per_m[cube.hand] * proxy.slip_m_s;
     if (!grip.held.is_null()) {
         // The stem's pull on the points the grip holds: its weight, its bending, its stretch between two
         // hands, as the physics computed it this tick.

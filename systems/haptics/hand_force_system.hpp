@@ -26,7 +26,7 @@ glm::dvec3 hand_feels(ecs::Registry& registry, const components::HandCube& cube,
                       const components::HandProxy& proxy, const components::HandGrip& grip);
 
 // Everything hand_feels reads.
-using HandFeelsReads = sched::Components<HandDevices, components::HandCube, components::HandInput, components::HandProxy,
+using HandFeelsReads = sched::Components<HandCoupling, components::HandCube, components::HandInput, components::HandProxy,
                                          components::HandGrip, components::StemLoads, components::Bending>;
 
 struct HandForceSystem {
@@ -35,7 +35,8 @@ struct HandForceSystem {
     static constexpr std::string_view phase = "output";
     static constexpr std::string_view rate = "haptic";
     using reads = HandFeelsReads;
-    using writes = sched::Components<components::HandForce, components::SentForceLog, HandLinks>;
+    // HandDevices: sending a force and feeding the watchdog are writes (hand_devices.hpp).
+    using writes = sched::Components<HandDevices, components::HandForce, components::SentForceLog, HandLinks>;
     void operator()(sched::SystemContext& ctx);
 };
 
@@ -65,9 +66,9 @@ struct ForceOutputSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "output";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<HandDevices, components::HandCube, components::HandInput>;
-    // HandForce: a hand whose device is gone is set to feel nothing.
-    using writes = sched::Components<components::HandForce, components::SentForceLog, HandLinks>;
+    using reads = sched::Components<components::HandCube, components::HandInput>;
+    // HandForce: a hand whose device is gone is set to feel nothing. HandDevices: sending is a write.
+    using writes = sched::Components<HandDevices, components::HandForce, components::SentForceLog, HandLinks>;
     void operator()(sched::SystemContext& ctx);
 };
 

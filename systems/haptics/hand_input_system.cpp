@@ -20,21 +20,21 @@ bool on_kenzan_plate(const Kenzan& k, const glm::dvec3& p) {
 
 void HandInputSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    const auto* devices = r.resource<const HandDevices>();
+    auto* devices = r.resource<HandDevices>();
     if (!devices) return;
     const auto* table = r.resource<const Table>();
     const Kenzan* kenzan = r.single<const Kenzan>();
     r.view<const HandCube, const WorkspaceMapping, HandInput, HandProxy, Collider>().each(
         [&](ecs::Entity e, const HandCube& cube, const WorkspaceMapping& map, HandInput& input, HandProxy& proxy, Collider& collider) {
-            devices::HapticDevice* device = cube.hand < 2 ? devices->device[cube.hand] : nullptr;
+            devices::HapticDevice* device = devices->device(cube.hand);
             if (!device) return;
             const auto sample = device->poll(ctx.time_us);
             // Said at each change (and a device away from the first tick), hands start disconnected.
             const auto note = [&](const char* what) {
-                if (!devices->events) return;
+                if (!devices->events()) return;
                 char line[64];
                 const int n = std::snprintf(line, sizeof line, "%lld,%s,%u,0\n", static_cast<long long>(ctx.time_us), what, static_cast<unsigned>(cube.hand));
-                (void)devices->events->write(std::string_view(line, static_cast<std::size_t>(n)));
+                (void)devices->events()->write(std::string_view(line, static_cast<std::size_t>(n)));
             };
             auto* links = r.resource<HandLinks>();
             if (!sample) {
@@ -54,7 +54,7 @@ void HandInputSystem::operator()(sched::SystemContext& ctx) {
             if (!input.connected && ctx.firing > 0) note("back");
             input.connected = true;
             if (links && cube.hand < 2) links->link[cube.hand] = DeviceLink::answering;
-            if (devices->recorder[cube.hand]) devices->recorder[cube.hand]->record(*sample);
+            if (auto* recorder = devices->recorder(cube.hand)) recorder->record(*sample);
             const double c = std::cos(map.yaw_rad);
             const double s = std::sin(map.yaw_rad);
             auto turn = [&](glm::dvec3 v) { return glm::dvec3{c * v.x - s * v.y, s * v.x + c * v.y, v.z}; };

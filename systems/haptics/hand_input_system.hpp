@@ -32,9 +32,10 @@ struct HandInputSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<HandDevices, components::WorkspaceMapping, components::HandCube, components::HandGrip,
+    using reads = sched::Components<components::WorkspaceMapping, components::HandCube, components::HandGrip,
                                     components::Kenzan, components::Table, components::StemPoints, components::StemRestShape>;
-    using writes = sched::Components<components::HandInput, components::HandProxy, components::Collider, HandLinks>;
+    // HandDevices: polling a device and recording its samples are writes (hand_devices.hpp).
+    using writes = sched::Components<HandDevices, components::HandInput, components::HandProxy, components::Collider, HandLinks>;
 
     void operator()(sched::SystemContext& ctx);
 };

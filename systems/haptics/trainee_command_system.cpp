@@ -11,14 +11,15 @@ using namespace components;
 
 void TraineeCommandSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    auto* const* channel = r.resource<TraineeChannel* const>();
-    if (!channel || !*channel) return;
+    auto* port = r.resource<ecs::Port<TraineeChannel>>();
+    if (!port) return;
+    TraineeChannel& channel = port->use();
     TraineeCommand command;
-    while ((*channel)->pop(command)) {
-        if ((*channel)->log) {
+    while (channel.pop(command)) {
+        if (channel.log) {
             char line[96];
             const int n = std::snprintf(line, sizeof line, "%lld,cut,%u,%.17g\n", static_cast<long long>(ctx.time_us), command.hand, command.keep_length_m);
-            (void)(*channel)->log->write(std::string_view(line, static_cast<std::size_t>(n)));
+            (void)channel.log->write(std::string_view(line, static_cast<std::size_t>(n)));
         }
         r.view<const HandCube, const HandGrip>().each([&](ecs::Entity, const HandCube& cube, const HandGrip& grip) {
             if (cube.hand != command.hand || grip.held.is_null()) return;

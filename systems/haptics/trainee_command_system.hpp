@@ -11,6 +11,7 @@
 #include "components/stem.hpp"
 #include "engine/core/async_line_writer.hpp"
 #include "engine/core/spsc_ring.hpp"
+#include "engine/ecs/port.hpp"
 #include "engine/sched/system.hpp"
 
 namespace ikebana::systems {
@@ -22,7 +23,7 @@ struct TraineeCommand {
     double keep_length_m = 0.0; // cut: the stem's length after the cut (what is cut off is its bottom)
 };
 
-// Main thread (or a driver) to simulation thread; the World owns it (the sim registry holds a pointer).
+// Main thread (or a driver) to simulation thread; the World owns it (each lane's registry holds an ecs::Port).
 // One producer (the main thread, or the driver of a headless demonstration) and one consumer (the
 // simulation): a lock-free ring, so the 1 kHz thread never waits for the main thread.
 class TraineeChannel {
@@ -44,8 +45,9 @@ struct TraineeCommandSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<TraineeChannel*, components::HandCube, components::HandGrip, components::StemRestShape>;
-    using writes = sched::Components<components::CutRequest>;
+    using reads = sched::Components<components::HandCube, components::HandGrip, components::StemRestShape>;
+    // The Port: taking a command off the channel is a write.
+    using writes = sched::Components<ecs::Port<TraineeChannel>, components::CutRequest>;
 
     void operator()(sched::SystemContext& ctx);
 };

@@ -7,9 +7,9 @@
 namespace ikebana::systems {
 
 void WorkspaceViewSystem::operator()(sched::SystemContext& ctx) {
-    auto* const* channel = ctx.registry.resource<ViewChannel* const>();
-    if (!channel || !*channel) return;
-    ViewChannel& view = **channel;
+    auto* port = ctx.registry.resource<ecs::Port<ViewChannel>>();
+    if (!port) return;
+    ViewChannel& view = port->use();
     const double yaw = view.yaw_rad.load(std::memory_order_relaxed);
     if (view.log && yaw != view.logged_yaw_rad) {
         char line[64];

@@ -8,11 +8,12 @@
 
 #include "components/hand.hpp"
 #include "engine/core/async_line_writer.hpp"
+#include "engine/ecs/port.hpp"
 #include "engine/sched/system.hpp"
 
 namespace ikebana::systems {
 
-// Main thread to simulation thread (the World owns it; the sim registry holds a ViewChannel* resource).
+// Main thread to simulation thread (the World owns it; each lane's registry holds an ecs::Port to it).
 struct ViewChannel {
     std::atomic<double> yaw_rad{0.0};
     // When set (before the session runs): each new yaw as the simulation takes it, one CSV line
@@ -26,8 +27,9 @@ struct WorkspaceViewSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<ViewChannel*>;
-    using writes = sched::Components<components::WorkspaceMapping>;
+    using reads = sched::Components<>;
+    // The Port: taking the yaw and writing it down in the log change the channel.
+    using writes = sched::Components<ecs::Port<ViewChannel>, components::WorkspaceMapping>;
 
     void operator()(sched::SystemContext& ctx);
 };

@@ -1,8 +1,12 @@
 #pragma once
 // The channel from the simulation lane to the main lane. The World owns it; each lane's registry holds
-// a FrameChannel* resource pointing at it.
+// an ecs::Port<FrameChannel> to it (publishing and receiving are both writes of the Port).
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/ecs/entity.hpp"
 
 #include "components/snapshot.hpp"
 #include "engine/sched/triple_buffer.hpp"
@@ -11,6 +15,15 @@ namespace ikebana::systems {
 
 struct FrameChannel {
     sched::TripleBuffer<components::FrameSnapshot> buffer;
+    // The writer's own (the simulation lane's publish_frame): per slot of the buffer, the flower and its
+    // child count whose parts each of its flower entries holds, so that an unchanged flower's parts are
+    // not copied again; and the flower entities by their index in the frame being written (kept from
+    // frame to frame: no allocation on the haptic lane).
+    struct WriterSide {
+        std::vector<const void*> slots;
+        std::vector<std::vector<std::pair<ecs::Entity, std::size_t>>> parts_in_slot;
+        std::vector<ecs::Entity> order;
+    } writer;
 };
 
 // What the main lane has received (main-lane resource).

@@ -9,20 +9,23 @@ using namespace components;
 
 void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    auto* const* channel = r.resource<FrameChannel* const>();
-    if (!channel || !*channel) return;
+    auto* port = r.resource<ecs::Port<FrameChannel>>();
+    if (!port) return;
+    FrameChannel& channel = port->use();
+    auto& slots = channel.writer.slots;
+    auto& parts_in_slot = channel.writer.parts_in_slot;
     // The writer's slot is reused: its vectors keep their capacity from frame to frame.
-    auto& frame = (*channel)->buffer.write_buffer();
+    auto& frame = channel.buffer.write_buffer();
     frame.sim_time_us = ctx.time_us;
     std::size_t count = 0;
-    auto& order = order_; // flower entities by their index in the frame
+    auto& order = channel.writer.order; // flower entities by their index in the frame
     order.clear();
     // Which of the three slots this is, for the parts it already holds.
     std::size_t slot = 0;
-    while (slot < slots_.size() && slots_[slot] != &frame) ++slot;
-    if (slot == slots_.size()) {
-        slots_.push_back(&frame);
-        parts_in_slot_.emplace_back();
+    while (slot < slots.size() && slots[slot] != &frame) ++slot;
+    if (slot == slots.size()) {
+        slots.push_back(&frame);
+        parts_in_slot.emplace_back();
     }
     r.view<const Flower, const StemPoints, const StemRestShape, const FlowerLook>().each(
         [&](ecs::Entity e, const Flower& flower, const StemPoints& points, const StemRestShape& rest, const FlowerLook& look) {
@@ -70,7 +73,7 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
             // their memory).
             const auto* children = r.try_get<const ecs::Children>(e);
             const std::size_t child_count = children ? children->entities.size() : 0;
-            auto& held = parts_in_slot_[slot];
+            auto& held = parts_in_slot[slot];
             if (held.size() <= count - 1) held.resize(count);
             if (held[count - 1] == std::pair{e, child_count}) return;
             held[count - 1] = {e, child_count};
@@ -87,7 +90,7 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
             status.parts.resize(used);
         });
     frame.flowers.resize(count);
-    parts_in_slot_[slot].resize(count); // entries dropped with their flowers are not remembered
+    parts_in_slot[slot].resize(count); // entries dropped with their flowers are not remembered
     for (auto& h : frame.hands) h = HandStatus{false, false, 0, false, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.0, -1, glm::dvec3{0.0}, false};
     r.view<const HandCube, const HandInput, const HandProxy, const HandGrip, const HandForce>().each(
         [&](ecs::Entity, const HandCube& cube, const HandInput& input, const HandProxy& proxy, const HandGrip& grip, const HandForce& force) {
@@ -99,9 +102,7 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
                 HandStatus status{true, input.connected, input.disconnects, !grip.held.is_null(), force.force_n,
                                   proxy.position_m, cube.edge_m, held, input.device_m, (input.buttons & 1u) != 0};
                 // What the device really got, after the safety chain, and the state of its link.
-                if (const auto* devices = r.resource<const HandDevices>(); devices && devices->device[cube.hand]) {
-                    status.sent = devices->device[cube.hand]->last_sent();
-                }
+                if (const auto* devices = r.resource<const HandDevices>()) status.sent = devices->last_sent(cube.hand);
                 if (const auto* links = r.resource<const HandLinks>()) {
                     status.link = input.connected ? DeviceLink::answering : links->link[cube.hand];
                     status.write_failures = links->write_failures[cube.hand];
@@ -117,7 +118,7 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
     frame.table_height_m = table ? std::optional<double>(table->height_m) : std::nullopt;
     const auto* container = r.single<const Container>();
     frame.container = container ? std::optional<Container>(*container) : std::nullopt;
-    (*channel)->buffer.publish();
+    channel.buffer.publish();
 }
 
 } // namespace ikebana::systems

@@ -14,6 +14,7 @@
 #include "components/kenzan.hpp"
 #include "components/physics.hpp"
 #include "components/stem.hpp"
+#include "engine/ecs/port.hpp"
 #include "engine/sched/system.hpp"
 #include "systems/haptics/hand_devices.hpp"
 #include "systems/presentation/frame_channel.hpp"
@@ -25,22 +26,15 @@ struct PublishFrameSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "present"; // after every system that writes what it copies
     static constexpr std::string_view rate = "render";
-    using reads = sched::Components<FrameChannel*, components::StemPoints, components::StemRestShape, components::Flower,
+    using reads = sched::Components<components::StemPoints, components::StemRestShape, components::Flower,
                                     components::FlowerLook, components::Part, ecs::Children, components::Contacts,
                                     components::HandCube, components::HandInput, components::HandProxy, components::HandGrip,
                                     components::HandForce, components::InsertionHistory, components::PinEngagement,
                                     components::KenzanGrip, components::Kenzan, components::Table, components::Container,
                                     HandDevices, HandLinks>;
-    using writes = sched::Components<>;
+    using writes = sched::Components<ecs::Port<FrameChannel>>; // publishing is a write of the channel
 
     void operator()(sched::SystemContext& ctx);
-
-private:
-    std::vector<ecs::Entity> order_; // kept from frame to frame (no allocation on the haptic lane)
-    // Per slot of the channel (this world's: it lives as long as this system), the flower and its child
-    // count whose parts each of its flower entries holds.
-    std::vector<const void*> slots_;
-    std::vector<std::vector<std::pair<ecs::Entity, std::size_t>>> parts_in_slot_;
 };
 
 } // namespace ikebana::systems

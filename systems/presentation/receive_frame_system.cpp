@@ -5,13 +5,14 @@
 namespace ikebana::systems {
 
 void ReceiveFrameSystem::operator()(sched::SystemContext& ctx) {
-    auto* const* channel = ctx.registry.resource<FrameChannel* const>();
+    auto* port = ctx.registry.resource<ecs::Port<FrameChannel>>();
     auto* received = ctx.registry.resource<ReceivedFrames>();
-    if (!channel || !*channel || !received) return;
+    if (!port || !received) return;
+    FrameChannel& channel = port->use();
     ++received->frames;
-    if (!(*channel)->buffer.update()) return; // nothing new: the current snapshot stays
+    if (!channel.buffer.update()) return; // nothing new: the current snapshot stays
     const bool first = received->current == nullptr;
-    received->current = &(*channel)->buffer.read_buffer();
+    received->current = &channel.buffer.read_buffer();
     ++received->fresh;
     const auto& now_hands = received->current->hands;
     if (received->announce && !first) {

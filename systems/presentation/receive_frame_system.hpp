@@ -3,6 +3,7 @@
 // unplugged or back.
 #include <string_view>
 
+#include "engine/ecs/port.hpp"
 #include "engine/sched/system.hpp"
 #include "systems/presentation/frame_channel.hpp"
 
@@ -13,8 +14,8 @@ struct ReceiveFrameSystem {
     static constexpr std::string_view lane = "main";
     static constexpr std::string_view phase = "receive";
     static constexpr std::string_view rate = "render";
-    using reads = sched::Components<FrameChannel*>;
-    using writes = sched::Components<ReceivedFrames>;
+    using reads = sched::Components<>;
+    using writes = sched::Components<ecs::Port<FrameChannel>, ReceivedFrames>; // receiving swaps the channel's buffers
 
     void operator()(sched::SystemContext& ctx);
 };

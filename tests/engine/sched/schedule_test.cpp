@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "engine/ecs/port.hpp"
 #include "engine/ecs/registry.hpp"
 #include "engine/sched/schedule.hpp"
 
@@ -150,12 +151,16 @@ struct Gravity {
     double g = 9.81;
 };
 
-// Declares it reads Velocity, then writes it (a mutable view): the bug the check exists for.
-struct WritesWhatItReads {
-    static constexpr std::string_view name = "writes_what_it_reads";
+// Where the systems below run: one lane, one phase, every tick.
+struct OnThePhysicsPhase {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "physics";
     static constexpr std::string_view rate = "haptic";
+};
+
+// Declares it reads Velocity, then writes it (a mutable view): the bug the check exists for.
+struct WritesWhatItReads : OnThePhysicsPhase {
+    static constexpr std::string_view name = "writes_what_it_reads";
     using reads = Components<Velocity>;
     using writes = Components<Position>;
     void operator()(SystemContext& ctx) {
@@ -163,11 +168,8 @@ struct WritesWhatItReads {
     }
 };
 // Reads a resource it never declared.
-struct ReadsAnUndeclaredResource {
+struct ReadsAnUndeclaredResource : OnThePhysicsPhase {
     static constexpr std::string_view name = "reads_an_undeclared_resource";
-    static constexpr std::string_view lane = "sim";
-    static constexpr std::string_view phase = "physics";
-    static constexpr std::string_view rate = "haptic";
     using reads = Components<Velocity>;
     using writes = Components<Position>;
     void operator()(SystemContext& ctx) {
@@ -176,11 +178,8 @@ struct ReadsAnUndeclaredResource {
     }
 };
 // Exactly what it declares: a const view of what it reads, a mutable one of what it writes.
-struct DeclaresWhatItDoes {
+struct DeclaresWhatItDoes : OnThePhysicsPhase {
     static constexpr std::string_view name = "declares_what_it_does";
-    static constexpr std::string_view lane = "sim";
-    static constexpr std::string_view phase = "physics";
-    static constexpr std::string_view rate = "haptic";
     using reads = Components<Velocity, Gravity>;
     using writes = Components<Position>;
     void operator()(SystemContext& ctx) {
@@ -189,17 +188,45 @@ struct DeclaresWhatItDoes {
     }
 };
 
+// Queues an emplace of what it declared only read: a deferred write is still its write.
+struct QueuesAWriteOfWhatItReads : OnThePhysicsPhase {
+    static constexpr std::string_view name = "queues_a_write";
+    using reads = Components<Velocity>;
+    using writes = Components<Position>;
+    void operator()(SystemContext& ctx) {
+        ctx.registry.view<Position>().each([&](ecs::Entity e, Position&) { ctx.registry.commands().emplace<Velocity>(e, Velocity{2.0}); });
+    }
+};
+// Declares more than it does: reads Gravity and never looks at it, writes Velocity and only reads it.
+struct DeclaresMoreThanItDoes : OnThePhysicsPhase {
+    static constexpr std::string_view name = "declares_more";
+    using reads = Components<Gravity>;
+    using writes = Components<Position, Velocity>;
+    void operator()(SystemContext& ctx) {
+        ctx.registry.view<Position, const Velocity>().each([&](ecs::Entity, Position& p, const Velocity& v) { p.x += v.v; });
+    }
+};
+
+// One entity with a Position and a Velocity, Gravity as a resource, and S alone in a schedule.
+template <typename S>
+struct OneSystem {
+    ecs::Registry registry;
+    Schedule schedule;
+    OneSystem() {
+        registry.set_resource<Gravity>();
+        const auto e = registry.create();
+        registry.emplace<Position>(e);
+        registry.emplace<Velocity>(e, Velocity{1.0});
+        EXPECT_TRUE(schedule.add_lane({"sim", &registry, LaneThread::caller, {"physics"}}));
+        EXPECT_TRUE(schedule.add(describe(S{})));
+        EXPECT_TRUE(schedule.finalize());
+    }
+};
+
 template <typename S>
 std::string first_firing_error() {
-    ecs::Registry registry;
-    registry.set_resource<Gravity>();
-    const auto e = registry.create();
-    registry.emplace<Position>(e);
-    registry.emplace<Velocity>(e, Velocity{1.0});
-    Schedule schedule;
-    EXPECT_TRUE(schedule.add_lane({"sim", &registry, LaneThread::caller, {"physics"}}));
-    EXPECT_TRUE(schedule.add(describe(S{})));
-    EXPECT_TRUE(schedule.finalize());
+    OneSystem<S> one;
+    auto& [registry, schedule] = one;
     try {
         schedule.systems()[0].fire(registry);
     } catch (const ecs::UndeclaredAccess& error) {
@@ -218,9 +245,55 @@ TEST(Schedule, RefusesUndeclaredComponentAccess) {
               "system 'writes_what_it_reads' writes '{anonymous}::Velocity' without declaring it (declared read only: view it as const)");
     EXPECT_EQ(first_firing_error<ReadsAnUndeclaredResource>(), "system 'reads_an_undeclared_resource' reads '{anonymous}::Gravity' without declaring it");
     EXPECT_EQ(first_firing_error<DeclaresWhatItDoes>(), "") << "a system true to its declaration runs";
+    EXPECT_EQ(first_firing_error<QueuesAWriteOfWhatItReads>(),
+              "system 'queues_a_write' writes '{anonymous}::Velocity' without declaring it (declared read only: view it as const)")
+        << "an emplace queued in the command buffer is checked as it is queued";
 }
 
-// Outside systems (set-up, tests, the command buffer) nothing is checked.
+// Over-declaring is reported: a declaration the body never uses orders systems for nothing and hides
+// the access that matters. Only systems that have fired are judged.
+TEST(Schedule, ReportsDeclaredAccessTheSystemNeverUsed) {
+    OneSystem<DeclaresMoreThanItDoes> more;
+    auto& [registry, schedule] = more;
+    EXPECT_TRUE(schedule.unused_access().empty()) << "a system that has not fired is not judged";
+    schedule.systems()[0].fire(registry);
+    const std::vector<std::string> expected{"system 'declares_more' declares writing '{anonymous}::Velocity' and only reads it",
+                                            "system 'declares_more' declares reading '{anonymous}::Gravity' and never reads it"};
+    EXPECT_EQ(schedule.unused_access(), expected);
+
+    OneSystem<DeclaresWhatItDoes> exact;
+    exact.schedule.systems()[0].fire(exact.registry);
+    EXPECT_TRUE(exact.schedule.unused_access().empty()) << "a declaration that is all used says nothing";
+}
+
+// No pointer is a resource (a `T* const` read let a system write through it), and a Port's target is
+// reached only from a non-const Port, that is, by a system that declared the Port written.
+template <typename T>
+concept HoldsAsResource = requires(ecs::Registry& r) { r.resource<T>(); };
+static_assert(HoldsAsResource<Gravity> && HoldsAsResource<const Gravity>);
+static_assert(!HoldsAsResource<Gravity*> && !HoldsAsResource<Gravity* const> && !HoldsAsResource<const Gravity*>);
+template <typename P>
+concept Usable = requires(P& p) { p.use(); };
+static_assert(Usable<ecs::Port<Gravity>> && !Usable<const ecs::Port<Gravity>>);
+
+TEST(Schedule, APortIsUsedOnlyByASystemThatDeclaredItWritten) {
+    Gravity shared{};
+    ecs::Registry registry;
+    registry.set_resource<ecs::Port<Gravity>>(shared);
+    registry.resource<ecs::Port<Gravity>>()->use().g = 2.0;
+    EXPECT_EQ(shared.g, 2.0) << "the Port reaches what lives outside the registry";
+    ecs::AccessMask reader;
+    reader.system = "reader";
+    reader.by_type.assign(ecs::type_id<ecs::Port<Gravity>>() + 1, ecs::AccessMask::none);
+    reader.by_type[ecs::type_id<ecs::Port<Gravity>>()] = ecs::AccessMask::read;
+    reader.used.assign(reader.by_type.size(), ecs::AccessMask::none);
+    registry.set_access_mask(&reader);
+    EXPECT_THROW((void)registry.resource<ecs::Port<Gravity>>(), ecs::UndeclaredAccess) << "declared read, it cannot be had to use";
+    EXPECT_NE(registry.resource<const ecs::Port<Gravity>>(), nullptr);
+    registry.set_access_mask(nullptr);
+}
+
+// Outside systems (set-up, tests, applying the command buffer) nothing is checked.
 TEST(Schedule, AccessIsCheckedOnlyWhileASystemRuns) {
     ecs::Registry registry;
     const auto e = registry.create();

@@ -238,8 +238,8 @@ TEST(ForceSafety, TheCouplingIsEachProfilesOwnCappedByWhatTheDeviceRendersStably
     const auto coupling_of = [](std::unique_ptr<devices::HapticDevice> device) {
         auto w = world_with_one_hand();
         w->attach_device(0, std::move(device));
-        const auto* slots = w->sim.resource<const systems::HandDevices>();
-        return std::pair{slots->coupling_n_per_m[0], slots->coupling_damping_ns_per_m[0]};
+        const auto* coupling = w->sim.resource<const systems::HandCoupling>();
+        return std::pair{coupling->n_per_m[0], coupling->damping_ns_per_m[0]};
     };
     const auto diy = coupling_of(std::make_unique<devices::DiyForceDevice>(std::make_unique<test::FakeTransport>()));
     EXPECT_EQ(diy, (std::pair{devices::diy_coupling_n_per_m, devices::diy_coupling_damping_ns_per_m})) << "DIY: protocol v1 declares no maximum";
@@ -270,4 +270,29 @@ TEST(ForceSafety, TheCouplingIsEachProfilesOwnCappedByWhatTheDeviceRendersStably
         const double gap_m = w->sim.get<components::HandProxy>(w->hands[0]).position_m.z - w->sim.get<components::HandInput>(w->hands[0]).device_m.z;
         EXPECT_NEAR(asked, (stiffness > 0.0 ? stiffness : 400.0) * gap_m, 1e-6) << stiffness;
     }
+}
+
+// A device whose writes fail, in a world: the force system counts each failure for the HUD (the one
+// declared access a demonstration never uses, LessonDemo.TheShokaDemoBends...), the link is said lost.
+TEST(ForceSafety, AWorldCountsTheWritesItsDeviceRefusedAndSaysTheLinkIsLost) {
+    struct Refusing final : devices::HapticDevice {
+        devices::DeviceCapabilities caps{"refusing", true, 10.0, glm::dvec3{0.1}, true};
+        const devices::DeviceCapabilities& capabilities() const override { return caps; }
+        Result<devices::DeviceSample> poll(std::int64_t now_us) override {
+            devices::DeviceSample s;
+            s.time_us = now_us;
+            s.position = {0.3, 0.3, 0.1};
+            return s;
+        }
+        Result<void> send_force(glm::dvec3) override { return make_error(ErrorCode::io_error, "the wire refused"); }
+    };
+    auto w = world_with_one_hand();
+    w->attach_device(0, std::make_unique<Refusing>());
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(200'000);
+    const auto* links = w->sim.resource<const systems::HandLinks>();
+    ASSERT_NE(links, nullptr);
+    EXPECT_GE(links->write_failures[0], 1u);
+    EXPECT_EQ(links->link[0], components::DeviceLink::lost);
+    for (const auto& line : w->schedule.unused_access()) EXPECT_EQ(line.find("'hand_force' declares writing 'systems::HandLinks'"), std::string::npos) << line;
 }

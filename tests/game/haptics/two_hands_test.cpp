@@ -162,7 +162,8 @@ TEST(TwoHands, ReplayedSessionGivesTheSameWorldHash) {
     devices::DeviceRecorder left(left_file, AsyncLineWriter::WhenFull::wait);
     devices::DeviceRecorder right(right_file, AsyncLineWriter::WhenFull::wait);
     auto live = make_live();
-    live->sim.resource<systems::HandDevices>()->recorder = {&left, &right};
+    live->sim.resource<systems::HandDevices>()->record_to(0, &left);
+    live->sim.resource<systems::HandDevices>()->record_to(1, &right);
     sched::DeterministicClock live_clock(live->schedule);
     live_clock.run_for_us(2'000'000);
     left.flush();

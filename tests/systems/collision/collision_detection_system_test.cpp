@@ -223,10 +223,13 @@ TEST(CollisionDetection, APassSpreadOverTicksFindsWhatTheWholePassFinds) {
     int ticks = 0;
     std::uint64_t most_pairs_a_tick = 0;
     for (; ticks < 40 && r.resource<Contacts>()->list.empty(); ++ticks) {
-        const auto before = spread.pass.pairs_tested;
+        const auto before = systems::collision_pass::of(r).pairs_tested;
         sched::SystemContext ctx{r, 1000 * ticks, 0.001, 0};
         spread(ctx);
-        if (spread.step > 0) most_pairs_a_tick = std::max(most_pairs_a_tick, spread.pass.pairs_tested - before);
+        const auto& pass = systems::collision_pass::of(r);
+        // The world's one pass state: the whole pass above left its count, which the spread pass's start resets.
+        const auto this_tick = pass.pairs_tested >= before ? pass.pairs_tested - before : pass.pairs_tested;
+        if (pass.step > 0) most_pairs_a_tick = std::max(most_pairs_a_tick, this_tick);
     }
     const Contacts& spread_contacts = *r.resource<Contacts>();
     EXPECT_EQ(ticks, static_cast<int>(spread.gather_slices + spread.slices) + 3) << "the update's tick, the index, the gathers, the slices, the pins";
@@ -261,4 +264,25 @@ TEST(CollisionDetection, UpdatesFasterThanASpreadPassStillGiveContacts) {
         (void)before;
     }
     EXPECT_GE(published, 10) << "a pass every 16 ticks or so";
+}
+
+// A spread pass keeps what it took and found from tick to tick. That state was once kept in the system
+// object, outside the registry: two worlds in different places of a pass had one state hash, and a
+// world rebuilt from its registry lost the pass. It is the registry's CollisionPass now.
+TEST(CollisionDetection, APassInProgressIsPartOfTheWorldsStateHash) {
+    ecs::Registry r;
+    add<ActiveCollider>(r, sphere({0, 0, 0.015}, 0.01));
+    add<PassiveCollider>(r, sphere({0, 0, 0}, 0.01));
+    r.set_resource<ColliderPass>().generation = 1;
+    r.set_resource<Contacts>();
+    systems::SpreadCollisionSystem spread;
+    std::vector<std::uint64_t> hashes;
+    for (int tick = 0; tick < 4; ++tick) {
+        sched::SystemContext ctx{r, 1000 * tick, 0.001, 0};
+        spread(ctx);
+        hashes.push_back(r.state_hash());
+    }
+    EXPECT_NE(hashes[0], hashes[1]) << "taking the colliders changes the state";
+    EXPECT_NE(hashes[1], hashes[2]) << "each slice changes the state";
+    EXPECT_EQ(r.count<CollisionPass>(), 1u) << "one pass state per world";
 }
