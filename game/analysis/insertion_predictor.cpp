@@ -186,13 +186,11 @@ Result<InsertionPredictor::Simulation> InsertionPredictor::simulate(const Insert
     for (const auto& [name, v] : c.covariates.category) {
         if (used.contains(name)) environment.category[name] = v;
     }
-    auto scene = experiment_bench_scene(c.species, kenzan_, 1, std::move(environment));
-    if (!scene) return std::move(scene).error();
-    auto world = World::create(*scene, WorldOptions{.rate_overrides = {}, .force_scheme = {}, .main_lane_systems = {}, .frames = false});
-    if (!world) return std::move(world).error();
-    World& w = **world;
+    auto bench = make_bench_world(c.species, kenzan_, 1, std::move(environment));
+    if (!bench) return std::move(bench).error();
+    World& w = *bench->world;
     auto& r = w.sim;
-    const ecs::Entity flower = w.flowers[0].entity;
+    const ecs::Entity flower = bench->flower;
     const Kenzan& k = *r.single<Kenzan>();
     auto& model = r.get<PinResistance>(flower);
     // The split is conditioned on below, not drawn.

@@ -24,13 +24,9 @@
 namespace ikebana::game {
 
 int run_sim(const SimOptions& options) {
-    auto scene = load_scene(options.scene);
+    auto scene = with_environment(load_scene(options.scene), options.env);
     if (!scene) {
         std::cerr << "ikebana sim: " << scene.error().message << "\n";
-        return 2;
-    }
-    if (auto env = apply_environment_overrides(scene->environment, options.env); !env) {
-        std::cerr << "ikebana sim: " << env.error().message << "\n";
         return 2;
     }
     auto world = World::create(*scene, WorldOptions{.rate_overrides = options.rates, .force_scheme = options.force_scheme, .main_lane_systems = {}});

@@ -63,15 +63,23 @@ Result<SceneDef> experiment_bench_scene(const std::string& species, const std::s
     return scene;
 }
 
-Result<TrialResult> run_insertion_trial(const ExperimentOptions& o, std::uint64_t trial_seed, bool stop_at_fall,
-                                        std::optional<bool> force_broken) {
-    auto scene = experiment_bench_scene(o.species, o.kenzan, trial_seed, o.environment);
+Result<BenchWorld> make_bench_world(const std::string& species, const std::string& kenzan_layout, std::uint64_t seed,
+                                    systems::insertion::Covariates environment) {
+    auto scene = experiment_bench_scene(species, kenzan_layout, seed, std::move(environment));
     if (!scene) return std::move(scene).error();
     auto world = World::create(*scene, WorldOptions{.rate_overrides = {}, .force_scheme = {}, .main_lane_systems = {}, .frames = false});
     if (!world) return std::move(world).error();
-    World& w = **world;
+    const ecs::Entity flower = (*world)->flowers[0].entity;
+    return BenchWorld{std::move(world).value(), flower};
+}
+
+Result<TrialResult> run_insertion_trial(const ExperimentOptions& o, std::uint64_t trial_seed, bool stop_at_fall,
+                                        std::optional<bool> force_broken) {
+    auto bench = make_bench_world(o.species, o.kenzan, trial_seed, o.environment);
+    if (!bench) return std::move(bench).error();
+    World& w = *bench->world;
     auto& r = w.sim;
-    const ecs::Entity flower = w.flowers[0].entity;
+    const ecs::Entity flower = bench->flower;
     const Kenzan& k = *r.single<Kenzan>();
     if (force_broken.has_value()) {
         auto& model = r.get<PinResistance>(flower);

@@ -6,6 +6,7 @@
 // many pins enter the stem.
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 
 #include "game/scene/scene.hpp"
 #include "game/species/species.hpp"
+#include "game/world/world.hpp"
 #include "systems/insertion/deterioration.hpp"
 
 namespace ikebana::game {
@@ -90,6 +92,14 @@ using ExperimentProgress = std::function<void(std::uint32_t done, std::uint32_t 
 // predictor of measured data both simulate insertions on it.
 Result<SceneDef> experiment_bench_scene(const std::string& species, const std::string& kenzan_layout, std::uint64_t seed,
                                         systems::insertion::Covariates environment);
+
+// That bench as a world (no hands, no frames: nothing is shown), with its one flower.
+struct BenchWorld {
+    std::unique_ptr<World> world;
+    ecs::Entity flower;
+};
+Result<BenchWorld> make_bench_world(const std::string& species, const std::string& kenzan_layout, std::uint64_t seed,
+                                    systems::insertion::Covariates environment);
 
 Result<ExperimentResult> run_insertion_experiment(const ExperimentOptions& options, const ExperimentProgress& progress = {});
 

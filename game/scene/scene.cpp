@@ -173,4 +173,10 @@ Result<void> apply_environment_overrides(systems::insertion::Covariates& environ
     return Ok{};
 }
 
+Result<SceneDef> with_environment(Result<SceneDef> scene, const std::vector<std::string>& settings) {
+    if (!scene) return scene;
+    if (auto env = apply_environment_overrides(scene->environment, settings); !env) return std::move(env).error();
+    return scene;
+}
+
 } // namespace ikebana::game

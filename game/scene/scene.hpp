@@ -98,5 +98,8 @@ Result<SceneDef> load_scene(const std::filesystem::path& path);
 // numeric, anything else a category. All or nothing: on an error (naming the setting) the
 // environment is unchanged.
 Result<void> apply_environment_overrides(systems::insertion::Covariates& environment, const std::vector<std::string>& settings);
+// A scene as loaded (a file's, or a lesson's) with those settings over its environment: the load's
+// error, or the first bad setting's.
+Result<SceneDef> with_environment(Result<SceneDef> scene, const std::vector<std::string>& settings);
 
 } // namespace ikebana::game

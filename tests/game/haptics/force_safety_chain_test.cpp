@@ -17,6 +17,7 @@
 #include "game/scene/scene.hpp"
 #include "game/world/world.hpp"
 #include "systems/haptics/hand_devices.hpp"
+#include "scripted_hands.hpp"
 #include "tests/support/fake_transport.hpp"
 
 using namespace ikebana;
@@ -45,15 +46,9 @@ struct Probe final : devices::HapticDevice {
 };
 
 std::unique_ptr<World> world_with_one_hand() {
-    SceneDef scene{};
-    scene.seed = 1;
-    scene.gravity_m_s2 = {0, 0, -9.80665};
-    scene.kenzan_layout = "standard";
-    scene.kenzan_position_m = {0, 0, 0.008};
+    SceneDef scene = test::kenzan_bench();
     scene.hands.push_back({0, {0.3, 0.3, 0.1}, 0.02, ""});
-    auto w = World::create(scene);
-    EXPECT_TRUE(w) << (w ? "" : w.error().message);
-    return std::move(w).value();
+    return test::world_of(scene);
 }
 
 // Where the probes of the wrapping test hold their handles (they read it at each poll).

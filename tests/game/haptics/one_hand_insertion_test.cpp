@@ -18,17 +18,10 @@ namespace {
 
 // The default scene's sunflower, standing in the kenzan at 30 degrees from the vertical.
 std::unique_ptr<World> standing_sunflower() {
-    SceneDef scene{};
-    scene.seed = 1;
-    scene.gravity_m_s2 = {0, 0, -9.80665};
-    scene.kenzan_layout = "standard";
-    scene.kenzan_position_m = {0, 0, 0.008};
+    SceneDef scene = test::kenzan_bench();
     scene.flowers.push_back({"sunflower", Placement::inserted, {-0.006, 0.0, 0.010}, glm::normalize(glm::dvec3{0.5, 0.0, 0.866}), 0.013});
-    scene.hands.push_back({0, {-0.12, -0.06, 0.15}, 0.02, ""});
-    scene.hands.push_back({1, {0.12, -0.06, 0.15}, 0.02, ""});
-    auto world = World::create(scene);
-    EXPECT_TRUE(world) << (world ? "" : world.error().message);
-    return std::move(world).value();
+    test::add_two_hands(scene, {-0.12, -0.06, 0.15}, {0.12, -0.06, 0.15});
+    return test::world_of(scene);
 }
 
 glm::dvec3 point(World& w, std::size_t i) { return w.sim.get<StemPoints>(w.flowers[0].entity).position_m[i]; }

@@ -7,6 +7,7 @@
 #include "components/stem.hpp"
 #include "engine/sched/clocks.hpp"
 #include "game/world/world.hpp"
+#include "scripted_hands.hpp"
 #include "systems/haptics/hand_input_system.hpp"
 
 using namespace ikebana;
@@ -26,17 +27,10 @@ struct RateDevice final : devices::HapticDevice {
 };
 
 std::unique_ptr<World> lying_flower() {
-    SceneDef scene{};
-    scene.seed = 1;
-    scene.gravity_m_s2 = {0, 0, -9.80665};
-    scene.kenzan_layout = "standard";
-    scene.kenzan_position_m = {0, 0, 0.008};
+    SceneDef scene = test::kenzan_bench();
     scene.flowers.push_back({"sunflower", Placement::lying, {0.1, 0.1, 0.0}, {1, 0, 0}, 0.0});
-    scene.hands.push_back({0, {-0.1, 0.2, 0.1}, 0.02, ""});
-    scene.hands.push_back({1, {0.2, 0.2, 0.1}, 0.02, ""});
-    auto world = World::create(scene);
-    EXPECT_TRUE(world) << (world ? "" : world.error().message);
-    return std::move(world).value();
+    test::add_two_hands(scene, {-0.1, 0.2, 0.1}, {0.2, 0.2, 0.1});
+    return test::world_of(scene);
 }
 
 // The held stem's direction in the table's plane (radians about the vertical).

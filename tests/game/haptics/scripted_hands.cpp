@@ -9,6 +9,26 @@
 
 namespace ikebana::test {
 
+game::SceneDef kenzan_bench() {
+    game::SceneDef scene{};
+    scene.seed = 1;
+    scene.gravity_m_s2 = {0, 0, -9.80665};
+    scene.kenzan_layout = "standard";
+    scene.kenzan_position_m = {0, 0, 0.008};
+    return scene;
+}
+
+void add_two_hands(game::SceneDef& scene, glm::dvec3 left_m, glm::dvec3 right_m) {
+    scene.hands.push_back({0, left_m, 0.02, ""});
+    scene.hands.push_back({1, right_m, 0.02, ""});
+}
+
+std::unique_ptr<game::World> world_of(const game::SceneDef& scene) {
+    auto world = game::World::create(scene);
+    EXPECT_TRUE(world) << (world ? "" : world.error().message);
+    return world ? std::move(world).value() : nullptr;
+}
+
 std::unique_ptr<devices::ScriptedDevice> script(const std::vector<Key>& keys) {
     std::ostringstream csv;
     csv << "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n";

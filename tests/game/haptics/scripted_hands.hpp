@@ -6,11 +6,21 @@
 #include "engine/devices/scripted_device.hpp"
 #include "engine/ecs/entity.hpp"
 
+#include "game/scene/scene.hpp"
+
 namespace ikebana::game {
 class World;
 }
 
 namespace ikebana::test {
+
+// The bench the haptics tests share: seed 1, gravity, the standard kenzan on the table at the origin;
+// no flowers and no hands (each test puts its own).
+game::SceneDef kenzan_bench();
+// The hands most tests use: left and right at these places, 2 cm cubes.
+void add_two_hands(game::SceneDef& scene, glm::dvec3 left_m, glm::dvec3 right_m);
+// A world of the scene; one that does not build fails the test (and is null).
+std::unique_ptr<game::World> world_of(const game::SceneDef& scene);
 
 // One hand's four components read together, for assertions.
 struct HandView {

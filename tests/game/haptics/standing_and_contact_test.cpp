@@ -27,22 +27,13 @@ namespace {
 constexpr double deg = 3.14159265358979323846 / 180.0;
 
 SceneDef scene_with(const std::string& species, double tilt_deg) {
-    SceneDef scene{};
-    scene.seed = 1;
-    scene.gravity_m_s2 = {0, 0, -9.80665};
-    scene.kenzan_layout = "standard";
-    scene.kenzan_position_m = {0, 0, 0.008};
+    SceneDef scene = test::kenzan_bench();
     scene.flowers.push_back({species, Placement::inserted, {-0.006, 0.0, 0.010}, {std::sin(tilt_deg * deg), 0.0, std::cos(tilt_deg * deg)}, 0.013});
-    scene.hands.push_back({0, {-0.12, -0.06, 0.15}, 0.02, ""});
-    scene.hands.push_back({1, {0.12, -0.06, 0.15}, 0.02, ""});
+    test::add_two_hands(scene, {-0.12, -0.06, 0.15}, {0.12, -0.06, 0.15});
     return scene;
 }
 
-std::unique_ptr<World> make(const SceneDef& scene) {
-    auto world = World::create(scene);
-    EXPECT_TRUE(world) << (world ? "" : world.error().message);
-    return std::move(world).value();
-}
+std::unique_ptr<World> make(const SceneDef& scene) { return test::world_of(scene); }
 
 const std::vector<glm::dvec3>& points(World& w, std::size_t flower = 0) { return w.sim.get<StemPoints>(w.flowers[flower].entity).position_m; }
 

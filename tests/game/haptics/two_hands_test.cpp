@@ -26,17 +26,10 @@ namespace {
 // A sunflower lying along +x on the table (points every 11.5 mm from x = 0.1), two hands, no gravity
 // tricks: the real world setup.
 std::unique_ptr<World> lying_flower(glm::dvec3 base = {0.1, 0.1, 0.0}, glm::dvec3 direction = {1, 0, 0}) {
-    SceneDef scene{};
-    scene.seed = 1;
-    scene.gravity_m_s2 = {0, 0, -9.80665};
-    scene.kenzan_layout = "standard";
-    scene.kenzan_position_m = {0, 0, 0.008};
+    SceneDef scene = test::kenzan_bench();
     scene.flowers.push_back({"sunflower", Placement::lying, base, glm::normalize(direction), 0.0});
-    scene.hands.push_back({0, {0.1, 0.2, 0.1}, 0.02, ""});
-    scene.hands.push_back({1, {0.2, 0.2, 0.1}, 0.02, ""});
-    auto world = World::create(scene);
-    EXPECT_TRUE(world) << (world ? "" : world.error().message);
-    return std::move(world).value();
+    test::add_two_hands(scene, {0.1, 0.2, 0.1}, {0.2, 0.2, 0.1});
+    return test::world_of(scene);
 }
 
 glm::dvec3 point(World& w, std::size_t i) { return w.sim.get<StemPoints>(w.flowers[0].entity).position_m[i]; }
@@ -194,15 +187,10 @@ struct BendRun {
 };
 // A cherry branch lying on the table, and two hands above it.
 std::unique_ptr<World> branch_and_two_hands() {
-    SceneDef scene{};
-    scene.seed = 1;
-    scene.gravity_m_s2 = {0, 0, -9.80665};
-    scene.kenzan_layout = "standard";
-    scene.kenzan_position_m = {0, 0, 0.008};
+    SceneDef scene = test::kenzan_bench();
     scene.flowers.push_back({"cherry_branch", Placement::lying, {0.1, 0.1, 0.0}, {1, 0, 0}, 0.0});
-    scene.hands.push_back({0, {0.1, 0.2, 0.1}, 0.02, ""});
-    scene.hands.push_back({1, {0.2, 0.2, 0.1}, 0.02, ""});
-    return std::move(World::create(scene)).value();
+    test::add_two_hands(scene, {0.1, 0.2, 0.1}, {0.2, 0.2, 0.1});
+    return test::world_of(scene);
 }
 BendRun bend_branch(double roll, double roll_at_start = 0.0) {
     BendRun run;
