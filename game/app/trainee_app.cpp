@@ -24,6 +24,9 @@
 #include "game/render/pointer_aim.hpp"
 #include "game/app/replay_window.hpp"
 #include "game/app/start_screen.hpp"
+#include "game/app/stored_sessions.hpp"
+#include "game/app/window_camera.hpp"
+#include "game/render/frame_timings.hpp"
 #include "game/app/window_stack.hpp"
 #include "engine/render/ui_layer.hpp"
 #include "engine/platform/window.hpp"
@@ -69,12 +72,6 @@ std::string status_line(const components::FrameSnapshot& frame) {
     return s;
 }
 
-double percentile(std::vector<double> v, double q) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v[static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)))];
-}
-
 int offscreen_instead(const TraineeAppOptions& o, const std::string& why) {
     const auto out = (std::filesystem::temp_directory_path() / "ikebana-frames").string();
     std::printf("ikebana: %s; rendering the scene offscreen instead\n", why.c_str());
@@ -94,37 +91,50 @@ int offscreen_instead(const TraineeAppOptions& o, const std::string& why) {
     return code;
 }
 
-// The main lane's two systems of the window: input (keys, pointer, camera, Enter) and draw (present
-// what prepare_frame_system prepared). They call back into the session that owns the window.
-struct WindowInputSystem {
-    static constexpr std::string_view name = "window_input";
+class TraineeSession;
+
+// The main lane's three systems of the window, at the scheduler's render rate (30 Hz by default):
+// input (the window's events, the lesson's panel, the camera, the cursor's aim, the lesson's keys and
+// Enter's score), the frame's state for --state-out (after input: a driver waiting on it is not kept
+// waiting for the frame's drawing too), and draw (present what prepare_frame_system prepared). What they touch of the world is declared and checked
+// like any system's; the window, Dear ImGui, the progress database and the state file are the
+// session's own, and no other system touches them.
+// What the three share: the main lane, a frame at the render rate, the session they work for.
+struct OnTheWindowFrame {
     static constexpr std::string_view lane = "main";
+    static constexpr std::string_view rate = "render";
+    TraineeSession* session = nullptr;
+};
+struct WindowInputSystem : OnTheWindowFrame {
+    static constexpr std::string_view name = "window_input";
     static constexpr std::string_view phase = "input";
-    static constexpr std::string_view rate = "render"; // frames at the scheduler's render rate (30 Hz by default)
     using reads = sched::Components<systems::ReceivedFrames>;
     // The Ports: the camera's turn goes to the hands' workspace, a cut to the simulation.
     using writes = sched::Components<components::HudInfo, components::Scenery, ecs::Port<systems::ViewChannel>, ecs::Port<systems::TraineeChannel>>;
-    std::function<void(sched::SystemContext&)> body;
-    void operator()(sched::SystemContext& ctx) { body(ctx); }
+    void operator()(sched::SystemContext& ctx);
 };
-struct WindowDrawSystem {
+struct WindowDrawSystem : OnTheWindowFrame {
     static constexpr std::string_view name = "window_draw";
-    static constexpr std::string_view lane = "main";
     static constexpr std::string_view phase = "draw";
-    static constexpr std::string_view rate = "render";
     using reads = sched::Components<systems::ReceivedFrames, components::PreparedFrame>;
     using writes = sched::Components<>;
-    std::function<void(sched::SystemContext&)> body;
-    void operator()(sched::SystemContext& ctx) { body(ctx); }
+    void operator()(sched::SystemContext& ctx);
+};
+struct WindowStateSystem : OnTheWindowFrame {
+    static constexpr std::string_view name = "window_state";
+    static constexpr std::string_view phase = "input"; // after window_input
+    using reads = sched::Components<systems::ReceivedFrames>;
+    using writes = sched::Components<>;
+    void operator()(sched::SystemContext& ctx);
 };
 
-// One training session in the window: open (scene, devices, window, Vulkan, world), a frame as two
+// One training session in the window: open (scene, devices, window, Vulkan, world), a frame as three
 // main-lane systems under the real-time clock (the simulation runs on its own 1 kHz thread), finish
 // (forces to zero, screenshot, figures). Members are destroyed in reverse order: the world and the
 // renderer before the surface, the surface before the Vulkan context.
 class TraineeSession {
 public:
-    explicit TraineeSession(const TraineeAppOptions& options) : o_(options) {}
+    explicit TraineeSession(const TraineeAppOptions& options) : o_(options), stored_(options) {}
     // Opens the window and everything it needs. Without a display the session is rendered offscreen
     // instead and is over; so it is after an error (already said). Either way: the exit code.
     int open();
@@ -132,8 +142,12 @@ public:
     int run_and_finish();
     int run_once();
 
-private:
+    // The window systems' bodies (main lane, each frame).
     void input(sched::SystemContext& main_lane);
+    void draw(sched::SystemContext& main_lane);
+    void write_state(sched::SystemContext& main_lane);
+
+private:
     void lesson_keys(const platform::PointerState& in, sched::SystemContext& main_lane);
     void show_result(const std::vector<std::string>& lines, components::HudInfo& hud) const;
     int build_world();
@@ -143,12 +157,8 @@ private:
     // The start screen until a lesson is chosen (its id) or the trainee leaves (nullopt).
     std::optional<std::string> run_start_screen();
     void write_screenshot();
-    void draw(sched::SystemContext& main_lane);
     void fail(const std::string& message, int exit_code);
-    [[nodiscard]] std::string frame_times() const;
     void report_figures(const std::string& figures) const;
-    void open_progress();
-    void store_session(const FormScore& result, const components::FrameSnapshot& frame, components::HudInfo& hud);
 
     const TraineeAppOptions& o_;
     std::optional<SceneDef> scene_;
@@ -181,32 +191,26 @@ private:
     std::unique_ptr<World> world_;
 
     glm::dvec3 kenzan_at_{0.0};
-    render::StereoRig base_rig_;
-    double yaw_ = 0.0, pitch_ = 0.0;
+    WindowCamera camera_;
     PointerAim aim_;
-    [[nodiscard]] PointerView pointer_view() const { return {render::orbited(base_rig_, yaw_, pitch_), mode_, yaw_}; }
-    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-    glm::dvec2 drag_from_{0.0};
-    bool dragging_ = false;
+    [[nodiscard]] PointerView pointer_view() const { return {camera_.rig(), mode_, camera_.yaw_rad()}; }
+    // This frame's reading, kept from input to the state written after the frame is drawn.
+    platform::PointerState read_;
+    std::chrono::steady_clock::time_point read_at_ = std::chrono::steady_clock::now();
+    bool state_due_ = false;
     bool enter_was_down_ = false;
     std::uint32_t presented_ = 0;
-    std::vector<double> frame_ms_, record_ms_, shadow_ms_, eyes_ms_, composite_ms_, present_ms_;
-    std::chrono::steady_clock::time_point previous_frame_ = std::chrono::steady_clock::now();
+    FrameTimings timings_;
     std::optional<render::RgbaImage> last_shot_;
     std::atomic<bool> stop_{false};
     int code_ = 0;
-    // The trainee's progress: each scored session of a lesson, stored again at each later Enter.
-    std::optional<ProgressDb> progress_;
-    std::string progress_error_; // why sessions are not stored (said once, and under each result)
-    SessionRecord session_;
-    std::chrono::steady_clock::time_point session_start_ = std::chrono::steady_clock::now();
-    // Each stored session's recording (the hands' samples, cuts, the camera's turns, the clock's
-    // skips), for `ikebana replay`: made with the world, finished when it stops, at the last Enter's score.
-    std::unique_ptr<SessionRecorder> recorder_;
-    std::optional<std::pair<std::int64_t, double>> scored_; // the scored frame's time (us) and the score
-    void start_recording();
-    void finish_recording();
+    // The trainee's progress: each scored session of a lesson stored, and recorded for replay.
+    StoredSessions stored_;
 };
+
+void WindowInputSystem::operator()(sched::SystemContext& ctx) { session->input(ctx); }
+void WindowDrawSystem::operator()(sched::SystemContext& ctx) { session->draw(ctx); }
+void WindowStateSystem::operator()(sched::SystemContext& ctx) { session->write_state(ctx); }
 
 void TraineeSession::fail(const std::string& message, int exit_code) {
     std::cerr << "ikebana: " << message << "\n";
@@ -228,12 +232,9 @@ int TraineeSession::load_content(const std::string& lesson_id) {
         scene = scene_for_lesson(*lesson_);
         if (auto f = footprint_of(*lesson_); f) footprint_ = *f;
     }
+    scene = with_environment(std::move(scene), o_.env);
     if (!scene) {
         std::cerr << "ikebana: " << scene.error().message << "\n";
-        return 2;
-    }
-    if (auto env = apply_environment_overrides(scene->environment, o_.env); !env) {
-        std::cerr << "ikebana: " << env.error().message << "\n";
         return 2;
     }
     scene_ = std::move(scene).value();
@@ -291,8 +292,10 @@ int TraineeSession::open() {
     // The window's own pointer is aimed through the camera (PointerAim), which keeps a Ctrl+drag off
     // the window's edge itself.
     pointer_ = o_.pointer ? o_.pointer : window_pointer_;
-    base_rig_ = rig_of(scene_->display);
-    open_progress();
+    camera_.reset(rig_of(scene_->display));
+    const auto kept = stored_.open(showing_start_, lesson_ ? &*lesson_ : nullptr);
+    start_model_.progress_note = kept.note;
+    if (!kept.trainee.empty()) start_model_.trainee = kept.trainee;
     if (showing_start_) {
         auto lessons = load_shipped_lessons();
         if (lessons) start_model_.lessons = std::move(lessons).value();
@@ -319,10 +322,8 @@ int TraineeSession::enter_content() {
     if (lesson_) {
         for (const auto& h : scene_->hands) mouse_->place(h.hand, h.position_m);
     }
-    base_rig_ = rig_of(scene_->display);
-    yaw_ = pitch_ = 0.0;
+    camera_.reset(rig_of(scene_->display));
     aim_ = PointerAim{};
-    session_.lesson = lesson_ ? lesson_->id : "";
     const int code = build_world();
     if (world_ && showing_start_ == false && ui_ && window_pointer_) window_pointer_->forget_taps(); // letters typed into the name are no cuts
     return code;
@@ -345,13 +346,10 @@ int TraineeSession::build_world() {
     } else {
         for (std::uint8_t hand = 0; hand < 2; ++hand) kept[hand] = std::move(picked_[hand]);
     }
-    WindowInputSystem input_system;
-    input_system.body = [this](sched::SystemContext& c) { input(c); };
-    WindowDrawSystem draw_system;
-    draw_system.body = [this](sched::SystemContext& c) { draw(c); };
     auto world = World::create(*scene_, WorldOptions{.rate_overrides = o_.rates,
                                                      .force_scheme = {},
-                                                     .main_lane_systems = {sched::describe(input_system), sched::describe(draw_system)}});
+                                                     .main_lane_systems = {sched::describe(WindowInputSystem{{this}}), sched::describe(WindowDrawSystem{{this}}),
+                                                                           sched::describe(WindowStateSystem{{this}}, {std::string(WindowInputSystem::name)})}});
     if (!world) {
         std::cerr << "ikebana: " << world.error().message << "\n";
         return 2;
@@ -363,116 +361,8 @@ int TraineeSession::build_world() {
     kenzan_at_ = kenzan_origin(*world_);
     sample_scenery_ = world_->main.resource<components::Scenery>()->list;
     if (lesson_) controls_.emplace(*lesson_, footprint_);
-    // A new session (at the start, and after R): stored as a new one at its first Enter.
-    start_recording();
-    session_.id = 0;
-    session_.started_unix_s = static_cast<std::int64_t>(std::time(nullptr));
-    session_start_ = std::chrono::steady_clock::now();
+    stored_.begin(*world_, lesson_ ? &*lesson_ : nullptr);
     return 0;
-}
-
-// The progress database, when sessions are stored and this is a lesson scored against its form. A
-// database that cannot be used is said, and the lesson goes on without storing: a damaged file is
-// never written to.
-void TraineeSession::open_progress() {
-    if (o_.progress_db.empty()) return;
-    if (!showing_start_ && !lesson_) return;
-    auto db = ProgressDb::open(o_.progress_db);
-    if (!db) {
-        progress_error_ = db.error().message;
-        std::cerr << "ikebana: sessions will not be stored: " << progress_error_ << "\n";
-        start_model_.progress_note = "Results are not kept: " + progress_error_;
-        return;
-    }
-    start_model_.progress_note = "Results are kept in " + o_.progress_db;
-    progress_.emplace(std::move(db).value());
-    std::string trainee = o_.trainee;
-    if (trainee.empty()) {
-        if (auto remembered = progress_->setting("trainee"); remembered && *remembered) trainee = **remembered;
-    } else if (auto kept = progress_->set_setting("trainee", trainee); !kept) {
-        std::cerr << "ikebana: the trainee's name is not remembered: " << kept.error().message << "\n";
-    }
-    if (trainee.empty()) {
-        const char* user = std::getenv("USER");
-        trainee = user && *user ? user : "trainee";
-    }
-    session_.trainee = o_.demonstration ? "teacher" : trainee;
-    session_.kind = o_.demonstration ? "demonstration" : "practice";
-    session_.lesson = lesson_ ? lesson_->id : "";
-    start_model_.trainee = trainee;
-}
-
-// A stored session is recorded: in a folder of its own beside the progress database.
-void TraineeSession::start_recording() {
-    recorder_.reset();
-    scored_.reset();
-    session_.recording.clear();
-    if (!progress_ || !lesson_ || !world_) return;
-    const auto now = static_cast<std::int64_t>(std::time(nullptr));
-    std::string stamp = iso_utc(now);
-    std::replace(stamp.begin(), stamp.end(), ':', '-');
-    const auto parent = std::filesystem::path(o_.progress_db).parent_path() / "recordings";
-    std::filesystem::path folder = parent / (stamp + "-" + lesson_->id);
-    std::error_code ec;
-    for (int n = 2; std::filesystem::exists(folder, ec) && n < 100; ++n) folder = parent / (stamp + "-" + lesson_->id + "-" + std::to_string(n));
-    std::filesystem::create_directories(parent, ec);
-    auto recorder = SessionRecorder::create(folder, /*real_time=*/true);
-    if (!recorder) {
-        std::cerr << "ikebana: the session is not recorded: " << recorder.error().message << "\n";
-        return;
-    }
-    recorder_ = std::move(recorder).value();
-    recorder_->attach(*world_);
-    session_.recording = std::filesystem::absolute(folder).string();
-}
-
-// When the world has stopped: session.json with the last Enter's score, or no recording at all when
-// nothing was scored (no stored session points at it).
-void TraineeSession::finish_recording() {
-    if (!recorder_) return;
-    World& w = *world_;
-    recorder_->detach(w);
-    std::int64_t end_us = std::numeric_limits<std::int64_t>::max();
-    for (const auto& s : w.schedule.systems()) {
-        if (w.schedule.lanes()[s.lane].name == "sim") end_us = std::min(end_us, s.next_due_us);
-    }
-    const auto folder = recorder_->folder();
-    if (scored_ && scored_->first < end_us) {
-        SessionRecorder::WindowRun run;
-        run.scored_frame_us = scored_->first;
-        run.rates = o_.rates;
-        run.env = o_.env;
-        for (std::size_t h = 0; h < 2; ++h) run.rate_device[h] = w.hand_devices[h] && !w.hand_devices[h]->capabilities().reports_position;
-        if (auto done = recorder_->finish_window(*lesson_, session_.kind, run, end_us, scored_->second, w); !done)
-            std::cerr << "ikebana: the session's recording is incomplete: " << done.error().message << "\n";
-        recorder_.reset();
-        return;
-    }
-    recorder_.reset();
-    std::error_code ec;
-    std::filesystem::remove_all(folder, ec);
-}
-
-// Each Enter stores the session as it now stands (the first adds it, later ones replace it).
-void TraineeSession::store_session(const FormScore& result, const components::FrameSnapshot& frame, components::HudInfo& hud) {
-    if (!progress_error_.empty()) {
-        hud.result.push_back("not stored: " + progress_error_.substr(0, 60));
-        return;
-    }
-    if (!progress_ || session_.lesson.empty()) return;
-    session_.result = result;
-    session_.flowers = flower_outcomes(frame);
-    session_.duration_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start_).count();
-    if (auto saved = progress_->save(session_); !saved) {
-        std::cerr << "ikebana: the session was not stored: " << saved.error().message << "\n";
-        hud.result.push_back("not stored (see the terminal)");
-        return;
-    }
-    // The recording ends at this score: the frame it was taken from, when one had come (an Enter
-    // before the first frame scores nothing the simulation published).
-    if (recorder_ && !frame.flowers.empty()) scored_ = std::make_pair(frame.sim_time_us, result.score);
-    std::printf("ikebana: stored as session %lld in %s\n", static_cast<long long>(session_.id), progress_->path().c_str());
-    std::fflush(stdout);
 }
 
 // Keys, pointer and camera; Enter scores the arrangement (the result stays on screen, the session goes on).
@@ -481,12 +371,13 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     if (o_.each_frame) o_.each_frame(presented_, window_->glfw());
     window_->poll_events();
     platform::PointerState in = pointer_->read();
-    const auto read_at = std::chrono::steady_clock::now();
+    read_ = in;
+    read_at_ = std::chrono::steady_clock::now();
     // The lesson's panel: its buttons do what the keys do.
     LessonPanelActions act;
     if (ui_ && lesson_) {
         ui_->begin_frame(mode_);
-        act = panel_.draw({lesson_->school + ": " + lesson_->title, session_.trainee, {}, controls_ && controls_->ghosts()});
+        act = panel_.draw({lesson_->school + ": " + lesson_->title, stored_.trainee(), {}, controls_ && controls_->ghosts()});
         ui_->end_frame();
     }
     const bool over_panel = ui_ && lesson_ && ui_->wants_pointer();
@@ -503,25 +394,9 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         stop_.store(true);
         return;
     }
-    const auto now = std::chrono::steady_clock::now();
-    const double dt = std::min(0.1, std::chrono::duration<double>(now - last_).count());
-    last_ = now;
-    // Camera: during training, not only after it (the paper's future work).
-    yaw_ += 1.2 * dt * in.arrows.x;
-    pitch_ += 1.2 * dt * in.arrows.y;
-    if (in.orbit_button) {
-        if (dragging_) {
-            yaw_ += 0.005 * (in.cursor_px.x - drag_from_.x);
-            pitch_ += 0.005 * (in.cursor_px.y - drag_from_.y);
-        }
-        dragging_ = true;
-        drag_from_ = in.cursor_px;
-    } else {
-        dragging_ = false;
-    }
-    pitch_ = std::clamp(pitch_, -0.5, 1.0);
+    camera_.turn(in);
     // "Forward" on the device stays "away from the viewer".
-    main_lane.registry.resource<ecs::Port<systems::ViewChannel>>()->use().yaw_rad.store(yaw_, std::memory_order_relaxed);
+    main_lane.registry.resource<ecs::Port<systems::ViewChannel>>()->use().yaw_rad.store(camera_.yaw_rad(), std::memory_order_relaxed);
     // The cursor aimed through the camera as drawn this frame, and kept on the hand it drives (a
     // test's scripted pointer moves the hands by the window's size instead).
     const PointerView view = pointer_view();
@@ -560,30 +435,35 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
             state_.results += 1;
             state_.result_json = result.json(-1);
             show_result(result.lines(), hud);
-            store_session(result, latest, hud);
+            stored_.store(result, latest, hud);
         } else {
             const auto result = score_arrangement(arranged_stems(latest), scene_->sample, kenzan_at_);
             show_result(scene_->sample.empty() ? std::vector<std::string>{"RESULT: free practice (this scene has no sample)"} : result.lines(), hud);
         }
     }
     enter_was_down_ = keys.finish_key;
-    if (!o_.state_out.empty()) {
-        state_.frame += 1;
-        state_.input_read_at_us = std::chrono::duration_cast<std::chrono::microseconds>(read_at.time_since_epoch()).count();
-        state_.window_px = in.window_px;
-        state_.cursor_px = in.cursor_px;
-        take_snapshot(state_, main_lane.registry.resource<const systems::ReceivedFrames>()->latest());
-        state_.active_hand = aim_.active_hand();
-        state_.px_per_m = glm::dvec2{0.0};
-        state_.screen = "lesson";
-        state_.buttons.clear();
-        for (const auto& b : panel_.buttons()) state_.buttons.push_back({b.label, b.min_px, b.max_px});
-        if (in.ray.valid) {
-            const auto gain = px_per_m_at(view, in.window_px, in.ray.eye, state_.hands[state_.active_hand].device_m);
-            if (gain) state_.px_per_m = *gain;
-        }
-        if (auto written = write_window_state(o_.state_out, state_); !written) fail("--state-out: " + written.error().message, 2);
+    state_due_ = true;
+}
+
+// --state-out: the frame as it was read (what a test or a tool drives the window by).
+void TraineeSession::write_state(sched::SystemContext& main_lane) {
+    // Each frame whose input was read in full (not one that ended the session).
+    if (o_.state_out.empty() || !std::exchange(state_due_, false)) return;
+    state_.frame += 1;
+    state_.input_read_at_us = std::chrono::duration_cast<std::chrono::microseconds>(read_at_.time_since_epoch()).count();
+    state_.window_px = read_.window_px;
+    state_.cursor_px = read_.cursor_px;
+    take_snapshot(state_, main_lane.registry.resource<const systems::ReceivedFrames>()->latest());
+    state_.active_hand = aim_.active_hand();
+    state_.px_per_m = glm::dvec2{0.0};
+    state_.screen = "lesson";
+    state_.buttons.clear();
+    for (const auto& b : panel_.buttons()) state_.buttons.push_back({b.label, b.min_px, b.max_px});
+    if (read_.ray.valid) {
+        const auto gain = px_per_m_at(pointer_view(), read_.window_px, read_.ray.eye, state_.hands[state_.active_hand].device_m);
+        if (gain) state_.px_per_m = *gain;
     }
+    if (auto written = write_window_state(o_.state_out, state_); !written) fail("--state-out: " + written.error().message, 2);
 }
 
 // A result on the terminal and on screen (where a lesson's long tips are wrapped to an eye's half).
@@ -623,7 +503,7 @@ void TraineeSession::lesson_keys(const platform::PointerState& in, sched::System
         state_.result_json = (*effects.score)->json(-1);
     }
     if (effects.score) show_result(effects.score->ok() ? (*effects.score)->lines() : std::vector<std::string>{"RESULT: " + effects.score->error().message}, hud);
-    if (effects.score && effects.score->ok()) store_session(**effects.score, latest, hud);
+    if (effects.score && effects.score->ok()) stored_.store(**effects.score, latest, hud);
     if (effects.restart) {
         restart_.store(true);
         stop_.store(true);
@@ -636,37 +516,17 @@ void TraineeSession::draw(sched::SystemContext& main_lane) {
     const auto& prepared = *main_lane.registry.resource<const components::PreparedFrame>();
     renderer_->set_overlay(prepared.overlay);
     const bool want_shot = !o_.screenshot.empty() && o_.frames > 0 && presented_ + 1 >= o_.frames;
-    auto presented = stack_->present(prepared.list, render::orbited(base_rig_, yaw_, pitch_), want_shot);
+    auto presented = stack_->present(prepared.list, camera_.rig(), want_shot);
     if (!presented) return fail(presented.error().message, 3);
     if (!*presented) return; // minimised: nothing to draw, the simulation runs on
     for (const auto& warning : renderer_->take_warnings()) std::cerr << "ikebana: warning: " << warning << "\n";
     auto frame = &**presented;
     if (!frame->presented) return;
     ++presented_;
-    const auto frame_end = std::chrono::steady_clock::now();
-    frame_ms_.push_back(std::chrono::duration<double, std::milli>(frame_end - previous_frame_).count());
-    previous_frame_ = frame_end;
-    record_ms_.push_back(frame->timing.record_ms);
-    shadow_ms_.push_back(frame->timing.shadow_ms);
-    eyes_ms_.push_back(frame->timing.scene_ms);
-    composite_ms_.push_back(frame->timing.composite_ms);
-    present_ms_.push_back(frame->timing.present_ms);
+    timings_.add(frame->timing);
     if (frame->screenshot) last_shot_ = std::move(frame->screenshot);
     if (presented_ % 15 == 0) glfwSetWindowTitle(window_->glfw(), status_line(main_lane.registry.resource<const systems::ReceivedFrames>()->latest()).c_str());
     if (o_.frames > 0 && presented_ >= o_.frames) stop_.store(true);
-}
-
-std::string TraineeSession::frame_times() const {
-    if (frame_ms_.size() <= 2) return {};
-    auto whole = frame_ms_;
-    whole.erase(whole.begin()); // the first frame includes start-up
-    char line[400];
-    std::snprintf(line, sizeof line, "frame time, ms (p50 / p95): whole frame %.1f / %.1f; record %.2f / %.2f; device: shadow %.1f / %.1f, both eyes %.1f / %.1f, "
-                "composite and HUD %.1f / %.1f; present %.2f / %.2f\n",
-                percentile(whole, 0.5), percentile(whole, 0.95), percentile(record_ms_, 0.5), percentile(record_ms_, 0.95),
-                percentile(shadow_ms_, 0.5), percentile(shadow_ms_, 0.95), percentile(eyes_ms_, 0.5), percentile(eyes_ms_, 0.95),
-                percentile(composite_ms_, 0.5), percentile(composite_ms_, 0.95), percentile(present_ms_, 0.5), percentile(present_ms_, 0.95));
-    return line;
 }
 
 // The session's figures (threads' lateness, frame times, validation) are for whoever tunes the app,
@@ -697,11 +557,7 @@ int TraineeSession::run_and_finish() {
                 return code_;
             }
             if (const int code = load_content(*chosen); code != 0) return code;
-            if (progress_ && !o_.demonstration) {
-                if (auto kept = progress_->set_setting("trainee", start_model_.trainee); !kept)
-                    std::cerr << "ikebana: the trainee's name is not remembered: " << kept.error().message << "\n";
-                session_.trainee = start_model_.trainee;
-            }
+            stored_.set_trainee(start_model_.trainee);
             showing_start_ = false;
             if (const int code = enter_content(); code != 0) return code;
             std::printf("ikebana: %s\n", lesson_ ? (lesson_->school + ": " + lesson_->title).c_str() : "free practice");
@@ -723,10 +579,7 @@ int TraineeSession::run_and_finish() {
 // The start screen, drawn on its own (no world runs behind it): until a lesson is chosen, or Esc,
 // the Quit button or the window's close.
 std::optional<std::string> TraineeSession::run_start_screen() {
-    if (progress_) {
-        auto mine = progress_->sessions({start_model_.trainee, ""});
-        if (mine) start_model_.recent = std::move(mine).value();
-    }
+    start_model_.recent = stored_.sessions_of(start_model_.trainee);
     window_pointer_->forget_taps();
     const render::DrawList nothing;
     for (;;) {
@@ -738,10 +591,7 @@ std::optional<std::string> TraineeSession::run_start_screen() {
         const std::string before = start_model_.trainee;
         const StartChoice choice = start_screen_.draw(start_model_);
         ui_->end_frame();
-        if (start_model_.trainee != before && progress_) {
-            auto mine = progress_->sessions({start_model_.trainee, ""});
-            start_model_.recent = mine ? std::move(mine).value() : std::vector<SessionRecord>{};
-        }
+        if (start_model_.trainee != before) start_model_.recent = stored_.sessions_of(start_model_.trainee);
         if (!o_.state_out.empty()) {
             state_.frame += 1;
             state_.input_read_at_us = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -758,7 +608,7 @@ std::optional<std::string> TraineeSession::run_start_screen() {
         }
         renderer_->set_overlay({});
         const bool want_shot = !o_.screenshot.empty() && o_.frames > 0 && presented_ + 1 >= o_.frames;
-        auto frame = stack_->present(nothing, base_rig_, want_shot);
+        auto frame = stack_->present(nothing, camera_.base(), want_shot);
         if (!frame) {
             std::cerr << "ikebana: " << frame.error().message << "\n";
             code_ = 3;
@@ -816,16 +666,16 @@ int TraineeSession::run_once() {
         sched::RealtimeConfig config{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 20, .on_skip = {}};
         // The simulation's dropped firings go on record, on its own thread (the one that writes the
         // commands file), so that the replay drops the same.
-        if (recorder_) {
+        if (auto* recorder = stored_.recorder()) {
             std::size_t sim_lane = 0;
             for (std::size_t i = 0; i < w.schedule.lanes().size(); ++i) {
                 if (w.schedule.lanes()[i].name == "sim") sim_lane = i;
             }
-            config.on_skip = [this, sim_lane](std::size_t lane, std::int64_t due_us, std::int64_t until_us) {
+            config.on_skip = [recorder, sim_lane](std::size_t lane, std::int64_t due_us, std::int64_t until_us) {
                 if (lane != sim_lane) return;
                 char line[64];
                 const int n = std::snprintf(line, sizeof line, "%lld,skip,0,%lld\n", static_cast<long long>(due_us), static_cast<long long>(until_us));
-                (void)recorder_->commands().write(std::string_view(line, static_cast<std::size_t>(n)));
+                (void)recorder->commands().write(std::string_view(line, static_cast<std::size_t>(n)));
             };
         }
         sched::RealtimeClock clock(w.schedule, config);
@@ -843,14 +693,14 @@ int TraineeSession::run_once() {
         // Nothing pushes after the session: zero now (a send through the chain would only step down).
         if (w.hand_devices[hand]) (void)w.hand_devices[hand]->zero_force();
     }
-    finish_recording();
+    stored_.finish(w, lesson_ ? &*lesson_ : nullptr);
     write_screenshot();
     char line[600];
-    std::snprintf(line, sizeof line, "ikebana: camera turned %.0f deg round, tilted %.0f deg\n", yaw_ * 180.0 / M_PI, pitch_ * 180.0 / M_PI);
+    std::snprintf(line, sizeof line, "ikebana: camera turned %.0f deg round, tilted %.0f deg\n", camera_.yaw_rad() * 180.0 / M_PI, camera_.pitch_rad() * 180.0 / M_PI);
     figures += line;
     std::snprintf(line, sizeof line, "ikebana: %u frames presented; %s\n", presented_, status_line(w.main.resource<const systems::ReceivedFrames>()->latest()).c_str());
     figures += line;
-    figures += frame_times();
+    figures += timings_.line();
     if (ctx_->validation_enabled()) {
         std::snprintf(line, sizeof line, "validation: %u errors, %u warnings\n", ctx_->validation_errors(), ctx_->validation_warnings());
         figures += line;

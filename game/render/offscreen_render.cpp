@@ -1,3 +1,4 @@
+#include "engine/core/percentile.hpp"
 #include "game/render/offscreen_render.hpp"
 
 #include <algorithm>
@@ -19,16 +20,6 @@
 #include "components/presentation.hpp"
 
 namespace ikebana::game {
-
-namespace {
-
-double percentile(std::vector<double> v, double q) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v[static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)))];
-}
-
-} // namespace
 
 // The offscreen draw: the main lane's last phase, like the window's present, drawing what
 // prepare_frame_system prepared (the world, the sample, the HUD) into PNGs.

@@ -1,0 +1,129 @@
+#include "game/app/stored_sessions.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+
+#include "game/world/world.hpp"
+
+namespace ikebana::game {
+
+StoredSessions::Opened StoredSessions::open(bool lessons_ahead, const LessonDef* lesson) {
+    if (o_.progress_db.empty()) return {};
+    if (!lessons_ahead && !lesson) return {};
+    auto db = ProgressDb::open(o_.progress_db);
+    if (!db) {
+        progress_error_ = db.error().message;
+        std::cerr << "ikebana: sessions will not be stored: " << progress_error_ << "\n";
+        return {"Results are not kept: " + progress_error_, {}};
+    }
+    progress_.emplace(std::move(db).value());
+    std::string trainee = o_.trainee;
+    if (trainee.empty()) {
+        if (auto remembered = progress_->setting("trainee"); remembered && *remembered) trainee = **remembered;
+    } else if (auto kept = progress_->set_setting("trainee", trainee); !kept) {
+        std::cerr << "ikebana: the trainee's name is not remembered: " << kept.error().message << "\n";
+    }
+    if (trainee.empty()) {
+        const char* user = std::getenv("USER");
+        trainee = user && *user ? user : "trainee";
+    }
+    session_.trainee = o_.demonstration ? "teacher" : trainee;
+    session_.kind = o_.demonstration ? "demonstration" : "practice";
+    session_.lesson = lesson ? lesson->id : "";
+    return {"Results are kept in " + o_.progress_db, trainee};
+}
+
+void StoredSessions::set_trainee(const std::string& name) {
+    if (!progress_ || o_.demonstration) return;
+    if (auto kept = progress_->set_setting("trainee", name); !kept) std::cerr << "ikebana: the trainee's name is not remembered: " << kept.error().message << "\n";
+    session_.trainee = name;
+}
+
+std::vector<SessionRecord> StoredSessions::sessions_of(const std::string& trainee) {
+    if (!progress_) return {};
+    auto mine = progress_->sessions({trainee, ""});
+    return mine ? std::move(mine).value() : std::vector<SessionRecord>{};
+}
+
+void StoredSessions::begin(World& world, const LessonDef* lesson) {
+    recorder_.reset();
+    scored_.reset();
+    session_.recording.clear();
+    session_.lesson = lesson ? lesson->id : "";
+    if (progress_ && lesson) start_recording(world, *lesson);
+    session_.id = 0;
+    session_.started_unix_s = static_cast<std::int64_t>(std::time(nullptr));
+    session_start_ = std::chrono::steady_clock::now();
+}
+
+// A stored session is recorded: in a folder of its own beside the progress database.
+void StoredSessions::start_recording(World& world, const LessonDef& lesson) {
+    const auto now = static_cast<std::int64_t>(std::time(nullptr));
+    std::string stamp = iso_utc(now);
+    std::replace(stamp.begin(), stamp.end(), ':', '-');
+    const auto parent = std::filesystem::path(o_.progress_db).parent_path() / "recordings";
+    std::filesystem::path folder = parent / (stamp + "-" + lesson.id);
+    std::error_code ec;
+    for (int n = 2; std::filesystem::exists(folder, ec) && n < 100; ++n) folder = parent / (stamp + "-" + lesson.id + "-" + std::to_string(n));
+    std::filesystem::create_directories(parent, ec);
+    auto recorder = SessionRecorder::create(folder, /*real_time=*/true);
+    if (!recorder) {
+        std::cerr << "ikebana: the session is not recorded: " << recorder.error().message << "\n";
+        return;
+    }
+    recorder_ = std::move(recorder).value();
+    recorder_->attach(world);
+    session_.recording = std::filesystem::absolute(folder).string();
+}
+
+void StoredSessions::finish(World& w, const LessonDef* lesson) {
+    if (!recorder_) return;
+    recorder_->detach(w);
+    std::int64_t end_us = std::numeric_limits<std::int64_t>::max();
+    for (const auto& s : w.schedule.systems()) {
+        if (w.schedule.lanes()[s.lane].name == "sim") end_us = std::min(end_us, s.next_due_us);
+    }
+    const auto folder = recorder_->folder();
+    if (lesson && scored_ && scored_->first < end_us) {
+        SessionRecorder::WindowRun run;
+        run.scored_frame_us = scored_->first;
+        run.rates = o_.rates;
+        run.env = o_.env;
+        for (std::size_t h = 0; h < 2; ++h) run.rate_device[h] = w.hand_devices[h] && !w.hand_devices[h]->capabilities().reports_position;
+        if (auto done = recorder_->finish_window(*lesson, session_.kind, run, end_us, scored_->second, w); !done)
+            std::cerr << "ikebana: the session's recording is incomplete: " << done.error().message << "\n";
+        recorder_.reset();
+        return;
+    }
+    recorder_.reset();
+    std::error_code ec;
+    std::filesystem::remove_all(folder, ec);
+}
+
+void StoredSessions::store(const FormScore& result, const components::FrameSnapshot& frame, components::HudInfo& hud) {
+    if (!progress_error_.empty()) {
+        hud.result.push_back("not stored: " + progress_error_.substr(0, 60));
+        return;
+    }
+    if (!progress_ || session_.lesson.empty()) return;
+    session_.result = result;
+    session_.flowers = flower_outcomes(frame);
+    session_.duration_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start_).count();
+    if (auto saved = progress_->save(session_); !saved) {
+        std::cerr << "ikebana: the session was not stored: " << saved.error().message << "\n";
+        hud.result.push_back("not stored (see the terminal)");
+        return;
+    }
+    // The recording ends at this score: the frame it was taken from, when one had come (an Enter
+    // before the first frame scores nothing the simulation published).
+    if (recorder_ && !frame.flowers.empty()) scored_ = std::make_pair(frame.sim_time_us, result.score);
+    std::printf("ikebana: stored as session %lld in %s\n", static_cast<long long>(session_.id), progress_->path().c_str());
+    std::fflush(stdout);
+}
+
+} // namespace ikebana::game

@@ -1,0 +1,33 @@
+#include "game/render/frame_timings.hpp"
+
+#include <cstdio>
+
+#include "engine/core/percentile.hpp"
+
+namespace ikebana::game {
+
+void FrameTimings::add(const render::FrameTiming& timing) {
+    const auto end = std::chrono::steady_clock::now();
+    frame_ms_.push_back(std::chrono::duration<double, std::milli>(end - previous_).count());
+    previous_ = end;
+    record_ms_.push_back(timing.record_ms);
+    shadow_ms_.push_back(timing.shadow_ms);
+    eyes_ms_.push_back(timing.scene_ms);
+    composite_ms_.push_back(timing.composite_ms);
+    present_ms_.push_back(timing.present_ms);
+}
+
+std::string FrameTimings::line() const {
+    if (frame_ms_.size() <= 2) return {};
+    auto whole = frame_ms_;
+    whole.erase(whole.begin()); // the first frame includes start-up
+    char text[400];
+    std::snprintf(text, sizeof text, "frame time, ms (p50 / p95): whole frame %.1f / %.1f; record %.2f / %.2f; device: shadow %.1f / %.1f, both eyes %.1f / %.1f, "
+                "composite and HUD %.1f / %.1f; present %.2f / %.2f\n",
+                percentile(whole, 0.5), percentile(whole, 0.95), percentile(record_ms_, 0.5), percentile(record_ms_, 0.95),
+                percentile(shadow_ms_, 0.5), percentile(shadow_ms_, 0.95), percentile(eyes_ms_, 0.5), percentile(eyes_ms_, 0.95),
+                percentile(composite_ms_, 0.5), percentile(composite_ms_, 0.95), percentile(present_ms_, 0.5), percentile(present_ms_, 0.95));
+    return text;
+}
+
+} // namespace ikebana::game
