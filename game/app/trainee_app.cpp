@@ -23,6 +23,7 @@
 #include "engine/platform/pointer_input.hpp"
 #include "game/render/pointer_aim.hpp"
 #include "game/app/replay_window.hpp"
+#include "game/app/lesson_flow.hpp"
 #include "game/app/start_screen.hpp"
 #include "game/app/stored_sessions.hpp"
 #include "game/app/window_camera.hpp"
@@ -93,13 +94,13 @@ int offscreen_instead(const TraineeAppOptions& o, const std::string& why) {
 
 class TraineeSession;
 
-// The main lane's three systems of the window, at the scheduler's render rate (30 Hz by default):
-// input (the window's events, the lesson's panel, the camera, the cursor's aim, the lesson's keys and
-// Enter's score), the frame's state for --state-out (after input: a driver waiting on it is not kept
-// waiting for the frame's drawing too), and draw (present what prepare_frame_system prepared). What they touch of the world is declared and checked
+// The main lane's four systems of the window, at the scheduler's render rate (30 Hz by default):
+// input (the window's events, the lesson's panel, the camera, the cursor's aim), the lesson's flow
+// (what the keys do: LessonFlow), the frame's state for --state-out (before drawing: a driver waiting
+// on it is not kept waiting for the frame's drawing too), and draw (present what prepare_frame_system prepared). What they touch of the world is declared and checked
 // like any system's; the window, Dear ImGui, the progress database and the state file are the
 // session's own, and no other system touches them.
-// What the three share: the main lane, a frame at the render rate, the session they work for.
+// What the four share: the main lane, a frame at the render rate, the session they work for.
 struct OnTheWindowFrame {
     static constexpr std::string_view lane = "main";
     static constexpr std::string_view rate = "render";
@@ -109,8 +110,15 @@ struct WindowInputSystem : OnTheWindowFrame {
     static constexpr std::string_view name = "window_input";
     static constexpr std::string_view phase = "input";
     using reads = sched::Components<systems::ReceivedFrames>;
-    // The Ports: the camera's turn goes to the hands' workspace, a cut to the simulation.
-    using writes = sched::Components<components::HudInfo, components::Scenery, ecs::Port<systems::ViewChannel>, ecs::Port<systems::TraineeChannel>>;
+    using writes = sched::Components<ecs::Port<systems::ViewChannel>>; // the camera's turn goes to the hands' workspace
+    void operator()(sched::SystemContext& ctx);
+};
+struct LessonFlowSystem : OnTheWindowFrame {
+    static constexpr std::string_view name = "lesson_flow";
+    static constexpr std::string_view phase = "input"; // after window_input
+    using reads = sched::Components<systems::ReceivedFrames>;
+    // The HUD's lines and the ghosts; a cut goes to the simulation.
+    using writes = sched::Components<components::HudInfo, components::Scenery, ecs::Port<systems::TraineeChannel>>;
     void operator()(sched::SystemContext& ctx);
 };
 struct WindowDrawSystem : OnTheWindowFrame {
@@ -122,13 +130,13 @@ struct WindowDrawSystem : OnTheWindowFrame {
 };
 struct WindowStateSystem : OnTheWindowFrame {
     static constexpr std::string_view name = "window_state";
-    static constexpr std::string_view phase = "input"; // after window_input
+    static constexpr std::string_view phase = "input"; // after lesson_flow (its result is in the state)
     using reads = sched::Components<systems::ReceivedFrames>;
     using writes = sched::Components<>;
     void operator()(sched::SystemContext& ctx);
 };
 
-// One training session in the window: open (scene, devices, window, Vulkan, world), a frame as three
+// One training session in the window: open (scene, devices, window, Vulkan, world), a frame as four
 // main-lane systems under the real-time clock (the simulation runs on its own 1 kHz thread), finish
 // (forces to zero, screenshot, figures). Members are destroyed in reverse order: the world and the
 // renderer before the surface, the surface before the Vulkan context.
@@ -144,12 +152,11 @@ public:
 
     // The window systems' bodies (main lane, each frame).
     void input(sched::SystemContext& main_lane);
+    void lesson_flow(sched::SystemContext& main_lane);
     void draw(sched::SystemContext& main_lane);
     void write_state(sched::SystemContext& main_lane);
 
 private:
-    void lesson_keys(const platform::PointerState& in, sched::SystemContext& main_lane);
-    void show_result(const std::vector<std::string>& lines, components::HudInfo& hud) const;
     int build_world();
     // The lesson (or the scene) the window shows: loaded, then its hands and world.
     int load_content(const std::string& lesson);
@@ -164,10 +171,9 @@ private:
     std::optional<SceneDef> scene_;
     std::optional<LessonDef> lesson_;
     KenzanFootprint footprint_;
-    std::optional<LessonControls> controls_; // a lesson's keys, rebuilt with the world
+    std::optional<LessonFlow> flow_; // what the keys do, rebuilt with the world
     WindowState state_;                      // --state-out's, kept from frame to frame (the last result)
     std::atomic<bool> restart_{false};
-    render::DrawList sample_scenery_;
     std::array<std::unique_ptr<devices::HapticDevice>, 2> picked_;
     std::array<std::string, 2> device_names_;
     // The window and what draws into it; the pointers below are its parts (null until it opens).
@@ -197,8 +203,8 @@ private:
     // This frame's reading, kept from input to the state written after the frame is drawn.
     platform::PointerState read_;
     std::chrono::steady_clock::time_point read_at_ = std::chrono::steady_clock::now();
-    bool state_due_ = false;
-    bool enter_was_down_ = false;
+    bool frame_read_ = false; // this frame's input was read in full (the lesson and the state take it)
+    platform::PointerState keys_; // this frame's keys for the lesson (the panel's buttons pressed too)
     std::uint32_t presented_ = 0;
     FrameTimings timings_;
     std::optional<render::RgbaImage> last_shot_;
@@ -209,6 +215,7 @@ private:
 };
 
 void WindowInputSystem::operator()(sched::SystemContext& ctx) { session->input(ctx); }
+void LessonFlowSystem::operator()(sched::SystemContext& ctx) { session->lesson_flow(ctx); }
 void WindowDrawSystem::operator()(sched::SystemContext& ctx) { session->draw(ctx); }
 void WindowStateSystem::operator()(sched::SystemContext& ctx) { session->write_state(ctx); }
 
@@ -349,7 +356,8 @@ int TraineeSession::build_world() {
     auto world = World::create(*scene_, WorldOptions{.rate_overrides = o_.rates,
                                                      .force_scheme = {},
                                                      .main_lane_systems = {sched::describe(WindowInputSystem{{this}}), sched::describe(WindowDrawSystem{{this}}),
-                                                                           sched::describe(WindowStateSystem{{this}}, {std::string(WindowInputSystem::name)})}});
+                                                                           sched::describe(LessonFlowSystem{{this}}, {std::string(WindowInputSystem::name)}),
+                                                                           sched::describe(WindowStateSystem{{this}}, {std::string(LessonFlowSystem::name)})}});
     if (!world) {
         std::cerr << "ikebana: " << world.error().message << "\n";
         return 2;
@@ -359,14 +367,14 @@ int TraineeSession::build_world() {
     for (std::uint8_t hand = 0; hand < 2; ++hand) world_->attach_device(hand, kept[hand] ? std::move(kept[hand]) : mouse_->hand(hand));
     world_->main.resource<components::HudInfo>()->device = device_names_;
     kenzan_at_ = kenzan_origin(*world_);
-    sample_scenery_ = world_->main.resource<components::Scenery>()->list;
-    if (lesson_) controls_.emplace(*lesson_, footprint_);
+    flow_.emplace(lesson_ ? &*lesson_ : nullptr, footprint_, scene_->sample, kenzan_at_, world_->main.resource<components::Scenery>()->list, world_->species);
     stored_.begin(*world_, lesson_ ? &*lesson_ : nullptr);
     return 0;
 }
 
 // Keys, pointer and camera; Enter scores the arrangement (the result stays on screen, the session goes on).
 void TraineeSession::input(sched::SystemContext& main_lane) {
+    frame_read_ = false;
     if (stop_.load()) return;
     if (o_.each_frame) o_.each_frame(presented_, window_->glfw());
     window_->poll_events();
@@ -377,7 +385,7 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     LessonPanelActions act;
     if (ui_ && lesson_) {
         ui_->begin_frame(mode_);
-        act = panel_.draw({lesson_->school + ": " + lesson_->title, stored_.trainee(), {}, controls_ && controls_->ghosts()});
+        act = panel_.draw({lesson_->school + ": " + lesson_->title, stored_.trainee(), {}, flow_ && flow_->ghosts()});
         ui_->end_frame();
     }
     const bool over_panel = ui_ && lesson_ && ui_->wants_pointer();
@@ -419,36 +427,36 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         hands_reading_.warped_from_px = glm::dvec2{-1.0};
     }
     shared_pointer_.store(hands_reading_);
-    platform::PointerState keys = in;
-    keys.finish_key = keys.finish_key || act.finish;
-    if (act.ghosts) keys.set_letter(ghost_letter, true);
-    if (act.restart) keys.set_letter(reset_letter, true);
-    if (o_.finish_at_frame > 0 && presented_ + 1 == o_.finish_at_frame) keys.finish_key = true; // a test's Enter
-    if (lesson_) lesson_keys(keys, main_lane); // a form lesson's Enter is scored there
-    const bool form = lesson_ && lesson_->scoring == "form";
-    if (!form && keys.finish_key && !enter_was_down_) {
-        const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
-        auto& hud = *main_lane.registry.resource<components::HudInfo>();
-        if (lesson_ && !scene_->sample.empty()) {
-            // The free-practice lesson: scored as `lesson score` scores it, and stored like a form's.
-            const FormScore result = score_sample(*lesson_, measure_arrangement(latest), scene_->sample);
-            state_.results += 1;
-            state_.result_json = result.json(-1);
-            show_result(result.lines(), hud);
-            stored_.store(result, latest, hud);
-        } else {
-            const auto result = score_arrangement(arranged_stems(latest), scene_->sample, kenzan_at_);
-            show_result(scene_->sample.empty() ? std::vector<std::string>{"RESULT: free practice (this scene has no sample)"} : result.lines(), hud);
-        }
+    keys_ = in;
+    keys_.finish_key = keys_.finish_key || act.finish;
+    if (act.ghosts) keys_.set_letter(ghost_letter, true);
+    if (act.restart) keys_.set_letter(reset_letter, true);
+    if (o_.finish_at_frame > 0 && presented_ + 1 == o_.finish_at_frame) keys_.finish_key = true; // a test's Enter
+    frame_read_ = true;
+}
+
+// The frame's keys, as the lesson (or free practice) takes them; a score is counted and stored.
+void TraineeSession::lesson_flow(sched::SystemContext& main_lane) {
+    if (!frame_read_ || !flow_) return; // a frame that ended the session
+    const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
+    auto& hud = *main_lane.registry.resource<components::HudInfo>();
+    const auto out = flow_->update(keys_, mouse_->active_hand(), latest, main_lane.registry.resource<ecs::Port<systems::TraineeChannel>>()->use(), hud,
+                                   *main_lane.registry.resource<components::Scenery>());
+    if (out.scored) {
+        state_.results += 1;
+        state_.result_json = out.scored->json(-1);
+        stored_.store(*out.scored, latest, hud);
     }
-    enter_was_down_ = keys.finish_key;
-    state_due_ = true;
+    if (out.restart) {
+        restart_.store(true);
+        stop_.store(true);
+    }
 }
 
 // --state-out: the frame as it was read (what a test or a tool drives the window by).
 void TraineeSession::write_state(sched::SystemContext& main_lane) {
     // Each frame whose input was read in full (not one that ended the session).
-    if (o_.state_out.empty() || !std::exchange(state_due_, false)) return;
+    if (o_.state_out.empty() || !frame_read_) return;
     state_.frame += 1;
     state_.input_read_at_us = std::chrono::duration_cast<std::chrono::microseconds>(read_at_.time_since_epoch()).count();
     state_.window_px = read_.window_px;
@@ -464,50 +472,6 @@ void TraineeSession::write_state(sched::SystemContext& main_lane) {
         if (gain) state_.px_per_m = *gain;
     }
     if (auto written = write_window_state(o_.state_out, state_); !written) fail("--state-out: " + written.error().message, 2);
-}
-
-// A result on the terminal and on screen (where a lesson's long tips are wrapped to an eye's half).
-void TraineeSession::show_result(const std::vector<std::string>& lines, components::HudInfo& hud) const {
-    for (const auto& line : lines) std::printf("%s\n", line.c_str());
-    std::fflush(stdout);
-    hud.result.clear();
-    for (const auto& line : lines) {
-        if (!lesson_) {
-            hud.result.push_back(line);
-            continue;
-        }
-        for (auto& part : hud_lines_of(line)) hud.result.push_back(std::move(part));
-    }
-}
-
-// A lesson's keys (LessonControls: the same object a scripted mouse drives) and what the HUD says
-// about the lesson and the stem in the hand.
-void TraineeSession::lesson_keys(const platform::PointerState& in, sched::SystemContext& main_lane) {
-    const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
-    auto& hud = *main_lane.registry.resource<components::HudInfo>();
-    const auto effects = controls_->update(in, mouse_->active_hand(), latest, main_lane.registry.resource<ecs::Port<systems::TraineeChannel>>()->use());
-    hud.lesson = controls_->hud_lines();
-    if (!effects.cut_for.empty()) std::printf("ikebana: cut for %s to %.0f mm\n", effects.cut_for.c_str(), effects.cut_to_m * 1e3);
-    if (effects.ghosts_toggled) {
-        auto& scenery = *main_lane.registry.resource<components::Scenery>();
-        scenery.list = sample_scenery_;
-        scenery.labels.clear();
-        if (controls_->ghosts()) {
-            add_form_ghosts(scenery.list, *lesson_, footprint_, kenzan_at_);
-            add_model_flowers(scenery.list, *lesson_, footprint_, model_plate_origin(*lesson_, kenzan_at_), world_->species);
-            scenery.labels = form_labels(*lesson_, footprint_, kenzan_at_, model_plate_origin(*lesson_, kenzan_at_));
-        }
-    }
-    if (effects.score && effects.score->ok()) {
-        state_.results += 1;
-        state_.result_json = (*effects.score)->json(-1);
-    }
-    if (effects.score) show_result(effects.score->ok() ? (*effects.score)->lines() : std::vector<std::string>{"RESULT: " + effects.score->error().message}, hud);
-    if (effects.score && effects.score->ok()) stored_.store(**effects.score, latest, hud);
-    if (effects.restart) {
-        restart_.store(true);
-        stop_.store(true);
-    }
 }
 
 // Presents what the prepare phase made of this frame.
