@@ -4,9 +4,9 @@
 // (length, tilt, direction, place on the kenzan) gives the target, the band, what was measured, the
 // points and one plain tip naming the stem; then the lesson's rules are checked likewise.
 //
-// An arrangement is data (`ikebana lesson score --arrangement FILE`): what a demo or the app measured,
-// or what a teacher measured on a real arrangement and typed in. The same JSON is what the result's
-// "arrangement" holds, so a result can be edited and scored again.
+// The arrangement scored and its JSON: arrangement.hpp. The pieces, each in its own file: which stem
+// plays which role (role_assignment), a stem's criteria (stem_scoring), the rules (form_rules), the
+// form's model arrangement (model_arrangement.cpp), the geometry they share (stem_geometry).
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,34 +16,9 @@
 #include "engine/core/result.hpp"
 #include "game/lesson/lesson.hpp"
 #include "game/scene/scene.hpp"
+#include "game/training/arrangement.hpp"
 
 namespace ikebana::game {
-
-struct ArrangementStem {
-    std::string role;    // empty: let the scoring choose; "supporting": a supporting stem (jushi)
-    std::string species;
-    glm::dvec2 base_m{0.0};   // where it enters the kenzan, from the kenzan's centre (x right, y away from the viewer)
-    double length_m = 0.0;    // from where it enters the kenzan to its tip
-    double tilt_rad = 0.0;    // of the line from base to tip, from the vertical
-    double azimuth_rad = 0.0; // which way it leans, seen from above: 0 toward the viewer, + to the viewer's left
-    bool standing = true;     // false: it fell (or lies on the table)
-    // Optional: the stem's shape, points from its base up, kenzan coordinates (x, y as base_m; z above
-    // the kenzan's plate). A straight line from base to tip when empty.
-    std::vector<glm::dvec3> path_m;
-};
-
-struct Arrangement {
-    std::optional<glm::dvec2> kenzan_offset_m; // where the kenzan sits in the container (the lesson's when unset)
-    std::vector<ArrangementStem> stems;
-};
-
-inline constexpr std::size_t max_arrangement_stems = 200;
-inline constexpr std::size_t max_path_points = 200;
-
-// An arrangement's JSON: {"stems": [...]} or a whole result whose "arrangement" is one.
-Result<Arrangement> parse_arrangement(std::string_view text, const std::string& label);
-Result<Arrangement> load_arrangement(const std::filesystem::path& path);
-[[nodiscard]] std::string arrangement_json(const Arrangement& arrangement, int indent = 1);
 
 struct Criterion {
     std::string stem; // the role
