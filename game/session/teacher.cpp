@@ -101,6 +101,19 @@ double along_to(const std::vector<glm::dvec3>& points, glm::dvec3 p) {
     return at;
 }
 
+// The first joint from the bottom of a stem's points bent more than bend_seen_rad (the last point if none).
+std::size_t first_bent_joint(const std::vector<glm::dvec3>& shape) {
+    std::size_t first_bent = shape.size() - 1;
+    for (std::size_t i = 1; i + 1 < shape.size(); ++i) {
+        const double angle = std::acos(std::clamp(glm::dot(glm::normalize(shape[i] - shape[i - 1]), glm::normalize(shape[i + 1] - shape[i])), -1.0, 1.0));
+        if (angle > bend_seen_rad) {
+            first_bent = i;
+            break;
+        }
+    }
+    return first_bent;
+}
+
 class Teacher {
 public:
     Teacher(Classroom& room, TeacherHand& hand, DemoResult& result, const DemoOptions& options, std::size_t total_steps)
@@ -162,41 +175,8 @@ public:
             say(role + ": the " + target.species + " cannot be seen");
             return false;
         }
-        const double cut = lying.length_m - keep;
-        // Take it a little above where its new bottom will be: a hand holds a stem near its base to push it in.
-        // A stem that rises before it leans is taken where the right hand will hold it while the left
-        // bends it (one that will not be bent too: it is then held by the part that stands upright).
-        const double grip_from_new_bottom = rise ? rise->knee_m - bend_grip_m : std::min(0.06, 0.3 * keep);
-        // On the stem as it lies (a branch's curve lifts it off the line between its ends).
-        const glm::dvec3 grip_at = along_stem(lying.points_m, std::max(0.0, cut) + grip_from_new_bottom);
-        say(role + ": take the " + target.species + " from the table");
-        hand_.look();
-        move_to(grip_at + glm::dvec3{0, 0, 0.06});
-        // Looked at again above it: after a long way the hand is not quite where it was sent (the X
-        // pointer moves in whole pixels, fewer of them for a metre far from the camera than near it).
-        hand_.look();
-        move_to(grip_at + glm::dvec3{0, 0, 0.06});
-        move_to(grip_at);
-        press(true);
-        if (room_.held(1) != flower) {
-            say(role + ": missed the " + target.species);
-            press(false);
-            return false;
-        }
-        move_to(hand_.position() + glm::dvec3{0, 0, 0.22});
-        char what[256];
-        if (cut > 0.001) {
-            std::snprintf(what, sizeof what, "%s: cut it to %.0f mm (%.0f above the kenzan, %.0f in the pins)", role.c_str(), keep * 1e3, target.length_m * 1e3,
-                          in_pins * 1e3);
-            say(what);
-            hand_.cut(keep);
-            wait(0.3);
-            const double now = room_.flower(flower).length_m;
-            if (std::abs(now - keep) > 0.002) {
-                std::snprintf(what, sizeof what, "%s: it was cut to %.0f mm, not %.0f", role.c_str(), now * 1e3, keep * 1e3);
-                say(what);
-            }
-        }
+        if (!take(flower, role, target, lying, keep, rise)) return false;
+        if (lying.length_m - keep > 0.001) cut_to(flower, role, target, keep, in_pins);
         // Where the bend's middle is from the bottom: where the hands bent it (or would have).
         const std::optional<double> bent_at = rise && rise->bend_rad > 0.0 ? bend_in_hand(flower, role, *rise, glm::dvec3{0, 0, 1}) : std::nullopt;
         if (rise && rise->bend_rad > 0.0 && room_.held(1) != flower) {
@@ -204,126 +184,13 @@ public:
             press(false);
             return false;
         }
-        const bool bent = bent_at.has_value();
-        // A stem the left hand could not bend goes in straight at the role's tilt.
-        const bool upright = rise && (bent || rise->bend_rad <= 0.0);
-        const double knee_m = bent_at.value_or(rise ? rise->knee_m : 0.0);
-        // Turn it: first the held stem's own direction onto the role's, then correct by what it shows
-        // (a head bends a stem, a branch has its curve). A bent stem is turned by its part below the
-        // bend, which goes in nearly upright.
-        // (A stem that rises unbent goes in upright: its own curve leans it, and keeps it with the others.)
-        const glm::dvec3 want = lesson_direction(upright ? (bent ? rise_tilt_rad : 0.0) : target.tilt_rad, target.azimuth_rad);
-        if (upright) std::snprintf(what, sizeof what, bent ? "%s: hold it upright below the bend" : "%s: hold it upright", role.c_str());
-        else std::snprintf(what, sizeof what, "%s: tilt it %.0f° toward the %s", role.c_str(), target.tilt_rad * 180 / pi, direction_words(target.azimuth_rad).c_str());
-        say(what);
-        const auto lower_direction = [&] {
-            const auto x = room_.flower(flower).points_m;
-            if (!upright) return glm::normalize(x.back() - x.front());
-            return glm::normalize(along_stem(x, std::max(0.01, knee_m - 0.5 * bend_span_m)) - x.front());
-        };
-        // A branch's curve, which lay bowing up on the table, is turned to hang down: a curve held any
-        // other way rolls down under its own weight once let go (a stem has no stiffness against
-        // twisting in the model), so that is where it settles. The stem's axis lay along +x, its curve
-        // rising toward +z: x goes to the role's direction, z to straight down across it.
-        if (upright) {
-            // A bend made on the level droops in its vertical plane. Its lower part is laid level in that
-            // plane, swung about the upright until it points the role's way, and raised in that plane:
-            // each turn about an axis square to the stem, so it carries the bend round with it (a stem
-            // turned any other way twists under the grip, which the model cannot hold), and the part
-            // above the bend ends leaning the role's way.
-            const auto level = [](glm::dvec3 d) {
-                const glm::dvec3 h{d.x, d.y, 0.0};
-                return glm::length(h) > 1e-9 ? glm::normalize(h) : glm::dvec3{1, 0, 0};
-            };
-            turn_by(turn_between(lower_direction(), level(lower_direction())), 0.8);
-            wait(0.3);
-            const glm::dvec3 now = level(lower_direction()), to = level(want);
-            const double yaw = std::atan2(now.x * to.y - now.y * to.x, glm::dot(now, to));
-            turn_by(glm::angleAxis(yaw, glm::dvec3{0, 0, 1}), 0.5 + 0.5 * std::abs(yaw));
-            wait(0.3);
-            // Raised to lean well the role's way, the bend rolls down into that side under its weight:
-            // held there until it hangs the role's way, then raised in that plane.
-            const glm::dvec3 lean = lesson_direction(roll_tilt_rad, target.azimuth_rad);
-            for (int round = 0; round < 3; ++round) {
-                turn_by(turn_between(lower_direction(), lean), round == 0 ? 1.0 : 0.4);
-                wait(0.3);
-            }
-            // (From the middle of the bend to the tip: a short stem's bend reaches near its top.)
-            const auto upper_off = [&] {
-                const auto x = room_.flower(flower).points_m;
-                const glm::dvec3 d = x.back() - along_stem(x, knee_m);
-                if (std::hypot(d.x, d.y) < 1e-3) return 0.0;
-                return std::remainder(target.azimuth_rad - std::atan2(-d.x, -d.y), 2.0 * pi);
-            };
-            for (double t = 0.0; t < roll_wait_s && std::abs(upper_off()) > rolled_within_rad; t += 0.25) wait(0.25);
-            for (int round = 0; round < 4; ++round) {
-                turn_by(turn_between(lower_direction(), want), round == 0 ? 1.5 : 0.4);
-                wait(0.4);
-            }
-        } else {
-            glm::dvec3 down = glm::dvec3{0, 0, -1} - glm::dot(glm::dvec3{0, 0, -1}, want) * want;
-            down = glm::length(down) > 1e-6 ? glm::normalize(down) : glm::dvec3{0, -1, 0};
-            glm::dquat turn = glm::quat_cast(glm::dmat3(want, glm::cross(down, want), down));
-            for (int round = 0; round < 4; ++round) {
-                if (round > 0) turn = turn_between(lower_direction(), want) * turn;
-                turn_to(device_angles(turn), round == 0 ? 1.5 : 0.5);
-                wait(0.4);
-            }
-        }
-        // Over its place, just above the pins; then straight down into them.
+        const Hold hold = hold_of(target, rise, bent_at);
+        turn_to_role(flower, role, target, hold);
         const glm::dvec3 kenzan = room_.kenzan_origin_m();
-        const glm::dvec3 base = kenzan + glm::dvec3(target.base_m, 0.0);
-        say(role + ": over its place in the kenzan");
-        for (int round = 0; round < 3; ++round) {
-            const glm::dvec3 bottom = room_.flower(flower).points_m.front();
-            const glm::dvec3 goal = base + glm::dvec3{0, 0, in_pins + 0.008};
-            // Across at the height it is carried, then down: carried down and across at once, the stem's
-            // end caught a tall vase's rim on its way into the mouth.
-            if (round == 0 && bottom.z > goal.z) move_to(hand_.position() + glm::dvec3{goal.x - bottom.x, goal.y - bottom.y, 0.0}, 0.15);
-            move_to(hand_.position() + (goal - room_.flower(flower).points_m.front()), 0.15);
-            wait(0.2);
-        }
-        say(role + ": push it into the pins");
-        // Until its end's lowest edge is a hair above the plate: pushed further, the hand would bend the
-        // stem against the plate, and it would spring when let go. The hand never goes lower than where
-        // the stem, hanging free in it now, would touch the plate: the pins hold the stem back while the
-        // hand goes on (in the window the hand moves in frame-sized steps and sees the stem a frame or
-        // two late), and rounds that asked again and again drove the hand centimetres under its stem,
-        // which then bent against the plate and tore out of the pins.
-        const double radius = 0.5 * lying.diameter_m;
-        const double hand_above_bottom = hand_.position().z - room_.flower(flower).points_m.front().z;
-        for (int round = 0; round < 3; ++round) {
-            const auto x = room_.flower(flower).points_m;
-            const glm::dvec3 axis = glm::normalize(x[1] - x[0]);
-            const double edge_drop = radius * std::sqrt(std::max(0.0, 1.0 - axis.z * axis.z));
-            const double lower_by = x.front().z - edge_drop - (kenzan.z + 0.0003);
-            const double lowest = kenzan.z + 0.0003 + edge_drop + hand_above_bottom;
-            const double to_z = std::max(hand_.position().z - lower_by, lowest);
-            if (hand_.position().z - to_z < 0.0005) break;
-            move_to({hand_.position().x, hand_.position().y, to_z}, 0.03);
-            wait(0.2);
-        }
-        wait(1.0);
-        say(role + ": let go");
-        press(false);
-        // Away sideways from the stem, clear of its leaves (a hand drawn through them tipped a short
-        // chrysanthemum), then up.
-        const glm::dvec3 side = glm::normalize(glm::cross(want, glm::dvec3{0, 0, 1}) + glm::dvec3{1e-9, 0, 0});
-        move_to(hand_.position() + side * 0.08, 0.1);
-        move_to(hand_.position() + glm::dvec3{0, 0, 0.1}, 0.2);
-        wait(1.0);
-        // What the physics made of it, said as the HUD would.
-        const SeenFlower now = room_.flower(flower);
-        const glm::dvec3 bottom = now.points_m.front() - kenzan;
-        const double tilt = std::acos(std::clamp(glm::normalize(now.points_m.back() - now.points_m.front()).z, -1.0, 1.0)) * 180 / pi;
-        if (now.fallen && now.yield_holding_nm > 0.0)
-            std::snprintf(what, sizeof what, "%s: FELL: %s (the pins first gave way holding %.1f mN m under %.1f, %u pins, %.1f mm deep)", role.c_str(),
-                          components::fall_words(now.fall_reason), now.yield_holding_nm * 1e3, now.yield_gravity_nm * 1e3, now.pins, now.depth_m * 1e3);
-        else if (now.fallen) std::snprintf(what, sizeof what, "%s: FELL: %s (its line now %.0f° from vertical)", role.c_str(), components::fall_words(now.fall_reason), tilt);
-        else if (now.in_kenzan) std::snprintf(what, sizeof what, "%s: stands in the kenzan, %.0f mm deep in %u pins, %.0f° from vertical", role.c_str(), now.depth_m * 1e3, now.pins, tilt);
-        else std::snprintf(what, sizeof what, "%s: not in the pins: its bottom is at [%.0f, %.0f, %.0f] mm from the kenzan's centre", role.c_str(), bottom.x * 1e3, bottom.y * 1e3, bottom.z * 1e3);
-        say(what);
-        return now.in_kenzan && !now.fallen;
+        carry_over(flower, role, kenzan + glm::dvec3(target.base_m, 0.0), in_pins);
+        push_in(flower, role, kenzan, 0.5 * lying.diameter_m);
+        let_go(role, hold.want);
+        return stands(flower, role, kenzan);
     }
 
     // Bends the held stem with both hands (the paper's two-hand bending, Eq. 4-5): the left hand takes
@@ -351,7 +218,7 @@ public:
         move_to(left_at() + aside_m);
         // Hands further apart than a hand's width do not bend a stem between them: taken again closer.
         for (int attempt = 0; attempt < 2; ++attempt) {
-            hand_.look(); // after a long way, where it really is (see place)
+            hand_.look(); // after a long way, where it really is (see take)
             move_to(left_at() + aside_m);
             move_to(left_at(), 0.1);
             press(true);
@@ -372,8 +239,23 @@ public:
         wait(0.3);
         turn_to(straight + glm::dvec3{rise.bend_rad, 0, 0}, 0.6);
         wait(0.2);
-        // The right hand takes it again below the bend while the left holds it: held inside the bend, the
-        // part below would swing round the hand (nothing in the model holds a bend's plane but its weight).
+        const bool below_bend = take_below_bend(flower, knee_m, aside_m);
+        const bool right_holds = room_.held(1) == flower;
+        hand_.use(0);
+        press(false);
+        move_to(hand_.position() + aside_m, 0.1);
+        press(true); // on nothing, as above
+        hand_.use(1);
+        if (!right_holds) say(role + ": the right hand missed it; it fell from the hands");
+        else if (!below_bend) say(role + ": the right hand missed it below the bend; it holds it in the bend");
+        return knee_m;
+    }
+
+private:
+    // The right hand takes it again below the bend while the left holds it: held inside the bend, the
+    // part below would swing round the hand (nothing in the model holds a bend's plane but its weight).
+    // False: it missed there, and took it where it held it before.
+    bool take_below_bend(std::size_t flower, double knee_m, glm::dvec3 aside_m) {
         hand_.use(1);
         press(false);
         // Where the bend starts, as it shows once the right hand has let it spring back: the first joint
@@ -381,14 +263,7 @@ public:
         // The hand closes on the point below it, so that both points it holds are below the bend.
         wait(0.2);
         const auto shape = room_.flower(flower).points_m;
-        std::size_t first_bent = shape.size() - 1;
-        for (std::size_t i = 1; i + 1 < shape.size(); ++i) {
-            const double angle = std::acos(std::clamp(glm::dot(glm::normalize(shape[i] - shape[i - 1]), glm::normalize(shape[i + 1] - shape[i])), -1.0, 1.0));
-            if (angle > bend_seen_rad) {
-                first_bent = i;
-                break;
-            }
-        }
+        const std::size_t first_bent = first_bent_joint(shape);
         bool below_bend = false;
         if (shape.size() >= 3) {
             const std::size_t below = std::max<std::size_t>(1, first_bent - 1);
@@ -406,18 +281,206 @@ public:
             move_to(along_stem(room_.flower(flower).points_m, knee_m - bend_grip_m), 0.1);
             press(true);
         }
-        const bool right_holds = room_.held(1) == flower;
-        hand_.use(0);
-        press(false);
-        move_to(hand_.position() + aside_m, 0.1);
-        press(true); // on nothing, as above
-        hand_.use(1);
-        if (!right_holds) say(role + ": the right hand missed it; it fell from the hands");
-        else if (!below_bend) say(role + ": the right hand missed it below the bend; it holds it in the bend");
-        return knee_m;
+        return below_bend;
     }
 
-private:
+    // How a stem is held on its way in.
+    struct Hold {
+        bool bent = false;    // bent in the hands: turned by its part below the bend
+        bool upright = false; // rises before it leans: goes in (nearly) upright
+        double knee_m = 0.0;  // from the bottom to the middle of the bend
+        glm::dvec3 want{0.0}; // the direction its lower part is turned onto
+    };
+
+    // Taken from the table where the hand will hold it, and lifted. False: the hand missed it.
+    bool take(std::size_t flower, const std::string& role, const ArrangementStem& target, const SeenFlower& lying, double keep, const std::optional<Rise>& rise) {
+        const double cut = lying.length_m - keep;
+        // Take it a little above where its new bottom will be: a hand holds a stem near its base to push it in.
+        // A stem that rises before it leans is taken where the right hand will hold it while the left
+        // bends it (one that will not be bent too: it is then held by the part that stands upright).
+        const double grip_from_new_bottom = rise ? rise->knee_m - bend_grip_m : std::min(0.06, 0.3 * keep);
+        // On the stem as it lies (a branch's curve lifts it off the line between its ends).
+        const glm::dvec3 grip_at = along_stem(lying.points_m, std::max(0.0, cut) + grip_from_new_bottom);
+        say(role + ": take the " + target.species + " from the table");
+        hand_.look();
+        move_to(grip_at + glm::dvec3{0, 0, 0.06});
+        // Looked at again above it: after a long way the hand is not quite where it was sent (the X
+        // pointer moves in whole pixels, fewer of them for a metre far from the camera than near it).
+        hand_.look();
+        move_to(grip_at + glm::dvec3{0, 0, 0.06});
+        move_to(grip_at);
+        press(true);
+        if (room_.held(1) != flower) {
+            say(role + ": missed the " + target.species);
+            press(false);
+            return false;
+        }
+        move_to(hand_.position() + glm::dvec3{0, 0, 0.22});
+        return true;
+    }
+
+    // Cut to `keep`: its length above the kenzan and what the pins hold.
+    void cut_to(std::size_t flower, const std::string& role, const ArrangementStem& target, double keep, double in_pins) {
+        char what[256];
+        std::snprintf(what, sizeof what, "%s: cut it to %.0f mm (%.0f above the kenzan, %.0f in the pins)", role.c_str(), keep * 1e3, target.length_m * 1e3,
+                      in_pins * 1e3);
+        say(what);
+        hand_.cut(keep);
+        wait(0.3);
+        const double now = room_.flower(flower).length_m;
+        if (std::abs(now - keep) > 0.002) {
+            std::snprintf(what, sizeof what, "%s: it was cut to %.0f mm, not %.0f", role.c_str(), now * 1e3, keep * 1e3);
+            say(what);
+        }
+    }
+
+    static Hold hold_of(const ArrangementStem& target, const std::optional<Rise>& rise, const std::optional<double>& bent_at) {
+        Hold hold;
+        hold.bent = bent_at.has_value();
+        // A stem the left hand could not bend goes in straight at the role's tilt.
+        hold.upright = rise && (hold.bent || rise->bend_rad <= 0.0);
+        hold.knee_m = bent_at.value_or(rise ? rise->knee_m : 0.0);
+        // (A stem that rises unbent goes in upright: its own curve leans it, and keeps it with the others.)
+        hold.want = lesson_direction(hold.upright ? (hold.bent ? rise_tilt_rad : 0.0) : target.tilt_rad, target.azimuth_rad);
+        return hold;
+    }
+
+    // The held stem's direction as the hold turns it: its whole line, or held upright its part below the bend.
+    glm::dvec3 lower_direction(std::size_t flower, const Hold& hold) const {
+        const auto x = room_.flower(flower).points_m;
+        if (!hold.upright) return glm::normalize(x.back() - x.front());
+        return glm::normalize(along_stem(x, std::max(0.01, hold.knee_m - 0.5 * bend_span_m)) - x.front());
+    }
+
+    // Turn it: first the held stem's own direction onto the role's, then correct by what it shows
+    // (a head bends a stem, a branch has its curve). A bent stem is turned by its part below the
+    // bend, which goes in nearly upright.
+    void turn_to_role(std::size_t flower, const std::string& role, const ArrangementStem& target, const Hold& hold) {
+        char what[256];
+        if (hold.upright) std::snprintf(what, sizeof what, hold.bent ? "%s: hold it upright below the bend" : "%s: hold it upright", role.c_str());
+        else std::snprintf(what, sizeof what, "%s: tilt it %.0f° toward the %s", role.c_str(), target.tilt_rad * 180 / pi, direction_words(target.azimuth_rad).c_str());
+        say(what);
+        if (hold.upright) turn_upright(flower, target, hold);
+        else turn_tilted(flower, hold);
+    }
+
+    // A bend made on the level droops in its vertical plane. Its lower part is laid level in that
+    // plane, swung about the upright until it points the role's way, and raised in that plane:
+    // each turn about an axis square to the stem, so it carries the bend round with it (a stem
+    // turned any other way twists under the grip, which the model cannot hold), and the part
+    // above the bend ends leaning the role's way.
+    void turn_upright(std::size_t flower, const ArrangementStem& target, const Hold& hold) {
+        const auto level = [](glm::dvec3 d) {
+            const glm::dvec3 h{d.x, d.y, 0.0};
+            return glm::length(h) > 1e-9 ? glm::normalize(h) : glm::dvec3{1, 0, 0};
+        };
+        turn_by(turn_between(lower_direction(flower, hold), level(lower_direction(flower, hold))), 0.8);
+        wait(0.3);
+        const glm::dvec3 now = level(lower_direction(flower, hold)), to = level(hold.want);
+        const double yaw = std::atan2(now.x * to.y - now.y * to.x, glm::dot(now, to));
+        turn_by(glm::angleAxis(yaw, glm::dvec3{0, 0, 1}), 0.5 + 0.5 * std::abs(yaw));
+        wait(0.3);
+        // Raised to lean well the role's way, the bend rolls down into that side under its weight:
+        // held there until it hangs the role's way, then raised in that plane.
+        const glm::dvec3 lean = lesson_direction(roll_tilt_rad, target.azimuth_rad);
+        for (int round = 0; round < 3; ++round) {
+            turn_by(turn_between(lower_direction(flower, hold), lean), round == 0 ? 1.0 : 0.4);
+            wait(0.3);
+        }
+        // (From the middle of the bend to the tip: a short stem's bend reaches near its top.)
+        const auto upper_off = [&] {
+            const auto x = room_.flower(flower).points_m;
+            const glm::dvec3 d = x.back() - along_stem(x, hold.knee_m);
+            if (std::hypot(d.x, d.y) < 1e-3) return 0.0;
+            return std::remainder(target.azimuth_rad - std::atan2(-d.x, -d.y), 2.0 * pi);
+        };
+        for (double t = 0.0; t < roll_wait_s && std::abs(upper_off()) > rolled_within_rad; t += 0.25) wait(0.25);
+        for (int round = 0; round < 4; ++round) {
+            turn_by(turn_between(lower_direction(flower, hold), hold.want), round == 0 ? 1.5 : 0.4);
+            wait(0.4);
+        }
+    }
+
+    // A branch's curve, which lay bowing up on the table, is turned to hang down: a curve held any
+    // other way rolls down under its own weight once let go (a stem has no stiffness against
+    // twisting in the model), so that is where it settles. The stem's axis lay along +x, its curve
+    // rising toward +z: x goes to the role's direction, z to straight down across it.
+    void turn_tilted(std::size_t flower, const Hold& hold) {
+        const glm::dvec3 want = hold.want;
+        glm::dvec3 down = glm::dvec3{0, 0, -1} - glm::dot(glm::dvec3{0, 0, -1}, want) * want;
+        down = glm::length(down) > 1e-6 ? glm::normalize(down) : glm::dvec3{0, -1, 0};
+        glm::dquat turn = glm::quat_cast(glm::dmat3(want, glm::cross(down, want), down));
+        for (int round = 0; round < 4; ++round) {
+            if (round > 0) turn = turn_between(lower_direction(flower, hold), want) * turn;
+            turn_to(device_angles(turn), round == 0 ? 1.5 : 0.5);
+            wait(0.4);
+        }
+    }
+
+    // Over its place, just above the pins; then straight down into them.
+    void carry_over(std::size_t flower, const std::string& role, glm::dvec3 base, double in_pins) {
+        say(role + ": over its place in the kenzan");
+        for (int round = 0; round < 3; ++round) {
+            const glm::dvec3 bottom = room_.flower(flower).points_m.front();
+            const glm::dvec3 goal = base + glm::dvec3{0, 0, in_pins + 0.008};
+            // Across at the height it is carried, then down: carried down and across at once, the stem's
+            // end caught a tall vase's rim on its way into the mouth.
+            if (round == 0 && bottom.z > goal.z) move_to(hand_.position() + glm::dvec3{goal.x - bottom.x, goal.y - bottom.y, 0.0}, 0.15);
+            move_to(hand_.position() + (goal - room_.flower(flower).points_m.front()), 0.15);
+            wait(0.2);
+        }
+    }
+
+    void push_in(std::size_t flower, const std::string& role, glm::dvec3 kenzan, double radius) {
+        say(role + ": push it into the pins");
+        // Until its end's lowest edge is a hair above the plate: pushed further, the hand would bend the
+        // stem against the plate, and it would spring when let go. The hand never goes lower than where
+        // the stem, hanging free in it now, would touch the plate: the pins hold the stem back while the
+        // hand goes on (in the window the hand moves in frame-sized steps and sees the stem a frame or
+        // two late), and rounds that asked again and again drove the hand centimetres under its stem,
+        // which then bent against the plate and tore out of the pins.
+        const double hand_above_bottom = hand_.position().z - room_.flower(flower).points_m.front().z;
+        for (int round = 0; round < 3; ++round) {
+            const auto x = room_.flower(flower).points_m;
+            const glm::dvec3 axis = glm::normalize(x[1] - x[0]);
+            const double edge_drop = radius * std::sqrt(std::max(0.0, 1.0 - axis.z * axis.z));
+            const double lower_by = x.front().z - edge_drop - (kenzan.z + 0.0003);
+            const double lowest = kenzan.z + 0.0003 + edge_drop + hand_above_bottom;
+            const double to_z = std::max(hand_.position().z - lower_by, lowest);
+            if (hand_.position().z - to_z < 0.0005) break;
+            move_to({hand_.position().x, hand_.position().y, to_z}, 0.03);
+            wait(0.2);
+        }
+        wait(1.0);
+    }
+
+    void let_go(const std::string& role, glm::dvec3 want) {
+        say(role + ": let go");
+        press(false);
+        // Away sideways from the stem, clear of its leaves (a hand drawn through them tipped a short
+        // chrysanthemum), then up.
+        const glm::dvec3 side = glm::normalize(glm::cross(want, glm::dvec3{0, 0, 1}) + glm::dvec3{1e-9, 0, 0});
+        move_to(hand_.position() + side * 0.08, 0.1);
+        move_to(hand_.position() + glm::dvec3{0, 0, 0.1}, 0.2);
+        wait(1.0);
+    }
+
+    // What the physics made of it, said as the HUD would. True: it stands in the kenzan.
+    bool stands(std::size_t flower, const std::string& role, glm::dvec3 kenzan) {
+        char what[256];
+        const SeenFlower now = room_.flower(flower);
+        const glm::dvec3 bottom = now.points_m.front() - kenzan;
+        const double tilt = std::acos(std::clamp(glm::normalize(now.points_m.back() - now.points_m.front()).z, -1.0, 1.0)) * 180 / pi;
+        if (now.fallen && now.yield_holding_nm > 0.0)
+            std::snprintf(what, sizeof what, "%s: FELL: %s (the pins first gave way holding %.1f mN m under %.1f, %u pins, %.1f mm deep)", role.c_str(),
+                          components::fall_words(now.fall_reason), now.yield_holding_nm * 1e3, now.yield_gravity_nm * 1e3, now.pins, now.depth_m * 1e3);
+        else if (now.fallen) std::snprintf(what, sizeof what, "%s: FELL: %s (its line now %.0f° from vertical)", role.c_str(), components::fall_words(now.fall_reason), tilt);
+        else if (now.in_kenzan) std::snprintf(what, sizeof what, "%s: stands in the kenzan, %.0f mm deep in %u pins, %.0f° from vertical", role.c_str(), now.depth_m * 1e3, now.pins, tilt);
+        else std::snprintf(what, sizeof what, "%s: not in the pins: its bottom is at [%.0f, %.0f, %.0f] mm from the kenzan's centre", role.c_str(), bottom.x * 1e3, bottom.y * 1e3, bottom.z * 1e3);
+        say(what);
+        return now.in_kenzan && !now.fallen;
+    }
+
     Classroom& room_;
     TeacherHand& hand_;
     DemoResult& result_;
