@@ -200,7 +200,7 @@ private:
     WindowCamera camera_;
     PointerAim aim_;
     [[nodiscard]] PointerView pointer_view() const { return {camera_.rig(), mode_, camera_.yaw_rad()}; }
-    // This frame's reading, kept from input to the state written after the frame is drawn.
+    // This frame's reading as aimed, kept from input for the state written after it.
     platform::PointerState read_;
     std::chrono::steady_clock::time_point read_at_ = std::chrono::steady_clock::now();
     bool frame_read_ = false; // this frame's input was read in full (the lesson and the state take it)
@@ -379,7 +379,6 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     if (o_.each_frame) o_.each_frame(presented_, window_->glfw());
     window_->poll_events();
     platform::PointerState in = pointer_->read();
-    read_ = in;
     read_at_ = std::chrono::steady_clock::now();
     // The lesson's panel: its buttons do what the keys do.
     LessonPanelActions act;
@@ -432,6 +431,8 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     if (act.ghosts) keys_.set_letter(ghost_letter, true);
     if (act.restart) keys_.set_letter(reset_letter, true);
     if (o_.finish_at_frame > 0 && presented_ + 1 == o_.finish_at_frame) keys_.finish_key = true; // a test's Enter
+    // As aimed: the cursor where the aim put it (on the hand), and the ray through it.
+    read_ = in;
     frame_read_ = true;
 }
 
