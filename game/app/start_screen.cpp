@@ -9,15 +9,17 @@
 
 #include <imgui.h>
 
+#include "game/lesson/role_colours.hpp"
+
 namespace ikebana::game {
 namespace {
 
 constexpr double deg = 3.14159265358979323846 / 180.0;
 
-// The roles' colours, as the ghosts over the kenzan have them (first, second, third, the rest).
-ImU32 role_colour(std::size_t role) {
-    static const ImU32 colours[] = {IM_COL32(205, 70, 60, 255), IM_COL32(60, 130, 205, 255), IM_COL32(70, 160, 80, 255), IM_COL32(150, 150, 150, 255)};
-    return colours[std::min<std::size_t>(role, 3)];
+// The role's colour (game/lesson/role_colours.hpp), as the HUD, the rods and the history draw it.
+ImU32 role_colour_u32(std::size_t role) {
+    const glm::vec3 c = role_colour(role).rgb;
+    return ImGui::ColorConvertFloat4ToU32(ImVec4(c.r, c.g, c.b, 1.0f));
 }
 
 
@@ -60,10 +62,10 @@ void form_diagram(const LessonDef& l, float width) {
         const float side = static_cast<float>(-std::sin(az) * std::sin(tilt) * length);
         const float up = static_cast<float>(std::cos(tilt) * length);
         const float toward = static_cast<float>(std::cos(az) * std::sin(tilt) * length);
-        draw->AddLine(base, ImVec2(base.x + side * front_scale, base.y - up * front_scale), role_colour(i), 3.0f);
-        draw->AddCircleFilled(ImVec2(base.x + side * front_scale, base.y - up * front_scale), 4.0f, role_colour(i));
-        draw->AddLine(kenzan_top, ImVec2(kenzan_top.x + side * top_scale, kenzan_top.y + toward * top_scale), role_colour(i), 3.0f);
-        draw->AddCircleFilled(ImVec2(kenzan_top.x + side * top_scale, kenzan_top.y + toward * top_scale), 4.0f, role_colour(i));
+        draw->AddLine(base, ImVec2(base.x + side * front_scale, base.y - up * front_scale), role_colour_u32(i), 3.0f);
+        draw->AddCircleFilled(ImVec2(base.x + side * front_scale, base.y - up * front_scale), 4.0f, role_colour_u32(i));
+        draw->AddLine(kenzan_top, ImVec2(kenzan_top.x + side * top_scale, kenzan_top.y + toward * top_scale), role_colour_u32(i), 3.0f);
+        draw->AddCircleFilled(ImVec2(kenzan_top.x + side * top_scale, kenzan_top.y + toward * top_scale), 4.0f, role_colour_u32(i));
     }
     draw->AddText(ImVec2(at.x + 4.0f, at.y + 2.0f), IM_COL32(90, 90, 90, 255), "front");
     draw->AddText(ImVec2(top_at.x + 4.0f, top_at.y + 2.0f), IM_COL32(90, 90, 90, 255), "from above (you: below)");
@@ -85,7 +87,7 @@ void form_numbers(const LessonDef& l) {
             const auto& m = l.stems[i];
             ImGui::TableNextRow();
             ImGui::TableNextColumn();
-            ImGui::PushStyleColor(ImGuiCol_Text, role_colour(i));
+            ImGui::PushStyleColor(ImGuiCol_Text, role_colour_u32(i));
             ImGui::TextUnformatted(m.label.c_str());
             ImGui::PopStyleColor();
             ImGui::TableNextColumn();

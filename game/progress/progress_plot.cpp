@@ -10,6 +10,7 @@
 #include <cairo.h>
 #include <fontconfig/fontconfig.h>
 
+#include "game/lesson/role_colours.hpp"
 #include "engine/assets/files.hpp"
 
 namespace ikebana::game {
@@ -22,13 +23,6 @@ constexpr double left_px = 64.0;
 constexpr double legend_px = 250.0;
 constexpr double panel_top_px = 34.0;    // the lesson's name above its axes
 constexpr double panel_bottom_px = 52.0; // dates under them
-
-struct Rgb {
-    double r, g, b;
-};
-// Tableau's ten: told apart by most eyes, also in print.
-constexpr Rgb palette[] = {{0.12, 0.47, 0.71}, {1.00, 0.50, 0.05}, {0.17, 0.63, 0.17}, {0.84, 0.15, 0.16}, {0.58, 0.40, 0.74},
-                           {0.55, 0.34, 0.29}, {0.89, 0.47, 0.76}, {0.50, 0.50, 0.50}, {0.74, 0.74, 0.13}, {0.09, 0.75, 0.81}};
 
 std::string criterion_label(const Criterion& c) {
     static const std::map<std::string, std::string> names{
@@ -101,7 +95,7 @@ void draw_panel(cairo_t* cr, double top, const std::string& lesson, const std::v
     }
     text_at(cr, 0.5 * (x0 + x1), y1 + 46.0, "sessions in order (UTC)", 11.0, 0.5);
 
-    // Each criterion's trend, in the order the lesson gives them: a colour per stem, a dash per kind
+    // Each criterion's trend, in the order the lesson gives them: a colour per stem (its role's), a dash per kind
     // of criterion (length solid, tilt dashed, direction dotted, place dash-dot).
     struct Trend {
         std::string label;
@@ -135,7 +129,8 @@ void draw_panel(cairo_t* cr, double top, const std::string& lesson, const std::v
     const std::size_t shown = std::min<std::size_t>(trends.size(), 14);
     for (std::size_t k = 0; k < shown; ++k) {
         const Trend& t = trends[k];
-        const Rgb c = palette[t.colour % std::size(palette)];
+        // The stem's role colour, as the window draws it (stems come in the lesson's order).
+        const glm::vec3 c = role_colour(t.colour).rgb;
         cairo_set_source_rgba(cr, c.r, c.g, c.b, 0.85);
         cairo_set_line_width(cr, 1.6);
         dashed(t.kind);

@@ -7,6 +7,7 @@
 #include "game/asset_paths.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
 #include "game/species/species.hpp"
+#include "game/lesson/role_colours.hpp"
 #include "game/world/world.hpp"
 #include "systems/presentation/draw_list.hpp"
 
@@ -240,14 +241,6 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
 namespace ikebana::game {
 
 namespace {
-struct GhostColour {
-    const char* name;
-    glm::vec3 rgb;
-};
-constexpr GhostColour ghost_colours[] = {{"red", {0.85f, 0.15f, 0.12f}},   {"green", {0.1f, 0.6f, 0.2f}},   {"blue", {0.15f, 0.3f, 0.85f}},
-                                         {"orange", {0.9f, 0.55f, 0.1f}}, {"purple", {0.55f, 0.2f, 0.7f}}, {"teal", {0.1f, 0.6f, 0.6f}},
-                                         {"brown", {0.5f, 0.3f, 0.15f}},  {"grey", {0.4f, 0.4f, 0.4f}}};
-
 glm::mat4 rod(const glm::dvec3& p, const glm::dvec3& q, double radius) {
     const glm::dvec3 d = q - p;
     const glm::dvec3 axis = glm::length(d) > 1e-12 ? glm::normalize(d) : glm::dvec3{0, 0, 1};
@@ -257,7 +250,7 @@ glm::mat4 rod(const glm::dvec3& p, const glm::dvec3& q, double radius) {
 }
 } // namespace
 
-std::string ghost_colour_name(std::size_t role) { return ghost_colours[role % std::size(ghost_colours)].name; }
+std::string ghost_colour_name(std::size_t role) { return role_colour(role).name; }
 
 void add_form_ghosts(render::DrawList& list, const LessonDef& l, const KenzanFootprint& kenzan, const glm::dvec3& origin) {
     if (l.scoring != "form") return;
@@ -267,7 +260,7 @@ void add_form_ghosts(render::DrawList& list, const LessonDef& l, const KenzanFoo
     for (const auto& s : model.stems) {
         const auto it = std::find_if(l.stems.begin(), l.stems.end(), [&](const MainStemDef& m) { return m.role == s.role; });
         if (it == l.stems.end()) continue;
-        const auto& colour = ghost_colours[static_cast<std::size_t>(it - l.stems.begin()) % std::size(ghost_colours)];
+        const auto& colour = role_colour(static_cast<std::size_t>(it - l.stems.begin()));
         std::vector<glm::dvec3> line{origin + glm::dvec3(s.base_m, 0.0)};
         if (s.path_m.empty()) line.push_back(line.front() + lesson_direction(s.tilt_rad, s.azimuth_rad) * s.length_m);
         for (const auto& p : s.path_m) line.push_back(origin + p);
@@ -285,7 +278,7 @@ std::vector<render::OverlayPanel> form_labels(const LessonDef& l, const KenzanFo
     for (const auto& s : model_arrangement(l, kenzan).stems) {
         const auto it = std::find_if(l.stems.begin(), l.stems.end(), [&](const MainStemDef& m) { return m.role == s.role; });
         if (it == l.stems.end()) continue;
-        const glm::vec3 colour = ghost_colours[static_cast<std::size_t>(it - l.stems.begin()) % std::size(ghost_colours)].rgb;
+        const glm::vec3 colour = role_colour(static_cast<std::size_t>(it - l.stems.begin())).rgb;
         // The stem's end from its place (its risen path's end when it has one).
         const glm::dvec3 tip = s.path_m.empty() ? glm::dvec3(s.base_m, 0.0) + lesson_direction(s.tilt_rad, s.azimuth_rad) * s.length_m : s.path_m.back();
         render::OverlayPanel name;
@@ -345,7 +338,7 @@ void add_model_flowers(render::DrawList& list, const LessonDef& l, const KenzanF
         f.parts = parts_of(sp->second, static_cast<std::uint32_t>(f.points_m.size()));
         tips.push_back(f.points_m.back());
         const auto role = std::find_if(l.stems.begin(), l.stems.end(), [&](const MainStemDef& m) { return m.role == s.role; });
-        marker_colours.push_back(role == l.stems.end() ? glm::vec3(0.9f) : ghost_colours[static_cast<std::size_t>(role - l.stems.begin()) % std::size(ghost_colours)].rgb);
+        marker_colours.push_back(role == l.stems.end() ? glm::vec3(0.9f) : role_colour(static_cast<std::size_t>(role - l.stems.begin())).rgb);
         model.flowers.push_back(std::move(f));
     }
     // The flowers as the world's are drawn, then a plate under them and the markers over them.

@@ -31,6 +31,7 @@
 #include "engine/sched/clocks.hpp"
 #include "../haptics/scripted_hands.hpp"
 #include "game/lesson/lesson.hpp"
+#include "game/lesson/role_colours.hpp"
 #include "game/scene/scene.hpp"
 #include "game/asset_paths.hpp"
 #include "game/training/arrangement_score.hpp"
@@ -1098,13 +1099,39 @@ TEST(ModelArrangement, TheModelIsDrawnAsItsFlowersBehindTheContainerWithEachTipM
             if (b.mesh != "cube") continue;
             for (const auto& inst : b.instances) {
                 const glm::vec3 c(inst.colour);
-                if (glm::length(c - glm::vec3(0.85f, 0.15f, 0.12f)) < 1e-6f && i == 0) ++markers;
-                if (glm::length(c - glm::vec3(0.1f, 0.6f, 0.2f)) < 1e-6f && i == 1) ++markers;
-                if (glm::length(c - glm::vec3(0.15f, 0.3f, 0.85f)) < 1e-6f && i == 2) ++markers;
+                if (glm::length(c - role_colour(i).rgb) < 1e-6f) ++markers;
             }
         }
         EXPECT_EQ(markers, 1u) << l.stems[i].role << " (" << ghost_colour_name(i) << ")";
     }
+}
+
+// One colour per role wherever a role is drawn (the start screen draws its sketch and list with the same
+// role_colour): shin red, soe green, hikae blue, for the rods and the HUD's legend alike. The start
+// screen once drew soe blue and hikae green.
+TEST(RoleColours, TheFormsRodsAndTheHudsLegendGiveEachRoleOneColour) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    const auto footprint = footprint_of(l);
+    ASSERT_TRUE(footprint.ok());
+    render::DrawList list;
+    add_form_ghosts(list, l, *footprint, {0.0, 0.0, 0.05});
+    for (std::size_t i = 0; i < l.stems.size(); ++i) {
+        std::size_t drawn = 0;
+        for (const auto& b : list.batches) {
+            for (const auto& inst : b.instances) drawn += glm::length(glm::vec3(inst.colour) - role_colour(i).rgb) < 1e-6f ? 1 : 0;
+        }
+        EXPECT_GT(drawn, 0u) << l.stems[i].role << "'s rod in its colour";
+    }
+    EXPECT_EQ(std::string(ghost_colour_name(0)) + " " + ghost_colour_name(1) + " " + ghost_colour_name(2), "red green blue");
+    LessonControls controls(l, *footprint);
+    platform::PointerState g;
+    g.set_letter(ghost_letter, true);
+    components::FrameSnapshot frame;
+    systems::TraineeChannel channel;
+    (void)controls.update(g, 1, frame, channel);
+    std::string legend;
+    for (const auto& line : controls.hud_lines()) legend += line + "\n";
+    EXPECT_NE(legend.find("shin red soe green hikae blue"), std::string::npos) << legend;
 }
 
 TEST(ModelArrangement, EachRoleIsNamedOverItsModelTipAndOverItsGhostWithItsTargetLengthAndTilt) {
