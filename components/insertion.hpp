@@ -57,6 +57,7 @@ struct InsertionHistory {
     double out_rise_m;               // how far above the pin tips the end has risen since it left them
     glm::dvec2 left_at_m;            // where the end's bottom was (x, y) when it left them
     bool entry_counted;              // this entry into the pins has been decided (an insertion, or a stem set in)
+    bool entry_held;                 // a hand held the stem at some moment of this entry, before it was decided
 };
 
 enum class ResistanceKind : std::uint8_t { soft_table, hard_eq6 };

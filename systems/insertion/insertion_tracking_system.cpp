@@ -59,12 +59,16 @@ void InsertionTrackingSystem::operator()(sched::SystemContext& ctx) {
             const bool really_out = out_us >= min_time_out_us && (history.out_rise_m >= min_rise_out_m || out_us >= min_time_hovering_us || moved);
             if (!was_in && (!history.left_pins || really_out)) {
                 history.entry_counted = false; // really out and back: a new entry (a quick return is the same one)
+                history.entry_held = false;
             }
-            if (history.entry_counted || engagement.depth_m < pierced_depth_m) return;
+            if (history.entry_counted) return;
+            // Only a stem a hand put into the pins is an insertion (not one falling onto them): held at some
+            // moment of this entry. One let go with its end just in, which its weight then takes deeper,
+            // counts when it is pierced (a trainee's cherry once stood with "insertions 0").
+            if (const auto* grasp = r.try_get<const Grasp>(flower); grasp && grasp->hands > 0) history.entry_held = true;
+            if (engagement.depth_m < pierced_depth_m) return;
             history.entry_counted = true;
-            // Only a held stem entering the pins is an insertion (not one falling onto them).
-            const auto* grasp = r.try_get<const Grasp>(flower);
-            if (!grasp || grasp->hands == 0) return;
+            if (!history.entry_held) return;
 
             // A new insertion of this stem end.
             InsertionRecord record{};

@@ -74,6 +74,23 @@ TEST(Breakage, StemThatIsNotHeldDoesNotCountAnInsertion) {
     EXPECT_TRUE(b.r.get<PinEngagement>(b.flower).in_kenzan);
 }
 
+// A hand puts the stem's end just into the pins (less than pierced) and lets go; its weight takes it the
+// rest of the way. The hand put it there: one insertion (a trainee's cherry stood in the kenzan with
+// "insertions 0"). A stem that was never held in this entry still counts none (above).
+TEST(Breakage, AStemPlacedByHandThatSinksInAfterTheHandLetGoIsOneInsertion) {
+    Bench b(1, {});
+    const double top = b.r.single<Kenzan>()->pin_height_m();
+    b.move_bottom_to(top - 0.001); // in the pins, not yet pierced
+    EXPECT_TRUE(b.r.get<PinEngagement>(b.flower).in_kenzan);
+    EXPECT_EQ(b.r.get<InsertionHistory>(b.flower).insertions, 0u);
+    b.r.get<Grasp>(b.flower).hands = 0;
+    b.move_bottom_to(top - 0.006);
+    EXPECT_EQ(b.r.get<InsertionHistory>(b.flower).insertions, 1u);
+    EXPECT_EQ(b.r.get<InsertionHistory>(b.flower).insertions_total, 1u);
+    b.move_bottom_to(top - 0.008); // sinking further is the same insertion
+    EXPECT_EQ(b.r.get<InsertionHistory>(b.flower).insertions, 1u);
+}
+
 // Hazards 0.2, 0.4, then 0.6 per insertion: E[N] = 0.2*1 + 0.8*0.4*2 + 0.8*0.6*(3 + 0.4/0.6) = 2.6,
 // the paper's mean. Over 4000 flowers the sample mean is within 0.1 of it.
 TEST(Breakage, MeanInsertionsToBreakMatchesTheHazards) {
