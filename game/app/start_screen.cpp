@@ -92,6 +92,11 @@ void form_numbers(const LessonDef& l) {
             ImGui::PopStyleColor();
             ImGui::TableNextColumn();
             ImGui::Text("%.0f mm", nominal_length_m(l, i) * 1e3);
+            // A length that follows another role's changes with the trainee's own stem: said so here.
+            if (m.length_of.kind == LengthBase::Kind::role) {
+                ImGui::SameLine();
+                ImGui::TextDisabled("(%.2g x %s as cut)", m.length_ratio.target, l.stems[m.length_of.role].label.c_str());
+            }
             ImGui::TableNextColumn();
             ImGui::Text("%.0f deg +-%.0f", m.tilt_rad.target / deg, m.tilt_rad.tolerance / deg);
             ImGui::TableNextColumn();
@@ -165,6 +170,31 @@ bool tracked_button(std::vector<UiButton>& buttons, const std::string& label, co
     return pressed;
 }
 
+namespace {
+// How the scene is shown: a flat screen by default (the whole width for one view), or the stereo
+// display the trainee has. Remembered by the app; --stereo fixes it.
+void display_choice(StartScreenModel& model, std::vector<UiButton>& buttons) {
+    struct Option {
+        const char* mode;
+        const char* label;
+    };
+    static constexpr Option options[] = {{"mono", "Flat screen"}, {"sbs", "3D display, side by side"}, {"anaglyph", "Red-cyan glasses"}, {"rows", "3D display, rows"}};
+    ImGui::TextUnformatted("Display:");
+    if (model.display_fixed) ImGui::BeginDisabled();
+    for (const auto& o : options) {
+        ImGui::SameLine();
+        if (ImGui::RadioButton(o.label, model.display == o.mode)) model.display = o.mode;
+        const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+        buttons.push_back({std::string("display:") + o.mode, {a.x, a.y}, {b.x, b.y}});
+    }
+    if (model.display_fixed) {
+        ImGui::EndDisabled();
+        ImGui::SameLine();
+        ImGui::TextDisabled("(set by --stereo)");
+    }
+}
+} // namespace
+
 StartChoice StartScreen::draw(StartScreenModel& model) {
     buttons_.clear();
     StartChoice choice;
@@ -191,6 +221,7 @@ StartChoice StartScreen::draw(StartScreenModel& model) {
     // Quit at the top right, always in sight.
     ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 60.0f);
     if (tracked_button(buttons_, "Quit", "quit", 60.0f, 0.0f)) choice.kind = StartChoice::Kind::quit;
+    display_choice(model, buttons_);
     // What the trainee did last comes first: it is what they come back for.
     if (ImGui::CollapsingHeader("Your last results", ImGuiTreeNodeFlags_DefaultOpen)) {
         if (auto replay = last_results(model, buttons_)) {

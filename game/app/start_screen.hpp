@@ -32,6 +32,9 @@ struct StartScreenModel {
     std::string trainee;               // edited on the screen
     std::vector<SessionRecord> recent; // this trainee's sessions, oldest first
     std::string progress_note;         // where results are kept, or why they are not
+    // How the scene is shown ("mono", "sbs", "anaglyph", "rows"), chosen here unless --stereo fixed it.
+    std::string display = "mono";
+    bool display_fixed = false;
 };
 
 struct StartChoice {

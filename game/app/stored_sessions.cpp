@@ -44,6 +44,17 @@ void StoredSessions::set_trainee(const std::string& name) {
     session_.trainee = name;
 }
 
+std::optional<std::string> StoredSessions::remembered(const std::string& key) const {
+    if (!progress_) return std::nullopt;
+    auto value = progress_->setting(key);
+    return value && *value ? std::optional<std::string>(**value) : std::nullopt;
+}
+
+void StoredSessions::remember(const std::string& key, const std::string& value) {
+    if (!progress_) return;
+    if (auto kept = progress_->set_setting(key, value); !kept) std::cerr << "ikebana: the " << key << " is not remembered: " << kept.error().message << "\n";
+}
+
 std::vector<SessionRecord> StoredSessions::sessions_of(const std::string& trainee) {
     if (!progress_) return {};
     auto mine = progress_->sessions({trainee, ""});

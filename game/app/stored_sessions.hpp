@@ -40,6 +40,10 @@ public:
     [[nodiscard]] const std::string& trainee() const noexcept { return session_.trainee; }
     // The name chosen on the start screen, remembered for the next time (not for a demonstration).
     void set_trainee(const std::string& name);
+    // A setting kept in the database from one run to the next (the display chosen), and keeping one;
+    // nothing without a database, and a setting that cannot be kept is said, not fatal.
+    [[nodiscard]] std::optional<std::string> remembered(const std::string& key) const;
+    void remember(const std::string& key, const std::string& value);
     // This trainee's sessions, oldest first (none without a database).
     [[nodiscard]] std::vector<SessionRecord> sessions_of(const std::string& trainee);
 

@@ -271,13 +271,23 @@ int TraineeSession::open() {
         picked_[hand] = std::move(opened->device);
         device_names_[hand] = picked_[hand] ? opened->description : "mouse and keyboard";
     }
-    const std::string stereo = o_.stereo.empty() ? scene_->display.stereo : o_.stereo;
     auto window = platform::Window::create("Ikebana", o_.width, o_.height);
     if (!window) {
         TraineeAppOptions fallback = o_;
-        fallback.stereo = stereo;
+        fallback.stereo = o_.stereo.empty() ? scene_->display.stereo : o_.stereo;
         return offscreen_instead(fallback, window.error().message);
     }
+    const auto kept = stored_.open(showing_start_, lesson_ ? &*lesson_ : nullptr);
+    start_model_.progress_note = kept.note;
+    if (!kept.trainee.empty()) start_model_.trainee = kept.trainee;
+    // How the scene is shown: --stereo; else as this trainee chose on the start screen last time; else,
+    // for someone who starts at the start screen, a flat screen (one view, the whole width: a first-time
+    // trainee's screen); else the scene's own.
+    std::string stereo = o_.stereo;
+    if (stereo.empty()) {
+        if (auto remembered = stored_.remembered("display"); remembered && render::parse_stereo_mode(*remembered)) stereo = *remembered;
+    }
+    if (stereo.empty()) stereo = showing_start_ ? "mono" : scene_->display.stereo;
     auto render_mode = render::parse_stereo_mode(stereo);
     if (!render_mode) {
         std::cerr << "ikebana: " << render_mode.error().message << "\n";
@@ -300,9 +310,9 @@ int TraineeSession::open() {
     // the window's edge itself.
     pointer_ = o_.pointer ? o_.pointer : window_pointer_;
     camera_.reset(rig_of(scene_->display));
-    const auto kept = stored_.open(showing_start_, lesson_ ? &*lesson_ : nullptr);
-    start_model_.progress_note = kept.note;
-    if (!kept.trainee.empty()) start_model_.trainee = kept.trainee;
+    start_model_.display = render::stereo_mode_name(mode_);
+    start_model_.display_fixed = !o_.stereo.empty();
+    state_.display = start_model_.display;
     if (showing_start_) {
         auto lessons = load_shipped_lessons();
         if (lessons) start_model_.lessons = std::move(lessons).value();
@@ -556,6 +566,21 @@ std::optional<std::string> TraineeSession::run_start_screen() {
         const std::string before = start_model_.trainee;
         const StartChoice choice = start_screen_.draw(start_model_);
         ui_->end_frame();
+        if (start_model_.display != render::stereo_mode_name(mode_)) {
+            // Another display chosen: from the next frame, and remembered for the next time.
+            const auto chosen = render::parse_stereo_mode(start_model_.display);
+            if (chosen) {
+                if (auto set = stack_->set_mode(*chosen); !set) {
+                    std::cerr << "ikebana: " << set.error().message << "\n";
+                    code_ = 3;
+                    return std::nullopt;
+                }
+                mode_ = *chosen;
+                stored_.remember("display", start_model_.display);
+            }
+            start_model_.display = render::stereo_mode_name(mode_);
+            state_.display = start_model_.display;
+        }
         if (start_model_.trainee != before) start_model_.recent = stored_.sessions_of(start_model_.trainee);
         if (!o_.state_out.empty()) {
             state_.frame += 1;

@@ -47,6 +47,12 @@ Result<std::unique_ptr<WindowStack>> WindowStack::open(std::unique_ptr<platform:
     return s;
 }
 
+Result<void> WindowStack::set_mode(render::StereoMode mode) {
+    if (auto r = renderer_->set_mode(mode); !r) return r;
+    mode_ = mode;
+    return {};
+}
+
 WindowStack::~WindowStack() {
     if (ctx_ && ctx_->device()) vkDeviceWaitIdle(ctx_->device());
     ui_.reset();

@@ -51,6 +51,8 @@ public:
     [[nodiscard]] platform::GlfwPointerSource& pointer() { return *pointer_; }
     [[nodiscard]] render::UiLayer* ui() { return ui_.get(); } // null without the interface
     [[nodiscard]] render::StereoMode mode() const { return mode_; }
+    // Another way of showing the scene from the next frame (the eyes are fitted to the window again).
+    Result<void> set_mode(render::StereoMode mode);
     // Why the interface is missing (empty when it is there).
     [[nodiscard]] const std::string& ui_problem() const { return ui_problem_; }
 

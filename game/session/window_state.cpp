@@ -116,6 +116,7 @@ std::string window_state_json(const WindowState& s) {
     }
     if (s.kenzan_origin_m) j["kenzan"] = {{"origin_m", vec(*s.kenzan_origin_m)}, {"pin_height_m", s.kenzan_pin_height_m}};
     j["screen"] = s.screen;
+    if (!s.display.empty()) j["display"] = s.display;
     Json buttons = Json::array();
     for (const auto& b : s.buttons) buttons.push_back({{"label", b.label}, {"min_px", vec(b.min_px)}, {"max_px", vec(b.max_px)}});
     j["buttons"] = buttons;
@@ -185,6 +186,7 @@ Result<WindowState> parse_window_state(std::string_view text, const std::string&
         s.kenzan_pin_height_m = r.get<double>(j["kenzan"], "pin_height_m");
     }
     if (r.error.empty() && j.contains("screen")) s.screen = r.get<std::string>(j, "screen");
+    if (r.error.empty() && j.contains("display")) s.display = r.get<std::string>(j, "display");
     if (r.error.empty() && j.contains("buttons")) {
         const auto& buttons = j["buttons"];
         if (!buttons.is_array() || buttons.size() > 200) r.error = "field 'buttons' should be an array of at most 200";

@@ -55,6 +55,8 @@ struct WindowState {
     // Which screen is up ("start": the start screen, "lesson"), and its interface's buttons, where a
     // script finds them (window pixels, the left eye's copy in side by side).
     std::string screen = "lesson";
+    // How the scene is shown: "mono" (a flat screen), "sbs", "anaglyph" or "rows" (render::StereoMode).
+    std::string display;
     struct Button {
         std::string label;
         glm::dvec2 min_px{0.0}, max_px{0.0};

@@ -171,13 +171,24 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
         if (!m.species.empty() && std::find(m.species.begin(), m.species.end(), f.species) == m.species.end()) continue;
         // The length: of the container, or of the stem that plays the role it follows, as it stands.
         double base = m.length_of.kind == LengthBase::Kind::container_height ? l.container.depth_m : l.container.size_m();
+        // A target that follows another role says so (it changes with that stem, which the start
+        // screen's figure cannot know).
+        std::string follows;
         if (m.length_of.kind == LengthBase::Kind::role) {
             base = nominal_length_m(l, m.length_of.role);
+            bool stands = false;
             if (placed) {
                 for (const auto& s : placed->arrangement.stems) {
-                    if (s.standing && s.role == l.stems[m.length_of.role].role) base = s.length_m;
+                    if (s.standing && s.role == l.stems[m.length_of.role].role) {
+                        base = s.length_m;
+                        stands = true;
+                    }
                 }
             }
+            char ratio[96];
+            std::snprintf(ratio, sizeof ratio, ": %.2g × %s%s", m.length_ratio.target, l.stems[m.length_of.role].role.c_str(),
+                          stands ? " as yours stands" : " as the form has it");
+            follows = ratio;
         }
         const double target = base * m.length_ratio.target;
         const double pins = frame.kenzan->pin_height_m();
@@ -185,11 +196,11 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
         advice.keep_length_m = target + pins;
         std::string lean = m.azimuth_rad ? " toward the " + direction_words(m.azimuth_rad->target) : "";
         if (length > advice.keep_length_m + 0.002) {
-            std::snprintf(text, sizeof text, "for %s: C cuts it to %.0f mm (%.0f above the kenzan, %.0f in the pins); then Ctrl+drag to tilt it %.0f°%s",
-                          m.role.c_str(), advice.keep_length_m * 1e3, target * 1e3, pins * 1e3, m.tilt_rad.target * deg, lean.c_str());
+            std::snprintf(text, sizeof text, "for %s: C cuts it to %.0f mm (%.0f above the kenzan%s; %.0f in the pins); then Ctrl+drag to tilt it %.0f°%s",
+                          m.role.c_str(), advice.keep_length_m * 1e3, target * 1e3, follows.c_str(), pins * 1e3, m.tilt_rad.target * deg, lean.c_str());
         } else {
-            std::snprintf(text, sizeof text, "for %s (%.0f mm above the kenzan): tilt it %.0f° ±%.0f°%s (Ctrl+drag), put it in %s of the kenzan", m.role.c_str(),
-                          target * 1e3, m.tilt_rad.target * deg, m.tilt_rad.tolerance * deg, lean.c_str(), region_words(m.region).c_str());
+            std::snprintf(text, sizeof text, "for %s (%.0f mm above the kenzan%s): tilt it %.0f° ±%.0f°%s (Ctrl+drag), put it in %s of the kenzan", m.role.c_str(),
+                          target * 1e3, follows.c_str(), m.tilt_rad.target * deg, m.tilt_rad.tolerance * deg, lean.c_str(), region_words(m.region).c_str());
         }
         advice.lines.emplace_back(text);
         // A form whose stems rise as one line from the water (a shoka): a role that leans well away from

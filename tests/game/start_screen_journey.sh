@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# A trainee's journey with the mouse, under xvfb-run: the start screen, a lesson picked and started
+# A trainee's journey with the mouse, under xvfb-run: the start screen (a flat screen the first time;
+# the side-by-side display chosen there, and remembered at the next start), a lesson picked and started
 # there, the hand moved and the camera turned, scored (Enter), back to the start screen (the panel's
 # button), the result listed there and in `ikebana history --json`, the session replayed from the
 # start screen and back, then Quit; the recording then replays headless to the same score and state. The buttons are found where the window's state file says they
@@ -51,6 +52,9 @@ click() {
 
 presses=0
 wait_for '"screen":"start"'
+wait_for '"display":"mono"' # a first-time trainee's screen: one view, the whole width
+click "display:sbs"; presses=$((presses + 1))
+wait_for '"display":"sbs"'
 click "select:sogetsu_basic_upright"; presses=$((presses + 1))
 click "start:sogetsu_basic_upright"; presses=$((presses + 1))
 wait_for '"screen":"lesson"'
@@ -98,4 +102,17 @@ grep -q "(as recorded)" "$work/replay.log" || fail "the replay's state hash: $(c
 grep -q "RESULT: $shown / 100" "$work/replay.log" || fail "the replay scores otherwise than the window's $shown: $(cat "$work/replay.log")"
 grep -q "wake lateness" "$log" && fail "the app's terminal shows the threads' figures (they belong in the log or --stats)"
 grep -q "wake lateness" "$XDG_STATE_HOME/ikebana/last-session.log" || fail "the session's figures are not in the log"
+# The display chosen is the one the next start opens with.
+rm -f "$state"
+log="$work/app2.log"
+"$ikebana" --width 1200 --height 675 --state-out "$state" >"$log" 2>&1 &
+app=$!
+trap 'kill $app 2>/dev/null || true' EXIT
+wait_for '"screen":"start"'
+wait_for '"display":"sbs"'
+click "quit"
+for _ in $(seq 1 100); do kill -0 $app 2>/dev/null || break; sleep 0.1; done
+kill -0 $app 2>/dev/null && fail "Quit did not end the app the second time"
+wait $app || fail "the app ended with an error the second time"
+trap - EXIT
 echo "start screen -> lesson -> score -> start screen -> replay -> start screen -> quit: $presses presses"

@@ -341,7 +341,14 @@ TEST(FormScore, AKenzanSeenFromTheFrontIsNamedWithWhereItShows) {
     const RuleResult* hidden = rule(*scored, "kenzan_hidden_front");
     ASSERT_NE(hidden, nullptr);
     EXPECT_FALSE(hidden->ok);
-    EXPECT_NE(hidden->tip.find("the kenzan shows from the front"), std::string::npos) << hidden->tip;
+    EXPECT_NE(hidden->tip.find("the kenzan still shows from the front: the stems hide "), std::string::npos) << hidden->tip;
+    EXPECT_NE(hidden->tip.find("the form wants 80 %: add a low stem leaning toward the viewer, "), std::string::npos) << hidden->tip;
+    // Where, in words a beginner can see: never coordinates.
+    EXPECT_EQ(hidden->tip.find("x ="), std::string::npos) << hidden->tip;
+    EXPECT_EQ(hidden->tip.find(" mm"), std::string::npos) << hidden->tip;
+    const bool placed = hidden->tip.ends_with("in front of its left end") || hidden->tip.ends_with("in front of its middle") ||
+                        hidden->tip.ends_with("in front of its right end") || hidden->tip.ends_with("across most of its width");
+    EXPECT_TRUE(placed) << hidden->tip;
     EXPECT_DOUBLE_EQ(hidden->points, 0.0);
 }
 
@@ -772,6 +779,8 @@ TEST(LessonControls, AShokaRoleThatLeansAwayFromTheLineIsToBeBentWithBothHandsFi
     };
     const std::string shoka = says("ikenobo_shoka_shofutai");
     EXPECT_NE(shoka.find("for soe: C cuts it to"), std::string::npos) << shoka;
+    // Soe's length follows shin's: said so, as the form has it while no shin stands.
+    EXPECT_NE(shoka.find(" × shin as the form has it; "), std::string::npos) << shoka;
     EXPECT_NE(shoka.find("the form's stems rise as one line 60-80 mm above the water: first bend it about 40° 70 mm from its cut end"), std::string::npos) << shoka; // this kenzan{} has no pins
     EXPECT_NE(shoka.find("to bend: Tab, take it with the other hand beside this one"), std::string::npos) << shoka;
     const std::string upright = says("sogetsu_basic_upright");
