@@ -78,10 +78,21 @@ void StoredSessions::start_recording(World& world, const LessonDef& lesson) {
     std::string stamp = iso_utc(now);
     std::replace(stamp.begin(), stamp.end(), ':', '-');
     const auto parent = std::filesystem::path(o_.progress_db).parent_path() / "recordings";
-    std::filesystem::path folder = parent / (stamp + "-" + lesson.id);
     std::error_code ec;
-    for (int n = 2; std::filesystem::exists(folder, ec) && n < 100; ++n) folder = parent / (stamp + "-" + lesson.id + "-" + std::to_string(n));
     std::filesystem::create_directories(parent, ec);
+    // The folder is this session's only if this process made it: two windows started in one second
+    // (two trainees on one database, or CI's two window lessons side by side) once both took
+    // "<second>-<lesson>" after both saw it free, and wrote each other's right.csv to pieces. Making a
+    // folder is atomic; looking first is not.
+    std::filesystem::path folder;
+    for (int n = 1; n < 100 && folder.empty(); ++n) {
+        const auto candidate = parent / (stamp + "-" + lesson.id + (n > 1 ? "-" + std::to_string(n) : ""));
+        if (std::filesystem::create_directory(candidate, ec)) folder = candidate;
+    }
+    if (folder.empty()) {
+        std::cerr << "ikebana: the session is not recorded: no free folder in " << parent.string() << "\n";
+        return;
+    }
     auto recorder = SessionRecorder::create(folder, /*real_time=*/true);
     if (!recorder) {
         std::cerr << "ikebana: the session is not recorded: " << recorder.error().message << "\n";

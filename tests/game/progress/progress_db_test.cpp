@@ -4,13 +4,19 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <latch>
+#include <thread>
 #include <string>
 
 #include <sqlite3.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "game/app/stored_sessions.hpp"
+#include "game/lesson/lesson.hpp"
 #include "game/progress/progress_db.hpp"
+#include "game/world/lesson_scene.hpp"
+#include "game/world/world.hpp"
 #include "game/progress/progress_plot.hpp"
 
 using namespace ikebana;
@@ -399,4 +405,42 @@ TEST(ProgressPlot, IsAPngOrAnSvgWithAPanelPerLesson) {
     EXPECT_NE(svg->find("<svg"), std::string::npos);
     EXPECT_FALSE(plot_format_of("progress.pdf"));
     EXPECT_EQ(plot_format_of("progress.PNG").value(), PlotFormat::png);
+}
+
+// Two windows on one database that begin a session of one lesson in the same second (CI's two window
+// lessons side by side; two trainees sharing a machine) each get a recording folder of their own: both
+// once took "<second>-<lesson>" after both saw it free, and wrote each other's right.csv to pieces.
+TEST(StoredSessions, TwoSessionsBegunInOneSecondRecordIntoFoldersOfTheirOwn) {
+    const auto dir = std::filesystem::temp_directory_path() / "ikebana-stored-sessions-test";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    game::TraineeAppOptions options;
+    options.progress_db = (dir / "progress.sqlite").string();
+    auto lesson = game::load_lesson("sogetsu_basic_upright");
+    ASSERT_TRUE(lesson.ok()) << lesson.error().message;
+    auto scene = game::scene_for_lesson(*lesson);
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    for (int round = 0; round < 8; ++round) {
+        auto one = game::World::create(*scene);
+        auto two = game::World::create(*scene);
+        ASSERT_TRUE(one.ok() && two.ok());
+        game::StoredSessions first(options), second(options);
+        (void)first.open(false, &*lesson);
+        (void)second.open(false, &*lesson);
+        // Both begin at once, as two processes would.
+        std::latch go(2);
+        std::thread other([&] {
+            go.arrive_and_wait();
+            second.begin(**two, &*lesson);
+        });
+        go.arrive_and_wait();
+        first.begin(**one, &*lesson);
+        other.join();
+        ASSERT_NE(first.recorder(), nullptr);
+        ASSERT_NE(second.recorder(), nullptr);
+        EXPECT_NE(first.recorder()->folder(), second.recorder()->folder()) << "round " << round;
+        first.finish(**one, &*lesson);
+        second.finish(**two, &*lesson);
+    }
+    std::filesystem::remove_all(dir);
 }
