@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <tuple>
 
 #include "engine/ecs/registry.hpp"
 #include "systems/collision/narrow_phase.hpp"
@@ -99,8 +98,13 @@ void begin(ecs::Registry& r, CollisionPass& pass) {
 }
 
 void gather(CollisionPass& pass, std::size_t slice, std::size_t slices) {
-    const auto& [entities, colliders, owners, active, cells, cell_size_m] =
-        std::tie(pass.entities, pass.colliders, pass.owners, pass.active, pass.cells, pass.cell_size_m);
+    // Plain references, not a structured binding: clang (the fuzz build) does not let a lambda capture one.
+    const auto& entities = pass.entities;
+    const auto& colliders = pass.colliders;
+    const auto& owners = pass.owners;
+    const auto& active = pass.active;
+    const auto& cells = pass.cells;
+    const double cell_size_m = pass.cell_size_m;
     auto& pairs = pass.pairs;
     // Collider j of slice s meets the Active colliders i in its cells: the pair (i, j), for a Passive j
     // or an Active one after i (Active x Active once).
@@ -119,8 +123,12 @@ void gather(CollisionPass& pass, std::size_t slice, std::size_t slices) {
 }
 
 void query(CollisionPass& pass, std::size_t slice, std::size_t slices) {
-    auto [pairs, found, pairs_tested] = std::tie(pass.pairs, pass.found, pass.pairs_tested);
-    const auto& [entities, colliders, owners] = std::tie(pass.entities, pass.colliders, pass.owners);
+    auto& pairs = pass.pairs;
+    auto& found = pass.found;
+    auto& pairs_tested = pass.pairs_tested;
+    const auto& entities = pass.entities;
+    const auto& colliders = pass.colliders;
+    const auto& owners = pass.owners;
     // The pairs in order, Active collider by Active collider and each one's partners by index: the
     // slices' contacts, one after another, are the whole pass's. The first slice sorts them (a pair met
     // in several cells once).
@@ -142,8 +150,11 @@ void query(CollisionPass& pass, std::size_t slice, std::size_t slices) {
 }
 
 void query_pins(ecs::Registry& r, CollisionPass& pass) {
-    auto [found, pairs_tested] = std::tie(pass.found, pass.pairs_tested);
-    const auto& [entities, colliders, active_count] = std::tie(pass.entities, pass.colliders, pass.active_count);
+    auto& found = pass.found;
+    auto& pairs_tested = pass.pairs_tested;
+    const auto& entities = pass.entities;
+    const auto& colliders = pass.colliders;
+    const auto active_count = pass.active_count;
     // The kenzan: its grid is the broad phase. Only Active capsules (stem ends) meet the pins.
     r.view<const Kenzan>().each([&](ecs::Entity kenzan_entity, const Kenzan& k) {
         const double top = k.origin_m.z + k.pin_height_m();
