@@ -182,8 +182,13 @@ TEST(ForceWatchdog, ZeroesTheDeviceWhenTheLoopStalls) {
     // test once read the count between the two.
     for (int i = 0; i < 500 && watchdog.trips() < 1; ++i) std::this_thread::sleep_for(std::chrono::microseconds(100));
     EXPECT_GE(watchdog.trips(), 1u);
-    // Feeding again re-arms it; a second stall trips it again.
-    watchdog.feed();
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    // Feeding again re-arms it; a second stall trips it again. Fed for 5 ms, so that the watchdog's own
+    // check sees a fed loop (one feed between two of its checks re-armed nothing in CI, beside the
+    // window lessons); then up to 500 ms for the trip.
+    for (int i = 0; i < 25; ++i) {
+        watchdog.feed();
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+    for (int i = 0; i < 500 && watchdog.trips() < 2; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     EXPECT_GE(watchdog.trips(), 2u);
 }
