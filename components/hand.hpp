@@ -86,9 +86,10 @@ struct HandGrip {
     std::uint32_t second_point;
     glm::dvec3 second_offset_m;
     // A one-hand grip turns with the hand: the offsets above are as they were when the grip took the
-    // stem's direction, turned by how far the device has turned since (`rotation_at_grip_rad` then).
-    // `turned` is the turn applied so far, which follows the device's at a hand's pace.
-    glm::dvec3 rotation_at_grip_rad{0.0};
+    // stem's direction, turned by how far the device has turned since (`turn_at_grip`: its turn in the
+    // room then, the camera's yaw of that moment included, so that a camera turned since turns nothing
+    // by itself). `turned` is the turn applied so far, which follows the device's at a hand's pace.
+    glm::dquat turn_at_grip{1.0, 0.0, 0.0, 0.0};
     glm::dquat turned{1.0, 0.0, 0.0, 0.0};
     std::uint32_t cuts_seen = 0; // the held stem's cuts when last gripped (a cut moves its points)
 };

@@ -6,14 +6,21 @@ layout(push_constant) uniform Composite {
     int eye_width;
     int eye_height;
     int first_row_eye; // rows: which eye the output's row 0 carries (depends on the display)
+    int area_width;    // the eye's image and, right of it, the column a window keeps for its panels
+    int padding[3];
+    vec4 column_colour;
 } c;
 layout(location = 0) out vec4 out_colour;
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
-    if (c.mode == 0) {
-        int eye = p.x >= c.eye_width ? 1 : 0;
-        out_colour = texelFetch(eyes, ivec3(p.x - eye * c.eye_width, p.y, eye), 0);
+    // Side by side, each half is an eye's area; otherwise one area both eyes share.
+    int area = c.mode == 0 && p.x >= c.area_width ? 1 : 0;
+    p.x -= area * c.area_width;
+    if (p.x >= c.eye_width) {
+        out_colour = c.column_colour;
+    } else if (c.mode == 0) {
+        out_colour = texelFetch(eyes, ivec3(p, area), 0);
     } else if (c.mode == 1) {
         int eye = (p.y + c.first_row_eye) & 1;
         out_colour = texelFetch(eyes, ivec3(p, eye), 0);

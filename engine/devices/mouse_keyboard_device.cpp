@@ -1,5 +1,8 @@
 #include "engine/devices/mouse_keyboard_device.hpp"
 
+#include "engine/devices/device_angles.hpp"
+
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -27,6 +30,31 @@ private:
     DeviceCapabilities caps_;
 };
 } // namespace
+
+glm::dquat MouseKeyboardHands::drag_turn(const Config& config, glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 steps) {
+    // Right: the top to the right, about the axis away from the viewer. Up (a negative y in pixels, or
+    // an Up arrow): the top away from the viewer, about the axis to the right, negatively.
+    const glm::dquat sideways = glm::angleAxis(moved_px.x * config.tilt_per_px_rad + steps.x * config.tilt_step_rad, glm::dvec3{0, 1, 0});
+    const glm::dquat away = glm::angleAxis(moved_px.y * config.tilt_per_px_rad - steps.y * config.tilt_step_rad, glm::dvec3{1, 0, 0});
+    const glm::dquat round = glm::angleAxis(wheel_clicks * config.turn_per_scroll_rad, glm::dvec3{0, 0, 1});
+    return round * away * sideways;
+}
+
+MouseKeyboardHands::TiltGesture MouseKeyboardHands::tilt_gesture(const Config& config, glm::dvec3 from_angles, glm::dvec3 to_angles) {
+    const glm::dquat from = turn_of_angles(from_angles);
+    // The turn to make, as drag_turn composes it: Rz(round) Rx(away) Ry(sideways).
+    const glm::dmat3 m = glm::mat3_cast(glm::normalize(turn_of_angles(to_angles) * glm::conjugate(from))); // m[column][row]
+    const double away = std::asin(std::clamp(m[1][2], -1.0, 1.0));
+    const double sideways = std::atan2(-m[0][2], m[2][2]);
+    const double round = std::atan2(-m[1][0], m[1][1]);
+    TiltGesture g;
+    g.right_px = static_cast<int>(std::lround(sideways / config.tilt_per_px_rad));
+    g.down_px = static_cast<int>(std::lround(away / config.tilt_per_px_rad));
+    g.clicks = static_cast<int>(std::lround(round / config.turn_per_scroll_rad));
+    g.reached = angles_of_turn(drag_turn(config, {0, 0}, g.clicks, {}) * drag_turn(config, {0, g.down_px}, 0.0, {}) *
+                               drag_turn(config, {g.right_px, 0}, 0.0, {}) * from);
+    return g;
+}
 
 MouseKeyboardHands::MouseKeyboardHands(platform::PointerSource& source, Config config) : source_(source), config_(config) {}
 
@@ -56,14 +84,22 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
     const platform::PointerRay& from_ray = same_reading ? now.ray : now.ray_before;
     const bool aimed = now.ray.valid && from_ray.valid && now.ray.eye == from_ray.eye;
     const double wheel = now.scroll - last_.scroll;
+    // The camera turned: both hands stay where they are in the room, turned as they were there (device
+    // space turns with the camera: the world is the device space turned by the yaw).
+    if (started_ && now.view_yaw_rad != yaw_seen_rad_) {
+        const glm::dquat back = glm::angleAxis(-(now.view_yaw_rad - yaw_seen_rad_), glm::dvec3{0, 0, 1});
+        for (std::size_t h = 0; h < 2; ++h) {
+            position_[h] = back * position_[h];
+            turn_[h] = back * turn_[h] * glm::conjugate(back);
+        }
+    }
+    yaw_seen_rad_ = now.view_yaw_rad;
+    // Ctrl+arrows lean the held stem a step, in or out of a drag.
+    const glm::dvec2 steps = started_ ? now.tilt_presses - last_.tilt_presses : glm::dvec2{0.0};
+    if (steps != glm::dvec2{0.0}) turn_[active] = glm::normalize(drag_turn(config_, {0.0, 0.0}, 0.0, steps) * turn_[active]);
     if (started_ && !now.orbit_button && now.tilt_modifier) {
-        // Ctrl: the hand stays, the held stem turns about the grip (right: its top to the right; up:
-        // its top away from the viewer; the wheel: about the vertical).
-        glm::dvec3& r = rotation_[active];
-        r.y += moved.x / now.window_px.x * config_.tilt_per_window_rad;
-        r.x -= moved.y / now.window_px.y * config_.tilt_per_window_rad;
-        r.z += wheel * config_.turn_per_scroll_rad;
-        r = glm::clamp(r, glm::dvec3{-6.0}, glm::dvec3{6.0});
+        // Ctrl: the hand stays, the held stem turns about the grip, as the viewer sees it.
+        turn_[active] = glm::normalize(drag_turn(config_, moved, wheel, {0.0, 0.0}) * turn_[active]);
     } else if (started_ && !now.orbit_button && now.ray.valid) {
         // The cursor went into the other eye's image, or runs along the hand's plane: the hand stays (the
         // window puts the cursor back on it).
@@ -101,7 +137,7 @@ DeviceSample MouseKeyboardHands::sample(std::uint8_t which, std::int64_t now_us)
     s.time_us = now_us;
     s.position = position_[which & 1u];
     s.buttons = buttons_[which & 1u];
-    s.rotation = rotation_[which & 1u];
+    s.rotation = angles_of_turn(turn_[which & 1u]);
     return s;
 }
 

@@ -7,10 +7,17 @@
 // camera), the hand moves as the point under the cursor moves at the hand's depth, and the wheel moves
 // it along the ray: a hand under the cursor stays under it, in any view. Without one, the window's
 // width and height span the Config's workspace.
+// With Ctrl held the hand stays and the held stem turns, in the directions the viewer sees: a drag
+// right leans its top right, up leans it away from the viewer, the same degrees a pixel whichever way
+// it already leans; Ctrl+arrows lean it a step at a time; Ctrl+wheel swings its lean round the
+// vertical. When the camera turns (PointerState::view_yaw_rad) the hands stay where they are in the
+// room and keep their turn there: turning the camera never moves what a hand holds.
 // No force output: the window shows what a force device would make felt.
 #include <array>
 #include <atomic>
 #include <memory>
+
+#include <glm/gtc/quaternion.hpp>
 
 #include "engine/devices/haptic_device.hpp"
 #include "engine/platform/pointer_input.hpp"
@@ -26,9 +33,24 @@ public:
         // Where the hands may go (device space): a table's reach by default; a lesson's is larger.
         glm::dvec3 reach_min_m{-0.15, -0.15, 0.0};
         glm::dvec3 reach_max_m{0.15, 0.15, 0.3};
-        double tilt_per_window_rad = 3.14159265358979323846; // Ctrl-drag across the whole window: half a turn
-        double turn_per_scroll_rad = 0.1;
+        double tilt_per_px_rad = 0.25 * 3.14159265358979323846 / 180.0;  // Ctrl+drag: a quarter degree a pixel
+        double tilt_step_rad = 5.0 * 3.14159265358979323846 / 180.0;     // Ctrl+arrow
+        double turn_per_scroll_rad = 5.0 * 3.14159265358979323846 / 180.0; // Ctrl+wheel, about the vertical
     };
+    // The turn one reading of Ctrl makes (device space: x right, y away from the viewer, z up), put
+    // before the hand's: the drag's sideways part (px, right positive), then its up-down part (px, down
+    // positive), then the wheel's clicks and the arrows' steps (x right, y up = away). Rotations about
+    // one axis add up however a motion is split into readings.
+    [[nodiscard]] static glm::dquat drag_turn(const Config& config, glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 steps);
+    // The Ctrl gestures that take a hand from one turn to another (DeviceSample::rotation's angles):
+    // a sideways drag, then an up-down one, then wheel clicks (Euler angles about y, x, z: a small turn
+    // is small steps, never a swing out and back), in whole pixels and clicks, each in readings of its
+    // own; and the angles they reach (within half a click about the vertical).
+    struct TiltGesture {
+        int right_px = 0, down_px = 0, clicks = 0;
+        glm::dvec3 reached{0.0};
+    };
+    [[nodiscard]] static TiltGesture tilt_gesture(const Config& config, glm::dvec3 from_angles, glm::dvec3 to_angles);
     explicit MouseKeyboardHands(platform::PointerSource& source) : MouseKeyboardHands(source, Config{}) {}
     MouseKeyboardHands(platform::PointerSource& source, Config config);
 
@@ -53,7 +75,8 @@ private:
     platform::PointerState last_{};
     std::array<glm::dvec3, 2> position_{glm::dvec3{-0.06, 0.0, 0.12}, glm::dvec3{0.06, 0.0, 0.12}};
     std::array<std::uint32_t, 2> buttons_{0, 0};
-    std::array<glm::dvec3, 2> rotation_{glm::dvec3{0.0}, glm::dvec3{0.0}}; // (about x, y, z), as devices report it
+    std::array<glm::dquat, 2> turn_{glm::dquat{1, 0, 0, 0}, glm::dquat{1, 0, 0, 0}}; // device space
+    double yaw_seen_rad_ = 0.0; // the camera's turn at the last reading
 };
 
 } // namespace ikebana::devices

@@ -6,8 +6,8 @@ namespace ikebana::platform {
 
 GlfwPointerSource::GlfwPointerSource(GLFWwindow* window) : window_(window) {
     glfwSetWindowUserPointer(window_, this);
-    glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int) {
-        if (auto* self = static_cast<GlfwPointerSource*>(glfwGetWindowUserPointer(w))) self->on_key(key, action);
+    glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {
+        if (auto* self = static_cast<GlfwPointerSource*>(glfwGetWindowUserPointer(w))) self->on_key(key, action, mods);
     });
     glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double y) {
         if (auto* self = static_cast<GlfwPointerSource*>(glfwGetWindowUserPointer(w))) self->scroll_ += y;
@@ -20,7 +20,15 @@ GlfwPointerSource::~GlfwPointerSource() {
     glfwSetWindowUserPointer(window_, nullptr);
 }
 
-void GlfwPointerSource::on_key(int key, int action) {
+void GlfwPointerSource::on_key(int key, int action, int mods) {
+    if (key == GLFW_KEY_LEFT || key == GLFW_KEY_RIGHT || key == GLFW_KEY_UP || key == GLFW_KEY_DOWN) {
+        // Each press is a step, and so is each repeat of a held key: eight Left then eight Right come
+        // back to where they started, however long each was held down.
+        if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
+        const glm::dvec2 step = key == GLFW_KEY_LEFT ? glm::dvec2{-1, 0} : key == GLFW_KEY_RIGHT ? glm::dvec2{1, 0} : key == GLFW_KEY_UP ? glm::dvec2{0, 1} : glm::dvec2{0, -1};
+        ((mods & GLFW_MOD_CONTROL) != 0 ? tilt_presses_ : arrow_presses_) += step;
+        return;
+    }
     if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z) {
         KeyTaps& letter = letter_taps_[key - GLFW_KEY_A];
         if (action == GLFW_PRESS) letter.press();
@@ -51,6 +59,8 @@ PointerState GlfwPointerSource::read() {
     s.depth_modifier = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
     s.switch_hand = taps_[tab].report();
     s.scroll = scroll_;
+    s.arrow_presses = arrow_presses_;
+    s.tilt_presses = tilt_presses_;
     auto key = [&](int k) { return glfwGetKey(window_, k) == GLFW_PRESS ? 1.0 : 0.0; };
     s.orbit_button = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
     s.arrows = {key(GLFW_KEY_RIGHT) - key(GLFW_KEY_LEFT), key(GLFW_KEY_UP) - key(GLFW_KEY_DOWN)};

@@ -31,7 +31,15 @@ struct PointerState {
     // The view, not the hands: the right button drags the camera round, the arrows turn it, Enter ends
     // the training. Read with the rest so that a scripted pointer can drive a whole session.
     bool orbit_button = false;  // right mouse button
-    glm::dvec2 arrows{0.0};     // x: right minus left, y: up minus down (each -1, 0 or 1)
+    glm::dvec2 arrows{0.0};     // x: right minus left, y: up minus down (each -1, 0 or 1), as held now
+    // The arrows' presses, counted (a held key's auto-repeats too), accumulated like the wheel: x right
+    // minus left, y up minus down. Without Ctrl (arrow_presses) they step the camera round the table;
+    // with Ctrl (tilt_presses) they tilt the held stem a step at a time.
+    glm::dvec2 arrow_presses{0.0};
+    glm::dvec2 tilt_presses{0.0};
+    // The camera's turn about the vertical as the window draws it: the mouse's hands stay where they
+    // are in the room when it turns (MouseKeyboardHands), holding what they hold as they held it.
+    double view_yaw_rad = 0.0;
     bool finish_key = false;    // Enter
     bool quit_key = false;      // Escape
     // Ctrl held: what the game makes of mouse motion then is its own (a lesson tilts the held stem).
@@ -114,9 +122,10 @@ public:
     enum Tap : int { enter, escape, tab, tap_count };
 
 private:
-    void on_key(int key, int action);
+    void on_key(int key, int action, int mods);
     GLFWwindow* window_;
     double scroll_ = 0.0;
+    glm::dvec2 arrow_presses_{0.0}, tilt_presses_{0.0};
     KeyTaps taps_[tap_count];
     KeyTaps letter_taps_[26]; // A to Z
     bool recentre_at_edges_ = false;

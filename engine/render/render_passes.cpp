@@ -244,7 +244,8 @@ VkImageLayout StereoRenderer::record_composite(const Frame& frame, const Composi
     const auto composite = rendering_info(target.extent, &out, nullptr);
     vkCmdBeginRendering(cmd, &composite);
     set_viewport(cmd, target.extent);
-    if (!blit) draw_composite(cmd, target);
+    if (blit) clear_columns(cmd, target);
+    else draw_composite(cmd, target);
     if (!frame.overlay_ranges.empty() && target.overlay_pipeline) draw_overlay(frame, target);
     vkCmdEndRendering(cmd);
     return blit ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
@@ -261,11 +262,12 @@ void StereoRenderer::copy_eyes_to_target(VkCommandBuffer cmd, const CompositeTar
     transition(cmd, target.image, VK_IMAGE_ASPECT_COLOR_BIT, 1, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, 0, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
     const auto w = static_cast<std::int32_t>(eyes_.extent.width), h = static_cast<std::int32_t>(eyes_.extent.height);
+    const auto area = static_cast<std::int32_t>(options_.eye_width + options_.column_px);
     const std::uint32_t count = options_.mode == StereoMode::side_by_side ? 2u : 1u;
     VkImageBlit blits[2] = {};
     VkImageCopy copies[2] = {};
     for (std::uint32_t e = 0; e < count; ++e) {
-        const auto x = static_cast<std::int32_t>(e) * w;
+        const auto x = static_cast<std::int32_t>(e) * area;
         const VkImageSubresourceLayers layer{VK_IMAGE_ASPECT_COLOR_BIT, 0, e, 1}, output{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         blits[e] = {layer, {{0, 0, 0}, {w, h, 1}}, output, {{x, 0, 0}, {x + w, h, 1}}};
         copies[e] = {layer, {0, 0, 0}, output, {x, 0, 0}, {eyes_.extent.width, eyes_.extent.height, 1}};
@@ -281,12 +283,30 @@ void StereoRenderer::copy_eyes_to_target(VkCommandBuffer cmd, const CompositeTar
                VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
 }
 
+// The columns beside the copied eyes (the composite shader fills them itself).
+void StereoRenderer::clear_columns(VkCommandBuffer cmd, const CompositeTarget& target) const {
+    if (options_.column_px == 0) return;
+    const std::uint32_t area = options_.eye_width + options_.column_px;
+    VkClearAttachment clear{VK_IMAGE_ASPECT_COLOR_BIT, 0, {}};
+    for (int k = 0; k < 4; ++k) clear.clearValue.color.float32[k] = detail::column_colour[k];
+    VkClearRect rects[2] = {};
+    const std::uint32_t count = options_.mode == StereoMode::side_by_side ? 2u : 1u;
+    for (std::uint32_t e = 0; e < count; ++e) {
+        const std::uint32_t x = e * area + options_.eye_width;
+        const std::uint32_t width = x < target.extent.width ? std::min(options_.column_px, target.extent.width - x) : 0u;
+        rects[e] = {{{static_cast<std::int32_t>(x), 0}, {std::max(1u, width), target.extent.height}}, 0, 1};
+        if (width == 0) return;
+    }
+    vkCmdClearAttachments(cmd, 1, &clear, count, rects);
+}
+
 // Any mode through the composite shader: one full-screen triangle sampling both layers.
 void StereoRenderer::draw_composite(VkCommandBuffer cmd, const CompositeTarget& target) const {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, target.pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, composite_pipeline_layout_, 0, 1, &composite_set_, 0, nullptr);
-    const CompositeConstants constants{static_cast<std::int32_t>(options_.mode), static_cast<std::int32_t>(options_.eye_width),
-                                       static_cast<std::int32_t>(options_.eye_height), 0};
+    CompositeConstants constants{static_cast<std::int32_t>(options_.mode), static_cast<std::int32_t>(options_.eye_width),
+                                 static_cast<std::int32_t>(options_.eye_height), 0, static_cast<std::int32_t>(options_.eye_width + options_.column_px), {0, 0, 0}, {}};
+    for (int k = 0; k < 4; ++k) constants.column_colour[k] = detail::column_colour[k];
     vkCmdPushConstants(cmd, composite_pipeline_layout_, VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof constants, &constants);
     vkCmdDraw(cmd, 3, 1, 0, 0);
 }
@@ -301,16 +321,18 @@ void StereoRenderer::draw_overlay(const Frame& frame, const CompositeTarget& tar
     const int areas = options_.mode == StereoMode::side_by_side ? 2 : 1;
     for (int area = 0; area < areas; ++area) {
         // Each eye's panels stay in that eye's half: a long line must not spill into the other eye.
-        const std::uint32_t area_width = areas == 2 ? options_.eye_width : target.extent.width;
-        const VkRect2D scissor{{static_cast<std::int32_t>(static_cast<std::uint32_t>(area) * area_width), 0},
-                               {std::min(area_width, target.extent.width), target.extent.height}};
+        // And in its scene: never over the column kept for panels.
+        const std::uint32_t area_width = options_.eye_width + options_.column_px;
+        const std::uint32_t left = static_cast<std::uint32_t>(area) * area_width;
+        const VkRect2D scissor{{static_cast<std::int32_t>(left), 0},
+                               {left < target.extent.width ? std::min(options_.eye_width, target.extent.width - left) : 1u, target.extent.height}};
         vkCmdSetScissor(cmd, 0, 1, &scissor);
         for (std::size_t k = 0; k < overlay_.size() && k < frame.overlay_ranges.size() && k < frame.overlay_origins.size(); ++k) {
             const auto [first, count] = frame.overlay_ranges[k];
             const auto& origin = frame.overlay_origins[k][static_cast<std::size_t>(area)];
             if (count == 0 || !origin) continue;
             const OverlayConstants c{static_cast<float>(target.extent.width), static_cast<float>(target.extent.height),
-                                     origin->x + static_cast<float>(area) * static_cast<float>(options_.eye_width), origin->y, overlay_[k].scale};
+                                     origin->x + static_cast<float>(area) * static_cast<float>(area_width), origin->y, overlay_[k].scale};
             vkCmdPushConstants(cmd, overlay_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof c, &c);
             vkCmdDraw(cmd, count, 1, first, 0);
         }

@@ -47,6 +47,11 @@ struct CompositeConstants {
     std::int32_t eye_width;
     std::int32_t eye_height;
     std::int32_t first_row_eye;
+    std::int32_t area_width; // eye_width plus the column kept for panels (render::ScreenLayout)
+    std::int32_t padding[3];
+    float column_colour[4];
 };
+// What a window's panel column shows where no panel is drawn (Dear ImGui's window background).
+inline constexpr float column_colour[4] = {0.06f, 0.06f, 0.06f, 1.0f};
 
 } // namespace ikebana::render::detail

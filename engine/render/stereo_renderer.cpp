@@ -2,6 +2,7 @@
 // offscreen, present() to a window. The passes are in render_passes.cpp, the pipelines in
 // render_pipelines.cpp, the meshes in render_meshes.cpp.
 #include "engine/render/stereo_renderer.hpp"
+#include "engine/render/screen_layout.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -192,7 +193,8 @@ Result<void> StereoRenderer::prepare_shadow_map() {
 }
 
 VkExtent2D StereoRenderer::output_extent() const noexcept {
-    const std::uint32_t w = options_.mode == StereoMode::side_by_side ? 2 * options_.eye_width : options_.eye_width;
+    const std::uint32_t area = options_.eye_width + options_.column_px;
+    const std::uint32_t w = options_.mode == StereoMode::side_by_side ? 2 * area : area;
     return {w, options_.eye_height};
 }
 
@@ -432,14 +434,13 @@ void StereoRenderer::read_back(const Frame& frame, RgbaImage& img, VkExtent2D ex
 Result<PresentedFrame> StereoRenderer::present(Swapchain& swapchain, const DrawList& list, const StereoRig& rig, bool screenshot) {
     PresentedFrame result;
     const VkExtent2D window = swapchain.extent();
-    const std::uint32_t eye_w = options_.mode == StereoMode::side_by_side ? std::max(1u, window.width / 2) : window.width;
-    if (eye_w != options_.eye_width || window.height != options_.eye_height || output_extent().width != window.width) {
-        // The eyes follow the window: only the size-dependent targets are rebuilt.
+    // The eyes follow the window, beside the column kept for panels: only the size-dependent targets
+    // are rebuilt.
+    const ScreenLayout layout{options_.mode, {window.width, window.height}, static_cast<double>(options_.column_px)};
+    const auto eye_w = static_cast<std::uint32_t>(layout.scene_width_px());
+    if (eye_w != options_.eye_width || window.height != options_.eye_height || eye_w + options_.column_px != static_cast<std::uint32_t>(layout.area_width_px())) {
+        options_.column_px = static_cast<std::uint32_t>(layout.area_width_px()) - eye_w; // what is left of the area
         if (auto r = resize(eye_w, window.height); !r) return std::move(r).error();
-        if (output_extent().width != window.width) {
-            options_.eye_width = window.width / 2;
-            if (auto r = resize(options_.eye_width, window.height); !r) return std::move(r).error();
-        }
     }
     auto pipeline = composite_pipeline_for(swapchain.format());
     if (!pipeline) return std::move(pipeline).error();

@@ -58,6 +58,9 @@ struct RendererOptions {
     // before they are composed, so every stereo mode gets it. The device's nearest count at or below
     // it; 1: none.
     std::uint32_t msaa_samples = 4;
+    // Kept on the right of each eye's area for a window's panels (render::ScreenLayout): the eyes are
+    // drawn beside it, never under text. A window's eyes are the rest of its area.
+    std::uint32_t column_px = 0;
 };
 
 struct FrameTiming {
@@ -98,7 +101,10 @@ public:
     // The same frame composed into the window's next image and presented; the eyes follow the
     // window's size. A screenshot reads back what was presented.
     Result<PresentedFrame> present(Swapchain& swapchain, const DrawList& list, const StereoRig& rig, bool screenshot = false);
-    // Heads-up panels drawn over every following frame (in each eye's area) until replaced.
+    // The column kept for panels from the next frame on (RendererOptions::column_px).
+    void set_column(std::uint32_t px) noexcept { options_.column_px = px; }
+    [[nodiscard]] std::uint32_t column() const noexcept { return options_.column_px; }
+    // Heads-up panels drawn over every following frame (in each eye's scene) until replaced.
     void set_overlay(std::vector<OverlayPanel> panels) { overlay_ = std::move(panels); }
     // Dear ImGui's interface over the window's frames (null: none). Not owned.
     void set_ui(UiLayer* ui) { ui_ = ui; }
@@ -212,6 +218,7 @@ private:
     void clear_eye_depth(VkCommandBuffer cmd) const;
     VkImageLayout record_composite(const Frame& frame, const CompositeTarget& target) const; // the eyes' layout after it
     void copy_eyes_to_target(VkCommandBuffer cmd, const CompositeTarget& target) const;
+    void clear_columns(VkCommandBuffer cmd, const CompositeTarget& target) const;
     void draw_composite(VkCommandBuffer cmd, const CompositeTarget& target) const;
     void draw_overlay(const Frame& frame, const CompositeTarget& target) const;
     void record_hand_over(const Frame& frame, const CompositeTarget& target, VkImageLayout eyes_layout) const;

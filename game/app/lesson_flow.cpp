@@ -52,7 +52,8 @@ LessonFlow::Outcome LessonFlow::update(const platform::PointerState& keys, std::
     return out;
 }
 
-void LessonFlow::show_result(const std::vector<std::string>& lines, components::HudInfo& hud) const {
+void LessonFlow::show_result(const std::vector<std::string>& lines, components::HudInfo& hud) {
+    result_ = lines;
     for (const auto& line : lines) std::printf("%s\n", line.c_str());
     std::fflush(stdout);
     hud.result.clear();

@@ -36,9 +36,13 @@ public:
     Outcome update(const platform::PointerState& keys, std::uint8_t active_hand, const components::FrameSnapshot& latest,
                    systems::TraineeChannel& trainee, components::HudInfo& hud, components::Scenery& scenery);
     [[nodiscard]] bool ghosts() const noexcept { return controls_ && controls_->ghosts(); }
+    // The lesson's keys and what they last said (null in free practice without a form).
+    [[nodiscard]] const LessonControls* controls() const noexcept { return controls_ ? &*controls_ : nullptr; }
+    // The last result, as the terminal shows it (the HUD's copy is wrapped and spelt in ASCII).
+    [[nodiscard]] const std::vector<std::string>& result() const noexcept { return result_; }
 
 private:
-    void show_result(const std::vector<std::string>& lines, components::HudInfo& hud) const;
+    void show_result(const std::vector<std::string>& lines, components::HudInfo& hud);
 
     const LessonDef* lesson_;
     KenzanFootprint footprint_;
@@ -48,6 +52,7 @@ private:
     const std::map<std::string, SpeciesDef>& species_;
     std::optional<LessonControls> controls_;
     bool enter_was_down_ = false;
+    std::vector<std::string> result_;
 };
 
 } // namespace ikebana::game

@@ -14,6 +14,7 @@
 
 #include "components/presentation.hpp"
 #include "game/app/start_screen.hpp"
+#include "game/app/window_camera.hpp"
 #include "game/app/window_stack.hpp"
 #include "game/render/offscreen_render.hpp"
 #include "game/session/lesson_session.hpp"
@@ -66,9 +67,7 @@ private:
     double speed_ = 1.0;
     bool paused_ = false;
     bool back_ = false;
-    double yaw_ = 0.0, pitch_ = 0.0;
-    bool dragging_ = false;
-    glm::dvec2 drag_from_{0.0};
+    WindowCamera camera_; // the reviewer's: any side, whatever way the trainee looked
     std::vector<UiButton> buttons_;
     std::optional<std::int64_t> jump_to_;
     float scrub_s_ = 0.0f;   // the slider's value while it is dragged
@@ -238,6 +237,7 @@ void Player::panel() {
 int Player::run(std::uint32_t& presented) {
     speed_ = o_.speed;
     const render::StereoRig base = rig_of(playback_->display());
+    camera_.reset(base);
     auto last = std::chrono::steady_clock::now();
     WindowState state;
     state.screen = "replay";
@@ -251,17 +251,7 @@ int Player::run(std::uint32_t& presented) {
         const auto now = std::chrono::steady_clock::now();
         const double dt = std::min(0.1, std::chrono::duration<double>(now - last).count());
         last = now;
-        // The camera is the reviewer's: any side, whatever way the trainee looked.
-        yaw_ += 1.2 * dt * in.arrows.x;
-        pitch_ = std::clamp(pitch_ + 1.2 * dt * in.arrows.y, -0.5, 1.0);
-        if (in.orbit_button) {
-            if (dragging_) {
-                yaw_ += 0.005 * (in.cursor_px.x - drag_from_.x);
-                pitch_ = std::clamp(pitch_ + 0.005 * (in.cursor_px.y - drag_from_.y), -0.5, 1.0);
-            }
-            drag_from_ = in.cursor_px;
-        }
-        dragging_ = in.orbit_button;
+        camera_.turn(in);
         if (auto* ui = stack_.ui()) {
             ui->begin_frame(stack_.mode());
             if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Space), false)) paused_ = !paused_;
@@ -285,7 +275,7 @@ int Player::run(std::uint32_t& presented) {
         const auto& prepared = *playback_->world().main.resource<const components::PreparedFrame>();
         stack_.renderer().set_overlay(prepared.overlay);
         const bool want_shot = !o_.screenshot.empty() && o_.frames > 0 && presented + 1 >= o_.frames;
-        auto frame = stack_.present(prepared.list, render::orbited(base, yaw_, pitch_), want_shot);
+        auto frame = stack_.present(prepared.list, camera_.rig(), want_shot);
         if (!frame) {
             std::cerr << "ikebana replay: " << frame.error().message << "\n";
             return 3;

@@ -286,29 +286,4 @@ StartChoice StartScreen::draw(StartScreenModel& model) {
     return choice;
 }
 
-LessonPanelActions LessonPanel::draw(const LessonPanelModel& model) {
-    buttons_.clear();
-    LessonPanelActions act;
-    const ImGuiIO& io = ImGui::GetIO();
-    const float w = std::min(340.0f, 0.45f * io.DisplaySize.x);
-    // Right, under the heads-up text, over the backdrop: away from the table where the hands work.
-    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - w - 8.0f, 0.27f * io.DisplaySize.y), ImGuiCond_Always);
-    ImGui::SetNextWindowSize(ImVec2(w, 0.0f));
-    ImGui::SetNextWindowBgAlpha(0.85f);
-    ImGui::Begin("lesson", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize);
-    ImGui::PushTextWrapPos(0.0f);
-    ImGui::TextUnformatted(model.title.c_str());
-    if (!model.trainee.empty()) ImGui::TextDisabled("%s", model.trainee.c_str());
-    for (const auto& line : model.lines) ImGui::TextUnformatted(line.c_str());
-    ImGui::PopTextWrapPos();
-    act.finish = tracked_button(buttons_, "Score (Enter)", "finish");
-    ImGui::SameLine();
-    act.ghosts = tracked_button(buttons_, model.ghosts_on ? "Hide form (G)" : "Show form (G)", "ghosts");
-    act.restart = tracked_button(buttons_, "Start over (R)", "restart");
-    ImGui::SameLine();
-    act.back = tracked_button(buttons_, "Lessons (Esc)", "back");
-    ImGui::End();
-    return act;
-}
-
 } // namespace ikebana::game

@@ -57,25 +57,4 @@ private:
     std::vector<UiButton> buttons_;
 };
 
-// The in-lesson panel's buttons: each does what its key does.
-struct LessonPanelActions {
-    bool finish = false, ghosts = false, restart = false, back = false;
-};
-
-struct LessonPanelModel {
-    std::string title;
-    std::string trainee;
-    std::vector<std::string> lines; // what the lesson's HUD says (active hand, held stem, its target)
-    bool ghosts_on = false;
-};
-
-class LessonPanel {
-public:
-    LessonPanelActions draw(const LessonPanelModel& model);
-    [[nodiscard]] const std::vector<UiButton>& buttons() const { return buttons_; }
-
-private:
-    std::vector<UiButton> buttons_;
-};
-
 } // namespace ikebana::game

@@ -23,6 +23,10 @@
 #include "engine/platform/pointer_input.hpp"
 #include "game/render/pointer_aim.hpp"
 #include "game/app/replay_window.hpp"
+#include "game/app/session_panel.hpp"
+#include "game/lesson/role_colours.hpp"
+#include "engine/render/screen_layout.hpp"
+#include "systems/presentation/hud.hpp"
 #include "game/app/lesson_flow.hpp"
 #include "game/app/start_screen.hpp"
 #include "game/app/stored_sessions.hpp"
@@ -109,7 +113,7 @@ struct OnTheWindowFrame {
 struct WindowInputSystem : OnTheWindowFrame {
     static constexpr std::string_view name = "window_input";
     static constexpr std::string_view phase = "input";
-    using reads = sched::Components<systems::ReceivedFrames>;
+    using reads = sched::Components<systems::ReceivedFrames, components::HudInfo>; // the panel shows the HUD's text
     using writes = sched::Components<ecs::Port<systems::ViewChannel>>; // the camera's turn goes to the hands' workspace
     void operator()(sched::SystemContext& ctx);
 };
@@ -186,7 +190,11 @@ private:
     render::UiLayer* ui_ = nullptr; // Dear ImGui: the start screen and the lesson's panel (null without it)
     StartScreen start_screen_;
     StartScreenModel start_model_;
-    LessonPanel panel_;
+    SessionPanel panel_;
+    double column_px_ = 0.0;     // kept right of each eye's scene for the panel (render::ScreenLayout)
+    glm::dvec2 window_size_px_{1.0}; // the window's, as laid out this frame
+    glm::dvec2 panel_tilt_{0.0}; // the panel's tilt buttons, counted as Ctrl+arrow presses
+    [[nodiscard]] SessionPanelModel panel_model(sched::SystemContext& main_lane) const;
     bool showing_start_ = false;
     bool opened_ = false;
     std::atomic<bool> back_{false}; // Esc or the panel's button in a lesson: back to the start screen
@@ -199,7 +207,7 @@ private:
     glm::dvec3 kenzan_at_{0.0};
     WindowCamera camera_;
     PointerAim aim_;
-    [[nodiscard]] PointerView pointer_view() const { return {camera_.rig(), mode_, camera_.yaw_rad()}; }
+    [[nodiscard]] PointerView pointer_view() const { return {camera_.rig(), mode_, camera_.yaw_rad(), column_px_}; }
     // This frame's reading as aimed, kept from input for the state written after it.
     platform::PointerState read_;
     std::chrono::steady_clock::time_point read_at_ = std::chrono::steady_clock::now();
@@ -382,6 +390,40 @@ int TraineeSession::build_world() {
     return 0;
 }
 
+// What the panel shows this frame: the lesson's next step and advice, the form's legend with G, the
+// last result, the heads-up text and the controls.
+SessionPanelModel TraineeSession::panel_model(sched::SystemContext& main_lane) const {
+    SessionPanelModel m;
+    m.title = lesson_ ? lesson_->school + ": " + lesson_->title : "Free practice";
+    m.trainee = stored_.trainee();
+    const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
+    const LessonControls* controls = flow_ ? flow_->controls() : nullptr;
+    m.next_step = controls ? controls->next_step() : "arrange the flowers like the sample beside the container, then Score (Enter)";
+    if (controls) m.held = controls->advice();
+    m.holding = latest.hands[aim_.active_hand() & 1u].holding;
+    m.ghosts_on = flow_ && flow_->ghosts();
+    if (m.ghosts_on && lesson_) {
+        for (std::size_t i = 0; i < lesson_->stems.size(); ++i) m.legend.push_back({lesson_->stems[i].role, role_colour(i).rgb, role_target_words(*lesson_, i)});
+    }
+    if (flow_) m.result = flow_->result();
+    components::HudInfo plain = *main_lane.registry.resource<const components::HudInfo>();
+    plain.keys.clear();
+    plain.lesson.clear();
+    plain.result.clear();
+    m.details = systems::hud_lines(latest, plain);
+    m.controls = {"Move the mouse: the hand (the cube) goes where the cursor points, at its depth",
+                  "Hold the left button: take the stem under the cube (it shows yellow); release: let go",
+                  "Wheel, or Shift+move up and down: the hand further away or nearer",
+                  "Ctrl+drag: tilt the held stem as you see it: right leans it right, up leans it away from you",
+                  "Ctrl+arrow keys, or the Tilt buttons: lean it 5° that way",
+                  "Ctrl+wheel: swing its lean round the vertical",
+                  "C: cut the held stem to its role's length",
+                  "Tab: the other hand",
+                  "Arrow keys (15° a press) or right-drag: look round the table",
+                  "G: the form's targets and model; Enter: score; R: start over; Esc: the lessons"};
+    return m;
+}
+
 // Keys, pointer and camera; Enter scores the arrangement (the result stays on screen, the session goes on).
 void TraineeSession::input(sched::SystemContext& main_lane) {
     frame_read_ = false;
@@ -390,14 +432,24 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     window_->poll_events();
     platform::PointerState in = pointer_->read();
     read_at_ = std::chrono::steady_clock::now();
-    // The lesson's panel: its buttons do what the keys do.
-    LessonPanelActions act;
-    if (ui_ && lesson_) {
+    // The panel's column beside the scene (without Dear ImGui there is none, and the HUD is drawn over
+    // the scene instead). Its buttons do what the keys do.
+    int width = 1, height = 1;
+    glfwGetWindowSize(window_->glfw(), &width, &height);
+    window_size_px_ = glm::dvec2{std::max(width, 1), std::max(height, 1)};
+    const render::ScreenLayout whole{mode_, window_size_px_, 0.0};
+    column_px_ = ui_ ? std::floor(session_column_px(whole.area_width_px())) : 0.0;
+    renderer_->set_column(static_cast<std::uint32_t>(column_px_));
+    SessionPanelActions act;
+    if (ui_) {
         ui_->begin_frame(mode_);
-        act = panel_.draw({lesson_->school + ": " + lesson_->title, stored_.trainee(), {}, flow_ && flow_->ghosts()});
+        act = panel_.draw(panel_model(main_lane), static_cast<float>(whole.area_width_px() - column_px_), static_cast<float>(column_px_));
         ui_->end_frame();
     }
-    const bool over_panel = ui_ && lesson_ && ui_->wants_pointer();
+    panel_tilt_ += act.tilt_steps;
+    // Over the panel (or off the scene) the cursor is the trainee's to click with, not the hand's; a
+    // Ctrl+drag goes on (the aim puts the cursor back in the scene's middle at its edge).
+    const bool over_panel = ui_ && !in.tilt_modifier && (ui_->wants_pointer() || !pointer_view().layout(window_size_px_).in_scene(in.cursor_px));
     if (in.quit_key || act.back) {
         // From a lesson opened on the start screen, Esc goes back there; otherwise it ends.
         if (o_.start_screen) {
@@ -412,6 +464,8 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         return;
     }
     camera_.turn(in);
+    in.view_yaw_rad = camera_.yaw_rad();
+    in.tilt_presses += panel_tilt_;
     // "Forward" on the device stays "away from the viewer".
     main_lane.registry.resource<ecs::Port<systems::ViewChannel>>()->use().yaw_rad.store(camera_.yaw_rad(), std::memory_order_relaxed);
     // The cursor aimed through the camera as drawn this frame, and kept on the hand it drives (a
@@ -432,6 +486,8 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         hands_reading_ = in;
     } else {
         hands_reading_.switch_hand = in.switch_hand;
+        hands_reading_.view_yaw_rad = in.view_yaw_rad;
+        hands_reading_.tilt_presses = in.tilt_presses;
         hands_reading_.ray_before = hands_reading_.ray;
         hands_reading_.warped_from_px = glm::dvec2{-1.0};
     }
@@ -478,6 +534,9 @@ void TraineeSession::write_state(sched::SystemContext& main_lane) {
     state_.screen = "lesson";
     state_.buttons.clear();
     for (const auto& b : panel_.buttons()) state_.buttons.push_back({b.label, b.min_px, b.max_px});
+    std::vector<WindowState::Box> panels;
+    for (const auto& p : panel_.panels()) panels.push_back({p.name, 0, p.min_px, p.size_px});
+    take_layout(state_, pointer_view(), window_size_px_, main_lane.registry.resource<const systems::ReceivedFrames>()->latest(), panels);
     if (read_.ray.valid) {
         const auto gain = px_per_m_at(pointer_view(), read_.window_px, read_.ray.eye, state_.hands[state_.active_hand].device_m);
         if (gain) state_.px_per_m = *gain;
@@ -489,7 +548,8 @@ void TraineeSession::write_state(sched::SystemContext& main_lane) {
 void TraineeSession::draw(sched::SystemContext& main_lane) {
     if (stop_.load()) return;
     const auto& prepared = *main_lane.registry.resource<const components::PreparedFrame>();
-    renderer_->set_overlay(prepared.overlay);
+    // With the panel, no text is drawn over the scene (the G rods' names are the panel's legend).
+    renderer_->set_overlay(ui_ ? std::vector<render::OverlayPanel>{} : prepared.overlay);
     const bool want_shot = !o_.screenshot.empty() && o_.frames > 0 && presented_ + 1 >= o_.frames;
     auto presented = stack_->present(prepared.list, camera_.rig(), want_shot);
     if (!presented) return fail(presented.error().message, 3);
@@ -562,6 +622,7 @@ std::optional<std::string> TraineeSession::run_start_screen() {
         if (window_->should_close()) return std::nullopt;
         const platform::PointerState in = window_pointer_->read();
         if (in.quit_key) return std::nullopt;
+        renderer_->set_column(0); // the start screen is all panel
         ui_->begin_frame(mode_);
         const std::string before = start_model_.trainee;
         const StartChoice choice = start_screen_.draw(start_model_);

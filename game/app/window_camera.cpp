@@ -7,14 +7,18 @@ namespace ikebana::game {
 void WindowCamera::reset(const render::StereoRig& base) {
     base_ = base;
     yaw_rad_ = pitch_rad_ = 0.0;
+    presses_seen_.reset();
+    dragging_ = false;
 }
 
 void WindowCamera::turn(const platform::PointerState& in) {
-    const auto now = std::chrono::steady_clock::now();
-    const double dt = std::min(0.1, std::chrono::duration<double>(now - last_).count());
-    last_ = now;
-    yaw_rad_ += 1.2 * dt * in.arrows.x;
-    pitch_rad_ += 1.2 * dt * in.arrows.y;
+    constexpr double yaw_step_rad = 15.0 * 3.14159265358979323846 / 180.0;
+    constexpr double pitch_step_rad = 10.0 * 3.14159265358979323846 / 180.0;
+    // Presses made before the first reading (typed on the start screen) turn nothing.
+    const glm::dvec2 pressed = presses_seen_ ? in.arrow_presses - *presses_seen_ : glm::dvec2{0.0};
+    presses_seen_ = in.arrow_presses;
+    yaw_rad_ += yaw_step_rad * pressed.x;
+    pitch_rad_ += pitch_step_rad * pressed.y;
     if (in.orbit_button) {
         if (dragging_) {
             yaw_rad_ += 0.005 * (in.cursor_px.x - drag_from_px_.x);

@@ -1,8 +1,9 @@
 #pragma once
-// The trainee window's camera: the scene's rig, orbited round the kenzan by the arrow keys (1.2 rad/s)
-// and a right-drag (0.005 rad a pixel), tilted between -0.5 and 1.0 rad. During training, not only
-// after it (the paper's future work).
-#include <chrono>
+// The trainee window's camera: the scene's rig, orbited round the kenzan by the arrow keys (15° round
+// or 10° up and down a press, so that eight Left then eight Right come back) and a right-drag (0.005 rad
+// a pixel), tilted between -0.5 and 1.0 rad. During training, not only after it (the paper's future
+// work). Ctrl+arrows are the held stem's, not the camera's.
+#include <optional>
 
 #include <glm/glm.hpp>
 
@@ -15,8 +16,7 @@ class WindowCamera {
 public:
     // Back to the scene's own view.
     void reset(const render::StereoRig& base);
-    // One frame's reading: arrows turn by the time since the last frame (at most 0.1 s), a right-drag by
-    // the cursor's travel.
+    // One frame's reading: the arrows' presses since the last, a right-drag by the cursor's travel.
     void turn(const platform::PointerState& in);
     [[nodiscard]] render::StereoRig rig() const;
     [[nodiscard]] const render::StereoRig& base() const noexcept { return base_; }
@@ -27,8 +27,8 @@ private:
     render::StereoRig base_;
     double yaw_rad_ = 0.0;
     double pitch_rad_ = 0.0;
-    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
     glm::dvec2 drag_from_px_{0.0};
+    std::optional<glm::dvec2> presses_seen_; // the arrows' count at the last reading (none yet)
     bool dragging_ = false;
 };
 

@@ -17,29 +17,20 @@ glm::dvec3 turned(const glm::dvec3& v, double yaw) {
 }
 } // namespace
 
-EyeSpot eye_spot(render::StereoMode mode, glm::dvec2 window_px, glm::dvec2 cursor_px) {
-    EyeSpot spot;
-    const glm::dvec2 size = glm::max(window_px, glm::dvec2{1.0});
-    if (mode == render::StereoMode::side_by_side) {
-        const double half = 0.5 * size.x;
-        spot.eye = cursor_px.x < half ? -1 : 1;
-        spot.uv = {(cursor_px.x - (spot.eye < 0 ? 0.0 : half)) / half, cursor_px.y / size.y};
-    } else {
-        spot.uv = cursor_px / size;
-    }
-    return spot;
+EyeSpot eye_spot(const render::ScreenLayout& layout, glm::dvec2 cursor_px) {
+    return {layout.eye_at(cursor_px), layout.scene_uv(cursor_px)};
 }
 
-render::StereoRig rig_for_window(render::StereoRig rig, render::StereoMode mode, glm::dvec2 window_px) {
-    const glm::dvec2 size = glm::max(window_px, glm::dvec2{1.0});
-    rig.aspect = (mode == render::StereoMode::side_by_side ? 0.5 * size.x : size.x) / size.y;
-    if (mode == render::StereoMode::mono) rig.eye_separation_m = 0.0;
+render::StereoRig rig_for_window(render::StereoRig rig, const render::ScreenLayout& layout) {
+    rig.aspect = layout.aspect();
+    if (layout.mode == render::StereoMode::mono) rig.eye_separation_m = 0.0;
     return rig;
 }
 
 platform::PointerRay pointer_ray(const PointerView& view, glm::dvec2 window_px, glm::dvec2 cursor_px) {
-    const EyeSpot spot = eye_spot(view.mode, window_px, cursor_px);
-    const render::ViewRay ray = render::eye_ray(rig_for_window(view.rig, view.mode, window_px), spot.eye, spot.uv);
+    const auto layout = view.layout(window_px);
+    const EyeSpot spot = eye_spot(layout, cursor_px);
+    const render::ViewRay ray = render::eye_ray(rig_for_window(view.rig, layout), spot.eye, spot.uv);
     platform::PointerRay out;
     out.origin_m = turned(ray.origin_m, -view.yaw_rad);
     out.direction = turned(ray.direction, -view.yaw_rad);
@@ -49,13 +40,10 @@ platform::PointerRay pointer_ray(const PointerView& view, glm::dvec2 window_px, 
 }
 
 std::optional<glm::dvec2> drawn_px(const PointerView& view, glm::dvec2 window_px, int eye, const glm::dvec3& world_m) {
-    const auto uv = render::eye_uv(rig_for_window(view.rig, view.mode, window_px), eye, world_m);
+    const auto layout = view.layout(window_px);
+    const auto uv = render::eye_uv(rig_for_window(view.rig, layout), eye, world_m);
     if (!uv) return std::nullopt;
-    if (view.mode == render::StereoMode::side_by_side) {
-        const double half = 0.5 * window_px.x;
-        return glm::dvec2{uv->x * half + (eye < 0 ? 0.0 : half), uv->y * window_px.y};
-    }
-    return *uv * window_px;
+    return layout.window_px_of(eye, *uv);
 }
 
 std::optional<glm::dvec2> px_per_m_at(const PointerView& view, glm::dvec2 window_px, int eye, const glm::dvec3& world_m) {
@@ -74,7 +62,8 @@ void PointerAim::aim(platform::PointerState& in, const PointerView& view, const 
     if (tab) active_ ^= 1u;
     // While one of these is down the hand does not follow the cursor (or the view moves under it).
     const bool held = in.tilt_modifier || in.depth_modifier || in.orbit_button || in.arrows != glm::dvec2{0.0};
-    const int eye = eye_spot(view.mode, in.window_px, in.cursor_px).eye;
+    const auto layout = view.layout(in.window_px);
+    const int eye = eye_spot(layout, in.cursor_px).eye;
     // The trainee moved the cursor since it was put on the hand: no more settling.
     if (put_at_px_ && in.cursor_px != *put_at_px_) settle_ = 0;
     // A cursor that has gone on where the hand could not (past the edge of its reach, into the table)
@@ -88,7 +77,7 @@ void PointerAim::aim(platform::PointerState& in, const PointerView& view, const 
     const bool home = !held && (!put_at_px_ || tab || was_held_ || eye != last_eye_ || settle_ > 0 || strayed);
     if (home) {
         if (const auto& hand = hands_m[active_ & 1u]) {
-            if (const auto px = drawn_px(view, in.window_px, eye, *hand); px && px->x >= 0.0 && px->y >= 0.0 && px->x < in.window_px.x && px->y < in.window_px.y) {
+            if (const auto px = drawn_px(view, in.window_px, eye, *hand); px && layout.in_scene(*px)) {
                 put_cursor(*px);
                 in.cursor_px = *px;
                 in.warped_from_px = {-1.0, -1.0};
@@ -100,13 +89,14 @@ void PointerAim::aim(platform::PointerState& in, const PointerView& view, const 
         }
     }
     if (!home && settle_ > 0 && !held) --settle_;
-    // A Ctrl+drag tilts by the cursor's motion, which the window's edge would stop: put back in the
-    // middle of its image near an edge, its motion up to there still counted.
+    // A Ctrl+drag tilts by the cursor's motion, which the scene's edge (the window's, or the panels'
+    // column) would stop: put back in the middle of its image near an edge, its motion up to there
+    // still counted.
     const double margin = 24.0;
-    if (in.tilt_modifier && !in.orbit_button && in.window_px.x > 4 * margin && in.window_px.y > 4 * margin &&
-        (in.cursor_px.x < margin || in.cursor_px.y < margin || in.cursor_px.x > in.window_px.x - margin || in.cursor_px.y > in.window_px.y - margin)) {
-        const double area = view.mode == render::StereoMode::side_by_side ? 0.5 * in.window_px.x : in.window_px.x;
-        const glm::dvec2 middle{(eye > 0 ? area : 0.0) + 0.5 * area, 0.5 * in.window_px.y};
+    const double left = layout.scene_left_px(eye), right = left + layout.scene_width_px();
+    if (in.tilt_modifier && !in.orbit_button && layout.scene_width_px() > 4 * margin && in.window_px.y > 4 * margin &&
+        (in.cursor_px.x < left + margin || in.cursor_px.y < margin || in.cursor_px.x > right - margin || in.cursor_px.y > in.window_px.y - margin)) {
+        const glm::dvec2 middle{left + 0.5 * layout.scene_width_px(), 0.5 * in.window_px.y};
         put_cursor(middle);
         in.warped_from_px = in.cursor_px;
         in.cursor_px = middle;
@@ -115,7 +105,7 @@ void PointerAim::aim(platform::PointerState& in, const PointerView& view, const 
     // Where the cursor was, through this reading's camera: a cursor put back (or a turned camera) moves no hand.
     in.ray_before = home || !started_ ? in.ray : pointer_ray(view, in.window_px, last_cursor_px_);
     was_held_ = held;
-    last_eye_ = eye_spot(view.mode, in.window_px, in.cursor_px).eye;
+    last_eye_ = eye_spot(layout, in.cursor_px).eye;
     last_cursor_px_ = in.cursor_px;
     started_ = true;
 }

@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/platform/pointer_input.hpp"
+#include "engine/render/screen_layout.hpp"
 #include "engine/render/stereo_camera.hpp"
 #include "engine/render/stereo_renderer.hpp"
 
@@ -25,16 +26,18 @@ struct PointerView {
     render::StereoRig rig; // orbited, as drawn
     render::StereoMode mode = render::StereoMode::side_by_side;
     double yaw_rad = 0.0;
+    double column_px = 0.0; // kept right of each eye's scene for panels (render::ScreenLayout)
+    [[nodiscard]] render::ScreenLayout layout(glm::dvec2 window_px) const { return {mode, window_px, column_px}; }
 };
 
 // Which eye's image a window pixel is in (-1 left, 1 right; 0 when one image shows both) and where in
-// it (uv, [0, 1]); the rig with that image's aspect.
+// it (uv, [0, 1] inside the scene); the rig with that image's aspect.
 struct EyeSpot {
     int eye = 0;
     glm::dvec2 uv{0.5};
 };
-[[nodiscard]] EyeSpot eye_spot(render::StereoMode mode, glm::dvec2 window_px, glm::dvec2 cursor_px);
-[[nodiscard]] render::StereoRig rig_for_window(render::StereoRig rig, render::StereoMode mode, glm::dvec2 window_px);
+[[nodiscard]] EyeSpot eye_spot(const render::ScreenLayout& layout, glm::dvec2 cursor_px);
+[[nodiscard]] render::StereoRig rig_for_window(render::StereoRig rig, const render::ScreenLayout& layout);
 // The ray under a window pixel, in device space.
 [[nodiscard]] platform::PointerRay pointer_ray(const PointerView& view, glm::dvec2 window_px, glm::dvec2 cursor_px);
 // Where an eye shows a world point, in window pixels (nothing: behind it).

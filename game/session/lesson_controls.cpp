@@ -1,5 +1,6 @@
 #include "game/session/lesson_controls.hpp"
 
+#include <cstdio>
 #include <utility>
 
 #include "game/world/lesson_scene.hpp"
@@ -46,6 +47,22 @@ devices::MouseKeyboardHands::Config lesson_mouse_config() {
     return c;
 }
 
+std::string role_target_words(const LessonDef& l, std::size_t i) {
+    if (i >= l.stems.size()) return "";
+    const auto& m = l.stems[i];
+    constexpr double deg = 180.0 / 3.14159265358979323846;
+    char text[200];
+    std::string follows;
+    if (m.length_of.kind == LengthBase::Kind::role) {
+        std::snprintf(text, sizeof text, " (%.2g × %s as you cut it)", m.length_ratio.target, l.stems[m.length_of.role].role.c_str());
+        follows = text;
+    }
+    std::snprintf(text, sizeof text, "%.0f mm above the kenzan%s, %.0f° ±%.0f° %s, in %s", nominal_length_m(l, i) * 1e3, follows.c_str(), m.tilt_rad.target * deg,
+                  m.tilt_rad.tolerance * deg, m.azimuth_rad ? ("toward the " + direction_words(m.azimuth_rad->target)).c_str() : "to any side",
+                  region_words(m.region).c_str());
+    return text;
+}
+
 LessonControls::Effects LessonControls::update(const platform::PointerState& in, std::uint8_t hand, const components::FrameSnapshot& latest,
                                                systems::TraineeChannel& trainee) {
     Effects effects;
@@ -60,6 +77,13 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     HeldStemAdvice advice;
     if (form) advice = advise_held_stem(lesson_, footprint_, latest, hand);
     for (const auto& line : advice.lines) say("> " + line);
+    advice_ = advice.lines;
+    next_step_ = form ? advice.next_step : "copy the sample arrangement, then Score (Enter)";
+    if (form && next_step_.empty()) {
+        const auto& h = latest.hands[hand & 1u];
+        next_step_ = h.holding ? "no role is left for this stem: let go of it (release the button) away from the kenzan"
+                               : "take a stem: put the cube on one (it turns yellow) and hold the left button";
+    }
     if (in.letter(cut_letter) && !cut_was_down_ && advice.keep_length_m > 0.0 && trainee.push({systems::TraineeCommand::Kind::cut, hand, advice.keep_length_m})) {
         effects.cut_for = advice.role;
         effects.cut_to_m = advice.keep_length_m;

@@ -54,6 +54,10 @@ public:
     [[nodiscard]] bool ghosts() const noexcept { return ghosts_; }
     // What the HUD says about the lesson now (ASCII, wrapped for half a window).
     [[nodiscard]] const std::vector<std::string>& hud_lines() const noexcept { return lines_; }
+    // For the window's panel: what to do now, in one short line; the held stem against the role it is
+    // heading for (as the HUD says it, unwrapped).
+    [[nodiscard]] const std::string& next_step() const noexcept { return next_step_; }
+    [[nodiscard]] const std::vector<std::string>& advice() const noexcept { return advice_; }
 
 private:
     const LessonDef& lesson_;
@@ -61,6 +65,12 @@ private:
     bool ghosts_ = false;
     bool cut_was_down_ = false, ghost_was_down_ = false, reset_was_down_ = false, enter_was_down_ = false;
     std::vector<std::string> lines_;
+    std::string next_step_;
+    std::vector<std::string> advice_;
 };
+
+// Each role's target as the form gives it, for the legend beside the G rods: "630 mm above the kenzan,
+// 15° ±5° toward the left front, in the back left".
+[[nodiscard]] std::string role_target_words(const LessonDef& lesson, std::size_t role);
 
 } // namespace ikebana::game

@@ -185,7 +185,7 @@ public:
     void go(glm::dvec3 position_m) override {
         auto& s = pointer_.state;
         // The cursor's pixels for a metre of the hand where it is, as the window aims it.
-        const int eye = eye_spot(view_.mode, s.window_px, s.cursor_px).eye;
+        const int eye = eye_spot(view_.layout(s.window_px), s.cursor_px).eye;
         const glm::dvec2 px_per_m = px_per_m_at(view_, s.window_px, eye, position()).value_or(
             glm::dvec2{s.window_px.x / config_.workspace_width_m, s.window_px.y / config_.workspace_height_m});
         const glm::dvec3 d = position_m - position();
@@ -193,13 +193,22 @@ public:
         const glm::dvec3 d2 = position_m - position();
         motion({0.0, std::round(-d2.y * px_per_m.y)}, true, false);
     }
+    // Ctrl+drag sideways, then up or down, then the wheel: each a turn about one axis, so however the
+    // window splits them into readings they add up to the turn asked for.
     void turn(glm::dvec3 angles_rad) override {
         auto& s = pointer_.state;
-        const glm::dvec3 d = angles_rad - angles();
-        const double clicks = std::round(d.z / config_.turn_per_scroll_rad);
-        s.scroll += clicks;
-        for (int c = 0; c < static_cast<int>(std::abs(clicks)); ++c) script_.event("keydown ctrl\nsleep 0.08\nclick " + std::string(clicks > 0 ? "4" : "5") + "\nsleep 0.08\nkeyup ctrl\nsleep 0.08", now_s());
-        motion({std::round(d.y / config_.tilt_per_window_rad * s.window_px.x), std::round(-d.x / config_.tilt_per_window_rad * s.window_px.y)}, false, true);
+        const auto g = devices::MouseKeyboardHands::tilt_gesture(config_, angles(), angles_rad);
+        motion({static_cast<double>(g.right_px), 0.0}, false, true);
+        motion({0.0, static_cast<double>(g.down_px)}, false, true);
+        if (g.clicks == 0) return;
+        for (int c = 0; c < std::abs(g.clicks); ++c) script_.event("keydown ctrl\nsleep 0.08\nclick " + std::string(g.clicks > 0 ? "4" : "5") + "\nsleep 0.08\nkeyup ctrl\nsleep 0.08", now_s());
+        s.scroll += g.clicks;
+        s.tilt_modifier = true;
+        aim();
+        clock_.run_for_us(1000);
+        s.tilt_modifier = false;
+        aim();
+        clock_.run_for_us(1000);
     }
     void grab(bool down) override {
         pointer_.state.grab_button = down;

@@ -174,21 +174,21 @@ public:
         if (x != 0 || up != 0) move_pointer(x, -up);
         if (away != 0) held_down("shift", [&] { move_pointer(0, -away); });
     }
+    // Ctrl+drag sideways, then up or down, then the wheel, each seen by the window before the next:
+    // turns about one axis each, which add up to the turn asked for however the window reads them.
     void turn(glm::dvec3 target) override {
         glm::dvec3& turned = angles_[active_];
-        const glm::dvec3 d = target - turned;
-        const int clicks = static_cast<int>(std::lround(d.z / config_.turn_per_scroll_rad));
-        const int x = static_cast<int>(std::lround(d.y / config_.tilt_per_window_rad * state_.window_px.x));
-        const int y = static_cast<int>(std::lround(-d.x / config_.tilt_per_window_rad * state_.window_px.y));
-        if (clicks == 0 && x == 0 && y == 0) return;
-        turned.z += clicks * config_.turn_per_scroll_rad;
-        turned.y += x / state_.window_px.x * config_.tilt_per_window_rad;
-        turned.x -= y / state_.window_px.y * config_.tilt_per_window_rad;
+        const auto g = devices::MouseKeyboardHands::tilt_gesture(config_, turned, target);
+        if (g.clicks == 0 && g.right_px == 0 && g.down_px == 0) return;
+        turned = g.reached;
         std::string wheel;
-        for (int c = 0; c < std::abs(clicks); ++c) wheel += std::string(clicks > 0 ? "click 4 " : "click 5 ") + "sleep 0.02 ";
+        for (int c = 0; c < std::abs(g.clicks); ++c) wheel += std::string(g.clicks > 0 ? "click 4 " : "click 5 ") + "sleep 0.02 ";
         held_down("ctrl", [&] {
+            move_pointer(g.right_px, 0);
+            if (g.right_px != 0 && g.down_px != 0) seen(steady_us());
+            move_pointer(0, g.down_px);
+            if (g.down_px != 0 && g.clicks != 0) seen(steady_us());
             xdo(wheel);
-            move_pointer(x, y);
         });
     }
     void grab(bool down) override {
@@ -249,6 +249,8 @@ private:
         auto parsed = parse_window_state(*text, state_path_.string());
         if (!parsed) return false;
         state_ = std::move(parsed).value();
+        // What the trainee sees is checked as the demonstration goes: no panel over the scene.
+        if (const auto over = panel_over_scene(state_)) return fail("frame " + std::to_string(state_.frame) + ": " + *over);
         return true;
     }
     // Until the window has read its input after `t_us`, and two frames more: the simulation has then
@@ -304,7 +306,15 @@ private:
             const int px = static_cast<int>(std::lround(static_cast<double>(x) * i / n)) - done_x;
             const int py = static_cast<int>(std::lround(static_cast<double>(y) * i / n)) - done_y;
             const glm::dvec2 next = cursor_ + glm::dvec2(px, py);
-            if (next.x < 14.0 || next.y < 14.0 || next.x > state_.window_px.x - 14.0 || next.y > state_.window_px.y - 14.0) {
+            // The scene's edges (the panels' column is beside it), else the window's.
+            glm::dvec2 lo{0.0}, hi = state_.window_px;
+            for (const auto& v : state_.layout.views) {
+                if (cursor_.x >= v.min_px.x && cursor_.x < v.min_px.x + v.size_px.x) {
+                    lo = v.min_px;
+                    hi = v.min_px + v.size_px;
+                }
+            }
+            if (next.x < lo.x + 14.0 || next.y < lo.y + 14.0 || next.x > hi.x - 14.0 || next.y > hi.y - 14.0) {
                 if (!batch.empty()) send();
                 seen(steady_us()); // the window reads it at its edge and puts it back in the middle
                 if (!failure_.empty()) return;
@@ -353,12 +363,13 @@ Result<DemoResult> run_lesson_demo_in_window(const LessonDef& lesson, const Demo
     const auto state = folder / "state.json", log = folder / "window.log";
     std::filesystem::remove(state, ec);
     // The window opens at the screen's corner (no window manager under Xvfb): the pointer starts in
-    // its middle, where a trainee's hand would be.
-    constexpr int width = 1200, height = 675;
+    // its middle, where a trainee's hand would be. A first-time trainee's screen: flat, 1280x720, the
+    // panel beside the scene.
+    constexpr int width = 1280, height = 720;
     const std::string centre = "xdotool mousemove " + std::to_string(width / 2) + " " + std::to_string(height / 2) + " >/dev/null 2>&1";
     if (std::system(centre.c_str()) != 0) return make_error(ErrorCode::device_error, std::string("--window: xdotool cannot move the pointer on display ") + display);
     std::vector<std::string> args{self.string(), "--lesson", lesson.file.empty() ? lesson.id : lesson.file.string(), "--width", std::to_string(width),
-                                        "--height", std::to_string(height), "--state-out", state.string()};
+                                        "--height", std::to_string(height), "--stereo", "mono", "--state-out", state.string()};
     if (options.window_progress_db.empty()) {
         args.push_back("--no-history");
     } else {

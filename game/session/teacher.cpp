@@ -8,6 +8,8 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "engine/devices/device_angles.hpp"
+
 namespace ikebana::game {
 
 namespace {
@@ -15,14 +17,9 @@ namespace {
 constexpr double pi = 3.14159265358979323846;
 constexpr double hand_speed_m_s = 0.25;
 
-// Device angles (about x, then y, then z: systems::device_turn's order) for a turn.
-glm::dvec3 device_angles(const glm::dquat& q) {
-    const glm::dmat3 m = glm::mat3_cast(q); // m[column][row]
-    const double y = std::asin(std::clamp(-m[0][2], -1.0, 1.0));
-    const double x = std::atan2(m[1][2], m[2][2]);
-    const double z = std::atan2(m[0][1], m[0][0]);
-    return {x, y, z};
-}
+// Device angles (about x, then y, then z: systems::device_turn's order) for a turn, and back.
+using devices::angles_of_turn;
+glm::dvec3 device_angles(const glm::dquat& q) { return angles_of_turn(q); }
 
 // The turn taking unit vector a onto unit vector b by the shortest way.
 glm::dquat turn_between(glm::dvec3 a, glm::dvec3 b) {
@@ -42,9 +39,7 @@ glm::dvec3 nearest_angles(glm::dvec3 angles, glm::dvec3 from) {
 }
 
 // The device's turn for its angles (systems::device_turn at an unturned camera: z, then y, then x).
-glm::dquat turn_of(glm::dvec3 angles) {
-    return glm::angleAxis(angles.z, glm::dvec3{0, 0, 1}) * glm::angleAxis(angles.y, glm::dvec3{0, 1, 0}) * glm::angleAxis(angles.x, glm::dvec3{1, 0, 0});
-}
+glm::dquat turn_of(glm::dvec3 angles) { return devices::turn_of_angles(angles); }
 
 // From this tilt on, a stem is set at its band's upper edge (see teach).
 constexpr double low_stem_rad = 60.0 * pi / 180.0;

@@ -1,5 +1,6 @@
 #include "game/session/window_state.hpp"
 
+#include <cstdio>
 #include <type_traits>
 #include <utility>
 
@@ -11,6 +12,49 @@
 namespace ikebana::game {
 
 using Json = nlohmann::json;
+
+void take_layout(WindowState& state, const PointerView& view, glm::dvec2 window_px, const components::FrameSnapshot& frame,
+                 const std::vector<WindowState::Box>& panels) {
+    auto& out = state.layout;
+    out = {};
+    const render::ScreenLayout screen = view.layout(window_px);
+    const std::vector<int> eyes = screen.areas() == 2 ? std::vector<int>{-1, 1} : std::vector<int>{0};
+    for (const int eye : eyes) {
+        const double left = eye > 0 ? screen.area_width_px() : 0.0;
+        for (auto p : panels) {
+            p.eye = eye;
+            p.min_px.x += left;
+            out.panels.push_back(std::move(p));
+        }
+        const glm::dvec2 view_min{screen.scene_left_px(eye), 0.0}, view_size{screen.scene_width_px(), screen.height_px()};
+        out.views.push_back({"view", eye, view_min, view_size});
+        // A box round what the eye shows of these points, cut to its view (none: nothing of it shows).
+        const auto box = [&](const std::string& name, const std::vector<glm::dvec3>& points_m) {
+            glm::dvec2 lo{1e30}, hi{-1e30};
+            for (const auto& p : points_m) {
+                if (const auto px = drawn_px(view, window_px, eye, p)) {
+                    lo = glm::min(lo, *px);
+                    hi = glm::max(hi, *px);
+                }
+            }
+            lo = glm::max(lo, view_min);
+            hi = glm::min(hi, view_min + view_size);
+            if (hi.x > lo.x && hi.y > lo.y) out.scene.push_back({name, eye, lo, hi - lo});
+        };
+        if (frame.kenzan) {
+            const auto& k = *frame.kenzan;
+            const glm::dvec3 lo = k.pin_base(0, 0) - glm::dvec3{0.5 * k.pitch_m, 0.5 * k.pitch_m, 0.0};
+            const glm::dvec3 hi = k.pin_base(k.columns - 1, k.rows - 1) + glm::dvec3{0.5 * k.pitch_m, 0.5 * k.pitch_m, k.pin_height_m()};
+            std::vector<glm::dvec3> corners;
+            for (int c = 0; c < 8; ++c) corners.push_back({c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z});
+            box("kenzan", corners);
+        }
+        for (std::size_t i = 0; i < frame.flowers.size(); ++i) {
+            const auto& f = frame.flowers[i];
+            if (f.in_kenzan && !f.fallen) box("stem " + std::to_string(i) + ": " + f.species, f.points_m);
+        }
+    }
+}
 
 void take_snapshot(WindowState& state, const components::FrameSnapshot& frame) {
     state.sim_time_us = frame.sim_time_us;
@@ -120,6 +164,12 @@ std::string window_state_json(const WindowState& s) {
     Json buttons = Json::array();
     for (const auto& b : s.buttons) buttons.push_back({{"label", b.label}, {"min_px", vec(b.min_px)}, {"max_px", vec(b.max_px)}});
     j["buttons"] = buttons;
+    const auto boxes = [](const std::vector<WindowState::Box>& list) {
+        Json out = Json::array();
+        for (const auto& b : list) out.push_back({{"name", b.name}, {"eye", b.eye}, {"rect_px", {b.min_px.x, b.min_px.y, b.size_px.x, b.size_px.y}}});
+        return out;
+    };
+    j["layout"] = {{"panels", boxes(s.layout.panels)}, {"views", boxes(s.layout.views)}, {"scene", boxes(s.layout.scene)}};
     j["results"] = s.results;
     j["result"] = s.result_json.empty() ? Json(nullptr) : Json::parse(s.result_json, nullptr, false);
     return j.dump();
@@ -198,10 +248,47 @@ Result<WindowState> parse_window_state(std::string_view text, const std::string&
             s.buttons.push_back(std::move(b));
         }
     }
+    if (r.error.empty() && j.contains("layout")) {
+        const auto read = [&](const char* key, std::vector<WindowState::Box>& into) {
+            const auto list = r.get<Json>(j["layout"], key);
+            if (r.error.empty() && (!list.is_array() || list.size() > 1000)) r.error = std::string("field 'layout.") + key + "' should be an array of at most 1000";
+            for (std::size_t i = 0; r.error.empty() && i < list.size(); ++i) {
+                WindowState::Box b;
+                b.name = r.get<std::string>(list[i], "name");
+                b.eye = r.get<int>(list[i], "eye");
+                const auto rect = r.vector<4>(list[i], "rect_px");
+                b.min_px = {rect.x, rect.y};
+                b.size_px = {rect.z, rect.w};
+                if (r.error.empty() && (b.size_px.x < 0.0 || b.size_px.y < 0.0)) r.error = std::string("a box in 'layout.") + key + "' has a negative size";
+                into.push_back(std::move(b));
+            }
+        };
+        read("panels", s.layout.panels);
+        read("views", s.layout.views);
+        read("scene", s.layout.scene);
+    }
     s.results = r.get<std::uint64_t>(j, "results");
     if (r.error.empty() && j.contains("result") && !j["result"].is_null()) s.result_json = j["result"].dump();
     if (!r.error.empty()) return make_error(ErrorCode::parse_error, label + ": " + r.error);
     return s;
+}
+
+std::optional<std::string> panel_over_scene(const WindowState& s) {
+    const auto eye_words = [](int eye) { return eye < 0 ? " (left eye)" : eye > 0 ? " (right eye)" : ""; };
+    for (const auto& p : s.layout.panels) {
+        for (const auto* list : {&s.layout.views, &s.layout.scene}) {
+            for (const auto& b : *list) {
+                // Half a pixel of touching edges is not covering.
+                const glm::dvec2 lo = glm::max(p.min_px, b.min_px), hi = glm::min(p.min_px + p.size_px, b.min_px + b.size_px);
+                const glm::dvec2 over = hi - lo;
+                if (over.x <= 0.5 || over.y <= 0.5) continue;
+                char text[64];
+                std::snprintf(text, sizeof text, " by %.0fx%.0f px", over.x, over.y);
+                return "'" + p.name + "'" + eye_words(p.eye) + " covers '" + b.name + "'" + eye_words(b.eye) + text;
+            }
+        }
+    }
+    return std::nullopt;
 }
 
 Result<void> write_window_state(const std::string& path, const WindowState& state) { return assets::write_file_atomically(path, window_state_json(state)); }

@@ -12,6 +12,7 @@
 
 #include "components/snapshot.hpp"
 #include "engine/core/result.hpp"
+#include "game/render/pointer_aim.hpp"
 
 namespace ikebana::game {
 
@@ -62,9 +63,32 @@ struct WindowState {
         glm::dvec2 min_px{0.0}, max_px{0.0};
     };
     std::vector<Button> buttons;
+    // Where things are on the screen this frame (window pixels; side by side, each eye's copy): every
+    // panel of text or controls drawn, each eye's scene (the 3D view beside the panels), and in it the
+    // box of the kenzan ("kenzan") and of each stem standing in it ("stem 3: willow"), cut to the scene.
+    struct Box {
+        std::string name;
+        int eye = 0; // -1 left, 1 right, 0 the one image both share
+        glm::dvec2 min_px{0.0}, size_px{0.0};
+    };
+    struct Layout {
+        std::vector<Box> panels;
+        std::vector<Box> views;
+        std::vector<Box> scene;
+    };
+    Layout layout;
     std::uint64_t results = 0;  // results shown so far (Enter)
     std::string result_json;    // the last one, as `lesson score --json` writes it (empty: none yet)
 };
+
+// The first panel that covers part of a scene box or of an eye's view, in words ("'session' covers
+// 'stem 2: willow' (left eye) by 40x12 px"); nothing when none does.
+[[nodiscard]] std::optional<std::string> panel_over_scene(const WindowState& state);
+
+// Fills the layout's views and scene boxes for the frame as the window draws it (`panels` are the
+// interface's, in one eye's area: side by side, each is put in both halves).
+void take_layout(WindowState& state, const PointerView& view, glm::dvec2 window_px, const components::FrameSnapshot& frame,
+                 const std::vector<WindowState::Box>& panels);
 
 // Fills the state's picture of the world from a frame snapshot.
 void take_snapshot(WindowState& state, const components::FrameSnapshot& frame);

@@ -153,7 +153,8 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
     }
     double held_from_bottom = 0.0;
     for (std::size_t i = 1; i <= nearest; ++i) held_from_bottom += glm::length(x[i] - x[i - 1]);
-    if (held_from_bottom > std::max(far_from_end_m, 0.35 * length)) {
+    const bool held_far = held_from_bottom > std::max(far_from_end_m, 0.35 * length);
+    if (held_far) {
         std::snprintf(text, sizeof text, "held %.0f mm from its bottom end: to push it in, let go and take it near that end", held_from_bottom * 1e3);
         advice.lines.emplace_back(text);
     }
@@ -195,6 +196,16 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
         advice.role = m.role;
         advice.keep_length_m = target + pins;
         std::string lean = m.azimuth_rad ? " toward the " + direction_words(m.azimuth_rad->target) : "";
+        if (held_far) {
+            advice.next_step = "let go (release the button) and take it again near its bottom end";
+        } else if (length > advice.keep_length_m + 0.002) {
+            std::snprintf(text, sizeof text, "press C to cut it for %s (to %.0f mm)", m.role.c_str(), advice.keep_length_m * 1e3);
+            advice.next_step = text;
+        } else {
+            std::snprintf(text, sizeof text, "tilt it %.0f°%s (Ctrl+drag), then lower it into %s of the kenzan", m.tilt_rad.target * deg, lean.c_str(),
+                          region_words(m.region).c_str());
+            advice.next_step = text;
+        }
         if (length > advice.keep_length_m + 0.002) {
             std::snprintf(text, sizeof text, "for %s: C cuts it to %.0f mm (%.0f above the kenzan%s; %.0f in the pins); then Ctrl+drag to tilt it %.0f°%s",
                           m.role.c_str(), advice.keep_length_m * 1e3, target * 1e3, follows.c_str(), pins * 1e3, m.tilt_rad.target * deg, lean.c_str());

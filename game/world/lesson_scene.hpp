@@ -35,6 +35,7 @@ struct HeldStemAdvice {
     std::string role;
     double keep_length_m = 0.0; // cut to this (0: no role left for it)
     std::vector<std::string> lines;
+    std::string next_step; // the one thing to do now, in a short line (empty: no role left for it)
 };
 HeldStemAdvice advise_held_stem(const LessonDef& lesson, const KenzanFootprint& kenzan, const components::FrameSnapshot& frame, std::size_t hand);
 

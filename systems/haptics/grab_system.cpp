@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/devices/device_angles.hpp"
 #include "engine/ecs/registry.hpp"
 
 namespace ikebana::systems {
@@ -22,8 +23,7 @@ bool held_by_another_hand(ecs::Registry& r, const HandGrip& grip, std::uint32_t 
 } // namespace
 
 glm::dquat device_turn(glm::dvec3 rotation_rad, double yaw_rad) {
-    const glm::dquat device = glm::angleAxis(rotation_rad.z, glm::dvec3{0, 0, 1}) * glm::angleAxis(rotation_rad.y, glm::dvec3{0, 1, 0}) *
-                              glm::angleAxis(rotation_rad.x, glm::dvec3{1, 0, 0});
+    const glm::dquat device = devices::turn_of_angles(rotation_rad);
     const glm::dquat camera = glm::angleAxis(yaw_rad, glm::dvec3{0, 0, 1});
     return camera * device * glm::conjugate(camera);
 }
@@ -119,14 +119,15 @@ void GrabSystem::operator()(sched::SystemContext& ctx) {
                 grip.held_offset_m = x[grip.held_point] - proxy.position_m;
                 grip.second_offset_m = x[grip.second_point] - proxy.position_m;
                 grip.holds_direction = true;
-                grip.rotation_at_grip_rad = input.rotation_rad;
+                const auto* map = r.try_get<const WorkspaceMapping>(hand);
+                grip.turn_at_grip = device_turn(input.rotation_rad, map ? map->yaw_rad : 0.0);
                 grip.turned = glm::dquat{1, 0, 0, 0};
             }
             if (grip.holds_direction) {
                 // Toward the device's turn since the grip, at most max_turn_rad_s.
                 const auto* map = r.try_get<const WorkspaceMapping>(hand);
                 const double yaw = map ? map->yaw_rad : 0.0;
-                const glm::dquat wanted = device_turn(input.rotation_rad, yaw) * glm::conjugate(device_turn(grip.rotation_at_grip_rad, yaw));
+                const glm::dquat wanted = device_turn(input.rotation_rad, yaw) * glm::conjugate(grip.turn_at_grip);
                 const double dot = std::clamp(std::abs(glm::dot(grip.turned, wanted)), 0.0, 1.0);
                 const double gap = 2.0 * std::acos(dot);
                 const double step = max_turn_rad_s * ctx.dt_s;

@@ -1,8 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
+#include <utility>
 #include <thread>
 
+#include "engine/devices/device_angles.hpp"
 #include "engine/devices/mouse_keyboard_device.hpp"
 
 using namespace ikebana;
@@ -140,18 +144,141 @@ TEST(MouseKeyboard, ACursorPutBackInTheMiddleMovesTheHandOnceByWhatItMovedBefore
     EXPECT_NEAR(right->poll(50'000)->position.x - start.x, moved - 100.0 / 800.0 * 0.30, 1e-12);
 }
 
+namespace {
+constexpr double deg = M_PI / 180.0;
+// Where the device's turn takes a stem held upright: its top's direction (device space: x right, y
+// away from the viewer, z up).
+glm::dvec3 top_of(const DeviceSample& s) { return turn_of_angles(s.rotation) * glm::dvec3{0, 0, 1}; }
+// The turn from one sample to the next, as an angle and an axis.
+std::pair<double, glm::dvec3> turn_between(const DeviceSample& a, const DeviceSample& b) {
+    const glm::dquat d = glm::normalize(turn_of_angles(b.rotation) * glm::conjugate(turn_of_angles(a.rotation)));
+    const double angle = 2.0 * std::acos(std::clamp(std::abs(d.w), 0.0, 1.0));
+    const glm::dvec3 axis = glm::length(glm::dvec3(d.x, d.y, d.z)) > 1e-12 ? glm::normalize(glm::dvec3(d.x, d.y, d.z)) * (d.w < 0 ? -1.0 : 1.0) : glm::dvec3{0.0};
+    return {angle, axis};
+}
+} // namespace
+
 TEST(MouseKeyboard, CtrlDragTurnsTheHandInsteadOfMovingIt) {
     FakePointer pointer;
     MouseKeyboardHands hands(pointer);
     auto right = hands.hand(1);
     const auto start = right->poll(0)->position;
     pointer.state.tilt_modifier = true;
-    pointer.state.cursor_px.x -= 400.0; // half the window: a quarter turn
-    pointer.state.cursor_px.y -= 300.0; // half its height up: a quarter turn about x, the other way
+    pointer.state.cursor_px.x -= 360.0; // a quarter degree a pixel: a quarter turn
     const auto s = *right->poll(1000);
     EXPECT_EQ(s.position, start) << "the hand stays";
-    EXPECT_NEAR(s.rotation.y, -M_PI / 2, 1e-12);
-    EXPECT_NEAR(s.rotation.x, M_PI / 2, 1e-12);
+    const glm::dvec3 top = top_of(s);
+    EXPECT_NEAR(top.x, -1.0, 1e-9) << "dragged left, its top leans to the left";
+}
+
+TEST(MouseKeyboard, DraggingUpLeansTheTopAwayFromTheViewerAndDownTowardThem) {
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto right = hands.hand(1);
+    (void)right->poll(0);
+    pointer.state.tilt_modifier = true;
+    pointer.state.cursor_px.y -= 100.0;
+    const glm::dvec3 away = top_of(*right->poll(1000));
+    EXPECT_NEAR(std::acos(away.z), 25.0 * deg, 1e-9);
+    EXPECT_GT(away.y, 0.4);
+    EXPECT_NEAR(away.x, 0.0, 1e-12);
+    pointer.state.cursor_px.y += 300.0;
+    const glm::dvec3 toward = top_of(*right->poll(2000));
+    EXPECT_NEAR(std::acos(toward.z), 50.0 * deg, 1e-9);
+    EXPECT_LT(toward.y, -0.7);
+}
+
+TEST(MouseKeyboard, ADragTurnsTheSameDegreesAPixelWhicheverWayTheStemAlreadyLeans) {
+    // The trainee saw the same 100 px drag give 5 degrees once and 80 another time (issue 37).
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto right = hands.hand(1);
+    pointer.state.tilt_modifier = true;
+    DeviceSample before = *right->poll(0);
+    std::int64_t t = 0;
+    for (const glm::dvec2 lean : {glm::dvec2{0, -160}, glm::dvec2{200, 0}, glm::dvec2{-90, 310}, glm::dvec2{0, -400}}) {
+        pointer.state.cursor_px += lean; // somewhere else first
+        before = *right->poll(t += 1000);
+        pointer.state.cursor_px.x += 100.0;
+        const auto after = *right->poll(t += 1000);
+        const auto [angle, axis] = turn_between(before, after);
+        EXPECT_NEAR(angle, 25.0 * deg, 1e-9) << "after a lean of " << lean.x << ", " << lean.y << " px";
+        EXPECT_NEAR(axis.y, 1.0, 1e-9) << "about the axis away from the viewer: its top goes right as seen";
+    }
+}
+
+TEST(MouseKeyboard, CtrlArrowsLeanTheStemFiveDegreesAPress) {
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto right = hands.hand(1);
+    const auto start = *right->poll(0);
+    pointer.state.tilt_presses = {3.0, 0.0}; // three Ctrl+Right
+    const auto three = *right->poll(1000);
+    EXPECT_NEAR(turn_between(start, three).first, 15.0 * deg, 1e-9);
+    EXPECT_GT(top_of(three).x, 0.2);
+    pointer.state.tilt_presses = {0.0, 0.0}; // and three Ctrl+Left: back
+    EXPECT_NEAR(turn_between(start, *right->poll(2000)).first, 0.0, 1e-6);
+}
+
+TEST(MouseKeyboard, TurningTheCameraLeavesTheHandsWhereTheyAreInTheRoomTurnedAsTheyWere) {
+    // The trainee saw a held stem go from "49 deg left front" to "57 deg left back" as the camera turned.
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto right = hands.hand(1);
+    (void)right->poll(0);
+    pointer.state.tilt_modifier = true;
+    pointer.state.cursor_px += glm::dvec2{-120.0, -80.0};
+    const auto before = *right->poll(1000);
+    pointer.state.tilt_modifier = false;
+    // The room from the device: turned by the camera's yaw about the vertical (hand_input_system).
+    const auto room = [](const DeviceSample& s, double yaw) {
+        const glm::dquat camera = glm::angleAxis(yaw, glm::dvec3{0, 0, 1});
+        return std::pair{camera * s.position, camera * turn_of_angles(s.rotation) * glm::conjugate(camera)};
+    };
+    for (const double yaw : {0.3, -1.1, 2.5}) {
+        pointer.state.view_yaw_rad = yaw;
+        const auto after = *right->poll(static_cast<std::int64_t>(2000 + 1000 * yaw));
+        const auto [was_at, was_turned] = room(before, 0.0);
+        const auto [is_at, is_turned] = room(after, yaw);
+        EXPECT_NEAR(glm::length(is_at - was_at), 0.0, 1e-12) << "yaw " << yaw;
+        EXPECT_NEAR(std::abs(glm::dot(is_turned, was_turned)), 1.0, 1e-12) << "yaw " << yaw;
+    }
+}
+
+TEST(MouseKeyboard, TheTiltGestureForATurnReachesItThroughTheHandsReadings) {
+    // What a scripted mouse sends to turn a hand from one set of angles to another: a drag sideways, one
+    // up or down, then wheel clicks, each read on its own, ends where the gesture says.
+    const MouseKeyboardHands::Config config;
+    for (const auto& [from, to] : {std::pair{glm::dvec3{0.0}, glm::dvec3{0.3, -0.5, 0.2}}, std::pair{glm::dvec3{0.4, 0.2, -1.0}, glm::dvec3{-0.2, 0.9, 0.5}}}) {
+        FakePointer pointer;
+        MouseKeyboardHands hands(pointer);
+        auto right = hands.hand(1);
+        (void)right->poll(0);
+        pointer.state.tilt_presses = {0.0, 0.0};
+        // To `from` first: the hand starts unturned.
+        std::int64_t t = 0;
+        const auto send = [&](const MouseKeyboardHands::TiltGesture& g) {
+            pointer.state.tilt_modifier = true;
+            pointer.state.cursor_px.x += g.right_px;
+            (void)right->poll(t += 1000);
+            pointer.state.cursor_px.y += g.down_px;
+            (void)right->poll(t += 1000);
+            pointer.state.scroll += g.clicks;
+            (void)right->poll(t += 1000);
+        };
+        const auto first = MouseKeyboardHands::tilt_gesture(config, glm::dvec3{0.0}, from);
+        send(first);
+        const auto there = right->poll(t += 1000)->rotation;
+        EXPECT_LT(glm::length(there - first.reached), 1e-9);
+        const auto g = MouseKeyboardHands::tilt_gesture(config, there, to);
+        send(g);
+        const auto reached = *right->poll(t += 1000);
+        EXPECT_LT(glm::length(reached.rotation - g.reached), 1e-9) << "the gesture says where it ends";
+        DeviceSample target;
+        target.rotation = to;
+        // Within whole pixels and half a wheel click (5°, about the vertical) of the turn asked for.
+        EXPECT_LT(turn_between(reached, target).first, 2.5 * deg + 0.3 * deg);
+    }
 }
 
 namespace {

@@ -624,7 +624,7 @@ TEST(LessonWithTheMouse, CtrlDragTiltsTheHeldStemUpright) {
     EXPECT_NEAR(length, 0.448, 1e-6) << "cut for shin";
     const double lying = std::acos(glm::normalize(x.back() - x.front()).z);
     s.tilt_modifier = true;
-    frames(20, {-30.0, 0.0}, false); // 600 px left: a quarter turn, its top up
+    frames(20, {-18.0, 0.0}, false); // 360 px left: a quarter turn at a quarter degree a pixel, its top up
     s.tilt_modifier = false;
     frames(30, {0, 0}, false);
     const double now = std::acos(glm::normalize(x.back() - x.front()).z);
@@ -1002,6 +1002,31 @@ TEST(LessonSession, ASessionFileNamesTheFieldItLacks) {
         R"({"format": "ikebana-session/1", "lesson": "x", "kind": "practice", "scored_at_us": 20, "end_us": 10, "score": 50, "state_hash": "00000000000000ff"})", "s.json");
     ASSERT_FALSE(order.ok());
     EXPECT_NE(order.error().message.find("/scored_at_us"), std::string::npos) << order.error().message;
+}
+
+// The layout a test checks the window by: panels, views and scene boxes read back as written, and a
+// panel over a stem (or over an eye's view) is found and named; touching edges are not covering.
+TEST(WindowState, ThePanelsLayoutIsReadBackAndAPanelOverTheSceneIsNamed) {
+    WindowState s;
+    s.layout.panels = {{"session", 0, {896, 0}, {384, 720}}};
+    s.layout.views = {{"view", 0, {0, 0}, {896, 720}}};
+    s.layout.scene = {{"kenzan", 0, {400, 450}, {80, 40}}, {"stem 2: willow_branch", 0, {500, 40}, {396, 500}}};
+    const auto back = parse_window_state(window_state_json(s), "state.json");
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    ASSERT_EQ(back->layout.scene.size(), 2u);
+    EXPECT_EQ(back->layout.scene[1].name, "stem 2: willow_branch");
+    EXPECT_EQ(back->layout.scene[1].size_px, glm::dvec2(396, 500));
+    EXPECT_EQ(panel_over_scene(*back), std::nullopt) << "the stem's box ends where the panel starts";
+    s.layout.scene[1].size_px.x = 436; // a tall willow leaning into the column
+    EXPECT_EQ(panel_over_scene(s), "'session' covers 'stem 2: willow_branch' by 40x500 px");
+    s.layout.scene[1].size_px.x = 396;
+    s.layout.panels[0].min_px.x = 800; // a panel drawn over the view
+    EXPECT_EQ(panel_over_scene(s), "'session' covers 'view' by 96x720 px");
+    auto bad = nlohmann::json::parse(window_state_json(s));
+    bad["layout"]["panels"][0]["rect_px"] = {1, 2, -3, 4};
+    const auto refused = parse_window_state(bad.dump(), "state.json");
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().message, "state.json: a box in 'layout.panels' has a negative size");
 }
 
 // What the window writes each frame for a script that works it is read back the same.

@@ -1,0 +1,61 @@
+#pragma once
+// The lesson's column beside the scene (render::ScreenLayout keeps it free of the 3D view): what to do
+// next in one short line, the buttons, the held stem against its role, the form's legend with G, the
+// result after Enter, and on demand the full heads-up text and every control. Nothing of it is drawn
+// over the scene, in any stereo mode (side by side, the column is drawn in each eye's half).
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "game/app/start_screen.hpp"
+
+namespace ikebana::game {
+
+struct SessionPanelModel {
+    std::string title;
+    std::string trainee;
+    std::string next_step;            // one line: what to do now
+    std::vector<std::string> held;    // the held stem against the role it is heading for
+    bool holding = false;             // the hand the mouse drives holds a stem (the tilt buttons show)
+    bool ghosts_on = false;
+    struct Legend {
+        std::string role;
+        glm::vec3 colour{1.0f};
+        std::string target; // "630 mm above the kenzan, 15° toward the left front"
+    };
+    std::vector<Legend> legend;       // the form's roles, with G
+    std::vector<std::string> result;  // after Enter
+    std::vector<std::string> details; // the full heads-up text: time, flowers, hands
+    std::vector<std::string> controls;
+};
+
+struct SessionPanelActions {
+    bool finish = false, ghosts = false, restart = false, back = false;
+    glm::dvec2 tilt_steps{0.0}; // the tilt buttons pressed: x right, y away (as Ctrl+arrows)
+};
+
+// A rectangle in the interface's pixels (one eye's area in side by side).
+struct PanelRect {
+    std::string name;
+    glm::dvec2 min_px{0.0}, size_px{0.0};
+};
+
+class SessionPanel {
+public:
+    // Drawn in the column: x from `left_px`, the area's whole height.
+    SessionPanelActions draw(const SessionPanelModel& model, float left_px, float width_px);
+    [[nodiscard]] const std::vector<UiButton>& buttons() const { return buttons_; }
+    // The windows drawn this frame (for --state-out's layout).
+    [[nodiscard]] const std::vector<PanelRect>& panels() const { return panels_; }
+
+private:
+    std::vector<UiButton> buttons_;
+    std::vector<PanelRect> panels_;
+};
+
+// The column's width for an area of this size: wide enough for the buttons and a line of advice, at
+// most a third of the area.
+[[nodiscard]] double session_column_px(double area_width_px);
+
+} // namespace ikebana::game
