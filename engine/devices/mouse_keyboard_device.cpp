@@ -127,6 +127,8 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
         p.y += wheel * config_.depth_per_scroll_m;
         p = glm::clamp(p, config_.reach_min_m, config_.reach_max_m);
     }
+    // Put somewhere by the window (before the button is taken: a press that moved it takes it there).
+    if (started_ && now.hand_moves != last_.hand_moves) position_[active] = glm::clamp(now.hand_to_m, config_.reach_min_m, config_.reach_max_m);
     buttons_[active] = now.grab_button ? 1u : 0u;
     last_ = now;
     started_ = true;

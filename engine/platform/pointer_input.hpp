@@ -40,6 +40,10 @@ struct PointerState {
     // The camera's turn about the vertical as the window draws it: the mouse's hands stay where they
     // are in the room when it turns (MouseKeyboardHands), holding what they hold as they held it.
     double view_yaw_rad = 0.0;
+    // The window asks the active hand to go to a place (device space) at once, counted: a press on a
+    // stem lying on the table far from its bottom end takes it by that end (the hand goes there).
+    std::uint32_t hand_moves = 0;
+    glm::dvec3 hand_to_m{0.0};
     bool finish_key = false;    // Enter
     bool quit_key = false;      // Escape
     // Ctrl held: what the game makes of mouse motion then is its own (a lesson tilts the held stem).

@@ -483,6 +483,20 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     // Over the panel the hands keep the last reading (they neither move nor take what is under them),
     // but a Tab pressed there still switches them.
     if (!over_panel) {
+        // A press on a stem lying far from its bottom end takes it by that end: the mouse's hand goes
+        // there with the press (a device's hand cannot be moved; the panel says to take it there).
+        const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
+        const std::uint8_t active = aim_.active_hand();
+        const bool press = in.grab_button && !hands_reading_.grab_button;
+        in.hand_moves = hands_reading_.hand_moves;
+        in.hand_to_m = hands_reading_.hand_to_m;
+        if (press && pointer_ == window_pointer_ && device_names_[active] == "mouse and keyboard") {
+            if (const auto grip = bottom_grip_for(latest, active)) {
+                const double c = std::cos(-camera_.yaw_rad()), s = std::sin(-camera_.yaw_rad());
+                in.hand_to_m = {c * grip->x - s * grip->y, s * grip->x + c * grip->y, grip->z}; // device space: the world turned back by the camera's yaw
+                in.hand_moves += 1;
+            }
+        }
         hands_reading_ = in;
     } else {
         hands_reading_.switch_hand = in.switch_hand;

@@ -5,6 +5,7 @@
 
 #include "game/world/lesson_scene.hpp"
 #include "systems/haptics/trainee_command_system.hpp"
+#include "systems/presentation/draw_list.hpp"
 
 namespace ikebana::game {
 
@@ -63,6 +64,31 @@ std::string role_target_words(const LessonDef& l, std::size_t i) {
     return text;
 }
 
+std::string LessonControls::reach_words(const components::FrameSnapshot& latest, std::uint8_t hand) const {
+    const auto& h = latest.hands[hand & 1u];
+    const auto reach = systems::stem_in_reach(latest, hand);
+    if (!reach) {
+        // A press that took nothing says why.
+        if (h.grab_button) {
+            const auto& other = latest.hands[(hand + 1u) & 1u];
+            for (std::size_t f = 0; f < latest.flowers.size(); ++f) {
+                for (const auto& p : latest.flowers[f].points_m) {
+                    if (other.held_flower == static_cast<std::int32_t>(f) && glm::length(p - h.position_m) < 2.0 * h.edge_m)
+                        return "the other hand holds that stem: Tab to it, and let go there first";
+                }
+            }
+            return "nothing under the cube: release the button, move the cube onto a stem until the stem turns yellow, then hold it";
+        }
+        return "take a stem: move the cube onto one (the stem turns yellow) and hold the left button";
+    }
+    const auto& f = latest.flowers[reach->flower];
+    const std::string role = role_heading_for(lesson_, footprint_, latest, f.species);
+    std::string words = "hold the left button to take the " + f.species + (role.empty() ? " (no role of the form is left for it)" : " for " + role);
+    if (bottom_grip_for(latest, hand)) words += ": the hand takes it by its bottom end";
+    else if (f.in_kenzan) words += ": it comes out of the pins";
+    return words;
+}
+
 LessonControls::Effects LessonControls::update(const platform::PointerState& in, std::uint8_t hand, const components::FrameSnapshot& latest,
                                                systems::TraineeChannel& trainee) {
     Effects effects;
@@ -79,10 +105,14 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     for (const auto& line : advice.lines) say("> " + line);
     advice_ = advice.lines;
     next_step_ = form ? advice.next_step : "copy the sample arrangement, then Score (Enter)";
-    if (form && next_step_.empty()) {
-        const auto& h = latest.hands[hand & 1u];
-        next_step_ = h.holding ? "no role is left for this stem: let go of it (release the button) away from the kenzan"
-                               : "take a stem: put the cube on one (it turns yellow) and hold the left button";
+    const auto& h = latest.hands[hand & 1u];
+    if (form && h.holding) {
+        // Where it would go in, if that is wrong: said before anything else.
+        if (const auto mark = systems::entry_mark(latest, hand); mark && !mark->good() && advice.keep_length_m > 0.0)
+            next_step_ = std::string("move it over the kenzan: the red ring shows it would ") + (mark->meets_wall ? "meet the container's wall" : "miss the pins");
+        if (next_step_.empty()) next_step_ = "no role is left for this stem: let go of it (release the button) away from the kenzan";
+    } else if (form) {
+        next_step_ = reach_words(latest, hand);
     }
     if (in.letter(cut_letter) && !cut_was_down_ && advice.keep_length_m > 0.0 && trainee.push({systems::TraineeCommand::Kind::cut, hand, advice.keep_length_m})) {
         effects.cut_for = advice.role;

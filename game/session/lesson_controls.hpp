@@ -66,6 +66,8 @@ private:
     bool cut_was_down_ = false, ghost_was_down_ = false, reset_was_down_ = false, enter_was_down_ = false;
     std::vector<std::string> lines_;
     std::string next_step_;
+    // What a press of this hand would do now, in words.
+    [[nodiscard]] std::string reach_words(const components::FrameSnapshot& latest, std::uint8_t hand) const;
     std::vector<std::string> advice_;
 };
 

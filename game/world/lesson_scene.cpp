@@ -127,6 +127,44 @@ namespace {
 constexpr double far_from_end_m = 0.1;
 } // namespace
 
+namespace {
+// From its bottom end along the stem to point i.
+double along_to(const std::vector<glm::dvec3>& x, std::size_t i) {
+    double s = 0.0;
+    for (std::size_t k = 1; k <= i && k < x.size(); ++k) s += glm::length(x[k] - x[k - 1]);
+    return s;
+}
+double stem_length(const std::vector<glm::dvec3>& x) { return x.empty() ? 0.0 : along_to(x, x.size() - 1); }
+bool far_from_bottom(const std::vector<glm::dvec3>& x, std::size_t i) { return along_to(x, i) > std::max(far_from_end_m, 0.35 * stem_length(x)); }
+} // namespace
+
+std::optional<glm::dvec3> bottom_grip_for(const components::FrameSnapshot& frame, std::size_t hand) {
+    const auto reach = systems::stem_in_reach(frame, hand);
+    if (!reach) return std::nullopt;
+    const auto& f = frame.flowers[reach->flower];
+    if (f.in_kenzan || f.points_m.size() < 3 || !far_from_bottom(f.points_m, reach->point)) return std::nullopt;
+    // A hand's width from the end: the point nearest 30 mm along the stem.
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < f.points_m.size(); ++i) {
+        if (std::abs(along_to(f.points_m, i) - 0.03) < std::abs(along_to(f.points_m, best) - 0.03)) best = i;
+    }
+    return f.points_m[best];
+}
+
+std::string role_heading_for(const LessonDef& l, const KenzanFootprint& footprint, const components::FrameSnapshot& frame, const std::string& species) {
+    const auto placed = score_form(l, measure_arrangement(frame), footprint);
+    for (const auto& m : l.stems) {
+        bool played = false;
+        if (placed) {
+            for (const auto& s : placed->arrangement.stems) played = played || (s.standing && s.role == m.role);
+        }
+        if (played) continue;
+        if (!m.species.empty() && std::find(m.species.begin(), m.species.end(), species) == m.species.end()) continue;
+        return m.role;
+    }
+    return "";
+}
+
 HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footprint, const components::FrameSnapshot& frame, std::size_t hand) {
     HeldStemAdvice advice;
     if (hand >= 2 || !frame.kenzan || l.scoring != "form") return advice;

@@ -39,6 +39,16 @@ struct HeldStemAdvice {
 };
 HeldStemAdvice advise_held_stem(const LessonDef& lesson, const KenzanFootprint& kenzan, const components::FrameSnapshot& frame, std::size_t hand);
 
+// The role a stem of this species would be heading for now (as advise_held_stem picks it; empty: none
+// is left for it).
+[[nodiscard]] std::string role_heading_for(const LessonDef& lesson, const KenzanFootprint& kenzan, const components::FrameSnapshot& frame,
+                                           const std::string& species);
+
+// A press of this hand on a stem lying out of the kenzan, far from its bottom end (where it could not be
+// pushed into the pins from): the point near that end where the hand takes it instead (the mouse's hand
+// goes there). Nothing when the press would take it near its end already, or takes nothing.
+[[nodiscard]] std::optional<glm::dvec3> bottom_grip_for(const components::FrameSnapshot& frame, std::size_t hand);
+
 } // namespace ikebana::game
 
 #include "engine/render/draw_list.hpp"

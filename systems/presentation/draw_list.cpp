@@ -158,30 +158,85 @@ render::DrawList build_draw_list(const FrameSnapshot& frame) {
             list.batch("cylinder").instances.push_back({segment(foot, hand.position_m - glm::dvec3{0, 0, 0.5 * e}, 0.0012), dim});
             list.batch("cube").instances.push_back({frame_matrix({e, 0, 0}, {0, e, 0}, {0, 0, 0.001}, foot), dim});
         }
-        // What a press would take now: the nearest stem point within the grab's reach (the grab's own
-        // rule), its stem marked yellow either side of it, out past the cube.
-        if (hand.holding) continue;
-        const FlowerStatus* best = nullptr;
-        std::size_t best_i = 0;
-        double best_d = std::numeric_limits<double>::infinity();
-        for (const auto& flower : frame.flowers) {
-            for (std::size_t i = 0; i < flower.points_m.size(); ++i) {
-                if (!within_grab(flower.points_m[i], hand.position_m, e, flower.diameter_m)) continue;
-                const double d = glm::length(flower.points_m[i] - hand.position_m);
-                if (d < best_d) {
-                    best_d = d;
-                    best = &flower;
-                    best_i = i;
-                }
+        // Where the held stem would go in: a ring on the pin tips' plane, green or red.
+        if (const auto mark = entry_mark(frame, h)) {
+            const glm::vec4 ring = mark->good() ? glm::vec4(0.15f, 0.8f, 0.25f, 1.0f) : glm::vec4(0.9f, 0.1f, 0.1f, 1.0f);
+            const double r = 0.006;
+            for (int k = 0; k < 12; ++k) {
+                const double a0 = k * 2.0 * M_PI / 12.0, a1 = (k + 1) * 2.0 * M_PI / 12.0;
+                list.batch("cylinder").instances.push_back(
+                    {segment(mark->at_m + glm::dvec3{r * std::cos(a0), r * std::sin(a0), 0.0}, mark->at_m + glm::dvec3{r * std::cos(a1), r * std::sin(a1), 0.0}, 0.0015), ring});
             }
+            // And the line it would go down, thin, from its end.
+            const auto held = frame.hands[h].held_flower;
+            if (held >= 0 && static_cast<std::size_t>(held) < frame.flowers.size() && !frame.flowers[static_cast<std::size_t>(held)].points_m.empty())
+                list.batch("cylinder").instances.push_back({segment(frame.flowers[static_cast<std::size_t>(held)].points_m.front(), mark->at_m, 0.0008), ring * 0.8f});
         }
-        if (best) {
-            const auto& x = best->points_m;
-            const std::size_t from = best_i > 0 ? best_i - 1 : 0, to = std::min(best_i + 1, x.size() - 1);
-            for (std::size_t i = from; i < to; ++i) list.batch("cylinder").instances.push_back({segment(x[i], x[i + 1], 0.8 * best->diameter_m), glm::vec4(1.0f, 0.85f, 0.1f, 1.0f)});
+        // What a press would take now: the whole stem, yellow, and brighter where the hand would hold it.
+        if (const auto reach = stem_in_reach(frame, h)) {
+            const auto& flower = frame.flowers[reach->flower];
+            const auto& x = flower.points_m;
+            for (std::size_t i = 0; i + 1 < x.size(); ++i) {
+                const bool at_grip = i + 1 == reach->point || i == reach->point;
+                list.batch("cylinder").instances.push_back(
+                    {segment(x[i], x[i + 1], (at_grip ? 1.3 : 1.12) * flower.diameter_m), at_grip ? glm::vec4(1.0f, 0.6f, 0.0f, 1.0f) : glm::vec4(1.0f, 0.85f, 0.1f, 1.0f)});
+            }
         }
     }
     return list;
+}
+
+std::optional<StemInReach> stem_in_reach(const FrameSnapshot& frame, std::size_t h) {
+    if (h >= 2) return std::nullopt;
+    const auto& hand = frame.hands[h];
+    if (!hand.present || hand.holding) return std::nullopt;
+    std::optional<StemInReach> best;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (std::size_t f = 0; f < frame.flowers.size(); ++f) {
+        const auto& flower = frame.flowers[f];
+        for (std::size_t i = 0; i < flower.points_m.size(); ++i) {
+            if (!within_grab(flower.points_m[i], hand.position_m, hand.edge_m, flower.diameter_m)) continue;
+            const double d = glm::length(flower.points_m[i] - hand.position_m);
+            if (d < best_d) {
+                best_d = d;
+                best = StemInReach{f, i};
+            }
+        }
+    }
+    return best;
+}
+
+std::optional<EntryMark> entry_mark(const FrameSnapshot& frame, std::size_t h) {
+    if (h >= 2 || !frame.kenzan) return std::nullopt;
+    const auto& hand = frame.hands[h];
+    if (!hand.holding || hand.held_flower < 0 || static_cast<std::size_t>(hand.held_flower) >= frame.flowers.size()) return std::nullopt;
+    const auto& flower = frame.flowers[static_cast<std::size_t>(hand.held_flower)];
+    if (flower.in_kenzan || flower.points_m.size() < 2) return std::nullopt;
+    const glm::dvec3 end = flower.points_m.front();
+    const glm::dvec3 down = glm::normalize(end - flower.points_m[1]); // from the next point to the end
+    const auto& k = *frame.kenzan;
+    const double tips_z = k.origin_m.z + k.pin_height_m();
+    if (down.z > -0.05 || end.z < tips_z) return std::nullopt; // not going down, or already low
+    EntryMark mark;
+    mark.at_m = end + down * ((tips_z - end.z) / down.z);
+    const glm::dvec3 lo = k.pin_base(0, 0), hi = k.pin_base(k.columns - 1, k.rows - 1);
+    const double edge = 0.5 * k.pitch_m;
+    mark.on_pins = mark.at_m.x >= lo.x - edge && mark.at_m.x <= hi.x + edge && mark.at_m.y >= lo.y - edge && mark.at_m.y <= hi.y + edge;
+    if (frame.container) {
+        // Below the rim the way down must stay inside the wall (and the mark inside the container).
+        const auto& c = *frame.container;
+        const auto inside = [&](glm::dvec3 p) {
+            const glm::dvec2 d = glm::dvec2(p) - c.centre_m;
+            return c.round ? glm::length(d) < c.half_extent_m.x : std::abs(d.x) < c.half_extent_m.x && std::abs(d.y) < c.half_extent_m.y;
+        };
+        if (end.z > c.rim_z_m) {
+            const glm::dvec3 at_rim = end + down * ((c.rim_z_m - end.z) / down.z);
+            mark.meets_wall = !inside(at_rim) || !inside(mark.at_m);
+        } else {
+            mark.meets_wall = !inside(end) || !inside(mark.at_m);
+        }
+    }
+    return mark;
 }
 
 } // namespace ikebana::systems

@@ -352,3 +352,20 @@ TEST(MouseKeyboard, AnAimedCursorThatCrossesIntoTheOtherEyesImageMovesNoHand) {
     a.pointer.state.cursor_px.x += 1.0;
     EXPECT_EQ(a.right->poll(3000)->position, a.start);
 }
+
+TEST(MouseKeyboard, TheWindowPutsTheActiveHandWhereAPressIsToTakeAStem) {
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto left = hands.hand(0);
+    auto right = hands.hand(1);
+    const auto left0 = left->poll(0)->position;
+    pointer.state.hand_moves = 1;
+    pointer.state.hand_to_m = {0.05, -0.02, 0.01};
+    pointer.state.grab_button = true;
+    const auto s = *right->poll(1000);
+    EXPECT_EQ(s.position, pointer.state.hand_to_m) << "there with the press";
+    EXPECT_EQ(s.buttons, 1u);
+    EXPECT_EQ(left->poll(1000)->position, left0);
+    pointer.state.hand_to_m = {0.1, 0.1, 0.1}; // the same count: no second move
+    EXPECT_EQ(right->poll(2000)->position, s.position);
+}

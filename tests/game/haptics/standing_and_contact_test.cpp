@@ -257,8 +257,16 @@ TEST(ReachCues, ThePointAPressWouldTakeIsMarkedAndAPressThatTookNothingSaysSo) {
         return n;
     };
     const auto over = systems::build_draw_list(frame);
-    EXPECT_EQ(count(over, true), 2u) << "the segments either side of the point a press would take";
-    EXPECT_EQ(count(over, false), 5u + 1u) << "the stem's five segments and the hand's drop line";
+    // The whole stem a press would take (issue 37: a spot was missed for another stem's), brighter
+    // either side of the point it would be held by.
+    const glm::vec4 orange(1.0f, 0.6f, 0.0f, 1.0f);
+    std::size_t at_grip = 0;
+    for (const auto& b : over.batches) {
+        for (const auto& inst : b.instances) at_grip += inst.colour == orange ? 1 : 0;
+    }
+    EXPECT_EQ(count(over, true), 3u) << "the rest of its five segments";
+    EXPECT_EQ(at_grip, 2u) << "the segments either side of the point a press would take";
+    EXPECT_EQ(count(over, false), 5u + 1u + 2u) << "the stem's five segments, the hand's drop line, the grip's two";
     hand.position_m = {0.041, 0.05, 0.052}; // beside it, out of reach
     EXPECT_EQ(count(systems::build_draw_list(frame), true), 0u);
     hand.position_m = {0.041, 0.003, 0.052};

@@ -22,6 +22,7 @@
 #include "game/session/window_state.hpp"
 #include "game/world/world.hpp"
 #include "systems/haptics/trainee_command_system.hpp"
+#include "systems/presentation/draw_list.hpp"
 #include "systems/presentation/frame_channel.hpp"
 #include "components/hand.hpp"
 #include "components/kenzan.hpp"
@@ -1199,4 +1200,109 @@ TEST(ModelArrangement, EachRoleIsNamedOverItsModelTipAndOverItsGhostWithItsTarge
             }
         }
     }
+}
+
+namespace {
+// The Sogetsu lesson's table as the window first shows it: the materials lying in front.
+struct LessonTable {
+    LessonDef l = lesson("sogetsu_basic_upright");
+    std::unique_ptr<World> world;
+    components::FrameSnapshot frame;
+    std::size_t willow = 0;
+    LessonTable() {
+        auto scene = scene_for_lesson(l);
+        EXPECT_TRUE(scene.ok());
+        auto made = World::create(*scene);
+        EXPECT_TRUE(made.ok());
+        world = std::move(made).value();
+        sched::DeterministicClock clock(world->schedule);
+        clock.run_for_us(300'000);
+        frame = world->main.resource<const systems::ReceivedFrames>()->latest();
+        while (willow < frame.flowers.size() && frame.flowers[willow].species != "willow_branch") ++willow;
+        EXPECT_LT(willow, frame.flowers.size());
+    }
+    std::string next_step(std::uint8_t hand = 1) {
+        LessonControls controls(l, footprint(l));
+        systems::TraineeChannel channel;
+        (void)controls.update(platform::PointerState{}, hand, frame, channel);
+        return controls.next_step();
+    }
+};
+} // namespace
+
+// What a press would take is named with the role it would play (issue 37: a tiny yellow spot lit a
+// chrysanthemum while the trainee aimed at the willow); pressed mid-stem on a lying stem, the hand
+// takes it by its bottom end (the window moves the mouse's hand there); a press that took nothing
+// says why.
+TEST(Reach, APressIsNamedWithItsStemAndRoleAndTakesALyingStemByItsBottomEnd) {
+    LessonTable t;
+    const auto x = t.frame.flowers[t.willow].points_m;
+    ASSERT_GE(x.size(), 4u);
+    auto& hand = t.frame.hands[1];
+    hand.holding = false;
+    hand.held_flower = -1;
+    hand.position_m = x[x.size() / 2];
+    const auto reach = systems::stem_in_reach(t.frame, 1);
+    ASSERT_TRUE(reach.has_value());
+    EXPECT_EQ(reach->flower, t.willow);
+    const auto grip = bottom_grip_for(t.frame, 1);
+    ASSERT_TRUE(grip.has_value()) << "mid-stem: too far from its end to push it in";
+    double along = 0.0;
+    for (std::size_t i = 1; i < x.size() && glm::length(x[i - 1] - *grip) > 1e-12; ++i) along += glm::length(x[i] - x[i - 1]);
+    EXPECT_LT(along, 0.06) << "taken near its bottom end";
+    EXPECT_EQ(t.next_step(), "hold the left button to take the willow_branch for shin: the hand takes it by its bottom end");
+    // The whole stem is marked, not a spot: a yellow segment along all of it.
+    std::size_t yellow = 0;
+    for (const auto& b : systems::build_draw_list(t.frame).batches) {
+        for (const auto& inst : b.instances) yellow += glm::length(glm::vec3(inst.colour) - glm::vec3(1.0f, 0.85f, 0.1f)) < 1e-6f ? 1 : 0;
+    }
+    EXPECT_GE(yellow, x.size() - 3) << "every segment but the grip's";
+    hand.position_m = x[1];
+    EXPECT_FALSE(bottom_grip_for(t.frame, 1).has_value()) << "near its end already";
+    EXPECT_EQ(t.next_step(), "hold the left button to take the willow_branch for shin");
+    hand.position_m = {0.0, 0.3, 0.4};
+    EXPECT_EQ(t.next_step(), "take a stem: move the cube onto one (the stem turns yellow) and hold the left button");
+    hand.grab_button = true;
+    EXPECT_EQ(t.next_step(), "nothing under the cube: release the button, move the cube onto a stem until the stem turns yellow, then hold it");
+}
+
+// A held stem shows where it would go in (issue 37: twice lowered in front of the kenzan, outside or
+// under the container's wall, with nothing saying so): green over the pins, red past them or through
+// the wall, and the panel's next step says which.
+TEST(Reach, AHeldStemsEntryIsMarkedRedWhenItWouldMissThePinsOrMeetTheWall) {
+    LessonTable t;
+    ASSERT_TRUE(t.frame.kenzan && t.frame.container);
+    const auto& k = *t.frame.kenzan;
+    const double tips = k.origin_m.z + k.pin_height_m();
+    auto& hand = t.frame.hands[1];
+    hand.holding = true;
+    hand.held_flower = static_cast<std::int32_t>(t.willow);
+    auto& x = t.frame.flowers[t.willow].points_m;
+    x.resize(10);
+    // Upright over a point (x, y), its end 40 mm above the pin tips, leaning `lean_x` sideways a metre up.
+    const auto hold_over = [&](double px, double py, double lean_x) {
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            const double up = 0.04 * static_cast<double>(i);
+            x[i] = {px + lean_x * up, py, tips + 0.04 + up};
+        }
+        return systems::entry_mark(t.frame, 1);
+    };
+    const auto over = hold_over(k.origin_m.x, k.origin_m.y, 0.0);
+    ASSERT_TRUE(over.has_value());
+    EXPECT_TRUE(over->good());
+    EXPECT_NEAR(over->at_m.z, tips, 1e-9);
+    const auto beside = hold_over(k.pin_base(k.columns - 1, 0).x + 0.03, k.origin_m.y, 0.0);
+    ASSERT_TRUE(beside.has_value());
+    EXPECT_FALSE(beside->on_pins);
+    EXPECT_NE(t.next_step().find("the red ring shows it would miss the pins"), std::string::npos) << t.next_step();
+    // From outside the rim, slanting in toward the kenzan: through the wall.
+    const auto& c = *t.frame.container;
+    const double outside_x = c.centre_m.x + c.half_extent_m.x + 0.02;
+    ASSERT_TRUE(hold_over(outside_x, k.origin_m.y, 0.0).has_value());
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = {outside_x + 0.02 * static_cast<double>(i), k.origin_m.y, c.rim_z_m + 0.01 + 0.04 * static_cast<double>(i)};
+    x.front() = {outside_x, k.origin_m.y, c.rim_z_m + 0.01};
+    const auto through = systems::entry_mark(t.frame, 1);
+    ASSERT_TRUE(through.has_value());
+    EXPECT_TRUE(through->meets_wall);
+    EXPECT_NE(t.next_step().find("meet the container's wall"), std::string::npos) << t.next_step();
 }
