@@ -34,6 +34,7 @@ LessonFlow::Outcome LessonFlow::update(const platform::PointerState& keys, std::
         }
         if (effects.score) show_result(effects.score->ok() ? (*effects.score)->lines() : std::vector<std::string>{"RESULT: " + effects.score->error().message}, hud);
         if (effects.score && effects.score->ok()) out.scored = **effects.score;
+        if (out.scored) last_score_ = out.scored;
         out.restart = effects.restart;
     }
     const bool form = lesson_ && lesson_->scoring == "form";
@@ -42,6 +43,7 @@ LessonFlow::Outcome LessonFlow::update(const platform::PointerState& keys, std::
             // The free-practice lesson: scored as `lesson score` scores it, and stored like a form's.
             FormScore result = score_sample(*lesson_, measure_arrangement(latest), sample_);
             show_result(result.lines(), hud);
+            last_score_ = result;
             out.scored = std::move(result);
         } else {
             const auto result = score_arrangement(arranged_stems(latest), sample_, kenzan_at_m_);

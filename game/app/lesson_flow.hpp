@@ -40,6 +40,8 @@ public:
     [[nodiscard]] const LessonControls* controls() const noexcept { return controls_ ? &*controls_ : nullptr; }
     // The last result, as the terminal shows it (the HUD's copy is wrapped and spelt in ASCII).
     [[nodiscard]] const std::vector<std::string>& result() const noexcept { return result_; }
+    // The last score with its criteria (none yet, or a scene's free practice without a lesson).
+    [[nodiscard]] const std::optional<FormScore>& last_score() const noexcept { return last_score_; }
 
 private:
     void show_result(const std::vector<std::string>& lines, components::HudInfo& hud);
@@ -53,6 +55,7 @@ private:
     std::optional<LessonControls> controls_;
     bool enter_was_down_ = false;
     std::vector<std::string> result_;
+    std::optional<FormScore> last_score_;
 };
 
 } // namespace ikebana::game

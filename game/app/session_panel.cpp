@@ -1,12 +1,88 @@
 #include "game/app/session_panel.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iterator>
 
 #include <imgui.h>
 
+#include "game/lesson/role_colours.hpp"
+
 namespace ikebana::game {
 
+void show_score(SessionPanelModel& m, const FormScore& score, const LessonDef* lesson) {
+    m.score = score.score;
+    m.stems.clear();
+    m.rules.clear();
+    const auto plain = [](const std::string& tip) {
+        const auto colon = tip.find(": ");
+        return colon == std::string::npos ? tip : tip.substr(colon + 2);
+    };
+    for (const auto& c : score.criteria) {
+        auto it = std::find_if(m.stems.begin(), m.stems.end(), [&](const auto& s) { return s.role == c.stem; });
+        if (it == m.stems.end()) {
+            std::size_t role = m.stems.size();
+            if (lesson) {
+                for (std::size_t i = 0; i < lesson->stems.size(); ++i) role = lesson->stems[i].role == c.stem ? i : role;
+            }
+            m.stems.push_back({c.stem, role_colour(role).rgb, {}});
+            it = std::prev(m.stems.end());
+        }
+        const char* what = c.name == "length_mm" ? "length" : c.name == "tilt_deg" ? "tilt" : c.name == "azimuth_deg" ? "direction" : c.name == "region_mm" ? "place" : "match";
+        char label[96];
+        std::snprintf(label, sizeof label, "%s %.1f / %.0f", what, c.points, c.max_points);
+        const bool full = c.points >= c.max_points - 1e-9;
+        it->bars.push_back({label, c.max_points > 0.0 ? static_cast<float>(c.points / c.max_points) : 1.0f, full ? "" : plain(c.tip)});
+    }
+    for (const auto& r : score.rules) m.rules.push_back((r.ok ? "ok: " : "to do: ") + r.tip);
+}
+
 double session_column_px(double area_width_px) { return std::clamp(0.3 * area_width_px, std::min(300.0, area_width_px / 3.0), 440.0); }
+
+namespace {
+constexpr double deg = 3.14159265358979323846 / 180.0;
+
+// The held stem's lean seen from above (the viewer's side at the bottom): the distance from the middle
+// is the tilt (the rim is lying flat), the angle its direction; the role's band in its colour, the stem
+// a dot, red outside the band.
+void draw_gauge(const HeldStemAdvice::Gauge& g, glm::vec3 colour) {
+    const float size = std::min(140.0f, ImGui::GetContentRegionAvail().x);
+    const ImVec2 at = ImGui::GetCursorScreenPos();
+    const ImVec2 c(at.x + 0.5f * size, at.y + 0.5f * size);
+    const float rim = 0.5f * size - 4.0f;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    // Lesson convention: azimuth 0 toward the viewer (down here), + to the viewer's left.
+    const auto spot = [&](double tilt, double azimuth) {
+        const float r = rim * static_cast<float>(std::clamp(tilt / (90.0 * deg), 0.0, 1.0));
+        return ImVec2(c.x - r * static_cast<float>(std::sin(azimuth)), c.y + r * static_cast<float>(std::cos(azimuth)));
+    };
+    draw->AddCircleFilled(c, rim, IM_COL32(250, 248, 242, 255), 48);
+    draw->AddCircle(c, rim, IM_COL32(120, 120, 120, 255), 48);
+    draw->AddCircle(c, 0.5f * rim, IM_COL32(200, 200, 200, 255), 32); // 45°
+    const ImU32 band = ImGui::ColorConvertFloat4ToU32(ImVec4(colour.r, colour.g, colour.b, 0.45f));
+    const double lo = std::max(0.0, g.target_tilt_rad - g.tilt_tolerance_rad), hi = std::min(90.0 * deg, g.target_tilt_rad + g.tilt_tolerance_rad);
+    const double a0 = g.target_azimuth_rad ? *g.target_azimuth_rad - g.azimuth_tolerance_rad : 0.0;
+    const double a1 = g.target_azimuth_rad ? *g.target_azimuth_rad + g.azimuth_tolerance_rad : 360.0 * deg;
+    constexpr int pieces = 24;
+    for (int k = 0; k < pieces; ++k) {
+        const double b0 = a0 + (a1 - a0) * k / pieces, b1 = a0 + (a1 - a0) * (k + 1) / pieces;
+        draw->AddQuadFilled(spot(lo, b0), spot(hi, b0), spot(hi, b1), spot(lo, b1), band);
+    }
+    const bool tilt_ok = std::abs(g.tilt_rad - g.target_tilt_rad) <= g.tilt_tolerance_rad;
+    const bool way_ok = !g.target_azimuth_rad || g.tilt_rad < 1.0 * deg ||
+                        std::abs(std::remainder(g.azimuth_rad - *g.target_azimuth_rad, 360.0 * deg)) <= g.azimuth_tolerance_rad;
+    draw->AddLine(c, spot(g.tilt_rad, g.azimuth_rad), IM_COL32(60, 60, 60, 255), 2.0f);
+    draw->AddCircleFilled(spot(g.tilt_rad, g.azimuth_rad), 5.0f, tilt_ok && way_ok ? IM_COL32(30, 150, 50, 255) : IM_COL32(210, 30, 30, 255));
+    draw->AddText(ImVec2(c.x - 18.0f, at.y + size - 2.0f), IM_COL32(90, 90, 90, 255), "you");
+    ImGui::Dummy(ImVec2(size, size + 14.0f));
+    ImGui::SameLine();
+    ImGui::BeginGroup();
+    ImGui::TextWrapped("Seen from above, you at the bottom: the dot is the stem's lean (the rim: lying flat), the coloured band the form's.");
+    ImGui::Text("now %.0f° %s", g.tilt_rad / deg, g.tilt_rad < 1.0 * deg ? "upright" : ("toward the " + direction_words(g.azimuth_rad)).c_str());
+    ImGui::EndGroup();
+}
+} // namespace
 
 SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float left_px, float width_px) {
     buttons_.clear();
@@ -41,6 +117,7 @@ SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float lef
         ImGui::Separator();
         for (const auto& line : model.held) ImGui::TextUnformatted(line.c_str());
     }
+    if (model.gauge) draw_gauge(*model.gauge, model.role_colour);
     if (model.holding) {
         // The mouse alone can tilt it too: a step a press, as Ctrl+arrows.
         ImGui::TextUnformatted("Lean it 5° (or Ctrl+arrows):");
@@ -63,7 +140,20 @@ SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float lef
             ImGui::TextUnformatted((l.role + ": " + l.target).c_str());
         }
     }
-    if (!model.result.empty()) {
+    if (model.score) {
+        ImGui::Separator();
+        ImGui::Text("Score: %.0f / 100", *model.score);
+        for (const auto& s : model.stems) {
+            ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(s.colour.r, s.colour.g, s.colour.b, 1.0f));
+            ImGui::TextUnformatted(s.role.c_str());
+            ImGui::PopStyleColor();
+            for (const auto& b : s.bars) {
+                ImGui::ProgressBar(b.fraction, ImVec2(-1.0f, 0.0f), b.label.c_str());
+                if (!b.tip.empty()) ImGui::TextUnformatted(b.tip.c_str());
+            }
+        }
+        for (const auto& r : model.rules) ImGui::BulletText("%s", r.c_str());
+    } else if (!model.result.empty()) {
         ImGui::Separator();
         for (const auto& line : model.result) ImGui::TextUnformatted(line.c_str());
     }

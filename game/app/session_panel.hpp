@@ -3,12 +3,16 @@
 // next in one short line, the buttons, the held stem against its role, the form's legend with G, the
 // result after Enter, and on demand the full heads-up text and every control. Nothing of it is drawn
 // over the scene, in any stereo mode (side by side, the column is drawn in each eye's half).
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "game/app/start_screen.hpp"
+#include "game/lesson/lesson.hpp"
+#include "game/training/form_score.hpp"
+#include "game/world/lesson_scene.hpp"
 
 namespace ikebana::game {
 
@@ -18,6 +22,8 @@ struct SessionPanelModel {
     std::string next_step;            // one line: what to do now
     std::vector<std::string> held;    // the held stem against the role it is heading for
     bool holding = false;             // the hand the mouse drives holds a stem (the tilt buttons show)
+    std::optional<HeldStemAdvice::Gauge> gauge; // its lean against its role's band
+    glm::vec3 role_colour{1.0f};
     bool ghosts_on = false;
     struct Legend {
         std::string role;
@@ -25,7 +31,21 @@ struct SessionPanelModel {
         std::string target; // "630 mm above the kenzan, 15° toward the left front"
     };
     std::vector<Legend> legend;       // the form's roles, with G
-    std::vector<std::string> result;  // after Enter
+    std::vector<std::string> result;  // after Enter, as the terminal has it (when there are no bars)
+    // After Enter in a lesson: the score, and per stem a bar for each criterion with its tip.
+    struct Bar {
+        std::string label; // "tilt 8.0 / 10"
+        float fraction = 0.0f;
+        std::string tip;   // empty: within its band
+    };
+    struct StemResult {
+        std::string role;
+        glm::vec3 colour{1.0f};
+        std::vector<Bar> bars;
+    };
+    std::optional<double> score;
+    std::vector<StemResult> stems;
+    std::vector<std::string> rules; // each form rule, met or with what to do
     std::vector<std::string> details; // the full heads-up text: time, flowers, hands
     std::vector<std::string> controls;
 };
@@ -53,6 +73,10 @@ private:
     std::vector<UiButton> buttons_;
     std::vector<PanelRect> panels_;
 };
+
+// The score in the panel: per stem (in its role's colour) a bar for each criterion, with its tip where
+// it lost points (without the tip's "role: ", which the bar's heading says), and each rule.
+void show_score(SessionPanelModel& model, const FormScore& score, const LessonDef* lesson);
 
 // The column's width for an area of this size: wide enough for the buttons and a line of advice, at
 // most a third of the area.

@@ -399,13 +399,18 @@ SessionPanelModel TraineeSession::panel_model(sched::SystemContext& main_lane) c
     const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
     const LessonControls* controls = flow_ ? flow_->controls() : nullptr;
     m.next_step = controls ? controls->next_step() : "arrange the flowers like the sample beside the container, then Score (Enter)";
-    if (controls) m.held = controls->advice();
+    if (controls) {
+        m.held = controls->advice();
+        m.gauge = controls->gauge();
+        if (m.gauge) m.role_colour = role_colour(m.gauge->role).rgb;
+    }
     m.holding = latest.hands[aim_.active_hand() & 1u].holding;
     m.ghosts_on = flow_ && flow_->ghosts();
     if (m.ghosts_on && lesson_) {
         for (std::size_t i = 0; i < lesson_->stems.size(); ++i) m.legend.push_back({lesson_->stems[i].role, role_colour(i).rgb, role_target_words(*lesson_, i)});
     }
     if (flow_) m.result = flow_->result();
+    if (flow_ && flow_->last_score()) show_score(m, *flow_->last_score(), lesson_ ? &*lesson_ : nullptr);
     components::HudInfo plain = *main_lane.registry.resource<const components::HudInfo>();
     plain.keys.clear();
     plain.lesson.clear();

@@ -104,6 +104,7 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     if (form) advice = advise_held_stem(lesson_, footprint_, latest, hand);
     for (const auto& line : advice.lines) say("> " + line);
     advice_ = advice.lines;
+    gauge_ = advice.gauge;
     next_step_ = form ? advice.next_step : "copy the sample arrangement, then Score (Enter)";
     const auto& h = latest.hands[hand & 1u];
     if (form && h.holding) {

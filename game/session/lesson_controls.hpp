@@ -14,6 +14,7 @@
 #include "engine/platform/pointer_input.hpp"
 #include "game/training/form_score.hpp"
 #include "game/lesson/lesson.hpp"
+#include "game/world/lesson_scene.hpp"
 
 namespace ikebana::systems {
 class TraineeChannel;
@@ -58,6 +59,7 @@ public:
     // heading for (as the HUD says it, unwrapped).
     [[nodiscard]] const std::string& next_step() const noexcept { return next_step_; }
     [[nodiscard]] const std::vector<std::string>& advice() const noexcept { return advice_; }
+    [[nodiscard]] const std::optional<HeldStemAdvice::Gauge>& gauge() const noexcept { return gauge_; }
 
 private:
     const LessonDef& lesson_;
@@ -69,6 +71,7 @@ private:
     // What a press of this hand would do now, in words.
     [[nodiscard]] std::string reach_words(const components::FrameSnapshot& latest, std::uint8_t hand) const;
     std::vector<std::string> advice_;
+    std::optional<HeldStemAdvice::Gauge> gauge_;
 };
 
 // Each role's target as the form gives it, for the legend beside the G rods: "630 mm above the kenzan,

@@ -86,9 +86,12 @@ void score_tilt(const std::string& who, const ArrangementStem& s, const MainStem
     if (std::abs(t - tilt.target) <= tilt.tolerance) {
         tilt.tip = fmt("%s: %.0f° from vertical, within the form's %.0f° ±%.0f°", who.c_str(), t, tilt.target, tilt.tolerance);
     } else if (t < tilt.target) {
-        tilt.tip = fmt("%s: %.0f° from vertical, the form wants %.0f° ±%.0f°: tilt it further%s", who.c_str(), t, tilt.target, tilt.tolerance, lean.c_str());
+        // How far, in degrees, to the form's angle: what a hand can do, not a coordinate.
+        tilt.tip = fmt("%s: %.0f° from vertical, the form wants %.0f° ±%.0f°: lean it %.0f° more%s", who.c_str(), t, tilt.target, tilt.tolerance, tilt.target - t,
+                       lean.c_str());
     } else {
-        tilt.tip = fmt("%s: %.0f° from vertical, the form wants %.0f° ±%.0f°: raise it toward upright", who.c_str(), t, tilt.target, tilt.tolerance);
+        tilt.tip = fmt("%s: %.0f° from vertical, the form wants %.0f° ±%.0f°: raise it %.0f° toward upright", who.c_str(), t, tilt.target, tilt.tolerance,
+                       t - tilt.target);
     }
 }
 
@@ -123,8 +126,8 @@ void score_region(const std::string& who, const ArrangementStem& s, const MainSt
     region.tolerance = 0.0;
     region.points = band_points(out_mm, 0.0, region.max_points);
     region.tip = out_mm <= 0.0 ? fmt("%s: enters %s of the kenzan, where the form puts it", who.c_str(), where_on_kenzan(s.base_m, k.size_m).c_str())
-                               : fmt("%s: enters %s of the kenzan, %.0f mm from %s, where the form puts it: move its base there", who.c_str(),
-                                     where_on_kenzan(s.base_m, k.size_m).c_str(), out_mm, region_words(m.region).c_str());
+                               : fmt("%s: enters %s of the kenzan; the form puts it in %s: move its base %.0f mm toward %s", who.c_str(),
+                                     where_on_kenzan(s.base_m, k.size_m).c_str(), region_words(m.region).c_str(), out_mm, region_words(m.region).c_str());
 }
 
 } // namespace

@@ -233,6 +233,9 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
         const double pins = frame.kenzan->pin_height_m();
         advice.role = m.role;
         advice.keep_length_m = target + pins;
+        advice.gauge = HeldStemAdvice::Gauge{tilt, azimuth, m.tilt_rad.target, m.tilt_rad.tolerance,
+                                             m.azimuth_rad ? std::optional<double>(m.azimuth_rad->target) : std::nullopt,
+                                             m.azimuth_rad ? m.azimuth_rad->tolerance : 0.0, r};
         std::string lean = m.azimuth_rad ? " toward the " + direction_words(m.azimuth_rad->target) : "";
         if (held_far) {
             advice.next_step = "let go (release the button) and take it again near its bottom end";

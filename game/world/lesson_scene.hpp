@@ -4,6 +4,7 @@
 // arrangement measured from what the simulation shows, in the lesson's terms (kenzan coordinates,
 // length above the pins, tilt and direction from where each stem enters them).
 #include <map>
+#include <optional>
 #include "components/snapshot.hpp"
 #include "engine/core/result.hpp"
 #include "game/training/form_score.hpp"
@@ -36,6 +37,16 @@ struct HeldStemAdvice {
     double keep_length_m = 0.0; // cut to this (0: no role left for it)
     std::vector<std::string> lines;
     std::string next_step; // the one thing to do now, in a short line (empty: no role left for it)
+    // The held stem's lean now against its role's band (lesson convention: azimuth 0 toward the viewer,
+    // + to the viewer's left), for the panel's gauge. None without a role for it.
+    struct Gauge {
+        double tilt_rad = 0.0, azimuth_rad = 0.0;
+        double target_tilt_rad = 0.0, tilt_tolerance_rad = 0.0;
+        std::optional<double> target_azimuth_rad;
+        double azimuth_tolerance_rad = 0.0;
+        std::size_t role = 0; // its place in the lesson's stems (role_colour)
+    };
+    std::optional<Gauge> gauge;
 };
 HeldStemAdvice advise_held_stem(const LessonDef& lesson, const KenzanFootprint& kenzan, const components::FrameSnapshot& frame, std::size_t hand);
 

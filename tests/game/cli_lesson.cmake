@@ -33,7 +33,7 @@ if(NOT roles_given STREQUAL "shin")
 endif()
 expect_success("a result scored again" "RESULT: 100 / 100 (sogetsu_basic_upright)"
                ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${out}/result.json)
-expect_success("shin at 45 degrees" "shin      16.0 / 30   shin: 45° from vertical, the form wants 15° ±10°: raise it toward upright"
+expect_success("shin at 45 degrees" "shin      16.0 / 30   shin: 45° from vertical, the form wants 15° ±10°: raise it 30° toward upright"
                ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${fixtures}/sogetsu_upright_shin45.json)
 expect_success("shin at 45 degrees, as JSON" "\"score\": 87.3" ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${fixtures}/sogetsu_upright_shin45.json --json -)
 expect_success("free practice against the sample" "RESULT: " ${IKEBANA} lesson score free_practice --arrangement ${fixtures}/sogetsu_upright_measured.json)

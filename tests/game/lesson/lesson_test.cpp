@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/assets/files.hpp"
+#include "game/app/session_panel.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
 #include "game/training/form_score.hpp"
 #include "game/session/lesson_controls.hpp"
@@ -242,7 +243,7 @@ TEST(FormScore, ShinLeftAt45DegreesLosesPointsOnShinsTiltWithATipNamingShin) {
     const Criterion* tilt = criterion(*scored, "shin", "tilt_deg");
     ASSERT_NE(tilt, nullptr);
     EXPECT_DOUBLE_EQ(tilt->points, 0.0) << "30 degrees off a band of 10 is three bands";
-    EXPECT_EQ(tilt->tip, "shin: 45° from vertical, the form wants 15° ±10°: raise it toward upright");
+    EXPECT_EQ(tilt->tip, "shin: 45° from vertical, the form wants 15° ±10°: raise it 30° toward upright");
     for (const auto& c : scored->criteria) {
         if (c.stem != "shin" || c.name != "tilt_deg") {
             EXPECT_EQ(c.points, c.max_points) << c.tip;
@@ -257,7 +258,7 @@ TEST(FormScore, AStemTooUprightIsToldToTiltTowardTheFormsDirection) {
     const auto scored = score_form(l, a, footprint(l));
     const Criterion* tilt = criterion(*scored, "soe", "tilt_deg");
     ASSERT_NE(tilt, nullptr);
-    EXPECT_EQ(tilt->tip, "soe: 28° from vertical, the form wants 45° ±10°: tilt it further toward the left front");
+    EXPECT_EQ(tilt->tip, "soe: 28° from vertical, the form wants 45° ±10°: lean it 17° more toward the left front");
     EXPECT_NEAR(tilt->points, 14.0 * (1.0 - 7.0 / 20.0), 1e-9) << "7 degrees beyond the band of 10: 35 % less";
 }
 
@@ -1291,6 +1292,18 @@ TEST(Reach, AHeldStemsEntryIsMarkedRedWhenItWouldMissThePinsOrMeetTheWall) {
     ASSERT_TRUE(over.has_value());
     EXPECT_TRUE(over->good());
     EXPECT_NEAR(over->at_m.z, tips, 1e-9);
+    // The panel's gauge: the stem's lean now (upright) against shin's band.
+    const auto gauge = advise_held_stem(t.l, footprint(t.l), t.frame, 1).gauge;
+    ASSERT_TRUE(gauge.has_value());
+    EXPECT_EQ(gauge->role, 0u);
+    EXPECT_NEAR(gauge->tilt_rad, 0.0, 1e-6);
+    EXPECT_NEAR(gauge->target_tilt_rad, t.l.stems[0].tilt_rad.target, 1e-12);
+    ASSERT_TRUE(gauge->target_azimuth_rad.has_value());
+    hold_over(k.origin_m.x, k.origin_m.y, -0.3); // leaning to the viewer's left
+    const auto leaning = advise_held_stem(t.l, footprint(t.l), t.frame, 1).gauge;
+    ASSERT_TRUE(leaning.has_value());
+    EXPECT_NEAR(leaning->tilt_rad, std::atan(0.3), 1e-6);
+    EXPECT_NEAR(leaning->azimuth_rad, M_PI / 2, 1e-6) << "lesson convention: + to the viewer's left";
     const auto beside = hold_over(k.pin_base(k.columns - 1, 0).x + 0.03, k.origin_m.y, 0.0);
     ASSERT_TRUE(beside.has_value());
     EXPECT_FALSE(beside->on_pins);
@@ -1305,4 +1318,43 @@ TEST(Reach, AHeldStemsEntryIsMarkedRedWhenItWouldMissThePinsOrMeetTheWall) {
     ASSERT_TRUE(through.has_value());
     EXPECT_TRUE(through->meets_wall);
     EXPECT_NE(t.next_step().find("meet the container's wall"), std::string::npos) << t.next_step();
+}
+
+// The result in the panel (issue 37: numbers and coordinates a beginner cannot act on): per stem a bar
+// for each criterion, full where it is within its band; where it lost points, the tip in plain
+// directions without coordinates, and the stem's heading in its role's colour.
+TEST(ResultPanel, EachStemHasABarPerCriterionAndATipInPlainDirectionsWhereItLostPoints) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    Arrangement a = model_arrangement(l, footprint(l));
+    stem_with_role(a, "shin")->tilt_rad = 45 * deg;
+    stem_with_role(a, "soe")->base_m += glm::dvec2{0.03, -0.03}; // off its place on the kenzan
+    const auto scored = score_form(l, a, footprint(l));
+    ASSERT_TRUE(scored.ok());
+    SessionPanelModel model;
+    show_score(model, *scored, &l);
+    ASSERT_TRUE(model.score.has_value());
+    EXPECT_DOUBLE_EQ(*model.score, scored->score);
+    ASSERT_EQ(model.stems.size(), 3u);
+    const auto& shin = model.stems[0];
+    EXPECT_EQ(shin.role, "shin");
+    EXPECT_EQ(shin.colour, role_colour(0).rgb);
+    const auto tilt = std::find_if(shin.bars.begin(), shin.bars.end(), [](const auto& b) { return b.label.rfind("tilt ", 0) == 0; });
+    ASSERT_NE(tilt, shin.bars.end());
+    EXPECT_FLOAT_EQ(tilt->fraction, 0.0f);
+    EXPECT_EQ(tilt->tip, "45° from vertical, the form wants 15° ±10°: raise it 30° toward upright");
+    for (const auto& b : shin.bars) {
+        if (&b != &*tilt) {
+            EXPECT_TRUE(b.tip.empty() && b.fraction == 1.0f) << b.label << ": " << b.tip;
+        }
+    }
+    const auto& soe = model.stems[1];
+    const auto place = std::find_if(soe.bars.begin(), soe.bars.end(), [](const auto& b) { return b.label.rfind("place ", 0) == 0; });
+    ASSERT_NE(place, soe.bars.end());
+    EXPECT_LT(place->fraction, 1.0f);
+    EXPECT_NE(place->tip.find("move its base"), std::string::npos) << place->tip;
+    EXPECT_NE(place->tip.find("mm toward the front left"), std::string::npos) << place->tip;
+    for (const auto& s : model.stems) {
+        for (const auto& b : s.bars) EXPECT_EQ(b.tip.find("x ="), std::string::npos) << b.tip << ": no coordinates";
+    }
+    EXPECT_EQ(model.rules.size(), scored->rules.size());
 }
