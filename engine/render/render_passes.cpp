@@ -67,7 +67,7 @@ void StereoRenderer::record(Frame& frame, const DrawList& list, const std::vecto
     }
     record_shadow_pass(frame, draws);
     write_timestamp(frame.cmd, frame.timestamps, 1);
-    record_eye_passes(frame, list, draws);
+    record_eye_passes(frame, list, draws, target.with_eyes);
     write_timestamp(frame.cmd, frame.timestamps, 2);
     const VkImageLayout eyes_layout = record_composite(frame, target);
     // The interface over the window's image (its own render pass: Dear ImGui's Vulkan backend wants one).
@@ -148,7 +148,7 @@ void StereoRenderer::clear_eye_depth(VkCommandBuffer cmd) const {
 
 // 2. Both eyes into the two-layer image: one multiview pass (viewMask 0b11: gl_ViewIndex picks the
 // eye), or a pass per eye's layer (a push constant gives the eye).
-void StereoRenderer::record_eye_passes(const Frame& frame, const DrawList& list, const std::vector<Draw>& draws) const {
+void StereoRenderer::record_eye_passes(const Frame& frame, const DrawList& list, const std::vector<Draw>& draws, bool both_eyes_wanted) const {
     VkCommandBuffer cmd = frame.cmd;
     transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, none, 0,
                VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
@@ -162,7 +162,9 @@ void StereoRenderer::record_eye_passes(const Frame& frame, const DrawList& list,
     clear_eye_depth(cmd);
     VkClearValue background{};
     background.color = {{list.background.r, list.background.g, list.background.b, 1.0f}};
-    const int passes = multiview_ ? 1 : 2;
+    // Mono shows the left layer only: its second pass (the right eye, at the same place) was half the
+    // eyes' time on lavapipe for nothing. Both still when the eyes themselves are read back.
+    const int passes = multiview_ || (options_.mode == StereoMode::mono && !both_eyes_wanted) ? 1 : 2;
     for (int pass = 0; pass < passes; ++pass) {
         VkImageView single = multiview_ ? eyes_.view : eye_layer_[pass];
         auto colour = attachment(single, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_ATTACHMENT_LOAD_OP_CLEAR, VK_ATTACHMENT_STORE_OP_STORE, background);
@@ -213,7 +215,7 @@ void StereoRenderer::record_eye_passes(const Frame& frame, const DrawList& list,
         transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                    VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_2_RESOLVE_BIT,
                    VK_ACCESS_2_TRANSFER_WRITE_BIT);
-        const VkImageSubresourceLayers both{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 2};
+        const VkImageSubresourceLayers both{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, static_cast<std::uint32_t>(passes)};
         const VkImageResolve region{both, {0, 0, 0}, both, {0, 0, 0}, {eyes_.extent.width, eyes_.extent.height, 1}};
         vkCmdResolveImage(cmd, eyes_msaa_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, eyes_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
         transition(cmd, eyes_.image, VK_IMAGE_ASPECT_COLOR_BIT, 2, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,

@@ -214,7 +214,7 @@ private:
     // The frame's commands, one function per pass (render_passes.cpp).
     void record(Frame& frame, const DrawList& list, const std::vector<Draw>& draws, const CompositeTarget& target);
     void record_shadow_pass(const Frame& frame, const std::vector<Draw>& draws) const;
-    void record_eye_passes(const Frame& frame, const DrawList& list, const std::vector<Draw>& draws) const;
+    void record_eye_passes(const Frame& frame, const DrawList& list, const std::vector<Draw>& draws, bool both_eyes_wanted) const;
     void clear_eye_depth(VkCommandBuffer cmd) const;
     VkImageLayout record_composite(const Frame& frame, const CompositeTarget& target) const; // the eyes' layout after it
     void copy_eyes_to_target(VkCommandBuffer cmd, const CompositeTarget& target) const;
