@@ -101,9 +101,14 @@ SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float lef
     if (!model.trainee.empty()) ImGui::TextDisabled("%s", model.trainee.c_str());
     ImGui::Separator();
     // The one line a beginner reads first.
+    // Three lines kept for it whatever it says, so the buttons under it stay where they are.
+    ImGui::BeginChild("next", ImVec2(0.0f, 3.0f * ImGui::GetTextLineHeightWithSpacing() + 2.0f), false, ImGuiWindowFlags_NoScrollbar);
+    ImGui::PushTextWrapPos(0.0f);
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.7f, 0.3f, 0.0f, 1.0f)); // dark orange, read on the light panel
     ImGui::TextUnformatted(("Next: " + model.next_step).c_str());
     ImGui::PopStyleColor();
+    ImGui::PopTextWrapPos();
+    ImGui::EndChild();
     ImGui::Spacing();
     // Two a row, each half the column: whole labels at any width the column gets.
     const float half = 0.5f * (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x);
@@ -152,14 +157,21 @@ SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float lef
                 if (!b.tip.empty()) ImGui::TextUnformatted(b.tip.c_str());
             }
         }
-        for (const auto& r : model.rules) ImGui::BulletText("%s", r.c_str());
+        for (const auto& r : model.rules) {
+            ImGui::Bullet();
+            ImGui::TextWrapped("%s", r.c_str());
+        }
     } else if (!model.result.empty()) {
         ImGui::Separator();
         for (const auto& line : model.result) ImGui::TextUnformatted(line.c_str());
     }
     ImGui::Separator();
     if (ImGui::CollapsingHeader("Controls")) {
-        for (const auto& line : model.controls) ImGui::BulletText("%s", line.c_str());
+        for (const auto& line : model.controls) {
+            // BulletText does not wrap: a bullet, then wrapped text beside it.
+            ImGui::Bullet();
+            ImGui::TextWrapped("%s", line.c_str());
+        }
     }
     if (ImGui::CollapsingHeader("Details")) {
         for (const auto& line : model.details) ImGui::TextUnformatted(line.c_str());

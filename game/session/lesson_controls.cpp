@@ -1,8 +1,10 @@
 #include "game/session/lesson_controls.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <utility>
 
+#include "components/insertion.hpp"
 #include "game/world/lesson_scene.hpp"
 #include "systems/haptics/trainee_command_system.hpp"
 #include "systems/presentation/draw_list.hpp"
@@ -64,10 +66,35 @@ std::string role_target_words(const LessonDef& l, std::size_t i) {
     return text;
 }
 
+std::string species_words(std::string id) {
+    std::replace(id.begin(), id.end(), '_', ' ');
+    return id;
+}
+
 std::string LessonControls::reach_words(const components::FrameSnapshot& latest, std::uint8_t hand) const {
     const auto& h = latest.hands[hand & 1u];
     const auto reach = systems::stem_in_reach(latest, hand);
+    // What stands already, and a stem that fell: said first.
+    std::string before;
+    const auto placed = score_form(lesson_, measure_arrangement(latest), footprint_);
+    std::vector<std::string> standing;
+    if (placed) {
+        for (const auto& s : placed->arrangement.stems) {
+            if (s.standing && s.role != "supporting") standing.push_back(s.role);
+        }
+    }
+    for (const auto& f : latest.flowers) {
+        if (f.fallen) {
+            before = "the " + species_words(f.species) + " fell (" + components::fall_words(f.fall_reason) + "); ";
+            break;
+        }
+    }
+    if (before.empty() && !standing.empty()) {
+        for (std::size_t i = 0; i < standing.size(); ++i) before += (i ? ", " : "") + standing[i];
+        before += standing.size() == 1 ? " stands; " : " stand; ";
+    }
     if (!reach) {
+        if (!h.grab_button && placed && standing.size() >= lesson_.stems.size()) return before + "every role stands: Score (Enter)";
         // A press that took nothing says why.
         if (h.grab_button) {
             const auto& other = latest.hands[(hand + 1u) & 1u];
@@ -79,11 +106,11 @@ std::string LessonControls::reach_words(const components::FrameSnapshot& latest,
             }
             return "nothing under the cube: release the button, move the cube onto a stem until the stem turns yellow, then hold it";
         }
-        return "take a stem: move the cube onto one (the stem turns yellow) and hold the left button";
+        return before + "take a stem: move the cube onto one (the stem turns yellow) and hold the left button";
     }
     const auto& f = latest.flowers[reach->flower];
     const std::string role = role_heading_for(lesson_, footprint_, latest, f.species);
-    std::string words = "hold the left button to take the " + f.species + (role.empty() ? " (no role of the form is left for it)" : " for " + role);
+    std::string words = before + "hold the left button to take the " + species_words(f.species) + (role.empty() ? " (no role of the form is left for it)" : " for " + role);
     if (bottom_grip_for(latest, hand)) words += ": the hand takes it by its bottom end";
     else if (f.in_kenzan) words += ": it comes out of the pins";
     return words;
@@ -107,7 +134,15 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     gauge_ = advice.gauge;
     next_step_ = form ? advice.next_step : "copy the sample arrangement, then Score (Enter)";
     const auto& h = latest.hands[hand & 1u];
-    if (form && h.holding) {
+    if (h.holding) scored_ = false;
+    const bool held_in_pins = h.holding && h.held_flower >= 0 && static_cast<std::size_t>(h.held_flower) < latest.flowers.size() &&
+                              latest.flowers[static_cast<std::size_t>(h.held_flower)].in_kenzan;
+    if (form && held_in_pins) {
+        char text[160];
+        std::snprintf(text, sizeof text, "it is in the pins, %.0f mm deep: release the button to let go of it",
+                      latest.flowers[static_cast<std::size_t>(h.held_flower)].depth_m * 1e3);
+        next_step_ = text;
+    } else if (form && h.holding) {
         // Where it would go in, if that is wrong: said before anything else.
         if (const auto mark = systems::entry_mark(latest, hand); mark && !mark->good() && advice.keep_length_m > 0.0)
             next_step_ = std::string("move it over the kenzan: the red ring shows it would ") + (mark->meets_wall ? "meet the container's wall" : "miss the pins");
@@ -133,7 +168,11 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     }
     effects.restart = in.letter(reset_letter) && !reset_was_down_;
     reset_was_down_ = in.letter(reset_letter);
-    if (in.finish_key && !enter_was_down_ && form) effects.score = score_form(lesson_, measure_arrangement(latest), footprint_);
+    if (in.finish_key && !enter_was_down_ && form) {
+        effects.score = score_form(lesson_, measure_arrangement(latest), footprint_);
+        scored_ = true;
+    }
+    if (form && scored_ && !h.holding) next_step_ = "scored: the bars below show each stem; change what you like, or R to start over, Esc for the lessons";
     enter_was_down_ = in.finish_key;
     return effects;
 }

@@ -26,6 +26,8 @@ namespace ikebana::game {
 [[nodiscard]] std::string ascii_for_hud(std::string text);
 // Words into lines of at most `width` characters (a longer word stands alone; later lines indented).
 [[nodiscard]] std::vector<std::string> wrap_words(const std::string& text, std::size_t width);
+// A species' id as a trainee reads it ("willow_branch": "willow branch").
+[[nodiscard]] std::string species_words(std::string id);
 // Both, at the width of one eye's half in side by side.
 [[nodiscard]] std::vector<std::string> hud_lines_of(const std::string& text);
 
@@ -68,6 +70,7 @@ private:
     bool cut_was_down_ = false, ghost_was_down_ = false, reset_was_down_ = false, enter_was_down_ = false;
     std::vector<std::string> lines_;
     std::string next_step_;
+    bool scored_ = false; // Enter was pressed and no stem has been taken since
     // What a press of this hand would do now, in words.
     [[nodiscard]] std::string reach_words(const components::FrameSnapshot& latest, std::uint8_t hand) const;
     std::vector<std::string> advice_;

@@ -143,10 +143,11 @@ std::optional<glm::dvec3> bottom_grip_for(const components::FrameSnapshot& frame
     if (!reach) return std::nullopt;
     const auto& f = frame.flowers[reach->flower];
     if (f.in_kenzan || f.points_m.size() < 3 || !far_from_bottom(f.points_m, reach->point)) return std::nullopt;
-    // A hand's width from the end: the point nearest 30 mm along the stem.
+    // The point nearest 60 mm along the stem: near its end, and above what C usually cuts off (a grip
+    // 30 mm up was cut away with the 42 mm a chrysanthemum lost for hikae, and the hand held nothing).
     std::size_t best = 0;
     for (std::size_t i = 1; i < f.points_m.size(); ++i) {
-        if (std::abs(along_to(f.points_m, i) - 0.03) < std::abs(along_to(f.points_m, best) - 0.03)) best = i;
+        if (std::abs(along_to(f.points_m, i) - 0.06) < std::abs(along_to(f.points_m, best) - 0.06)) best = i;
     }
     return f.points_m[best];
 }
@@ -180,7 +181,9 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
     const double azimuth = std::atan2(-chord.x, -chord.y);
     constexpr double deg = 180.0 / 3.14159265358979323846;
     char text[240];
-    std::snprintf(text, sizeof text, "holding a %s: %.0f mm long, %.0f° from vertical toward the %s", f.species.c_str(), length * 1e3, tilt * deg,
+    std::string species = f.species; // as a trainee reads it
+    std::replace(species.begin(), species.end(), '_', ' ');
+    std::snprintf(text, sizeof text, "holding a %s: %.0f mm long, %.0f° from vertical toward the %s", species.c_str(), length * 1e3, tilt * deg,
                   direction_words(azimuth).c_str());
     advice.lines.emplace_back(text);
     // Held far from its bottom end (a trainee takes a lying stem where the cursor happens to be), it

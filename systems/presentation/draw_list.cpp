@@ -216,7 +216,9 @@ std::optional<EntryMark> entry_mark(const FrameSnapshot& frame, std::size_t h) {
     const glm::dvec3 down = glm::normalize(end - flower.points_m[1]); // from the next point to the end
     const auto& k = *frame.kenzan;
     const double tips_z = k.origin_m.z + k.pin_height_m();
-    if (down.z > -0.05 || end.z < tips_z) return std::nullopt; // not going down, or already low
+    // Only for a stem that could go in along its line (within 60° of upright, its end over the pins'
+    // height): for a stem held nearly flat the point was far off, with a line to it across the room.
+    if (down.z > -0.5 || end.z < tips_z) return std::nullopt;
     EntryMark mark;
     mark.at_m = end + down * ((tips_z - end.z) / down.z);
     const glm::dvec3 lo = k.pin_base(0, 0), hi = k.pin_base(k.columns - 1, k.rows - 1);
@@ -229,12 +231,10 @@ std::optional<EntryMark> entry_mark(const FrameSnapshot& frame, std::size_t h) {
             const glm::dvec2 d = glm::dvec2(p) - c.centre_m;
             return c.round ? glm::length(d) < c.half_extent_m.x : std::abs(d.x) < c.half_extent_m.x && std::abs(d.y) < c.half_extent_m.y;
         };
-        if (end.z > c.rim_z_m) {
-            const glm::dvec3 at_rim = end + down * ((c.rim_z_m - end.z) / down.z);
-            mark.meets_wall = !inside(at_rim) || !inside(mark.at_m);
-        } else {
-            mark.meets_wall = !inside(end) || !inside(mark.at_m);
-        }
+        // The wall is met where the way down goes from outside to inside (or back) below the rim; a way
+        // down wholly outside misses the pins, on the table.
+        const glm::dvec3 from = end.z > c.rim_z_m ? end + down * ((c.rim_z_m - end.z) / down.z) : end;
+        mark.meets_wall = inside(from) != inside(mark.at_m);
     }
     return mark;
 }

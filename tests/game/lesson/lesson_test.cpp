@@ -765,7 +765,7 @@ TEST(LessonControls, AStemHeldFarFromItsBottomEndIsToBeTakenAgainNearThatEnd) {
     EXPECT_NE(near_top.find("held 289 mm from its bottom end: to push it in, let go and take it near that end"), std::string::npos) << near_top;
     const std::string near_bottom = says(f.points_m[3]);
     EXPECT_EQ(near_bottom.find("from its bottom end"), std::string::npos) << near_bottom;
-    EXPECT_NE(near_bottom.find("holding a cherry_branch: 340 mm long"), std::string::npos) << near_bottom;
+    EXPECT_NE(near_bottom.find("holding a cherry branch: 340 mm long"), std::string::npos) << near_bottom;
 }
 
 // In a shoka the stems rise from the water as one line: the HUD tells a trainee holding soe's cherry
@@ -1250,8 +1250,9 @@ TEST(Reach, APressIsNamedWithItsStemAndRoleAndTakesALyingStemByItsBottomEnd) {
     ASSERT_TRUE(grip.has_value()) << "mid-stem: too far from its end to push it in";
     double along = 0.0;
     for (std::size_t i = 1; i < x.size() && glm::length(x[i - 1] - *grip) > 1e-12; ++i) along += glm::length(x[i] - x[i - 1]);
-    EXPECT_LT(along, 0.06) << "taken near its bottom end";
-    EXPECT_EQ(t.next_step(), "hold the left button to take the willow_branch for shin: the hand takes it by its bottom end");
+    EXPECT_LT(along, 0.08) << "taken near its bottom end";
+    EXPECT_GT(along, 0.045) << "above what a cut for its role takes off";
+    EXPECT_EQ(t.next_step(), "hold the left button to take the willow branch for shin: the hand takes it by its bottom end");
     // The whole stem is marked, not a spot: a yellow segment along all of it.
     std::size_t yellow = 0;
     for (const auto& b : systems::build_draw_list(t.frame).batches) {
@@ -1260,7 +1261,7 @@ TEST(Reach, APressIsNamedWithItsStemAndRoleAndTakesALyingStemByItsBottomEnd) {
     EXPECT_GE(yellow, x.size() - 3) << "every segment but the grip's";
     hand.position_m = x[1];
     EXPECT_FALSE(bottom_grip_for(t.frame, 1).has_value()) << "near its end already";
-    EXPECT_EQ(t.next_step(), "hold the left button to take the willow_branch for shin");
+    EXPECT_EQ(t.next_step(), "hold the left button to take the willow branch for shin");
     hand.position_m = {0.0, 0.3, 0.4};
     EXPECT_EQ(t.next_step(), "take a stem: move the cube onto one (the stem turns yellow) and hold the left button");
     hand.grab_button = true;
@@ -1312,12 +1313,21 @@ TEST(Reach, AHeldStemsEntryIsMarkedRedWhenItWouldMissThePinsOrMeetTheWall) {
     const auto& c = *t.frame.container;
     const double outside_x = c.centre_m.x + c.half_extent_m.x + 0.02;
     ASSERT_TRUE(hold_over(outside_x, k.origin_m.y, 0.0).has_value());
-    for (std::size_t i = 0; i < x.size(); ++i) x[i] = {outside_x + 0.02 * static_cast<double>(i), k.origin_m.y, c.rim_z_m + 0.01 + 0.04 * static_cast<double>(i)};
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = {outside_x + 0.06 * static_cast<double>(i), k.origin_m.y, c.rim_z_m + 0.01 + 0.04 * static_cast<double>(i)};
     x.front() = {outside_x, k.origin_m.y, c.rim_z_m + 0.01};
     const auto through = systems::entry_mark(t.frame, 1);
     ASSERT_TRUE(through.has_value());
     EXPECT_TRUE(through->meets_wall);
     EXPECT_NE(t.next_step().find("meet the container's wall"), std::string::npos) << t.next_step();
+    // Wholly outside the container, its way down ends on the table: it misses the pins, no wall.
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = {outside_x + 0.03, k.origin_m.y, c.rim_z_m + 0.01 + 0.04 * static_cast<double>(i)};
+    const auto beside_it = systems::entry_mark(t.frame, 1);
+    ASSERT_TRUE(beside_it.has_value());
+    EXPECT_FALSE(beside_it->meets_wall);
+    EXPECT_FALSE(beside_it->on_pins);
+    // Held nearly flat, it would not go in along its line: no ring far off.
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = {k.origin_m.x + 0.04 * static_cast<double>(i), k.origin_m.y, tips + 0.05 + 0.005 * static_cast<double>(i)};
+    EXPECT_FALSE(systems::entry_mark(t.frame, 1).has_value());
 }
 
 // The result in the panel (issue 37: numbers and coordinates a beginner cannot act on): per stem a bar
@@ -1357,4 +1367,29 @@ TEST(ResultPanel, EachStemHasABarPerCriterionAndATipInPlainDirectionsWhereItLost
         for (const auto& b : s.bars) EXPECT_EQ(b.tip.find("x ="), std::string::npos) << b.tip << ": no coordinates";
     }
     EXPECT_EQ(model.rules.size(), scored->rules.size());
+}
+
+// The next step follows the lesson (a first-time trainee's session: nothing said a stem was in the
+// pins, nor what stood, and after Enter the line still asked for a stem).
+TEST(Reach, TheNextStepSaysWhenAStemIsInThePinsAndWhatToDoAfterTheScore) {
+    LessonTable t;
+    auto& hand = t.frame.hands[1];
+    hand.holding = true;
+    hand.held_flower = static_cast<std::int32_t>(t.willow);
+    t.frame.flowers[t.willow].in_kenzan = true;
+    t.frame.flowers[t.willow].depth_m = 0.012;
+    EXPECT_EQ(t.next_step(), "it is in the pins, 12 mm deep: release the button to let go of it");
+    hand.holding = false;
+    hand.held_flower = -1;
+    hand.position_m = {0.0, 0.3, 0.4};
+    LessonControls controls(t.l, footprint(t.l));
+    systems::TraineeChannel channel;
+    platform::PointerState enter;
+    enter.finish_key = true;
+    const auto effects = controls.update(enter, 1, t.frame, channel);
+    ASSERT_TRUE(effects.score.has_value());
+    EXPECT_EQ(controls.next_step().rfind("scored: ", 0), 0u) << controls.next_step();
+    hand.holding = true; // a stem taken again: the lesson goes on
+    (void)controls.update(platform::PointerState{}, 1, t.frame, channel);
+    EXPECT_EQ(controls.next_step().rfind("scored: ", 0), std::string::npos) << controls.next_step();
 }
