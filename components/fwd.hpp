@@ -11,6 +11,7 @@ struct StemPoints;
 struct StemRestShape;
 struct StemSprings;
 struct StemClamp;
+struct StemFrame;
 struct Kenzan;
 struct HandCube;
 struct Collider;

@@ -92,6 +92,10 @@ struct HandGrip {
     glm::dquat turn_at_grip{1.0, 0.0, 0.0, 0.0};
     glm::dquat turned{1.0, 0.0, 0.0, 0.0};
     std::uint32_t cuts_seen = 0; // the held stem's cuts when last gripped (a cut moves its points)
+    // The bark under the fist: the held segment's director (StemFrame) when the grip took the stem's
+    // direction. The grip holds it turned as the hand has turned since, so the stem turns about its
+    // own axis with the wrist and a bend keeps its side while carried.
+    glm::dvec3 director_at_grip{0.0};
 };
 
 struct HandForce {

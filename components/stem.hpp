@@ -22,6 +22,33 @@ struct StemRestShape {
     std::vector<double> segment_length_m; // l_1..l_n
     std::vector<double> hinge_angle_rad;  // theta0 at P1..Pn-1
     double diameter_m;
+    // Which way each rest bend turns about the stem, as a unit vector (cos psi, sin psi) in the material
+    // frame of the segment below the hinge (StemFrame: d1, d2 = e x d1): the rest bend is the rotation
+    // theta0 (cos psi d1 + sin psi d2) from that segment to the next. A bend with a direction of its own
+    // (a permanent set made with both hands) stays on its side of the stem however the stem is carried or
+    // turned. A zero vector, or none at all (empty), is a bend without a direction: it takes the plane
+    // the hinge is bent in now, so it settles wherever the stem's weight takes it (a species' natural
+    // curve, for now; see docs/physics.md).
+    std::vector<glm::dvec2> hinge_bend_direction;
+};
+
+// The stem's material frame (Bergou et al. 2008, "Discrete elastic rods"): per segment a unit director
+// d1 across it (d2 = e x d1), the bark's orientation. Twist is quasi-static (a stem's torsional waves
+// are far faster than a tick): each tick the directors are carried along with their segments'
+// motion (parallel transport in time), then turned about their segments to the least energy of twist
+// (G J) and of the rest bends' directions, with the segments a grip or the kenzan holds kept as held.
+struct StemFrame {
+    std::vector<glm::dvec3> director;          // d1 per segment, unit, across the segment
+    std::vector<glm::dvec3> segment_direction; // each segment's direction when the directors were last carried
+    // Written by whatever holds the stem this tick (a hand's grip, the kenzan), consumed by the frame's
+    // update: held segments' directors are set to these.
+    std::vector<std::uint8_t> held;
+    std::vector<glm::dvec3> held_director;
+    std::vector<double> external_twist_nm; // a twisting moment about each segment (tests, a turning tool)
+    double twist_stiffness_nm2 = 0.0;      // G J
+    // The last update found nothing holding, twisting or bending the frame and relaxed its twist: until
+    // something does, the update only carries the directors (the cost of a stem nobody turns).
+    bool relaxed = false;
 };
 
 struct StemSprings {
@@ -51,6 +78,9 @@ struct StemClamp {
     glm::dvec3 anchor_m;
     glm::dvec3 direction;  // unit, from P0 towards P1
     double hinge_nm_per_rad;
+    // The bottom segment's director (StemFrame) as the clamp took it: the pins hold the stem's turn
+    // about its axis as well as its place. Zero: the clamp does not hold the frame.
+    glm::dvec3 director{0.0};
 };
 
 } // namespace ikebana::components

@@ -389,6 +389,12 @@ private:
             if (std::hypot(d.x, d.y) < 1e-3) return 0.0;
             return std::remainder(target.azimuth_rad - std::atan2(-d.x, -d.y), 2.0 * pi);
         };
+        // The bend keeps its side of the bark (the stem's frame): the wrist turns the stem about its
+        // own axis until the part above the bend leans the role's way.
+        for (int round = 0; round < 4 && std::abs(upper_off()) > rolled_within_rad; ++round) {
+            turn_by(glm::angleAxis(upper_off(), lower_direction(flower, hold)), 0.3 + 0.5 * std::abs(upper_off()));
+            wait(0.3);
+        }
         for (double t = 0.0; t < roll_wait_s && std::abs(upper_off()) > rolled_within_rad; t += 0.25) wait(0.25);
         for (int round = 0; round < 4; ++round) {
             turn_by(turn_between(lower_direction(flower, hold), hold.want), round == 0 ? 1.5 : 0.4);

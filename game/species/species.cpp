@@ -35,7 +35,7 @@ void read_stem(JsonChecker& c, const Json& root, SpeciesDef& out) {
     const std::string p = "/stem";
     c.no_unknown_keys(*stem, p, {"length_mm", "diameter_mm", "segments", "mass_g", "youngs_modulus_mpa",
                                  "second_moment_mm4", "rest_bend_deg", "stiffness_damping_s", "air_drag_per_s",
-                                 "permanent_set_deg"});
+                                 "permanent_set_deg", "poisson_ratio", "shear_modulus_mpa"});
     out.length_m = c.number(*stem, p, "length_mm", {10, 3000}).value_or(0) * mm;
     out.diameter_m = c.number(*stem, p, "diameter_mm", {0.5, 100}).value_or(0) * mm;
     out.segments = static_cast<std::uint32_t>(c.integer(*stem, p, "segments", 2, 200).value_or(0));
@@ -46,6 +46,8 @@ void read_stem(JsonChecker& c, const Json& root, SpeciesDef& out) {
     out.stiffness_damping_s = c.number(*stem, p, "stiffness_damping_s", {0, 1}, false).value_or(0.004);
     out.air_drag_per_s = c.number(*stem, p, "air_drag_per_s", {0, 100}, false).value_or(1.0);
     out.permanent_set_rad = c.number(*stem, p, "permanent_set_deg", {1, 180}, false).value_or(45) * deg;
+    out.poisson_ratio = c.number(*stem, p, "poisson_ratio", {0, 0.5}, false).value_or(0.3);
+    out.shear_modulus_pa = c.number(*stem, p, "shear_modulus_mpa", {0.01, 20000}, false).value_or(0) * 1e6;
 }
 
 void read_head(JsonChecker& c, const Json& root, SpeciesDef& out) {

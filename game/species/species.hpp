@@ -79,6 +79,8 @@ struct SpeciesDef {
     std::uint32_t segments;
     double stem_mass_kg;
     double youngs_modulus_pa;
+    double poisson_ratio = 0.3;      // for twisting (G = E / 2(1 + nu)) when no shear modulus is given
+    double shear_modulus_pa = 0.0;   // G; 0: from E and nu
     double second_moment_m4; // 0: solid circle
     double rest_bend_rad;
     double stiffness_damping_s;

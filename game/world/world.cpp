@@ -142,6 +142,8 @@ ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPla
     spec.diameter_m = sp.diameter_m;
     spec.youngs_modulus_pa = sp.youngs_modulus_pa;
     spec.second_moment_m4 = sp.second_moment_m4;
+    spec.poisson_ratio = sp.poisson_ratio;
+    spec.shear_modulus_pa = sp.shear_modulus_pa;
     spec.stem_mass_kg = sp.stem_mass_kg;
     spec.head_mass_kg = sp.head_mass_kg;
     spec.rest_bend_rad = sp.rest_bend_rad;
@@ -175,6 +177,7 @@ ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPla
     r.emplace<StemPoints>(flower, std::move(stem.points));
     r.emplace<StemRestShape>(flower, std::move(stem.rest));
     r.emplace<StemSprings>(flower, std::move(stem.springs));
+    r.emplace<StemFrame>(flower, std::move(stem.frame));
     r.emplace<StemLoads>(flower, StemLoads{std::vector<glm::dvec3>(point_count, glm::dvec3{0.0})});
 
     // Stem segments: the bottom one meets the pins (Active), the rest are touched (Passive).

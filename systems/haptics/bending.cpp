@@ -1,5 +1,7 @@
 #include "systems/haptics/bending.hpp"
 
+#include "systems/physics/stem_frame.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -19,14 +21,22 @@ double force(double ei, double span, double theta) {
 }
 
 double apply_permanent_set(components::StemRestShape& rest, std::size_t first_hinge, std::size_t last_hinge,
-                           double theta, double set_threshold) {
+                           double theta, double set_threshold, const components::StemFrame* frame,
+                           const std::vector<glm::dvec3>* points) {
     const double bend = M_PI - theta;
     if (bend <= set_threshold || rest.hinge_angle_rad.empty()) return 0.0;
     last_hinge = std::min(last_hinge, rest.hinge_angle_rad.size() - 1);
     if (first_hinge > last_hinge) return 0.0;
     const double excess = bend - set_threshold;
     const double per_hinge = excess / static_cast<double>(last_hinge - first_hinge + 1);
-    for (std::size_t i = first_hinge; i <= last_hinge; ++i) rest.hinge_angle_rad[i] += per_hinge;
+    const bool directed = frame && points && rest.hinge_bend_direction.size() == rest.hinge_angle_rad.size() &&
+                          frame->director.size() == rest.hinge_angle_rad.size() + 1 && points->size() == frame->director.size() + 1;
+    for (std::size_t i = first_hinge; i <= last_hinge; ++i) {
+        const glm::dvec3 now = directed ? physics::bend_vector(*points, i + 1) : glm::dvec3{0.0};
+        const double angle = glm::length(now);
+        if (angle > 1e-9) physics::add_rest_bend(rest, *frame, *points, i + 1, now * (per_hinge / angle));
+        else rest.hinge_angle_rad[i] += per_hinge;
+    }
     return excess;
 }
 

@@ -19,7 +19,10 @@ namespace ikebana::systems::bending {
 // Bending beyond `set_threshold` (radians of bend, pi - theta) leaves a permanent set: the rest
 // angles of the hinges between the supports take up the excess, spread evenly, so the branch stays
 // bent by (bend - threshold) after release. Returns the set added (radians, 0 below the threshold).
+// With the stem's frame and points, each hinge's set is added in the direction it is bent now, held in
+// the frame: the branch stays bent toward the side it was bent, however it is turned or carried after.
 double apply_permanent_set(components::StemRestShape& rest, std::size_t first_hinge, std::size_t last_hinge,
-                           double theta, double set_threshold);
+                           double theta, double set_threshold, const components::StemFrame* frame = nullptr,
+                           const std::vector<glm::dvec3>* points = nullptr);
 
 } // namespace ikebana::systems::bending

@@ -120,7 +120,8 @@ void BendingSystem::operator()(sched::SystemContext& ctx) {
     const double beyond = (M_PI - theta) - bend->permanent_set_rad;
     if (beyond > bend->set_applied_rad && a + 1 <= b - 1) {
         const double add = beyond - bend->set_applied_rad;
-        bending::apply_permanent_set(*rest, a, b - 2, M_PI - (bend->permanent_set_rad + add), bend->permanent_set_rad);
+        bending::apply_permanent_set(*rest, a, b - 2, M_PI - (bend->permanent_set_rad + add), bend->permanent_set_rad,
+                                     r.try_get<const StemFrame>(held), &points->position_m);
         bend->set_applied_rad = beyond;
     }
 }

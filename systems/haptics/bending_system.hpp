@@ -19,7 +19,7 @@ struct BendingSystem {
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::HandCube, components::HandInput, components::HandProxy, components::HandGrip,
-                                    components::StemSprings>;
+                                    components::StemSprings, components::StemFrame>;
     using writes = sched::Components<components::Bending, components::StemPoints, components::StemRestShape>;
 
     void operator()(sched::SystemContext& ctx);

@@ -122,6 +122,9 @@ void GrabSystem::operator()(sched::SystemContext& ctx) {
                 const auto* map = r.try_get<const WorkspaceMapping>(hand);
                 grip.turn_at_grip = device_turn(input.rotation_rad, map ? map->yaw_rad : 0.0);
                 grip.turned = glm::dquat{1, 0, 0, 0};
+                const auto* frame = r.try_get<const StemFrame>(grip.held);
+                const std::uint32_t segment = std::min(grip.held_point, grip.second_point);
+                grip.director_at_grip = frame && segment < frame->director.size() ? frame->director[segment] : glm::dvec3{0.0};
             }
             if (grip.holds_direction) {
                 // Toward the device's turn since the grip, at most max_turn_rad_s.
@@ -134,6 +137,12 @@ void GrabSystem::operator()(sched::SystemContext& ctx) {
                 grip.turned = gap <= step || gap < 1e-12 ? wanted : glm::slerp(grip.turned, wanted, step / gap);
                 pin(grip.held_point, grip.turned * grip.held_offset_m);
                 if (grip.second_point < points->position_m.size()) pin(grip.second_point, grip.turned * grip.second_offset_m);
+                // The bark turns with the fist (the frame's update reads and clears the hold each tick).
+                const std::uint32_t segment = std::min(grip.held_point, grip.second_point);
+                if (auto* frame = r.try_get<StemFrame>(grip.held); frame && segment < frame->held.size() && glm::dot(grip.director_at_grip, grip.director_at_grip) > 0.5) {
+                    frame->held[segment] = 1;
+                    frame->held_director[segment] = grip.turned * grip.director_at_grip;
+                }
             } else {
                 pin(grip.held_point, grip.held_offset_m);
             }

@@ -55,6 +55,12 @@ void KenzanGripSystem::operator()(sched::SystemContext& ctx) {
                 grip.entry_line = glm::normalize(x.back() - x[0]);
                 grip.release_height_m = x.back().z - x[0].z;
                 clamp = StemClamp{true, x[0], first, root_stiffness};
+                if (const auto* frame = r.try_get<const StemFrame>(e); frame && !frame->director.empty()) clamp.director = frame->director.front();
+            }
+            // The pins hold the bottom's turn about the stem where it went in.
+            if (auto* frame = r.try_get<StemFrame>(e); frame && !frame->held.empty() && glm::dot(clamp.director, clamp.director) > 0.5) {
+                frame->held.front() = 1;
+                frame->held_director.front() = clamp.director;
             }
             grip.holding_moment_nm = engagement.holding_moment_nm;
             // Elastic up to the holding moment, then the hinge yields (return mapping).

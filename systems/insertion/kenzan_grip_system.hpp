@@ -19,7 +19,7 @@ struct KenzanGripSystem {
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::PinEngagement, components::StemPoints, components::StemSprings,
                                     components::Grasp>;
-    using writes = sched::Components<components::KenzanGrip, components::StemClamp>;
+    using writes = sched::Components<components::KenzanGrip, components::StemClamp, components::StemFrame>;
 
     void operator()(sched::SystemContext& ctx);
 

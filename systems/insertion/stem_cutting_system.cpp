@@ -1,6 +1,7 @@
 #include "systems/insertion/stem_cutting_system.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "engine/ecs/registry.hpp"
@@ -33,6 +34,25 @@ std::vector<double> moved_bends(const StemRestShape& rest, double cut_m, double 
     for (std::size_t j = 0; j < angle.size(); ++j) {
         from += l[j] * keep;
         moved[j] = curvature_at(from) * 0.5 * (l[j] + l[j + 1]) * keep;
+    }
+    return moved;
+}
+
+std::vector<glm::dvec2> moved_bend_directions(const StemRestShape& rest, double cut_m, double keep) {
+    const auto& l = rest.segment_length_m;
+    const auto& direction = rest.hinge_bend_direction;
+    if (direction.empty() || direction.size() + 1 != l.size()) return direction;
+    // As moved_bends: each new hinge takes the direction of the old hinge nearest where it now sits.
+    std::vector<double> at(direction.size());
+    double s = 0.0;
+    for (std::size_t j = 0; j < direction.size(); ++j) at[j] = (s += l[j]);
+    std::vector<glm::dvec2> moved(direction.size());
+    double from = cut_m;
+    std::size_t nearest = 0;
+    for (std::size_t j = 0; j < direction.size(); ++j) {
+        from += l[j] * keep;
+        while (nearest + 1 < at.size() && std::abs(at[nearest + 1] - from) <= std::abs(at[nearest] - from)) ++nearest;
+        moved[j] = direction[nearest];
     }
     return moved;
 }
@@ -70,6 +90,7 @@ void StemCuttingSystem::operator()(sched::SystemContext& ctx) {
             // branch bent 150 mm below its tip is still bent there after its bottom is cut (the points
             // were laid anew closer together). Curvature (a hinge's angle over its share of length) is
             // carried over by arc length, and the new hinges take it over their shorter share.
+            rest.hinge_bend_direction = moved_bend_directions(rest, cut.length_m, keep);
             rest.hinge_angle_rad = moved_bends(rest, cut.length_m, keep);
             for (auto& l : rest.segment_length_m) l *= keep;
             for (auto& k : springs.axial_n_per_m) k /= keep;

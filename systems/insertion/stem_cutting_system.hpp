@@ -15,6 +15,9 @@ namespace ikebana::systems {
 // The rest shape's hinge angles once `cut_m` is cut off the bottom and `keep` of the length stays (the
 // same number of hinges, closer together): each bend stays where it was on the stem, as curvature.
 std::vector<double> moved_bends(const components::StemRestShape& rest, double cut_m, double keep);
+// Their directions about the stem (StemRestShape::hinge_bend_direction) go with them: each new hinge takes
+// the direction of the old one nearest where it now sits.
+std::vector<glm::dvec2> moved_bend_directions(const components::StemRestShape& rest, double cut_m, double keep);
 
 struct StemCuttingSystem {
     static constexpr std::string_view name = "stem_cutting";

@@ -15,11 +15,12 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
         [&](ecs::Entity e, components::StemPoints& points, const components::StemRestShape& rest,
             const components::StemSprings& springs, components::StemLoads& loads) {
             const auto* clamp = registry.try_get<const components::StemClamp>(e);
+            const auto* frame = registry.try_get<const components::StemFrame>(e);
             // A stiff stem's tick in equal parts (see stable_substeps); the others' external forces act
             // through all of them. The last part's end forces are what a hand feels.
             const std::size_t parts = physics::stable_substeps(points, rest, springs, clamp, ctx.dt_s);
             const bool held = std::any_of(points.pinned.begin(), points.pinned.end(), [](std::uint8_t p) { return p != 0; });
-            stems_.push_back({&points, &rest, &springs, clamp, &loads, parts, held, true});
+            stems_.push_back({&points, &rest, &springs, clamp, frame, &loads, parts, held, true});
         });
     if (scratches_.size() < stems_.size()) scratches_.resize(stems_.size());
     // The tick in rounds: round k steps every stem cut into more than k parts by its part, so a stiff
@@ -42,7 +43,7 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
             if (stem.parts <= round || !stem.finite) continue;
             auto& scratch = scratches_[k];
             scratch.want_end_force = stem.held && round + 1 == stem.parts; // only a held stem's last part is felt
-            batch_.push_back({stem.points, stem.rest, stem.springs, stem.clamp, &scratch, ctx.dt_s / static_cast<double>(stem.parts)});
+            batch_.push_back({stem.points, stem.rest, stem.springs, stem.clamp, &scratch, ctx.dt_s / static_cast<double>(stem.parts), stem.frame});
             batch_stem_.push_back(k);
         }
         batch_ok_.assign(batch_.size(), 0);

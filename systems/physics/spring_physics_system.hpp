@@ -18,7 +18,7 @@ struct SpringPhysicsSystem {
     static constexpr std::string_view phase = "physics";
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::StemRestShape, components::StemSprings, components::StemClamp,
-                                    components::PhysicsSettings>;
+                                    components::StemFrame, components::PhysicsSettings>;
     using writes = sched::Components<components::StemPoints, components::StemLoads>;
 
     void operator()(sched::SystemContext& ctx);
@@ -31,6 +31,7 @@ private:
         const components::StemRestShape* rest;
         const components::StemSprings* springs;
         const components::StemClamp* clamp;
+        const components::StemFrame* frame;
         components::StemLoads* loads;
         std::size_t parts;
         bool held;

@@ -14,6 +14,10 @@ struct StemSpec {
     double length_m = 0.23;
     double diameter_m = 0.0075;
     double youngs_modulus_pa = 5.0e7;
+    // Twisting: G = E / (2 (1 + nu)) unless a shear modulus is given (> 0); J = 2 I (a round section's
+    // polar moment), so G J = E I / (1 + nu). Wood and green stems: nu about 0.3-0.4.
+    double poisson_ratio = 0.3;
+    double shear_modulus_pa = 0.0;
     double second_moment_m4 = 0.0; // 0: solid circular section, pi d^4 / 64
     double stem_mass_kg = 0.005;
     double head_mass_kg = 0.0;     // carried by the top point (a sunflower's head)
@@ -33,7 +37,9 @@ struct BuiltStem {
     components::StemPoints points;
     components::StemRestShape rest;
     components::StemSprings springs;
+    components::StemFrame frame;  // without twist along the laid stem; its rest bends' directions in it
     double bending_stiffness_nm2; // E I
+    double twist_stiffness_nm2;   // G J
 };
 
 [[nodiscard]] double second_moment_of_area(double diameter_m);

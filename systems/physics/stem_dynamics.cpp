@@ -1,4 +1,5 @@
 #include "systems/physics/stem_dynamics.hpp"
+#include "systems/physics/stem_frame.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +9,7 @@
 namespace ikebana::systems::physics {
 
 using components::StemClamp;
+using components::StemFrame;
 using components::StemPoints;
 using components::StemRestShape;
 using components::StemSprings;
@@ -65,6 +67,30 @@ struct Bend {
 }
 
 bool clamp_active(const StemClamp* clamp) { return clamp != nullptr && clamp->engaged; }
+
+// The rest bends have directions on the stem and the frame to read them in (stem_frame.hpp).
+bool directed(const StemRestShape& rest, const StemFrame* frame) {
+    return frame != nullptr && !rest.hinge_bend_direction.empty() && rest.hinge_bend_direction.size() == rest.hinge_angle_rad.size() &&
+           frame->director.size() == rest.hinge_angle_rad.size() + 1 && frame->segment_direction.size() == frame->director.size();
+}
+
+// Hinge i's rest bend has a direction of its own (a zero direction: it takes the plane it is bent in).
+bool has_direction(const StemRestShape& rest, std::size_t i) {
+    const glm::dvec2 d = rest.hinge_bend_direction[i - 1];
+    return d.x != 0.0 || d.y != 0.0;
+}
+
+// Hinge i's rest bend as a rotation vector in the room: its angle about its direction in the frame
+// of the segment below it, that frame carried to where the segment points now (e_in). The frame is
+// updated once a tick; carried here, the rest bend turns with its segment within every step. Read from
+// the frame as it was, it lagged the segment's turn: a follower torque a step late, which fed a stiff
+// branch's fastest mode until it tipped out of the pins (a cherry let go at 45 degrees).
+glm::dvec3 rest_bend(const StemRestShape& rest, const StemFrame& frame, std::size_t i, glm::dvec3 e_in) {
+    const glm::dvec3 was = frame.segment_direction[i - 1];
+    const glm::dvec3 d1 = physics::transport(frame.director[i - 1], was, e_in);
+    const glm::dvec2 dir = rest.hinge_bend_direction[i - 1];
+    return rest.hinge_angle_rad[i - 1] * (dir.x * d1 + dir.y * glm::cross(e_in, d1));
+}
 
 // Lower band of a symmetric n x n matrix: row i holds columns i - bandwidth .. i. Rows and vectors are
 // padded with `bandwidth` zero rows on each side (a padding row's diagonal is 1), so every loop below has
@@ -181,7 +207,8 @@ void measure_segments(const StemPoints& points, std::vector<StemSegment>& segmen
 }
 
 void forces_of(const StemPoints& points, const std::vector<StemSegment>& segments, const StemRestShape& rest,
-               const StemSprings& springs, const StemClamp* clamp, glm::dvec3 gravity, std::vector<glm::dvec3>& f) {
+               const StemSprings& springs, const StemClamp* clamp, const StemFrame* frame, glm::dvec3 gravity,
+               std::vector<glm::dvec3>& f) {
     const std::size_t count = points.position_m.size();
     f.resize(count);
     for (std::size_t p = 0; p < count; ++p) f[p] = points.mass_kg[p] * gravity + points.external_force_n[p];
@@ -195,6 +222,7 @@ void forces_of(const StemPoints& points, const std::vector<StemSegment>& segment
         f[i] -= spring;
     }
     // Eq. 2-3: hinge springs at P1..Pn-1, with the coupling force on P_i.
+    const bool with_directions = directed(rest, frame);
     for (std::size_t i = 1; i + 1 < count; ++i) {
         const double l_in = segments[i - 1].length_m;
         const double l_out = segments[i].length_m;
@@ -202,6 +230,20 @@ void forces_of(const StemPoints& points, const std::vector<StemSegment>& segment
         const glm::dvec3 e_in = segments[i - 1].direction;
         const glm::dvec3 e_out = segments[i].direction;
         const Bend bend = bend_between(e_in, e_out);
+        if (with_directions && has_direction(rest, i)) {
+            // Eq. 3 with the bend as a vector: the torque k (b0 - b) turns the upper segment toward its
+            // rest bend b0, wherever about the stem that lies, and the lower one the other way. A torque T
+            // on a segment of direction e and length l is the force T x e / l at its far end (its part
+            // along e, twist, goes to the frame). With b0 in the bend's plane this is the scalar form below.
+            const glm::dvec3 now = bend.has_plane ? bend.angle * bend.normal : glm::dvec3{0.0};
+            const glm::dvec3 torque = (rest_bend(rest, *frame, i, e_in) - now) * springs.hinge_nm_per_rad[i - 1];
+            const glm::dvec3 f_prev = glm::cross(torque, e_in) * (1.0 / l_in);
+            const glm::dvec3 f_next = glm::cross(torque, e_out) * (1.0 / l_out);
+            f[i - 1] += f_prev;
+            f[i + 1] += f_next;
+            f[i] -= f_prev + f_next;
+            continue;
+        }
         if (!bend.has_plane) continue; // straight: zero torque at theta0 = 0, undefined plane otherwise
         double torque = springs.hinge_nm_per_rad[i - 1] * (bend.angle - rest.hinge_angle_rad[i - 1]);
         // A naturally bent hinge (a branch's curve) pulled nearly straight: its plane, the direction of
@@ -234,19 +276,20 @@ void forces_of(const StemPoints& points, const std::vector<StemSegment>& segment
 } // namespace
 
 void stem_forces(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs,
-                 const StemClamp* clamp, glm::dvec3 gravity, std::vector<glm::dvec3>& f) {
+                 const StemClamp* clamp, glm::dvec3 gravity, std::vector<glm::dvec3>& f, const StemFrame* frame) {
     std::vector<StemSegment> segments;
-    stem_forces(points, rest, springs, clamp, gravity, f, segments);
+    stem_forces(points, rest, springs, clamp, gravity, f, segments, frame);
 }
 
 void stem_forces(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs,
-                 const StemClamp* clamp, glm::dvec3 gravity, std::vector<glm::dvec3>& f, std::vector<StemSegment>& segments) {
+                 const StemClamp* clamp, glm::dvec3 gravity, std::vector<glm::dvec3>& f, std::vector<StemSegment>& segments,
+                 const StemFrame* frame) {
     measure_segments(points, segments);
-    forces_of(points, segments, rest, springs, clamp, gravity, f);
+    forces_of(points, segments, rest, springs, clamp, frame, gravity, f);
 }
 
 StemEnergy stem_energy(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs,
-                       const StemClamp* clamp, glm::dvec3 gravity) {
+                       const StemClamp* clamp, glm::dvec3 gravity, const StemFrame* frame) {
     const auto& x = points.position_m;
     StemEnergy energy;
     for (std::size_t p = 0; p < x.size(); ++p) {
@@ -257,7 +300,15 @@ StemEnergy stem_energy(const StemPoints& points, const StemRestShape& rest, cons
         const double stretch = glm::length(x[i] - x[i - 1]) - rest.segment_length_m[i - 1];
         energy.elastic_j += 0.5 * springs.axial_n_per_m[i - 1] * stretch * stretch;
     }
+    const bool with_directions = directed(rest, frame);
     for (std::size_t i = 1; i + 1 < x.size(); ++i) {
+        if (with_directions && has_direction(rest, i)) {
+            const glm::dvec3 e_in = glm::normalize(x[i] - x[i - 1]);
+            const Bend bend = bend_between(e_in, glm::normalize(x[i + 1] - x[i]));
+            const glm::dvec3 gap = (bend.has_plane ? bend.angle * bend.normal : glm::dvec3{0.0}) - rest_bend(rest, *frame, i, e_in);
+            energy.elastic_j += 0.5 * springs.hinge_nm_per_rad[i - 1] * glm::dot(gap, gap);
+            continue;
+        }
         const double dtheta = hinge_angle(points, i) - rest.hinge_angle_rad[i - 1];
         energy.elastic_j += 0.5 * springs.hinge_nm_per_rad[i - 1] * dtheta * dtheta;
     }
@@ -314,14 +365,14 @@ struct SystemAt {
 };
 
 void assemble_step(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs, const StemClamp* clamp,
-                   glm::dvec3 gravity, double dt, StemSolverScratch& scratch, const SystemAt& a) {
+                   const StemFrame* frame, glm::dvec3 gravity, double dt, StemSolverScratch& scratch, const SystemAt& a) {
     const auto& v = points.velocity_m_s;
     const std::size_t count = points.position_m.size();
     const std::size_t n = 3 * count;
     const bool clamped = clamp_active(clamp);
 
     measure_segments(points, scratch.segments);
-    forces_of(points, scratch.segments, rest, springs, clamp, gravity, scratch.force);
+    forces_of(points, scratch.segments, rest, springs, clamp, frame, gravity, scratch.force);
     const auto& f = scratch.force;
 
     // H: positive semi-definite approximation of the energy Hessian, banded. Each segment's block
@@ -554,12 +605,12 @@ void ldlt_solve_lanes(double* a, double* b, double* inverse, std::size_t n, bool
 } // namespace
 
 bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings& springs, const StemClamp* clamp,
-               glm::dvec3 gravity, double dt, StemSolverScratch& scratch) {
+               glm::dvec3 gravity, double dt, StemSolverScratch& scratch, const StemFrame* frame) {
     const std::size_t n = 3 * points.position_m.size();
     size_band(scratch.band, n);
     size_vector(scratch.rhs, n, 0.0);
     const SystemAt own{scratch.band.data(), scratch.rhs.data(), 1};
-    assemble_step(points, rest, springs, clamp, gravity, dt, scratch, own);
+    assemble_step(points, rest, springs, clamp, frame, gravity, dt, scratch, own);
     if (!ldlt_solve(Band{scratch.band.data(), n}, scratch.rhs.data() + pad, scratch.inverse_diagonal)) return false;
     return finish_step(points, clamp, dt, scratch, own);
 }
@@ -569,7 +620,7 @@ void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, LaneScratch
         const std::size_t group = std::min(lanes, stems.size() - first);
         if (group == 1) { // nothing to share a register with
             const auto& s = stems[first];
-            ok[first] = step_stem(*s.points, *s.rest, *s.springs, s.clamp, gravity, s.dt_s, *s.scratch) ? 1 : 0;
+            ok[first] = step_stem(*s.points, *s.rest, *s.springs, s.clamp, gravity, s.dt_s, *s.scratch, s.frame) ? 1 : 0;
             continue;
         }
         std::size_t n = 0;
@@ -601,7 +652,7 @@ void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, LaneScratch
         }
         for (std::size_t l = 0; l < group; ++l) {
             const auto& s = stems[first + l];
-            assemble_step(*s.points, *s.rest, *s.springs, s.clamp, gravity, s.dt_s, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes});
+            assemble_step(*s.points, *s.rest, *s.springs, s.clamp, s.frame, gravity, s.dt_s, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes});
         }
         bool lane_ok[lanes] = {true, true, true, true};
         ldlt_solve_lanes(a.data(), b.data(), inverse.data(), n, lane_ok);

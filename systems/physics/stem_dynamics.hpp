@@ -35,7 +35,7 @@ struct StemEnergy {
 
 [[nodiscard]] StemEnergy stem_energy(const components::StemPoints& points, const components::StemRestShape& rest,
                                      const components::StemSprings& springs, const components::StemClamp* clamp,
-                                     glm::dvec3 gravity);
+                                     glm::dvec3 gravity, const components::StemFrame* frame = nullptr);
 
 // The bend angle at interior point i (1..n-1), in radians.
 [[nodiscard]] double hinge_angle(const components::StemPoints& points, std::size_t i);
@@ -45,14 +45,16 @@ struct StemSegment {
     double length_m = 0.0;
 };
 
-// Spring, hinge, clamp, gravity and external forces on every point. `clamp` may be null.
+// Spring, hinge, clamp, gravity and external forces on every point. `clamp` may be null; so may
+// `frame` (then the rest bends take the plane the stem is bent in: see StemRestShape).
 void stem_forces(const components::StemPoints& points, const components::StemRestShape& rest,
                  const components::StemSprings& springs, const components::StemClamp* clamp, glm::dvec3 gravity,
-                 std::vector<glm::dvec3>& force_out);
+                 std::vector<glm::dvec3>& force_out, const components::StemFrame* frame = nullptr);
 // The same with the segments' working memory given (an explicit integrator calling it every step).
 void stem_forces(const components::StemPoints& points, const components::StemRestShape& rest,
                  const components::StemSprings& springs, const components::StemClamp* clamp, glm::dvec3 gravity,
-                 std::vector<glm::dvec3>& force_out, std::vector<StemSegment>& segments);
+                 std::vector<glm::dvec3>& force_out, std::vector<StemSegment>& segments,
+                 const components::StemFrame* frame = nullptr);
 
 // Working memory reused across steps so that the 1 kHz loop does not allocate.
 struct StemSolverScratch {
@@ -87,7 +89,7 @@ inline constexpr std::size_t max_substeps = 8;
 // leaves the stem at rest where it was) if the step produced a non-finite value.
 bool step_stem(components::StemPoints& points, const components::StemRestShape& rest,
                const components::StemSprings& springs, const components::StemClamp* clamp, glm::dvec3 gravity,
-               double dt, StemSolverScratch& scratch);
+               double dt, StemSolverScratch& scratch, const components::StemFrame* frame = nullptr);
 
 // One stem for step_stems: its parts, its own working memory, and its step (stems of different steps
 // share the lanes: a stiff stem's first part is solved beside the others' whole tick).
@@ -98,6 +100,7 @@ struct StemStep {
     const components::StemClamp* clamp; // may be null
     StemSolverScratch* scratch;
     double dt_s;
+    const components::StemFrame* frame = nullptr; // the rest bends' directions (may be null)
 };
 
 // The solves of four stems side by side (see step_stems), kept per group of four from call to call:

@@ -155,3 +155,19 @@ TEST(Species, SunflowerCarriesThePapersTable2) {
         EXPECT_NEAR(sp->soft->max_per_pin_n_by_insertion[i], per_pin[i] * gram_force_n, 1e-12);
     }
 }
+
+// Twisting: G J from E and Poisson's ratio (0.3 when not given), or a measured shear modulus; a ratio
+// no material has is refused with its path.
+TEST(Species, TwistStiffnessComesFromPoissonsRatioOrAShearModulus) {
+    const auto plain = parse_species(sunflower_text(), "sunflower.json");
+    ASSERT_TRUE(plain) << plain.error().message;
+    EXPECT_DOUBLE_EQ(plain->poisson_ratio, 0.3);
+    EXPECT_EQ(plain->shear_modulus_pa, 0.0);
+    const auto given = parse_species(replace(sunflower_text(), "\"segments\": 20", "\"segments\": 20, \"poisson_ratio\": 0.4, \"shear_modulus_mpa\": 90"), "sunflower.json");
+    ASSERT_TRUE(given) << given.error().message;
+    EXPECT_DOUBLE_EQ(given->poisson_ratio, 0.4);
+    EXPECT_DOUBLE_EQ(given->shear_modulus_pa, 90e6);
+    const auto wrong = parse_species(replace(sunflower_text(), "\"segments\": 20", "\"segments\": 20, \"poisson_ratio\": 0.7"), "sunflower.json");
+    ASSERT_FALSE(wrong);
+    EXPECT_NE(wrong.error().message.find("sunflower.json: /stem/poisson_ratio: "), std::string::npos) << wrong.error().message;
+}

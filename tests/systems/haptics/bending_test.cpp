@@ -49,7 +49,7 @@ TEST(Bending, Eq5IsTheBeamLoadForEq4sDeflection) {
 }
 
 TEST(Bending, BeyondTheThresholdTheBranchStaysBent) {
-    components::StemRestShape rest{std::vector<double>(10, 0.01), std::vector<double>(9, 0.0), 0.008};
+    components::StemRestShape rest{std::vector<double>(10, 0.01), std::vector<double>(9, 0.0), 0.008, {}};
     // Bent 20 degrees (theta = 160) with a 12-degree threshold: 8 degrees stay, over hinges 2..5.
     const double set = apply_permanent_set(rest, 2, 5, 160 * deg, 12 * deg);
     EXPECT_NEAR(set, 8 * deg, 1e-12);
