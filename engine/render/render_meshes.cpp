@@ -251,8 +251,10 @@ Result<void> StereoRenderer::prepare_builtin_meshes() {
 
 Result<StereoRenderer::Mesh*> StereoRenderer::mesh(const std::string& name) {
     if (auto it = meshes_.find(name); it != meshes_.end()) return &it->second;
-    // A glTF file: a missing or broken one becomes the placeholder, once, with a warning.
-    auto data = assets::load_gltf_mesh(options_.asset_dir / name);
+    // A mesh the program makes, or a glTF file: a missing or broken one becomes the placeholder, once,
+    // with a warning.
+    std::optional<assets::MeshData> made = options_.generated_mesh ? options_.generated_mesh(name) : std::nullopt;
+    auto data = made ? Result<assets::MeshData>(std::move(*made)) : assets::load_gltf_mesh(options_.asset_dir / name);
     if (!data) {
         warnings_.push_back("mesh " + name + ": " + data.error().message + "; drawing a placeholder");
         data = assets::placeholder_mesh();

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -61,6 +62,9 @@ struct RendererOptions {
     // Kept on the right of each eye's area for a window's panels (render::ScreenLayout): the eyes are
     // drawn beside it, never under text. A window's eyes are the rest of its area.
     std::uint32_t column_px = 0;
+    // Meshes the program makes rather than reads: asked first for every mesh name, a mesh for the names
+    // it knows (a species' petal or leaf drawn without a file), nothing for a file's name. May be empty.
+    std::function<std::optional<assets::MeshData>(const std::string&)> generated_mesh;
 };
 
 struct FrameTiming {

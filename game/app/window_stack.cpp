@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "game/meshes/procedural_meshes.hpp"
 #include "game/asset_paths.hpp"
 
 namespace ikebana::game {
@@ -23,6 +24,7 @@ Result<std::unique_ptr<WindowStack>> WindowStack::open(std::unique_ptr<platform:
     render::RendererOptions ro;
     ro.mode = o.mode;
     ro.asset_dir = asset_dir();
+    ro.generated_mesh = part_mesh_of_name; // a petal or leaf a species draws without a file
     ro.eye_width = std::max(1u, o.mode == render::StereoMode::side_by_side ? o.width / 2 : o.width);
     ro.eye_height = std::max(1u, o.height);
     VkPhysicalDeviceProperties props;

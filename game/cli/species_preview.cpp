@@ -13,6 +13,7 @@
 
 #include "engine/assets/files.hpp"
 #include "engine/render/stereo_renderer.hpp"
+#include "game/meshes/procedural_meshes.hpp"
 #include "game/app/preview_window.hpp"
 #include "game/asset_paths.hpp"
 #include "game/cli/option_checks.hpp"
@@ -221,6 +222,7 @@ int run_species_preview(const PreviewOptions& o) {
     ro.eye_height = o.height;
     ro.mode = render::StereoMode::mono;
     ro.asset_dir = asset_dir();
+    ro.generated_mesh = part_mesh_of_name; // a petal or leaf a species draws without a file
     auto renderer = render::StereoRenderer::create(**ctx, ro);
     if (!renderer) {
         std::cerr << who << renderer.error().message << "\n";

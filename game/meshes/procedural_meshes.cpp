@@ -1,6 +1,8 @@
 #include "game/meshes/procedural_meshes.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 
 #include <glm/gtc/constants.hpp>
@@ -90,7 +92,72 @@ MeshData cube(float edge) {
     return m;
 }
 
+// How wide a part is along its length (0..1 of its widest), for u from its base (0) to its tip (1).
+float outline_at(const PartShape& shape, float u) {
+    // The body swells from the base to its widest, then the end closes over the last `end` of the
+    // length: to a point (linearly), or round (a quarter ellipse).
+    float body = 1.0f, end = 0.5f;
+    switch (shape.outline) {
+    case PartOutline::petal: // widest two-thirds out
+        body = u < 0.65f ? std::sin(0.5f * pi * u / 0.65f) : 1.0f;
+        end = 0.35f;
+        break;
+    case PartOutline::leaf: // widest at the middle
+        body = u < 0.5f ? std::sin(0.5f * pi * u / 0.5f) : 1.0f;
+        end = 0.5f;
+        break;
+    case PartOutline::sword: // parallel-sided from a short base
+        body = std::min(1.0f, u / 0.04f);
+        end = std::clamp(2.0f * static_cast<float>(shape.width), 0.02f, 0.3f);
+        break;
+    }
+    if (u <= 1.0f - end) return body;
+    const float t = std::min(1.0f, (u - (1.0f - end)) / end); // 0..1 through the end
+    return body * (shape.round_tip ? std::sqrt(std::max(0.0f, 1.0f - t * t)) : 1.0f - t);
+}
+
 } // namespace
+
+std::string part_mesh_name(const PartShape& shape) {
+    const char* outline = shape.outline == PartOutline::petal ? "petal" : shape.outline == PartOutline::leaf ? "leaf" : "sword";
+    char name[96];
+    std::snprintf(name, sizeof name, "part:%s:w%.3f:%s:f%.0f", outline, shape.width, shape.round_tip ? "round" : "pointed",
+                  shape.fold_rad * 180.0 / glm::pi<double>());
+    return name;
+}
+
+std::optional<assets::MeshData> part_mesh_of_name(const std::string& name) {
+    char outline[16] = {};
+    char tip[16] = {};
+    double width = 0.0, fold_deg = 0.0;
+    if (name.rfind("part:", 0) != 0 || name.size() > 80) return std::nullopt;
+    if (std::sscanf(name.c_str(), "part:%15[a-z]:w%lf:%15[a-z]:f%lf", outline, &width, tip, &fold_deg) != 4) return std::nullopt;
+    PartShape shape;
+    const std::string o = outline, t = tip;
+    if (o == "petal") shape.outline = PartOutline::petal;
+    else if (o == "leaf") shape.outline = PartOutline::leaf;
+    else if (o == "sword") shape.outline = PartOutline::sword;
+    else return std::nullopt;
+    if (t != "round" && t != "pointed") return std::nullopt;
+    if (!(width > 0.0 && width <= 1.0) || !(fold_deg >= 0.0 && fold_deg <= 80.0)) return std::nullopt;
+    shape.round_tip = t == "round";
+    shape.width = width;
+    shape.fold_rad = fold_deg * glm::pi<double>() / 180.0;
+    auto mesh = part_mesh(shape);
+    mesh.name = name;
+    return mesh;
+}
+
+assets::MeshData part_mesh(const PartShape& shape) {
+    // Long and narrow shapes get more steps along: a sword leaf is 12 of its widths long or more.
+    const int along = shape.outline == PartOutline::sword ? 24 : 16;
+    const float half = 0.5f * static_cast<float>(shape.width);
+    const float rise = std::tan(static_cast<float>(shape.fold_rad));
+    return grid_surface(part_mesh_name(shape), along, 6, [&](float u, float v) {
+        const float y = (2.0f * v - 1.0f) * half * outline_at(shape, u);
+        return glm::vec3(u, y, rise * std::abs(y));
+    }); // a single sheet, as the shipped petal and leaf: the renderer draws sheets from both sides
+}
 
 std::vector<NamedMesh> procedural_meshes() {
     return {

@@ -14,6 +14,7 @@
 #include "engine/assets/files.hpp"
 #include "engine/render/stereo_renderer.hpp"
 #include "engine/sched/clocks.hpp"
+#include "game/meshes/procedural_meshes.hpp"
 #include "game/asset_paths.hpp"
 #include "game/scene/scene.hpp"
 #include "game/world/world.hpp"
@@ -71,6 +72,7 @@ int run_render(const RenderOptions& o) {
     ro.eye_height = o.height;
     ro.mode = *mode;
     ro.asset_dir = asset_dir();
+    ro.generated_mesh = part_mesh_of_name; // a petal or leaf a species draws without a file
     ro.msaa_samples = o.msaa;
     auto renderer = render::StereoRenderer::create(**ctx, ro);
     if (!renderer) {

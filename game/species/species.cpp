@@ -58,6 +58,30 @@ void read_head(JsonChecker& c, const Json& root, SpeciesDef& out) {
     out.head_mesh = c.string(*head, "/head", "mesh", false).value_or("");
 }
 
+// A part without a mesh is drawn as a shape: its outline (a petal's, a leaf's, an iris's sword), its
+// width, its tip and its fold, each with a default from its kind. With a mesh they would mean nothing:
+// refused rather than ignored.
+void read_part_shape(JsonChecker& c, const Json& part, const std::string& p, PartDef& def) {
+    const bool leaf = def.kind == components::PartKind::leaf;
+    const auto outline = c.choice(part, p, "shape", {"petal", "leaf", "sword"}, false).value_or(leaf ? "leaf" : "petal");
+    def.shape.outline = outline == "sword" ? PartOutline::sword : outline == "leaf" ? PartOutline::leaf : PartOutline::petal;
+    const double default_width = def.shape.outline == PartOutline::sword ? 0.08 : def.shape.outline == PartOutline::leaf ? 0.44 : 0.32;
+    const double size_mm = def.size_m / mm;
+    const auto width_mm = c.number(part, p, "width_mm", {0.1, 1000, true}, false);
+    if (width_mm && size_mm > 0.0 && *width_mm > size_mm) {
+        c.problem(p + "/width_mm", "expected at most the part's size_mm (" + JsonChecker::describe(part["size_mm"]) + "): a part is measured along its length, got " + JsonChecker::describe(part["width_mm"]));
+    }
+    def.shape.width = width_mm && size_mm > 0.0 ? std::min(1.0, *width_mm / size_mm) : default_width;
+    def.shape.round_tip = c.choice(part, p, "tip", {"pointed", "round"}, false).value_or("pointed") == "round";
+    const double default_fold = def.shape.outline == PartOutline::sword ? 20.0 : def.shape.outline == PartOutline::leaf ? 14.0 : 0.0;
+    def.shape.fold_rad = c.number(part, p, "fold_deg", {0, 80}, false).value_or(default_fold) * deg;
+    if (!def.mesh.empty()) {
+        for (const char* key : {"shape", "width_mm", "tip", "fold_deg"}) {
+            if (part.contains(key)) c.problem(p + "/" + key, std::string("describes the shape drawn without a mesh, and this part names one (/mesh): give one or the other"));
+        }
+    }
+}
+
 void read_parts(JsonChecker& c, const Json& root, SpeciesDef& out) {
     const Json* parts = c.array(root, "", "parts", false);
     if (!parts) return;
@@ -68,7 +92,8 @@ void read_parts(JsonChecker& c, const Json& root, SpeciesDef& out) {
             c.problem(p, "expected an object, got " + JsonChecker::describe(part));
             continue;
         }
-        c.no_unknown_keys(part, p, {"kind", "mesh", "count", "at", "size_mm", "collision", "tilt_deg", "cup_deg", "whorls", "colour_variation"});
+        c.no_unknown_keys(part, p, {"kind", "mesh", "count", "at", "size_mm", "collision", "tilt_deg", "cup_deg", "whorls", "colour_variation",
+                                    "shape", "width_mm", "tip", "fold_deg"});
         const auto kind = c.choice(part, p, "kind", {"petal", "leaf"});
         PartDef def{};
         def.kind = kind == "leaf" ? components::PartKind::leaf : components::PartKind::petal;
@@ -82,6 +107,7 @@ void read_parts(JsonChecker& c, const Json& root, SpeciesDef& out) {
         def.cup_rad = c.number(part, p, "cup_deg", {-120, 120}, false).value_or(0) * deg;
         def.whorls = static_cast<std::uint32_t>(c.integer(part, p, "whorls", 1, 8, false).value_or(1));
         def.colour_variation = c.number(part, p, "colour_variation", {0, 0.5}, false).value_or(0);
+        read_part_shape(c, part, p, def);
         out.parts.push_back(def);
     }
 }

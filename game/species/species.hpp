@@ -12,6 +12,7 @@
 #include "components/flower.hpp"
 #include "components/insertion.hpp"
 #include "engine/core/result.hpp"
+#include "game/meshes/procedural_meshes.hpp"
 
 namespace ikebana::game {
 
@@ -32,6 +33,8 @@ struct PartDef {
     double cup_rad = 0.0; // curled from base to tip toward the part's inside (negative: its tip droops)
     std::uint32_t whorls = 1;
     double colour_variation = 0.0;
+    // Without a mesh: the shape drawn (its outline, width, tip and fold; docs/species-format.md).
+    PartShape shape{};
 };
 
 // Section 2.5 and Table 1: resistance per mm of pin in contact with each tissue, tip (cone) and trunk

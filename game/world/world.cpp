@@ -107,7 +107,9 @@ std::vector<components::Part> parts_of(const SpeciesDef& sp, std::uint32_t point
                 const std::uint32_t h = (n + 1) * 2654435761u;
                 const double u = static_cast<double>(h >> 8) / static_cast<double>(1u << 24); // 0..1
                 const auto shade = static_cast<float>(1.0 + def.colour_variation * (2.0 * u - 1.0));
-                out.push_back(Part{def.kind, at, 0.5 * size * out_dir, def.mesh, shade, static_cast<float>(def.cup_rad)});
+                // Without a mesh file: its shape, generated (the renderer asks game/meshes for it by name).
+                const std::string mesh = def.mesh.empty() ? part_mesh_name(def.shape) : def.mesh;
+                out.push_back(Part{def.kind, at, 0.5 * size * out_dir, mesh, shade, static_cast<float>(def.cup_rad)});
             }
         }
     }

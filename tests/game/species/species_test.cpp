@@ -171,3 +171,34 @@ TEST(Species, TwistStiffnessComesFromPoissonsRatioOrAShearModulus) {
     ASSERT_FALSE(wrong);
     EXPECT_NE(wrong.error().message.find("sunflower.json: /stem/poisson_ratio: "), std::string::npos) << wrong.error().message;
 }
+
+// A part without a mesh is drawn as a shape, each field with a default from its kind; a width wider
+// than the part is long, or shape fields beside a mesh they would not apply to, are refused by path.
+TEST(Species, APartWithoutAMeshHasAShapeAndItsFieldsAreChecked) {
+    const auto iris = load_species("iris");
+    ASSERT_TRUE(iris) << iris.error().message;
+    ASSERT_GE(iris->parts.size(), 1u);
+    EXPECT_EQ(iris->parts[0].mesh, "");
+    EXPECT_EQ(iris->parts[0].shape.outline, PartOutline::sword);
+    EXPECT_NEAR(iris->parts[0].shape.width, 16.0 / 280.0, 1e-12);
+    EXPECT_NEAR(iris->parts[0].shape.fold_rad, 22.0 * M_PI / 180.0, 1e-12);
+    EXPECT_NEAR(iris->parts[1].shape.fold_rad, 20.0 * M_PI / 180.0, 1e-12) << "a sword leaf's default fold";
+    EXPECT_TRUE(iris->parts[2].shape.round_tip);
+
+    const std::string leaf = "{ \"kind\": \"leaf\", \"mesh\": \"meshes/leaf.gltf\", \"count\": 2, \"at\": 0.6, \"size_mm\": 70, \"collision\": \"passive\" }";
+    const auto plain = parse_species(replace(sunflower_text(), leaf, "{ \"kind\": \"leaf\", \"count\": 2, \"at\": 0.6, \"size_mm\": 70, \"collision\": \"passive\" }"), "sunflower.json");
+    ASSERT_TRUE(plain) << plain.error().message;
+    EXPECT_EQ(plain->parts[1].shape.outline, PartOutline::leaf);
+    EXPECT_NEAR(plain->parts[1].shape.width, 0.44, 1e-12);
+    EXPECT_FALSE(plain->parts[1].shape.round_tip);
+
+    const auto wide = parse_species(replace(sunflower_text(), leaf, "{ \"kind\": \"leaf\", \"count\": 2, \"at\": 0.6, \"size_mm\": 70, \"width_mm\": 80, \"collision\": \"passive\" }"), "sunflower.json");
+    ASSERT_FALSE(wide);
+    EXPECT_EQ(wide.error().message, "sunflower.json: /parts/1/width_mm: expected at most the part's size_mm (70): a part is measured along its length, got 80");
+    const auto both = parse_species(replace(sunflower_text(), leaf, "{ \"kind\": \"leaf\", \"mesh\": \"meshes/leaf.gltf\", \"shape\": \"sword\", \"count\": 2, \"at\": 0.6, \"size_mm\": 70, \"collision\": \"passive\" }"), "sunflower.json");
+    ASSERT_FALSE(both);
+    EXPECT_EQ(both.error().message, "sunflower.json: /parts/1/shape: describes the shape drawn without a mesh, and this part names one (/mesh): give one or the other");
+    const auto oval = parse_species(replace(sunflower_text(), leaf, "{ \"kind\": \"leaf\", \"shape\": \"oval\", \"count\": 2, \"at\": 0.6, \"size_mm\": 70, \"collision\": \"passive\" }"), "sunflower.json");
+    ASSERT_FALSE(oval);
+    EXPECT_NE(oval.error().message.find("sunflower.json: /parts/1/shape: "), std::string::npos) << oval.error().message;
+}

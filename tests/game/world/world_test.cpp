@@ -166,6 +166,21 @@ TEST(World, PetalsSitInRingsAndLeavesStayLeaves) {
     EXPECT_EQ(inactive_petals, petals.count * petals.whorls);
 }
 
+namespace {
+// What is drawn of one flower of `species` standing alone in the kenzan, a tenth of a second in.
+render::DrawList drawn_standing_alone(const std::string& species) {
+    SceneDef scene = default_scene();
+    scene.flowers = {{species, Placement::inserted, {0, 0, 0.010}, {0, 0, 1}, 0.013}};
+    scene.sample.clear();
+    auto world = World::create(scene);
+    EXPECT_TRUE(world) << world.error().message;
+    if (!world) return {};
+    sched::DeterministicClock clock((*world)->schedule);
+    clock.run_for_us(100'000);
+    return systems::build_draw_list((*world)->main.resource<const systems::ReceivedFrames>()->latest());
+}
+} // namespace
+
 // A part's cup reaches the picture: a cherry's blossoms curl (each instance carries its bend, one unit
 // long, so the bend per unit is the species' cup), a willow's leaves droop, and a sunflower's rays
 // stay flat.
@@ -182,14 +197,7 @@ TEST(World, CuppedPartsAreDrawnCurled) {
             continue;
         }
         EXPECT_GT(curled, 0) << id;
-        SceneDef scene = default_scene();
-        scene.flowers = {{id, Placement::inserted, {0, 0, 0.010}, {0, 0, 1}, 0.013}};
-        scene.sample.clear();
-        auto world = World::create(scene);
-        ASSERT_TRUE(world) << world.error().message;
-        sched::DeterministicClock clock((*world)->schedule);
-        clock.run_for_us(100'000);
-        const auto list = systems::build_draw_list((*world)->main.resource<const systems::ReceivedFrames>()->latest());
+        const auto list = drawn_standing_alone(id);
         std::size_t bent = 0;
         for (const auto& b : list.batches) {
             for (const auto& inst : b.instances) bent += std::abs(inst.bend_rad_per_unit - static_cast<float>(cup_deg * glm::pi<double>() / 180.0)) < 1e-5f ? 1 : 0;
@@ -226,4 +234,18 @@ TEST(World, AVaseIsDrawnFromTheTableToItsRim) {
     EXPECT_NEAR(lowest, scene.table_height_m, 1e-6) << "it stands on the table";
     EXPECT_NEAR(highest, frame.container->rim_z_m, 1e-6) << "and reaches its rim";
     EXPECT_GT(frame.container->floor_z_m - scene.table_height_m, 0.1) << "its fill comes up near the mouth";
+}
+
+// Parts without a mesh file are drawn: the iris's sword leaves and its petals reach the draw list under
+// their shapes' names, as many as the species has.
+TEST(World, PartsWithoutAMeshFileAreDrawnAsTheirShapes) {
+    const auto list = drawn_standing_alone("iris");
+    std::size_t swords = 0, petals = 0;
+    for (const auto& b : list.batches) {
+        if (b.mesh.rfind("part:sword:", 0) == 0) swords += b.instances.size();
+        if (b.mesh.rfind("part:petal:", 0) == 0) petals += b.instances.size();
+        EXPECT_FALSE(b.mesh.empty() && !b.instances.empty()) << "nothing is drawn under no name";
+    }
+    EXPECT_EQ(swords, 3u);
+    EXPECT_EQ(petals, 6u);
 }
