@@ -23,6 +23,7 @@ namespace ikebana::components {
 struct FlowerStatus {
     std::string species;
     std::vector<glm::dvec3> points_m;   // the stem's mass points, bottom first
+    std::vector<glm::dvec3> directors;  // its bark's turn, one a segment (StemFrame), or none
     std::uint32_t insertions;           // over its life, across cuts
     bool bottom_broken;
     bool in_kenzan;

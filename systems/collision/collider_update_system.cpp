@@ -13,6 +13,8 @@ void ColliderUpdateSystem::operator()(sched::SystemContext& ctx) {
     // the last frame are kept rather than looked up and built again for every petal.
     ecs::Entity last_owner{};
     const StemPoints* stem = nullptr;
+    const std::vector<glm::dvec3> no_directors;
+    const std::vector<glm::dvec3>* directors = &no_directors;
     const StemPoints* frame_stem = nullptr;
     std::size_t frame_point = 0;
     physics::AttachmentFrame frame{};
@@ -20,6 +22,8 @@ void ColliderUpdateSystem::operator()(sched::SystemContext& ctx) {
         if (stem == nullptr || owner.parent != last_owner) {
             last_owner = owner.parent;
             stem = r.try_get<const StemPoints>(owner.parent);
+            const auto* bark = r.try_get<const StemFrame>(owner.parent);
+            directors = bark ? &bark->director : &no_directors;
         }
         if (!stem || stem->position_m.empty()) return;
         const auto& x = stem->position_m;
@@ -29,7 +33,7 @@ void ColliderUpdateSystem::operator()(sched::SystemContext& ctx) {
             collider.b_m = x[i + 1];
         } else {
             if (frame_stem != stem || frame_point != i) {
-                frame = physics::attachment_frame(x, i);
+                frame = physics::attachment_frame(x, i, *directors);
                 frame_stem = stem;
                 frame_point = i;
             }

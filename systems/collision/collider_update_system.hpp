@@ -16,7 +16,7 @@ struct ColliderUpdateSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "collision";
     static constexpr std::string_view rate = "position_check";
-    using reads = sched::Components<components::Part, components::StemPoints, components::ActiveCollider, components::PassiveCollider,
+    using reads = sched::Components<components::Part, components::StemPoints, components::StemFrame, components::ActiveCollider, components::PassiveCollider,
                                     ecs::ChildOf>;
     using writes = sched::Components<components::Collider, components::ColliderPass>;
 

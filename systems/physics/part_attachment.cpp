@@ -17,4 +17,21 @@ AttachmentFrame attachment_frame(const std::vector<glm::dvec3>& x, std::size_t i
     return f;
 }
 
+glm::dvec3 first_director(glm::dvec3 along) {
+    const glm::dvec3 up = glm::length(along) > 0.0 ? glm::normalize(along) : glm::dvec3{0, 0, 1};
+    const glm::dvec3 axis = std::abs(up.x) < 0.9 ? glm::dvec3{1, 0, 0} : glm::dvec3{0, 1, 0};
+    return glm::normalize(axis - glm::dot(axis, up) * up);
+}
+
+AttachmentFrame attachment_frame(const std::vector<glm::dvec3>& x, std::size_t index, const std::vector<glm::dvec3>& directors) {
+    AttachmentFrame f = attachment_frame(x, index);
+    if (x.size() < 2 || directors.size() + 1 != x.size()) return f;
+    const glm::dvec3 d = directors[std::min(index, directors.size() - 1)];
+    const glm::dvec3 side = glm::cross(f.up, d);
+    if (glm::length(side) < 1e-9) return f;
+    f.side = glm::normalize(side);
+    f.third = glm::cross(f.up, f.side);
+    return f;
+}
+
 } // namespace ikebana::systems::physics

@@ -17,5 +17,11 @@ struct AttachmentFrame {
 };
 
 AttachmentFrame attachment_frame(const std::vector<glm::dvec3>& points, std::size_t index);
+// The same turned with the bark: `directors` (components::StemFrame's, one a segment) give the side, so
+// a part turns about the stem when the stem is turned. Without them (empty, or not one a segment), as above.
+AttachmentFrame attachment_frame(const std::vector<glm::dvec3>& points, std::size_t index, const std::vector<glm::dvec3>& directors);
+// The director a frame without twist starts from, so that the bark's frame of an untwisted stem is the
+// one above at its bottom: the room's x across the segment (y where the segment is nearly along x).
+glm::dvec3 first_director(glm::dvec3 along);
 
 } // namespace ikebana::systems::physics

@@ -1,5 +1,6 @@
 #include "systems/physics/stem_builder.hpp"
 
+#include "systems/physics/part_attachment.hpp"
 #include "systems/physics/stem_frame.hpp"
 
 #include <cmath>
@@ -54,12 +55,13 @@ BuiltStem build_stem(const StemSpec& spec) {
         pts.mass_kg[i] += 0.5 * segment_mass;
     }
     pts.mass_kg[n] += spec.head_mass_kg;
-    // The frame: its first director across the bend's plane's side (or x), carried up without twist.
+    // The frame: its first director the room's x across the first segment (as parts were placed before
+    // the frame), carried up without twist.
     // The natural curve's bends have no direction of their own (zero): they hang where the weight takes
     // them, as before the frame; a bend made with both hands gets one (bending.cpp).
     const double shear = spec.shear_modulus_pa > 0.0 ? spec.shear_modulus_pa : spec.youngs_modulus_pa / (2.0 * (1.0 + spec.poisson_ratio));
     stem.twist_stiffness_nm2 = shear * 2.0 * inertia;
-    stem.frame = frame_along(pts.position_m, glm::length(side) > 0.0 ? side : glm::dvec3{1.0, 0.0, 0.0}, stem.twist_stiffness_nm2);
+    stem.frame = frame_along(pts.position_m, first_director(pts.position_m[1] - pts.position_m[0]), stem.twist_stiffness_nm2);
     stem.rest.hinge_bend_direction.assign(stem.rest.hinge_angle_rad.size(), glm::dvec2{0.0});
     return stem;
 }

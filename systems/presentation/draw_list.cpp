@@ -124,12 +124,12 @@ render::DrawList build_draw_list(const FrameSnapshot& frame) {
         const glm::vec4 colour(look.stem_colour, 1.0f);
         for (std::size_t i = 0; i + 1 < x.size(); ++i) stems.push_back({segment(x[i], x[i + 1], 0.5 * flower.diameter_m), colour});
         if (!look.head_mesh.empty() && x.size() >= 2) {
-            const auto f = physics::attachment_frame(x, x.size() - 1);
+            const auto f = physics::attachment_frame(x, x.size() - 1, flower.directors);
             list.batch(look.head_mesh).instances.push_back({frame_matrix(f.side, f.third, f.up, x.back()), glm::vec4(look.head_colour, 1.0f)});
         }
         if (x.empty()) continue;
         for (const auto& part : flower.parts) {
-            const auto f = physics::attachment_frame(x, std::min<std::size_t>(part.stem_point, x.size() - 1));
+            const auto f = physics::attachment_frame(x, std::min<std::size_t>(part.stem_point, x.size() - 1), flower.directors);
             // The mesh runs along +x for one unit: out along the offset's direction, as long as the part.
             const glm::dvec3 out = f.place(part.offset_m) - f.origin_m;
             const double size = 2.0 * glm::length(out);

@@ -34,6 +34,8 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
             order.push_back(e);
             status.species = flower.species;
             status.points_m = points.position_m;
+            if (const auto* bark = r.try_get<const StemFrame>(e)) status.directors = bark->director;
+            else status.directors.clear();
             status.diameter_m = rest.diameter_m;
             status.look = look;
             status.insertions = 0;

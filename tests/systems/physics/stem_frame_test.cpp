@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "systems/physics/part_attachment.hpp"
 #include "systems/physics/stem_builder.hpp"
 #include "systems/physics/stem_dynamics.hpp"
 #include "systems/physics/stem_frame.hpp"
@@ -145,4 +146,22 @@ TEST(StemFrame, AShapeTakenAsItsRestShapeIsAtRest) {
     stem_forces(stem.points, stem.rest, stem.springs, nullptr, no_gravity, f, &stem.frame);
     for (std::size_t p = 0; p < f.size(); ++p) EXPECT_LT(glm::length(f[p]), 1e-9) << "point " << p;
     for (double angle : stem.rest.hinge_angle_rad) EXPECT_NEAR(angle, 50 * deg / 19, 1e-12);
+}
+
+// Leaves and petals sit on the bark: turn the stem's frame a quarter turn about an upright stem and a
+// part's place turns a quarter turn with it. An untwisted frame built with the stem places them where
+// they were placed before stems had one (the room's x across the stem at its bottom).
+TEST(StemFrame, PartsTurnWithTheBark) {
+    BuiltStem stem = build_stem(willow_spec());
+    const auto& x = stem.points.position_m;
+    const glm::dvec3 offset{0.02, 0.0, 0.0};
+    const auto before = attachment_frame(x, 10, stem.frame.director);
+    const auto plain = attachment_frame(x, 10);
+    EXPECT_NEAR(glm::length(before.place(offset) - plain.place(offset)), 0.0, 1e-12) << "untwisted: as without a frame";
+    std::vector<glm::dvec3> turned = stem.frame.director;
+    for (auto& d : turned) d = glm::cross(glm::dvec3{0, 0, 1}, d); // a quarter turn about the upright stem
+    const auto after = attachment_frame(x, 10, turned);
+    const glm::dvec3 was = before.place(offset) - x[10], now = after.place(offset) - x[10];
+    EXPECT_NEAR(glm::dot(was, now), 0.0, 1e-12);
+    EXPECT_NEAR(glm::cross(was, now).z, 0.02 * 0.02, 1e-12) << "turned the bark's way";
 }
