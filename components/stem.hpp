@@ -49,6 +49,10 @@ struct StemFrame {
     // The last update found nothing holding, twisting or bending the frame and relaxed its twist: until
     // something does, the update only carries the directors (the cost of a stem nobody turns).
     bool relaxed = false;
+    // What each segment was last held at: a hold that has not changed (the kenzan's, most ticks) does not
+    // wake a relaxed frame. And how many ticks a quiet frame has gone uncarried (see update_frame).
+    std::vector<glm::dvec3> held_at;
+    std::uint8_t quiet_ticks = 0;
 };
 
 struct StemSprings {

@@ -58,6 +58,7 @@ StemFrame frame_along(const std::vector<glm::dvec3>& x, glm::dvec3 first, double
     frame.segment_direction.resize(n);
     frame.held.assign(n, 0);
     frame.held_director.assign(n, glm::dvec3{0.0});
+    frame.held_at.assign(n, glm::dvec3{0.0});
     frame.external_twist_nm.assign(n, 0.0);
     glm::dvec3 previous_e{0.0, 0.0, 1.0};
     glm::dvec3 d = first;
@@ -159,6 +160,20 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
     frame.held.resize(n, 0);
     frame.held_director.resize(n, glm::dvec3{0.0});
     frame.external_twist_nm.resize(n, 0.0);
+    frame.held_at.resize(n, glm::dvec3{0.0});
+    // A quiet frame (relaxed, no directed bends, no moments, its holds where they were) is carried every
+    // quiet_carry_ticks-th tick only: its directors then turn with their segments in one go. Only parts
+    // and the next grip read it, and a few milliseconds late is nothing to them; it was most of the cost.
+    bool quiet = frame.relaxed && !(has_directions(rest, frame) && std::any_of(rest.hinge_bend_direction.begin(), rest.hinge_bend_direction.end(),
+                                                                                [](glm::dvec2 d) { return d.x != 0.0 || d.y != 0.0; }));
+    for (std::size_t j = 0; j < n && quiet; ++j) {
+        quiet = frame.external_twist_nm[j] == 0.0 && (frame.held[j] == 0 || frame.held_director[j] == frame.held_at[j]);
+    }
+    if (quiet && ++frame.quiet_ticks < quiet_carry_ticks) {
+        std::fill(frame.held.begin(), frame.held.end(), std::uint8_t{0});
+        return;
+    }
+    frame.quiet_ticks = 0;
     auto& length = scratch.length;
     length.assign(n, 0.0);
     // Carried with the segments' motion since the last tick, then the held ones set.
@@ -169,6 +184,7 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
         const glm::dvec3 old = frame.segment_direction[j];
         glm::dvec3 d = across(glm::dot(old, old) > 0.5 ? carry(frame.director[j], old, e) : frame.director[j], e);
         if (frame.held[j] != 0) {
+            frame.held_at[j] = frame.held_director[j];
             // A hold that turns the bark (by more than about ten microradians) is work for the solve below;
             // one that keeps it where it was carried (the kenzan's, most ticks) is not.
             const glm::dvec3 held = across(frame.held_director[j], e);

@@ -5,6 +5,7 @@
 // after each tick the directors are carried with their segments and turned to the twist of least
 // energy, given the stem's shape, the rest bends' directions and what holds the stem.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -43,6 +44,9 @@ void add_rest_bend(components::StemRestShape& rest, const components::StemFrame&
 // segment i's, about segment i, right-handed. Summed over the hinges between two segments it is how
 // far the stem is twisted between them.
 [[nodiscard]] double twist_at(const components::StemFrame& frame, const std::vector<glm::dvec3>& points, std::size_t i);
+
+// A quiet frame (see update_frame) is carried once in this many ticks.
+inline constexpr std::uint8_t quiet_carry_ticks = 8;
 
 struct FrameScratch {
     std::vector<double> diagonal, upper, gradient, step, length;

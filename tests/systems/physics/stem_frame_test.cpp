@@ -165,3 +165,29 @@ TEST(StemFrame, PartsTurnWithTheBark) {
     EXPECT_NEAR(glm::dot(was, now), 0.0, 1e-12);
     EXPECT_NEAR(glm::cross(was, now).z, 0.02 * 0.02, 1e-12) << "turned the bark's way";
 }
+
+// A frame nothing turns is carried once every few ticks, in one go, and comes out where turning it every
+// tick would have; a hold that turns it is taken the tick it comes.
+TEST(StemFrame, AQuietFrameFollowsItsStemAndAHoldThatTurnsItWakesIt) {
+    BuiltStem stem = build_stem(willow_spec());
+    FrameScratch scratch;
+    const glm::dvec3 start = stem.frame.director[5];
+    // The whole stem swung about the room's x axis, a milliradian a tick, for 16 ticks.
+    const double step = 1e-3;
+    const auto swing = [&](glm::dvec3 v, double angle) { return glm::dvec3{v.x, std::cos(angle) * v.y - std::sin(angle) * v.z, std::sin(angle) * v.y + std::cos(angle) * v.z}; };
+    const auto laid = stem.points.position_m;
+    update_frame(stem.frame, stem.points.position_m, stem.rest, stem.springs.hinge_nm_per_rad, scratch); // relaxes
+    for (int t = 1; t <= 2 * quiet_carry_ticks; ++t) {
+        for (std::size_t p = 0; p < laid.size(); ++p) stem.points.position_m[p] = swing(laid[p], step * t);
+        update_frame(stem.frame, stem.points.position_m, stem.rest, stem.springs.hinge_nm_per_rad, scratch);
+    }
+    EXPECT_NEAR(glm::length(stem.frame.director[5] - swing(start, step * 2 * quiet_carry_ticks)), 0.0, 1e-9);
+    // A grip takes segment 5 turned 30 degrees about it: set at once, not a few ticks later.
+    const glm::dvec3 e = glm::normalize(stem.points.position_m[6] - stem.points.position_m[5]);
+    const glm::dvec3 d = stem.frame.director[5];
+    const glm::dvec3 held = std::cos(0.5236) * d + std::sin(0.5236) * glm::cross(e, d);
+    stem.frame.held[5] = 1;
+    stem.frame.held_director[5] = held;
+    update_frame(stem.frame, stem.points.position_m, stem.rest, stem.springs.hinge_nm_per_rad, scratch);
+    EXPECT_NEAR(glm::length(stem.frame.director[5] - held), 0.0, 1e-9);
+}
