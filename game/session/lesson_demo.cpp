@@ -164,6 +164,7 @@ public:
     glm::dvec3 angles() const override { return mouse_.sample(mouse_.active_hand(), clock_.now_us()).rotation; }
     // Tab, as the window reads it; the cursor goes onto the hand switched to.
     bool two_hands() const override { return true; }
+    bool turns_freely() const override { return false; }
     bool use(std::uint8_t hand) override {
         if (mouse_.active_hand() == (hand & 1u)) return true;
         script_.event("key Tab", now_s());

@@ -139,6 +139,7 @@ public:
     // Tab, as a trainee presses it: the mouse drives the other hand (the window puts the cursor on it,
     // and the button as it is goes with it).
     bool two_hands() const override { return true; }
+    bool turns_freely() const override { return false; }
     bool use(std::uint8_t hand) override {
         hand &= 1u;
         if (hand == active_) return true;

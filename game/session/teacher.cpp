@@ -44,10 +44,10 @@ glm::dquat turn_of(glm::dvec3 angles) { return devices::turn_of_angles(angles); 
 // From this tilt on, a stem is set at its band's upper edge (see teach).
 constexpr double low_stem_rad = 60.0 * pi / 180.0;
 // A shoka's stems rise from the water as one line and then part (lessons with one_line_at_water):
-// each is bent in the hands first (the bending system's two-hand bend, Eq. 4-5, over its span L) and
-// goes in nearly upright, its part below the bend leaning rise_tilt_rad its way so that the part
-// above stays on that side (the model has no stiffness against twisting: a bend settles where its
-// weight takes it). Measured with the Ikenobo lesson at 3° and the bend's middle 5 mm above where the
+// each is bent first, lying on the table (the bending system's two-hand bend, Eq. 4-5, over its span
+// L), and goes in nearly upright, its part below the bend leaning rise_tilt_rad its way and the stem
+// turned about its own axis until the part above leans that way too (the bend keeps its side of the
+// bark, the stem's frame, however it is carried). Measured with the Ikenobo lesson at 3° and the bend's middle 5 mm above where the
 // form's stems part: 100, headless and through the mouse. Around it (lean 2-4°, middle 5 mm below to
 // 10 mm above; 24 runs) 20 scored 95-100; a stem fell twice with the middle at 0 (the tai's end stuck
 // outside the vase's mouth on its way in), the stems parted 82 mm up once (86) and one run scored 67:
@@ -64,6 +64,7 @@ constexpr double bend_seen_rad = 3.0 * pi / 180.0; // a joint bent more than thi
 // bend to roll down to that side.
 constexpr double roll_tilt_rad = 25.0 * pi / 180.0;
 constexpr double roll_wait_s = 10.0;
+constexpr double table_lift_m = 0.22; // how high a taken stem is lifted off the table
 constexpr double rolled_within_rad = 3.0 * pi / 180.0; // near enough the role's way to stop waiting
 
 // The point `distance_m` along a stem from its bottom end.
@@ -172,12 +173,25 @@ public:
         }
         if (!take(flower, role, target, lying, keep, rise)) return false;
         if (lying.length_m - keep > 0.001) cut_to(flower, role, target, keep, in_pins);
-        // Where the bend's middle is from the bottom: where the hands bent it (or would have).
-        const std::optional<double> bent_at = rise && rise->bend_rad > 0.0 ? bend_in_hand(flower, role, *rise, glm::dvec3{0, 0, 1}) : std::nullopt;
-        if (rise && rise->bend_rad > 0.0 && room_.held(1) != flower) {
-            say(role + ": the " + target.species + " slipped from the hands");
-            press(false);
-            return false;
+        // Where the bend's middle is from the bottom: where the hands bent it (or would have). It is bent
+        // lying on the table, as on a workbench, and lifted bent: the bend keeps its side of the bark
+        // (the stem's frame) on the way to the kenzan. (Through the mouse it is bent held up: see
+        // TeacherHand::turns_freely.)
+        std::optional<double> bent_at;
+        if (rise && rise->bend_rad > 0.0) {
+            const bool on_table = hand_.turns_freely();
+            if (on_table) {
+                say(role + ": lay it on the table to bend it");
+                move_to(hand_.position() - glm::dvec3{0, 0, table_lift_m - 0.01}, 0.2);
+                wait(0.3);
+            }
+            bent_at = bend_in_hand(flower, role, *rise, glm::dvec3{0, 0, 1});
+            if (room_.held(1) != flower) {
+                say(role + ": the " + target.species + " slipped from the hands");
+                press(false);
+                return false;
+            }
+            if (on_table) move_to(hand_.position() + glm::dvec3{0, 0, table_lift_m - 0.01}, 0.2);
         }
         const Hold hold = hold_of(target, rise, bent_at);
         turn_to_role(flower, role, target, hold);
@@ -310,7 +324,7 @@ private:
             press(false);
             return false;
         }
-        move_to(hand_.position() + glm::dvec3{0, 0, 0.22});
+        move_to(hand_.position() + glm::dvec3{0, 0, table_lift_m});
         return true;
     }
 

@@ -69,6 +69,10 @@ public:
     // hand switched to: the hand switched away from keeps its grip.
     virtual bool use(std::uint8_t hand) { return hand == 1; }
     [[nodiscard]] virtual bool two_hands() const { return false; }
+    // Can it turn a held stem about any axis, its own included, as a wrist does? The mouse's hand turns in
+    // steps about the viewer's axes and the vertical: a bend made lying on the table cannot be turned
+    // round precisely with it, so through the mouse a stem is bent held up (where its bend needs no turn).
+    [[nodiscard]] virtual bool turns_freely() const { return true; }
 };
 
 // Arranges the model form through the hands: for each stem, the shortest unused material of its
