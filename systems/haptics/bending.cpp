@@ -29,8 +29,7 @@ double apply_permanent_set(components::StemRestShape& rest, std::size_t first_hi
     if (first_hinge > last_hinge) return 0.0;
     const double excess = bend - set_threshold;
     const double per_hinge = excess / static_cast<double>(last_hinge - first_hinge + 1);
-    const bool directed = frame && points && rest.hinge_bend_direction.size() == rest.hinge_angle_rad.size() &&
-                          frame->director.size() == rest.hinge_angle_rad.size() + 1 && points->size() == frame->director.size() + 1;
+    const bool directed = frame && points && physics::bends_have_directions(rest, *frame) && points->size() == frame->director.size() + 1;
     for (std::size_t i = first_hinge; i <= last_hinge; ++i) {
         const glm::dvec3 now = directed ? physics::bend_vector(*points, i + 1) : glm::dvec3{0.0};
         const double angle = glm::length(now);

@@ -70,14 +70,7 @@ bool clamp_active(const StemClamp* clamp) { return clamp != nullptr && clamp->en
 
 // The rest bends have directions on the stem and the frame to read them in (stem_frame.hpp).
 bool directed(const StemRestShape& rest, const StemFrame* frame) {
-    return frame != nullptr && !rest.hinge_bend_direction.empty() && rest.hinge_bend_direction.size() == rest.hinge_angle_rad.size() &&
-           frame->director.size() == rest.hinge_angle_rad.size() + 1 && frame->segment_direction.size() == frame->director.size();
-}
-
-// Hinge i's rest bend has a direction of its own (a zero direction: it takes the plane it is bent in).
-bool has_direction(const StemRestShape& rest, std::size_t i) {
-    const glm::dvec2 d = rest.hinge_bend_direction[i - 1];
-    return d.x != 0.0 || d.y != 0.0;
+    return frame != nullptr && physics::bends_have_directions(rest, *frame) && frame->segment_direction.size() == frame->director.size();
 }
 
 // Hinge i's rest bend as a rotation vector in the room: its angle about its direction in the frame
@@ -230,7 +223,7 @@ void forces_of(const StemPoints& points, const std::vector<StemSegment>& segment
         const glm::dvec3 e_in = segments[i - 1].direction;
         const glm::dvec3 e_out = segments[i].direction;
         const Bend bend = bend_between(e_in, e_out);
-        if (with_directions && has_direction(rest, i)) {
+        if (with_directions && physics::hinge_has_direction(rest, i)) {
             // Eq. 3 with the bend as a vector: the torque k (b0 - b) turns the upper segment toward its
             // rest bend b0, wherever about the stem that lies, and the lower one the other way. A torque T
             // on a segment of direction e and length l is the force T x e / l at its far end (its part
@@ -302,7 +295,7 @@ StemEnergy stem_energy(const StemPoints& points, const StemRestShape& rest, cons
     }
     const bool with_directions = directed(rest, frame);
     for (std::size_t i = 1; i + 1 < x.size(); ++i) {
-        if (with_directions && has_direction(rest, i)) {
+        if (with_directions && physics::hinge_has_direction(rest, i)) {
             const glm::dvec3 e_in = glm::normalize(x[i] - x[i - 1]);
             const Bend bend = bend_between(e_in, glm::normalize(x[i + 1] - x[i]));
             const glm::dvec3 gap = (bend.has_plane ? bend.angle * bend.normal : glm::dvec3{0.0}) - rest_bend(rest, *frame, i, e_in);

@@ -31,12 +31,12 @@ bool unit_direction(const std::vector<glm::dvec3>& x, std::size_t j, glm::dvec3&
     return true;
 }
 
-bool has_directions(const StemRestShape& rest, const StemFrame& frame) {
+} // namespace
+
+bool bends_have_directions(const StemRestShape& rest, const StemFrame& frame) {
     return !rest.hinge_bend_direction.empty() && rest.hinge_bend_direction.size() + 1 == frame.director.size() &&
            rest.hinge_angle_rad.size() == rest.hinge_bend_direction.size();
 }
-
-} // namespace
 
 namespace {
 [[gnu::always_inline]] inline glm::dvec3 carry(glm::dvec3 d, glm::dvec3 from, glm::dvec3 to) {
@@ -84,7 +84,7 @@ glm::dvec3 bend_vector(const std::vector<glm::dvec3>& x, std::size_t i) {
 }
 
 glm::dvec3 rest_bend_vector(const StemRestShape& rest, const StemFrame& frame, const std::vector<glm::dvec3>& x, std::size_t i) {
-    if (!has_directions(rest, frame) || i == 0 || i > rest.hinge_angle_rad.size()) return glm::dvec3{0.0};
+    if (!bends_have_directions(rest, frame) || i == 0 || i > rest.hinge_angle_rad.size()) return glm::dvec3{0.0};
     glm::dvec3 e;
     double length;
     if (!unit_direction(x, i - 1, e, length)) return glm::dvec3{0.0};
@@ -116,10 +116,9 @@ void rest_bends_from_shape(const std::vector<glm::dvec3>& x, const StemFrame& fr
 }
 
 void add_rest_bend(StemRestShape& rest, const StemFrame& frame, const std::vector<glm::dvec3>& x, std::size_t i, glm::dvec3 bend) {
-    if (!has_directions(rest, frame) || i == 0 || i > rest.hinge_angle_rad.size()) return;
+    if (!bends_have_directions(rest, frame) || i == 0 || i > rest.hinge_angle_rad.size()) return;
     glm::dvec3 was = rest_bend_vector(rest, frame, x, i);
-    const glm::dvec2 direction = rest.hinge_bend_direction[i - 1];
-    if (direction.x == 0.0 && direction.y == 0.0) {
+    if (!hinge_has_direction(rest, i)) {
         // A bend without a direction lies in the plane the hinge is bent in now: it takes that
         // direction (or the added bend's, on a straight hinge) and keeps it from here on.
         const glm::dvec3 now = bend_vector(x, i);
@@ -164,8 +163,8 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
     // A quiet frame (relaxed, no directed bends, no moments, its holds where they were) is carried every
     // quiet_carry_ticks-th tick only: its directors then turn with their segments in one go. Only parts
     // and the next grip read it, and a few milliseconds late is nothing to them; it was most of the cost.
-    bool quiet = frame.relaxed && !(has_directions(rest, frame) && std::any_of(rest.hinge_bend_direction.begin(), rest.hinge_bend_direction.end(),
-                                                                                [](glm::dvec2 d) { return d.x != 0.0 || d.y != 0.0; }));
+    bool quiet = frame.relaxed;
+    for (std::size_t i = 1; quiet && bends_have_directions(rest, frame) && i <= rest.hinge_bend_direction.size(); ++i) quiet = !hinge_has_direction(rest, i);
     for (std::size_t j = 0; j < n && quiet; ++j) {
         quiet = frame.external_twist_nm[j] == 0.0 && (frame.held[j] == 0 || frame.held_director[j] == frame.held_at[j]);
     }
@@ -209,7 +208,7 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
     upper.assign(n, 0.0);
     g.assign(n, 0.0);
     step.assign(n, 0.0);
-    const bool directed = has_directions(rest, frame) && hinge_nm_per_rad.size() + 1 >= n;
+    const bool directed = bends_have_directions(rest, frame) && hinge_nm_per_rad.size() + 1 >= n;
     double largest = 0.0, most_twist = 0.0;
     for (std::size_t i = 1; i < n; ++i) {
         const double share = 0.5 * (length[i - 1] + length[i]);
@@ -226,8 +225,7 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
         upper[i - 1] -= kappa;
         largest = std::max(largest, kappa);
         most_twist = std::max(most_twist, std::abs(m));
-        const glm::dvec2 direction = directed ? rest.hinge_bend_direction[i - 1] : glm::dvec2{0.0};
-        if ((direction.x != 0.0 || direction.y != 0.0) && rest.hinge_angle_rad[i - 1] > 0.0) {
+        if (directed && hinge_has_direction(rest, i) && rest.hinge_angle_rad[i - 1] > 0.0) {
             pushed = true;
             const double k = hinge_nm_per_rad[i - 1];
             const glm::dvec3 bend = bend_vector(x, i);

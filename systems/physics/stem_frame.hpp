@@ -14,6 +14,15 @@
 
 namespace ikebana::systems::physics {
 
+// The rest shape's bends can be read in this frame: a direction for every hinge, a director for every
+// segment (some directions may be zero).
+[[nodiscard]] bool bends_have_directions(const components::StemRestShape& rest, const components::StemFrame& frame);
+// Hinge i's (1..n-1) rest bend has a direction of its own; a zero one takes the plane it is bent in.
+[[nodiscard]] inline bool hinge_has_direction(const components::StemRestShape& rest, std::size_t i) {
+    const glm::dvec2 d = rest.hinge_bend_direction[i - 1];
+    return d.x != 0.0 || d.y != 0.0;
+}
+
 // `d` carried from a segment along `from` to one along `to` by the least rotation (parallel
 // transport); both unit.
 [[nodiscard]] glm::dvec3 transport(glm::dvec3 d, glm::dvec3 from, glm::dvec3 to);
