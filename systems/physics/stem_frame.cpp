@@ -164,7 +164,8 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
     // quiet_carry_ticks-th tick only: its directors then turn with their segments in one go. Only parts
     // and the next grip read it, and a few milliseconds late is nothing to them; it was most of the cost.
     bool quiet = frame.relaxed;
-    for (std::size_t i = 1; quiet && bends_have_directions(rest, frame) && i <= rest.hinge_bend_direction.size(); ++i) quiet = !hinge_has_direction(rest, i);
+    const std::size_t hinges = bends_have_directions(rest, frame) ? rest.hinge_bend_direction.size() : 0;
+    for (std::size_t i = 1; quiet && i <= hinges; ++i) quiet = !hinge_has_direction(rest, i);
     for (std::size_t j = 0; j < n && quiet; ++j) {
         quiet = frame.external_twist_nm[j] == 0.0 && (frame.held[j] == 0 || frame.held_director[j] == frame.held_at[j]);
     }
