@@ -12,6 +12,8 @@ struct StemRestShape;
 struct StemSprings;
 struct StemClamp;
 struct StemFrame;
+struct StemFork;
+struct Twigs;
 struct Kenzan;
 struct HandCube;
 struct Collider;

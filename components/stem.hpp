@@ -6,6 +6,8 @@
 
 #include <glm/glm.hpp>
 
+#include "engine/ecs/entity.hpp"
+
 namespace ikebana::components {
 
 struct StemPoints {
@@ -85,6 +87,24 @@ struct StemClamp {
     // The bottom segment's director (StemFrame) as the clamp took it: the pins hold the stem's turn
     // about its axis as well as its place. Zero: the clamp does not hold the frame.
     glm::dvec3 director{0.0};
+};
+
+// A side branch (a twig): a stem of its own whose bottom point P0 is its parent's point `at_point`, the
+// two solved as one body (stem_tree.hpp: P0 and the parent's point are one point of the system, and a
+// root hinge between the parent's segment below that point and the twig's first segment keeps the fork's
+// angle). The fork's rest bend is `angle_rad` about the direction (cos psi, sin psi) in the parent's
+// material frame there (StemFrame), so a branch turned about its axis turns its twigs with it.
+struct StemFork {
+    ecs::Entity parent;      // a stem, or another twig
+    std::uint32_t at_point;  // 1..n of the parent's points (the root hinge needs the segment below it)
+    double angle_rad;        // between the parent's segment and the twig's first, at rest
+    glm::dvec2 direction;    // which way about the parent the twig leaves, in the parent's frame
+    double hinge_nm_per_rad; // the root hinge's stiffness: the twig's own E I over its first segment
+};
+
+// On a stem with side branches: every twig and twig of a twig, parents before their children.
+struct Twigs {
+    std::vector<ecs::Entity> entities;
 };
 
 } // namespace ikebana::components

@@ -66,6 +66,26 @@ BuiltStem build_stem(const StemSpec& spec) {
     return stem;
 }
 
+BuiltTwig build_twig(StemSpec spec, const components::StemPoints& parent, const components::StemFrame& parent_frame,
+                     std::uint32_t at_point, double angle_rad, glm::dvec2 direction) {
+    const auto& x = parent.position_m;
+    const glm::dvec3 e_in = glm::normalize(x[at_point] - x[at_point - 1]);
+    const std::uint32_t segment = at_point - 1;
+    glm::dvec3 d1 = segment < parent_frame.director.size() ? parent_frame.director[segment] : first_director(e_in);
+    d1 = glm::normalize(d1 - glm::dot(d1, e_in) * e_in);
+    const glm::dvec2 dir = glm::length(direction) > 0.0 ? glm::normalize(direction) : glm::dvec2{1.0, 0.0};
+    const glm::dvec3 axis = dir.x * d1 + dir.y * glm::cross(e_in, d1); // the fork's rotation, across the parent
+    spec.base_m = x[at_point];
+    spec.direction = std::cos(angle_rad) * e_in + std::sin(angle_rad) * glm::cross(axis, e_in);
+    spec.bend_towards = glm::dvec3{0.0, 0.0, 1.0};
+    BuiltTwig twig{build_stem(spec), {}};
+    twig.fork.at_point = at_point;
+    twig.fork.angle_rad = angle_rad;
+    twig.fork.direction = dir;
+    twig.fork.hinge_nm_per_rad = 2.0 * twig.stem.bending_stiffness_nm2 / twig.stem.rest.segment_length_m[0];
+    return twig;
+}
+
 components::StemClamp clamp_bottom(const BuiltStem& stem) {
     const auto& x = stem.points.position_m;
     components::StemClamp clamp{};
