@@ -183,4 +183,17 @@ struct CutRequest {
     double length_m;
 };
 
+// On a hand: prune where it is (the trainee's secateurs at the cube). The twig whose stem comes nearest
+// the cube within its reach is cut off at its fork, or the leaf or blossom nearest it stripped: either
+// falls (a Cutting). Consumed by the pruning system.
+struct PruneRequest {
+    std::uint8_t hand = 0;
+};
+
+// A piece pruned off a flower, loose: a twig (with its own twigs, leaves and blossoms) or a stripped leaf,
+// a stem of its own that falls to the table. Drawn in the flower's colours.
+struct Cutting {
+    std::string species;
+};
+
 } // namespace ikebana::components

@@ -19,6 +19,15 @@
 
 namespace ikebana::components {
 
+// A side branch of a flower, as drawn: its points (its first is the point of the stem or twig it leaves),
+// its bark's turn, its thickness and its leaves and blossoms.
+struct TwigStatus {
+    std::vector<glm::dvec3> points_m;
+    std::vector<glm::dvec3> directors;
+    double diameter_m = 0.0;
+    std::vector<Part> parts;
+};
+
 // One flower as the trainee sees it: where its stem is, how it looks and how it stands in the kenzan.
 struct FlowerStatus {
     std::string species;
@@ -38,6 +47,7 @@ struct FlowerStatus {
     double diameter_m;                  // the stem's
     FlowerLook look;
     std::vector<Part> parts;            // petals and leaves (the stem is drawn from its points)
+    std::vector<TwigStatus> twigs;      // its side branches, parents before their twigs (none: a single stem)
 };
 
 struct HandStatus {
@@ -59,6 +69,12 @@ struct HandStatus {
     std::uint64_t write_failures = 0;
 };
 
+// What was pruned off and lies loose: a twig with its own twigs, leaves and blossoms, or a stripped leaf.
+struct CuttingStatus {
+    FlowerLook look;
+    std::vector<TwigStatus> pieces; // the cutting itself first, then its twigs
+};
+
 struct FrameSnapshot {
     std::int64_t sim_time_us;
     std::vector<FlowerStatus> flowers;
@@ -67,6 +83,7 @@ struct FrameSnapshot {
     std::optional<Kenzan> kenzan;
     std::optional<double> table_height_m;
     std::optional<Container> container;
+    std::vector<CuttingStatus> cuttings;
 };
 
 } // namespace ikebana::components

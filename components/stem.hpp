@@ -47,6 +47,9 @@ struct StemFrame {
     std::vector<std::uint8_t> held;
     std::vector<glm::dvec3> held_director;
     std::vector<double> external_twist_nm; // a twisting moment about each segment (tests, a turning tool)
+    // And a stiffness against turning each segment (N m / rad): what a twig's fork puts on the segment it
+    // leaves (its side is in this frame). Consumed with the moments; empty: none.
+    std::vector<double> external_twist_stiffness_nm;
     double twist_stiffness_nm2 = 0.0;      // G J
     // The last update found nothing holding, twisting or bending the frame and relaxed its twist: until
     // something does, the update only carries the directors (the cost of a stem nobody turns).

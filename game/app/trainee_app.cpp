@@ -423,6 +423,7 @@ SessionPanelModel TraineeSession::panel_model(sched::SystemContext& main_lane) c
                   "Ctrl+arrow keys, or the Tilt buttons: lean it 5° that way",
                   "Ctrl+wheel: swing its lean round the vertical",
                   "C: cut the held stem to its role's length",
+                  "P: prune at the cube: the twig it touches off at its fork, or the leaf or blossom it touches stripped",
                   "Tab: the other hand",
                   "Arrow keys (15° a press) or right-drag: look round the table",
                   "G: the form's targets and model; Enter: score; R: start over; Esc: the lessons"};

@@ -125,7 +125,7 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     };
     say(lesson_.school + ": " + lesson_.title);
     say(std::string("Mouse: ") + (hand ? "right" : "left") + " hand (Tab: other). Left button: hold. Shift or wheel: depth. Ctrl+drag: tilt. "
-                                                         "C: cut for its role. G: targets. R: start again. Enter: score.");
+                                                         "C: cut for its role. P: prune at the cube. G: targets. R: start again. Enter: score.");
     const bool form = lesson_.scoring == "form";
     HeldStemAdvice advice;
     if (form) advice = advise_held_stem(lesson_, footprint_, latest, hand);
@@ -155,6 +155,8 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
         effects.cut_to_m = advice.keep_length_m;
     }
     cut_was_down_ = in.letter(cut_letter);
+    if (in.letter(prune_letter) && !prune_was_down_) (void)trainee.push({systems::TraineeCommand::Kind::prune, hand, 0.0});
+    prune_was_down_ = in.letter(prune_letter);
     if (in.letter(ghost_letter) && !ghost_was_down_ && form) {
         ghosts_ = !ghosts_;
         effects.ghosts_toggled = true;

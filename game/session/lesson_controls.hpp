@@ -37,6 +37,7 @@ namespace ikebana::game {
 
 // A lesson's keys (the engine reads letters; what they do is the lesson's).
 inline constexpr char cut_letter = 'C';   // cut the held stem to the length its role wants
+inline constexpr char prune_letter = 'P'; // prune at the cube: the twig nearest it off at its fork, or a leaf stripped
 inline constexpr char ghost_letter = 'G'; // show or hide the form's targets and its model
 inline constexpr char reset_letter = 'R'; // start the lesson again
 
@@ -67,6 +68,7 @@ private:
     const LessonDef& lesson_;
     KenzanFootprint footprint_;
     bool ghosts_ = false;
+    bool prune_was_down_ = false;
     bool cut_was_down_ = false, ghost_was_down_ = false, reset_was_down_ = false, enter_was_down_ = false;
     std::vector<std::string> lines_;
     std::string next_step_;

@@ -57,6 +57,7 @@ public:
     void turn(glm::dvec3 angles_rad) override { poses_[using_]->rotation_rad = angles_rad; }
     void grab(bool down) override { poses_[using_]->buttons = down ? 1u : 0u; }
     void cut(double keep_m) override { (void)w_.trainee.push({systems::TraineeCommand::Kind::cut, static_cast<std::uint8_t>(using_), keep_m}); }
+    void prune() override { (void)w_.trainee.push({systems::TraineeCommand::Kind::prune, static_cast<std::uint8_t>(using_), 0.0}); }
     bool use(std::uint8_t hand) override {
         using_ = hand & 1u;
         return true;
@@ -215,13 +216,16 @@ public:
         pointer_.state.grab_button = down;
         script_.event(down ? "mousedown 1" : "mouseup 1", now_s());
     }
-    void cut(double) override {
-        // C, as the window reads it: LessonControls cuts the held stem for the role it is heading for.
-        script_.event("key c", now_s());
-        pointer_.state.set_letter(cut_letter, true);
+    // C, as the window reads it: LessonControls cuts the held stem for the role it is heading for.
+    void cut(double) override { tap(cut_letter, "key c"); }
+    // P, as the window reads it: LessonControls prunes at the active hand's cube.
+    void prune() override { tap(prune_letter, "key p"); }
+    void tap(char letter, const char* xdotool) {
+        script_.event(xdotool, now_s());
+        pointer_.state.set_letter(letter, true);
         clock_.run_for_us(40'000);
         after_wait();
-        pointer_.state.set_letter(cut_letter, false);
+        pointer_.state.set_letter(letter, false);
         clock_.run_for_us(40'000);
         after_wait();
     }
@@ -300,6 +304,13 @@ public:
         SeenFlower f;
         f.species = w_.flowers[i].species;
         f.points_m = w_.sim.get<StemPoints>(e).position_m;
+        if (const auto* twigs = w_.sim.try_get<const Twigs>(e)) {
+            for (const ecs::Entity t : twigs->entities) {
+                const auto* fork = w_.sim.try_get<const StemFork>(t);
+                const auto* points = w_.sim.try_get<const StemPoints>(t);
+                if (fork && points && fork->parent == e && points->position_m.size() >= 2) f.twig_aims_m.push_back(points->position_m[1]);
+            }
+        }
         const auto& rest = w_.sim.get<StemRestShape>(e);
         f.length_m = std::accumulate(rest.segment_length_m.begin(), rest.segment_length_m.end(), 0.0);
         f.diameter_m = rest.diameter_m;

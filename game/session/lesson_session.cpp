@@ -193,6 +193,9 @@ Result<std::vector<SessionCommand>> parse_session_commands(std::string_view text
         if (kind == "cut") {
             fits = fits && hand <= 1 && value > 0.0 && value < 100.0;
             c.command = systems::TraineeCommand{systems::TraineeCommand::Kind::cut, static_cast<std::uint8_t>(hand), value};
+        } else if (kind == "prune") {
+            fits = fits && hand <= 1 && value == 0.0;
+            c.command = systems::TraineeCommand{systems::TraineeCommand::Kind::prune, static_cast<std::uint8_t>(hand), 0.0};
         } else if (kind == "view") {
             c.what = SessionCommand::What::view;
             fits = fits && hand == 0 && std::abs(value) < 1e6;
@@ -208,7 +211,7 @@ Result<std::vector<SessionCommand>> parse_session_commands(std::string_view text
         }
         if (!fits)
             return make_error(ErrorCode::parse_error, label + ": line " + std::to_string(line_no) +
-                                                          ": expected time_us,cut,hand,keep_length_m (hand 0 or 1, a length in metres), time_us,view,0,yaw_rad or "
+                                                          ": expected time_us,cut,hand,keep_length_m (hand 0 or 1, a length in metres), time_us,prune,hand,0, time_us,view,0,yaw_rad or "
                                                           "time_us,skip,0,until_us, time_us,gone|back,hand,0, times in order");
         if (commands.size() >= max_session_commands) return make_error(ErrorCode::parse_error, label + ": line " + std::to_string(line_no) + ": more than " + std::to_string(max_session_commands) + " commands");
         commands.push_back(c);

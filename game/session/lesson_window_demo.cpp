@@ -197,6 +197,7 @@ public:
         seen(steady_us());
     }
     void cut(double) override { press_key("c"); }
+    void prune() override { press_key("p"); }
 
     void press_key(const std::string& key) {
         xdo("keydown " + key);

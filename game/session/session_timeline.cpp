@@ -23,7 +23,8 @@ std::vector<TimelineMark> recorded_marks(const SessionPlayback& playback) {
     for (const auto& c : playback.commands()) {
         if (c.what != SessionCommand::What::cut) continue;
         char what[96];
-        std::snprintf(what, sizeof what, "cut: the %s's stem to %.0f mm", hand_name(c.command.hand), c.command.keep_length_m * 1e3);
+        if (c.command.kind == systems::TraineeCommand::Kind::prune) std::snprintf(what, sizeof what, "prune: at the %s", hand_name(c.command.hand));
+        else std::snprintf(what, sizeof what, "cut: the %s's stem to %.0f mm", hand_name(c.command.hand), c.command.keep_length_m * 1e3);
         marks.push_back({c.at_us, TimelineMark::Kind::cut, what});
     }
     for (std::size_t hand = 0; hand < 2; ++hand) {

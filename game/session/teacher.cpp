@@ -166,10 +166,16 @@ public:
     bool place(std::size_t flower, const std::string& role, const ArrangementStem& target, std::optional<Rise> rise = std::nullopt) {
         const double in_pins = room_.pin_height_m();
         const double keep = target.length_m + in_pins;
-        const SeenFlower lying = room_.flower(flower);
+        SeenFlower lying = room_.flower(flower);
         if (lying.points_m.size() < 2) {
             say(role + ": the " + target.species + " cannot be seen");
             return false;
+        }
+        // A line bent for its role is a clean one: its side twigs are pruned first, at their forks, as it
+        // lies (a twig on one side would also roll the bend round its stem while it is carried).
+        if (rise && rise->bend_rad > 0.0 && !lying.twig_aims_m.empty()) {
+            prune_twigs(flower, role);
+            lying = room_.flower(flower);
         }
         if (!take(flower, role, target, lying, keep, rise)) return false;
         if (lying.length_m - keep > 0.001) cut_to(flower, role, target, keep, in_pins);
@@ -261,6 +267,28 @@ public:
     }
 
 private:
+    // Every twig on the stem as it lies, off at its fork: the hand's cube on the twig a segment out from
+    // the fork (nearer it than any leaf), then secateurs (TeacherHand::prune).
+    void prune_twigs(std::size_t flower, const std::string& role) {
+        say(role + ": prune its side twigs at their forks for a clean line");
+        press(false);
+        for (int round = 0; round < 3; ++round) {
+            const auto aims = room_.flower(flower).twig_aims_m;
+            if (aims.empty()) break;
+            hand_.look();
+            move_to(aims.front() + glm::dvec3{0, 0, 0.04}, 0.15);
+            for (const glm::dvec3 aim : aims) {
+                move_to(aim + glm::dvec3{0, 0, 0.02}, 0.1);
+                move_to(aim, 0.1);
+                hand_.prune();
+                wait(0.05);
+            }
+            move_to(hand_.position() + glm::dvec3{0, 0, 0.04}, 0.1);
+            wait(0.3);
+        }
+        if (!room_.flower(flower).twig_aims_m.empty()) say(role + ": some twigs were missed; it is bent with them");
+    }
+
     // The right hand takes it again below the bend while the left holds it: held inside the bend, the
     // part below would swing round the hand (nothing in the model holds a bend's plane but its weight).
     // False: it missed there, and took it where it held it before.

@@ -22,6 +22,7 @@ namespace ikebana::game {
 struct SeenFlower {
     std::string species;
     std::vector<glm::dvec3> points_m; // bottom first
+    std::vector<glm::dvec3> twig_aims_m; // on each twig growing from the stem, a segment out from its fork
     double length_m = 0.0;
     double diameter_m = 0.0;
     bool in_kenzan = false;
@@ -57,6 +58,8 @@ public:
     virtual void turn(glm::dvec3 angles_rad) = 0;
     virtual void grab(bool down) = 0;
     virtual void cut(double keep_m) = 0;
+    // Prunes where the hand is: the twig its cube touches off at its fork, or a leaf stripped (pruning_system).
+    virtual void prune() = 0;
     // How often a moving hand is set on its way (seconds): every tick of a puppet; a pointer that
     // must wait for the window to read each motion, less often.
     [[nodiscard]] virtual double step_s() const { return 0.01; }

@@ -82,11 +82,12 @@ void read_part_shape(JsonChecker& c, const Json& part, const std::string& p, Par
     }
 }
 
-void read_parts(JsonChecker& c, const Json& root, SpeciesDef& out) {
-    const Json* parts = c.array(root, "", "parts", false);
+// The parts of the object at JSON path `at` (the species, or one of its branches).
+void read_parts(JsonChecker& c, const Json& owner, const std::string& at, std::vector<PartDef>& out) {
+    const Json* parts = c.array(owner, at, "parts", false);
     if (!parts) return;
     for (std::size_t i = 0; i < parts->size(); ++i) {
-        const std::string p = "/parts/" + std::to_string(i);
+        const std::string p = at + "/parts/" + std::to_string(i);
         const Json& part = (*parts)[i];
         if (!part.is_object()) {
             c.problem(p, "expected an object, got " + JsonChecker::describe(part));
@@ -108,7 +109,60 @@ void read_parts(JsonChecker& c, const Json& root, SpeciesDef& out) {
         def.whorls = static_cast<std::uint32_t>(c.integer(part, p, "whorls", 1, 8, false).value_or(1));
         def.colour_variation = c.number(part, p, "colour_variation", {0, 0.5}, false).value_or(0);
         read_part_shape(c, part, p, def);
-        out.parts.push_back(def);
+        out.push_back(def);
+    }
+}
+
+// A species' twigs stop here: a branch of a branch of a branch of a branch. And at so many in all (a
+// tree of twigs costs the haptic tick its points).
+constexpr int deepest_branch = 4;
+constexpr std::uint32_t most_twigs = 120;
+
+// How many twigs these branches make, their twigs' twigs included.
+std::uint64_t twig_count(const std::vector<BranchDef>& branches) {
+    std::uint64_t n = 0;
+    for (const auto& b : branches) n += b.count * (1 + twig_count(b.branches));
+    return n;
+}
+
+void read_branches(JsonChecker& c, const Json& owner, const std::string& at, int depth, std::vector<BranchDef>& out) {
+    const Json* branches = c.array(owner, at, "branches", false);
+    if (!branches) return;
+    if (depth >= deepest_branch) {
+        c.problem(at + "/branches", "twigs go at most " + std::to_string(deepest_branch) + " deep (a branch of a branch of a branch of a branch)");
+        return;
+    }
+    for (std::size_t i = 0; i < branches->size(); ++i) {
+        const std::string p = at + "/branches/" + std::to_string(i);
+        const Json& branch = (*branches)[i];
+        if (!branch.is_object()) {
+            c.problem(p, "expected an object, got " + JsonChecker::describe(branch));
+            continue;
+        }
+        c.no_unknown_keys(branch, p, {"count", "at", "every", "angle_deg", "azimuth_deg", "turn_deg", "shrink", "length_mm", "diameter_mm",
+                                      "segments", "mass_g", "rest_bend_deg", "parts", "branches"});
+        BranchDef def;
+        def.count = static_cast<std::uint32_t>(c.integer(branch, p, "count", 1, 32, false).value_or(1));
+        def.position_along_parent = c.number(branch, p, "at", {0, 1}).value_or(0.5);
+        def.spacing = c.number(branch, p, "every", {0, 1}, false).value_or(0.0);
+        def.angle_rad = c.number(branch, p, "angle_deg", {0, 150}).value_or(0) * deg;
+        def.azimuth_rad = c.number(branch, p, "azimuth_deg", {-360, 360}, false).value_or(0) * deg;
+        def.turn_rad = c.number(branch, p, "turn_deg", {-360, 360}, false).value_or(137.5) * deg;
+        def.shrink = c.number(branch, p, "shrink", {0, 0.9}, false).value_or(0);
+        def.length_m = c.number(branch, p, "length_mm", {5, 3000}).value_or(0) * mm;
+        def.diameter_m = c.number(branch, p, "diameter_mm", {0.3, 100}).value_or(0) * mm;
+        def.segments = static_cast<std::uint32_t>(c.integer(branch, p, "segments", 2, 60).value_or(2));
+        def.mass_kg = c.number(branch, p, "mass_g", {0.001, 5000, true}).value_or(0) * 1e-3;
+        // Up toward the light (positive) or down, weeping (negative).
+        def.rest_bend_rad = c.number(branch, p, "rest_bend_deg", {-180, 180}, false).value_or(0) * deg;
+        const double last = def.position_along_parent + def.spacing * (def.count - 1);
+        if (branch.contains("at") && branch.contains("every") && last > 1.0 + 1e-9) {
+            c.problem(p + "/every", "its " + std::to_string(def.count) + " twigs from " + JsonChecker::describe(branch["at"]) + " every " +
+                                        JsonChecker::describe(branch["every"]) + " run past the parent's top (1)");
+        }
+        read_parts(c, branch, p, def.parts);
+        read_branches(c, branch, p, depth + 1, def.branches);
+        out.push_back(std::move(def));
     }
 }
 
@@ -266,7 +320,7 @@ Result<SpeciesDef> parse_species(std::string_view text, const std::string& label
     JsonChecker c(label);
     const auto root = c.parse_object(text);
     if (!root) return c.error();
-    c.no_unknown_keys(*root, "", {"format", "id", "name", "branch", "stem", "head", "parts", "resistance",
+    c.no_unknown_keys(*root, "", {"format", "id", "name", "branch", "stem", "head", "parts", "branches", "resistance",
                                   "deterioration", "breakage", "look", "notes"});
     SpeciesDef out{};
     const auto format = c.string(*root, "", "format");
@@ -281,7 +335,11 @@ Result<SpeciesDef> parse_species(std::string_view text, const std::string& label
     out.branch = c.choice(*root, "", "branch", {"soft", "hard"}) == "hard" ? BranchKind::hard : BranchKind::soft;
     read_stem(c, *root, out);
     read_head(c, *root, out);
-    read_parts(c, *root, out);
+    read_parts(c, *root, "", out.parts);
+    read_branches(c, *root, "", 0, out.branches);
+    if (const auto twigs = twig_count(out.branches); twigs > most_twigs) {
+        c.problem("/branches", "makes " + std::to_string(twigs) + " twigs in all, more than " + std::to_string(most_twigs) + ": each is simulated at 1 kHz");
+    }
     read_resistance(c, *root, out);
     read_deterioration(c, *root, out);
     read_breakage(c, *root, out);
@@ -308,6 +366,13 @@ Result<SpeciesDef> load_species_file(const std::filesystem::path& path) {
     };
     beside(species->head_mesh);
     for (auto& part : species->parts) beside(part.mesh);
+    const auto twig_meshes = [&](auto& self, std::vector<BranchDef>& branches) -> void {
+        for (auto& b : branches) {
+            for (auto& part : b.parts) beside(part.mesh);
+            self(self, b.branches);
+        }
+    };
+    twig_meshes(twig_meshes, species->branches);
     return species;
 }
 

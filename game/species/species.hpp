@@ -37,6 +37,27 @@ struct PartDef {
     PartShape shape{};
 };
 
+// Side branches along a stem (or a twig), as designers give them (docs/species-format.md, "branches"):
+// `count` twigs from `at` up the parent, `every` apart, each turned `turn` further about it than the one
+// below (the golden angle by default, as many trees set their buds), leaving it at `angle`; each a stem
+// of its own length, diameter, segments and mass (the parent's material), with its parts and twigs.
+struct BranchDef {
+    std::uint32_t count = 1;
+    double position_along_parent = 0.5; // 0 bottom .. 1 top of the parent
+    double spacing = 0.1;               // along the parent, between one twig and the next
+    double angle_rad = 0.0;             // from the parent's line at the fork
+    double azimuth_rad = 0.0;           // the first twig's side about the parent (0: along its bark's d1)
+    double turn_rad = 0.0;              // each next twig's side, this much further round
+    double shrink = 0.0;                // each next twig this fraction shorter (and lighter)
+    double length_m = 0.0;
+    double diameter_m = 0.0;
+    std::uint32_t segments = 2;
+    double mass_kg = 0.0;
+    double rest_bend_rad = 0.0;         // its natural curve: up toward the light, or (negative) down, weeping
+    std::vector<PartDef> parts;
+    std::vector<BranchDef> branches;
+};
+
 // Section 2.5 and Table 1: resistance per mm of pin in contact with each tissue, tip (cone) and trunk
 // (cylinder), and where the pith is.
 struct HardResistance {
@@ -93,6 +114,7 @@ struct SpeciesDef {
     double head_mass_kg;
     std::string head_mesh;
     std::vector<PartDef> parts;
+    std::vector<BranchDef> branches; // side branches, recursively (none: a single stem)
     std::optional<HardResistance> hard;
     std::optional<SoftResistance> soft;
     DeteriorationDef deterioration;

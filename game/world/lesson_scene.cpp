@@ -14,6 +14,13 @@
 namespace ikebana::game {
 
 namespace {
+
+// How far a branch's twigs reach out from it (each at its fork's angle, its own twigs beyond).
+double twig_reach_m(const std::vector<BranchDef>& branches) {
+    double reach = 0.0;
+    for (const auto& b : branches) reach = std::max(reach, b.length_m * std::sin(b.angle_rad) + twig_reach_m(b.branches));
+    return reach;
+}
 constexpr double wall_m = 0.006; // as World builds containers
 }
 
@@ -44,20 +51,28 @@ Result<SceneDef> scene_for_lesson(const LessonDef& l) {
     s.kenzan_layout = l.kenzan_layout;
     s.kenzan_position_m = {0.0, 0.0, floor + kenzan->base_thickness_m};
     // The materials lie across the table in front of the container, longest at the back.
-    std::vector<std::pair<double, FlowerPlacement>> lying;
+    struct Lying {
+        double length_m;
+        double reach_m; // how far its twigs spread across it, lying flat
+        FlowerPlacement placement;
+    };
+    std::vector<Lying> lying;
     for (const auto& m : l.materials) {
         const auto species = load_species(m.species);
         if (!species) return std::move(species).error();
         const double length = m.length_m > 0.0 ? m.length_m : species->length_m;
-        for (std::uint32_t i = 0; i < m.count; ++i) lying.push_back({length, FlowerPlacement{m.species, Placement::lying, {}, {1, 0, 0}, 0.0, length}});
+        const double reach = twig_reach_m(species->branches);
+        for (std::uint32_t i = 0; i < m.count; ++i) lying.push_back({length, reach, FlowerPlacement{m.species, Placement::lying, {}, {1, 0, 0}, 0.0, length}});
     }
-    std::stable_sort(lying.begin(), lying.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::stable_sort(lying.begin(), lying.end(), [](const auto& a, const auto& b) { return a.length_m > b.length_m; });
     const double front = s.container_centre_m.y - 0.5 * l.container.front_to_back_m - wall_m;
-    double y = front - 0.04;
-    for (auto& [length, placement] : lying) {
-        placement.base_m = {-0.5 * length, y, 0.0};
-        s.flowers.push_back(placement);
-        y -= 0.03;
+    // A branch's twigs lie flat on both sides of it: it lies far enough from the container that they
+    // stay out of it (over the materials in front of it they may lie, as on a real table).
+    double y = front - 0.01;
+    for (auto& m : lying) {
+        y = std::min(y - 0.03, front - 0.04 - m.reach_m);
+        m.placement.base_m = {-0.5 * m.length_m, y, 0.0};
+        s.flowers.push_back(m.placement);
     }
     // The hands just above the materials' right and left ends.
     s.hands.push_back({0, {-0.15, front - 0.08, 0.08}, 0.02, ""});
@@ -69,8 +84,12 @@ Result<SceneDef> scene_for_lesson(const LessonDef& l) {
     // The view's middle a little above the form's middle: the HUD's panel covers the top of the view.
     // Sideways, a little toward the model that G sets behind and right of the container.
     const double aside = 0.1 * l.container.width_m;
-    s.display.camera_target_m = glm::dvec3{aside, front - 0.05, 0.4 * height};
-    s.display.camera_position_m = glm::dvec3{aside, front - 0.05 - 1.7 * height, 1.0 * height};
+    // Branches with twigs lie further out: the view's middle moves toward them and the camera back, so
+    // that the nearest material is in view (the table's depth the materials take beyond 0.1 m).
+    const double materials_depth = std::max(0.0, front - y - 0.13);
+    const double middle = front - 0.05 - 0.5 * materials_depth;
+    s.display.camera_target_m = glm::dvec3{aside, middle, 0.4 * height};
+    s.display.camera_position_m = glm::dvec3{aside, middle - 1.7 * height - 1.2 * materials_depth, 1.0 * height + 0.6 * materials_depth};
     s.display.screen_distance_m = glm::length(*s.display.camera_position_m - *s.display.camera_target_m);
     s.rates_hz = {{"haptic", 1000}, {"position_estimate", 100}, {"position_check", 16}, {"render", 30}};
     return s;

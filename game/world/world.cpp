@@ -1,6 +1,8 @@
 #include "game/world/world.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 
 #include <glm/gtc/constants.hpp>
@@ -91,10 +93,12 @@ components::FlowerLook look_of(const SpeciesDef& sp) {
     return FlowerLook{sp.head_mesh, sp.stem_colour, sp.petal_colour, sp.leaf_colour, sp.head_colour};
 }
 
-std::vector<components::Part> parts_of(const SpeciesDef& sp, std::uint32_t point_count) {
+std::vector<components::Part> parts_of(const SpeciesDef& sp, std::uint32_t point_count) { return parts_of(sp.parts, point_count); }
+
+std::vector<components::Part> parts_of(const std::vector<PartDef>& defs, std::uint32_t point_count) {
     std::vector<Part> out;
     std::uint32_t n = 0; // every part of the flower, for its shade
-    for (const auto& def : sp.parts) {
+    for (const auto& def : defs) {
         const auto at = static_cast<std::uint32_t>(std::lround(def.position_along_stem * (point_count - 1)));
         for (std::uint32_t w = 0; w < def.whorls; ++w) {
             // Each inner ring: 80 % as long, 15 degrees more upright, turned half a step.
@@ -136,6 +140,91 @@ components::PinResistance pin_resistance_of(const SpeciesDef& sp) {
     m.broken_seat_loss_m = sp.breakage.broken_seat_loss_m;
     return m;
 }
+
+namespace {
+
+// A stem's segments (capsules, the bottom one Active if it meets the pins) and its parts, as its children.
+void spawn_stem_parts(ecs::Registry& r, ecs::Entity owner, const std::vector<PartDef>& defs, std::uint32_t point_count, double diameter_m,
+                      bool bottom_active) {
+    for (std::uint32_t i = 0; i + 1 < point_count; ++i) {
+        const ecs::Entity part = r.create();
+        r.emplace<Part>(part, PartKind::stem, i, glm::dvec3{0.0}, std::string{});
+        r.emplace<Collider>(part, ShapeKind::capsule, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.5 * diameter_m, glm::dvec3{0.0});
+        add_collision_tag(r, part, bottom_active && i == 0 ? CollisionClass::active : CollisionClass::passive);
+        ecs::attach(r, part, owner);
+    }
+    const auto parts = parts_of(defs, point_count);
+    std::size_t next_part = 0;
+    for (const auto& def : defs) {
+        for (std::uint32_t k = 0; k < def.count * def.whorls; ++k) { // parts_of's order: each definition's rings, in turn
+            const ecs::Entity part = r.create();
+            r.emplace<Part>(part, parts[next_part++]);
+            r.emplace<Collider>(part, ShapeKind::sphere, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.3 * def.size_m, glm::dvec3{0.0});
+            add_collision_tag(r, part, def.collision);
+            ecs::attach(r, part, owner);
+        }
+    }
+}
+
+// The twigs `defs` on `parent` (the flower's stem or a twig), and theirs, each listed after its parent.
+// Their material is the species' stem's; their size, their place and their side are their own.
+// A branch laid on the table lies flat, its twigs with it: each turned to the side across its parent
+// that lies along the table nearest the side it grows on, curving along the table.
+void spawn_twigs(ecs::Registry& r, const SpeciesDef& sp, const std::vector<BranchDef>& defs, ecs::Entity parent, bool lying,
+                 std::vector<ecs::Entity>& list) {
+    // Copies: spawning a twig adds to the storages the parent's components live in.
+    const StemPoints parent_points = r.get<StemPoints>(parent);
+    const StemFrame parent_frame = r.get<StemFrame>(parent);
+    const auto segments = static_cast<std::uint32_t>(parent_points.position_m.size() - 1);
+    for (const auto& def : defs) {
+        for (std::uint32_t k = 0; k < def.count; ++k) {
+            const double along = def.position_along_parent + def.spacing * k;
+            const auto at_point = static_cast<std::uint32_t>(std::clamp<long>(std::lround(along * segments), 1, segments));
+            const double scale = std::pow(1.0 - def.shrink, k);
+            systems::physics::StemSpec spec;
+            spec.segments = def.segments;
+            spec.length_m = def.length_m * scale;
+            spec.diameter_m = def.diameter_m;
+            spec.youngs_modulus_pa = sp.youngs_modulus_pa;
+            spec.poisson_ratio = sp.poisson_ratio;
+            spec.shear_modulus_pa = sp.shear_modulus_pa;
+            spec.stem_mass_kg = def.mass_kg * scale;
+            spec.rest_bend_rad = def.rest_bend_rad;
+            spec.stiffness_damping_s = sp.stiffness_damping_s;
+            spec.air_drag_per_s = sp.air_drag_per_s;
+            // The side it leaves toward, cos a d1 + sin a d2 in the parent's frame, is turned to by the
+            // rotation about e x side = cos a d2 - sin a d1 (the fork's direction is its rotation's).
+            double side = def.azimuth_rad + def.turn_rad * k;
+            glm::dvec3 curve{0.0};
+            if (lying) {
+                const auto& x = parent_points.position_m;
+                const glm::dvec3 e = glm::normalize(x[at_point] - x[at_point - 1]);
+                const glm::dvec3 flat = glm::cross(glm::dvec3{0.0, 0.0, 1.0}, e);
+                const glm::dvec3 d1 = parent_frame.director[at_point - 1];
+                if (glm::length(flat) > 1e-6) {
+                    const double along_table = std::atan2(glm::dot(flat, glm::cross(e, d1)), glm::dot(flat, d1));
+                    side = std::cos(side - along_table) >= 0.0 ? along_table : along_table + glm::pi<double>();
+                    curve = glm::normalize(flat) * (std::cos(side - along_table) >= 0.0 ? 1.0 : -1.0);
+                }
+            }
+            auto twig = systems::physics::build_twig(spec, parent_points, parent_frame, at_point, def.angle_rad, {-std::sin(side), std::cos(side)}, curve);
+            twig.fork.parent = parent;
+            const ecs::Entity e = r.create();
+            const auto point_count = static_cast<std::uint32_t>(twig.stem.points.position_m.size());
+            r.emplace<StemPoints>(e, std::move(twig.stem.points));
+            r.emplace<StemRestShape>(e, std::move(twig.stem.rest));
+            r.emplace<StemSprings>(e, std::move(twig.stem.springs));
+            r.emplace<StemFrame>(e, std::move(twig.stem.frame));
+            r.emplace<StemLoads>(e, StemLoads{std::vector<glm::dvec3>(point_count, glm::dvec3{0.0})});
+            r.emplace<StemFork>(e, twig.fork);
+            spawn_stem_parts(r, e, def.parts, point_count, def.diameter_m, false);
+            list.push_back(e);
+            spawn_twigs(r, sp, def.branches, e, lying, list);
+        }
+    }
+}
+
+} // namespace
 
 ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPlacement& placement, double table_height_m) {
     systems::physics::StemSpec spec;
@@ -183,23 +272,28 @@ ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPla
     r.emplace<StemLoads>(flower, StemLoads{std::vector<glm::dvec3>(point_count, glm::dvec3{0.0})});
 
     // Stem segments: the bottom one meets the pins (Active), the rest are touched (Passive).
-    for (std::uint32_t i = 0; i + 1 < point_count; ++i) {
-        const ecs::Entity part = r.create();
-        r.emplace<Part>(part, PartKind::stem, i, glm::dvec3{0.0}, std::string{});
-        r.emplace<Collider>(part, ShapeKind::capsule, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.5 * sp.diameter_m, glm::dvec3{0.0});
-        add_collision_tag(r, part, i == 0 ? CollisionClass::active : CollisionClass::passive);
-        ecs::attach(r, part, flower);
-    }
-    const auto parts = parts_of(sp, point_count);
-    std::size_t next_part = 0;
-    for (const auto& def : sp.parts) {
-        for (std::uint32_t k = 0; k < def.count * def.whorls; ++k) { // parts_of's order: each definition's rings, in turn
-            const ecs::Entity part = r.create();
-            r.emplace<Part>(part, parts[next_part++]);
-            r.emplace<Collider>(part, ShapeKind::sphere, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.3 * def.size_m, glm::dvec3{0.0});
-            add_collision_tag(r, part, def.collision);
-            ecs::attach(r, part, flower);
+    spawn_stem_parts(r, flower, sp.parts, point_count, sp.diameter_m, true);
+    if (!sp.branches.empty()) {
+        std::vector<ecs::Entity> twigs;
+        spawn_twigs(r, sp, sp.branches, flower, placement.placement == Placement::lying, twigs);
+        if (placement.placement == Placement::lying) {
+            // A branch laid on the table rests on whatever of it reaches lowest, its twigs too: lifted
+            // so that nothing starts inside the table (the table pushes a point out one at a time, and a
+            // stiff twig's tip pushed out of it by millimetres at once stays squeezed against it).
+            double lowest = std::numeric_limits<double>::infinity();
+            for (const ecs::Entity e : twigs) {
+                const double radius = 0.5 * r.get<StemRestShape>(e).diameter_m;
+                for (const auto& x : r.get<StemPoints>(e).position_m) lowest = std::min(lowest, x.z - radius);
+            }
+            if (lowest < table_height_m) {
+                const glm::dvec3 lift{0.0, 0.0, table_height_m - lowest};
+                for (auto& x : r.get<StemPoints>(flower).position_m) x += lift;
+                for (const ecs::Entity e : twigs) {
+                    for (auto& x : r.get<StemPoints>(e).position_m) x += lift;
+                }
+            }
         }
+        r.emplace<Twigs>(flower, Twigs{std::move(twigs)});
     }
     return flower;
 }

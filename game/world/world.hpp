@@ -72,10 +72,13 @@ components::FlowerLook look_of(const SpeciesDef& species);
 // spread round the stem at its place along it (what a spawned flower carries, and what a drawn model
 // flower shows). In the order of the definitions, then round the stem.
 std::vector<components::Part> parts_of(const SpeciesDef& species, std::uint32_t point_count);
+std::vector<components::Part> parts_of(const std::vector<PartDef>& parts, std::uint32_t point_count);
 components::PinResistance pin_resistance_of(const SpeciesDef& species);
 
 // Adds one flower of `species` to `registry`: the flower entity carries the stem physics, and owns one
-// part entity per stem segment, petal and leaf, each with its collision tag.
+// part entity per stem segment, petal and leaf, each with its collision tag. Its side branches (the
+// species' "branches") are entities of their own, each a stem with a StemFork, owning its segments and
+// parts likewise, and listed on the flower (components::Twigs), parents first.
 ecs::Entity spawn_flower(ecs::Registry& registry, const SpeciesDef& species, const FlowerPlacement& placement,
                          double table_height_m);
 

@@ -61,6 +61,9 @@ void GrabSystem::operator()(sched::SystemContext& ctx) {
                 // Unify with the nearest stem point inside the cube (its half edge plus the stem's radius).
                 double best = std::numeric_limits<double>::infinity();
                 r.view<const StemPoints, const StemRestShape>().each([&](ecs::Entity flower, const StemPoints& points, const StemRestShape& rest) {
+                    // A hand takes a branch by its stem: a twig moves with it (one body), and what a held
+                    // thing is (cut, inserted, scored) is the flower's.
+                    if (r.all_of<StemFork>(flower)) return;
                     for (std::size_t i = 0; i < points.position_m.size(); ++i) {
                         if (!within_grab(points.position_m[i], proxy.position_m, cube.edge_m, rest.diameter_m)) continue;
                         const double dist = glm::length(points.position_m[i] - proxy.position_m);

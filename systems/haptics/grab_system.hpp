@@ -22,7 +22,7 @@ struct GrabSystem {
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::HandCube, components::HandInput, components::HandProxy, components::StemRestShape,
-                                    components::WorkspaceMapping, components::InsertionHistory>;
+                                    components::WorkspaceMapping, components::InsertionHistory, components::StemFork>;
     using writes = sched::Components<components::HandGrip, components::StemPoints, components::StemFrame, components::Grasp>;
 
     void operator()(sched::SystemContext& ctx);

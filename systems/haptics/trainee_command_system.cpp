@@ -18,11 +18,19 @@ void TraineeCommandSystem::operator()(sched::SystemContext& ctx) {
     while (channel.pop(command)) {
         if (channel.log) {
             char line[96];
-            const int n = std::snprintf(line, sizeof line, "%lld,cut,%u,%.17g\n", static_cast<long long>(ctx.time_us), command.hand, command.keep_length_m);
+            const bool pruning = command.kind == TraineeCommand::Kind::prune;
+            const int n = pruning ? std::snprintf(line, sizeof line, "%lld,prune,%u,0\n", static_cast<long long>(ctx.time_us), command.hand)
+                                  : std::snprintf(line, sizeof line, "%lld,cut,%u,%.17g\n", static_cast<long long>(ctx.time_us), command.hand, command.keep_length_m);
             (void)channel.log->write(std::string_view(line, static_cast<std::size_t>(n)));
         }
-        r.view<const HandCube, const HandGrip>().each([&](ecs::Entity, const HandCube& cube, const HandGrip& grip) {
-            if (cube.hand != command.hand || grip.held.is_null()) return;
+        r.view<const HandCube, const HandGrip>().each([&](ecs::Entity hand, const HandCube& cube, const HandGrip& grip) {
+            if (cube.hand != command.hand) return;
+            // Pruning needs no held stem: the hand cuts where it is.
+            if (command.kind == TraineeCommand::Kind::prune) {
+                r.commands().emplace<PruneRequest>(hand, PruneRequest{command.hand});
+                return;
+            }
+            if (grip.held.is_null()) return;
             const auto* rest = r.try_get<const StemRestShape>(grip.held);
             if (!rest) return;
             const double length = std::accumulate(rest->segment_length_m.begin(), rest->segment_length_m.end(), 0.0);

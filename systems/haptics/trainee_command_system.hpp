@@ -1,6 +1,7 @@
 #pragma once
 // What the trainee asks of a held stem beyond moving it, from the window (a key) or a scripted
-// trainee (the lesson demo): cut it to a length. The main thread pushes commands into the channel;
+// trainee (the lesson demo): cut it to a length, or prune at the hand (a twig off, a leaf stripped:
+// pruning_system). The main thread pushes commands into the channel;
 // this system, on the simulation's thread, turns each into a CutRequest on the stem that hand holds
 // (the cutting system does the cut: section 1's cutting, the same for every caller).
 #include <cstdint>
@@ -17,10 +18,10 @@
 namespace ikebana::systems {
 
 struct TraineeCommand {
-    enum class Kind : std::uint8_t { cut };
+    enum class Kind : std::uint8_t { cut, prune };
     Kind kind = Kind::cut;
     std::uint8_t hand = 0;
-    double keep_length_m = 0.0; // cut: the stem's length after the cut (what is cut off is its bottom)
+    double keep_length_m = 0.0; // cut: the stem's length after the cut (what is cut off is its bottom); prune: 0
 };
 
 // Main thread (or a driver) to simulation thread; the World owns it (each lane's registry holds an ecs::Port).
@@ -33,7 +34,7 @@ public:
     [[nodiscard]] bool push(const TraineeCommand& command) noexcept { return pending_.push(command); }
     [[nodiscard]] bool pop(TraineeCommand& command) noexcept { return pending_.pop(command); }
     // When set (before the session runs): each command as the simulation takes it, one CSV line
-    // "time_us,cut,hand,keep_length_m", so that a replay gives it at the same tick.
+    // "time_us,cut,hand,keep_length_m" or "time_us,prune,hand,0", so that a replay gives it at the same tick.
     AsyncLineWriter* log = nullptr;
 
 private:
@@ -47,7 +48,7 @@ struct TraineeCommandSystem {
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::HandCube, components::HandGrip, components::StemRestShape>;
     // The Port: taking a command off the channel is a write.
-    using writes = sched::Components<ecs::Port<TraineeChannel>, components::CutRequest>;
+    using writes = sched::Components<ecs::Port<TraineeChannel>, components::CutRequest, components::PruneRequest>;
 
     void operator()(sched::SystemContext& ctx);
 };

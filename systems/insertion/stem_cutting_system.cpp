@@ -57,6 +57,51 @@ std::vector<glm::dvec2> moved_bend_directions(const StemRestShape& rest, double 
     return moved;
 }
 
+void move_twigs(ecs::Registry& r, ecs::Entity flower, const std::vector<glm::dvec3>& before, const std::vector<glm::dvec3>& after, double cut_m,
+                double length_m) {
+    auto* twigs = r.try_get<Twigs>(flower);
+    if (!twigs || before.size() < 2) return;
+    const std::size_t segments = before.size() - 1;
+    // The stem's points were laid anew along it, closer together: a twig stays where it grows on the
+    // stem (its arc length less the cut), at the nearest point there; one that grew from the part cut
+    // off goes with it, and so do its own twigs. A twig and its twigs move as one to their new place.
+    std::vector<glm::dvec3> moved(twigs->entities.size(), glm::dvec3{0.0});
+    std::vector<std::uint8_t> gone(twigs->entities.size(), 0);
+    std::vector<ecs::Entity> kept;
+    for (std::size_t t = 0; t < twigs->entities.size(); ++t) {
+        const ecs::Entity twig = twigs->entities[t];
+        auto* fork = r.try_get<StemFork>(twig);
+        auto* twig_points = r.try_get<StemPoints>(twig);
+        if (!fork || !twig_points) {
+            gone[t] = 1;
+            continue;
+        }
+        if (fork->parent == flower) {
+            const double along = length_m * static_cast<double>(fork->at_point) / static_cast<double>(segments) - cut_m;
+            const double step = (length_m - cut_m) / static_cast<double>(segments);
+            if (along < 0.5 * step) {
+                gone[t] = 1;
+            } else {
+                fork->at_point = static_cast<std::uint32_t>(std::clamp<long>(std::lround(along / step), 1, static_cast<long>(segments)));
+                moved[t] = after[fork->at_point] - twig_points->position_m[0];
+            }
+        } else {
+            const auto parent = std::find(twigs->entities.begin(), twigs->entities.begin() + static_cast<long>(t), fork->parent);
+            const auto p = static_cast<std::size_t>(parent - twigs->entities.begin());
+            if (p == t || gone[p]) gone[t] = 1;
+            else moved[t] = moved[p];
+        }
+        if (gone[t]) {
+            r.commands().destroy(twig); // its leaves and blossoms (its children) with it
+            continue;
+        }
+        for (auto& x : twig_points->position_m) x += moved[t];
+        for (auto& v : twig_points->velocity_m_s) v = glm::dvec3{0.0};
+        kept.push_back(twig);
+    }
+    twigs->entities = std::move(kept);
+}
+
 void StemCuttingSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
     r.view<CutRequest, StemPoints, StemRestShape, StemSprings, InsertionHistory>().each(
@@ -68,6 +113,7 @@ void StemCuttingSystem::operator()(sched::SystemContext& ctx) {
             const double keep = (length - cut.length_m) / length;
             // The new points: the old polyline resampled from arc length `cut` upwards.
             const auto& old = points.position_m;
+            const std::vector<glm::dvec3> before = old; // where its twigs left it
             std::vector<glm::dvec3> fresh(old.size());
             std::vector<double> arc(old.size(), 0.0);
             for (std::size_t i = 1; i < old.size(); ++i) arc[i] = arc[i - 1] + glm::length(old[i] - old[i - 1]);
@@ -97,6 +143,7 @@ void StemCuttingSystem::operator()(sched::SystemContext& ctx) {
             for (auto& k : springs.hinge_nm_per_rad) k /= keep;
             points.position_m = std::move(fresh);
             for (auto& v : points.velocity_m_s) v = glm::dvec3{0.0};
+            move_twigs(r, e, before, points.position_m, cut.length_m, length);
             history.bottom_broken = false;
             history.insertions = 0;
             history.holes.clear();

@@ -19,6 +19,11 @@ std::vector<double> moved_bends(const components::StemRestShape& rest, double cu
 // the direction of the old one nearest where it now sits.
 std::vector<glm::dvec2> moved_bend_directions(const components::StemRestShape& rest, double cut_m, double keep);
 
+// A stem's twigs after a cut (its points laid anew from `before` to `after`, `cut_m` taken off its
+// `length_m`): each moved to where it grows on the stem, or gone with the part cut off.
+void move_twigs(ecs::Registry& registry, ecs::Entity flower, const std::vector<glm::dvec3>& before, const std::vector<glm::dvec3>& after,
+                double cut_m, double length_m);
+
 struct StemCuttingSystem {
     static constexpr std::string_view name = "stem_cutting";
     static constexpr std::string_view lane = "sim";
@@ -27,7 +32,7 @@ struct StemCuttingSystem {
     using reads = sched::Components<>;
     // CutRequest: each request is consumed (removed) once carried out.
     using writes = sched::Components<components::CutRequest, components::StemPoints, components::StemRestShape, components::StemSprings,
-                                     components::InsertionHistory>;
+                                     components::InsertionHistory, components::Twigs, components::StemFork>;
 
     void operator()(sched::SystemContext& ctx);
 

@@ -1,8 +1,10 @@
 #include "systems/physics/spring_physics_system.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "engine/ecs/registry.hpp"
+#include "systems/physics/table_support_system.hpp"
 
 namespace ikebana::systems {
 
@@ -11,9 +13,16 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
     const auto* settings = registry.resource<const components::PhysicsSettings>();
     const glm::dvec3 gravity = settings ? settings->gravity_m_s2 : components::PhysicsSettings{}.gravity_m_s2;
     stems_.clear();
+    tree_roots_.clear();
     registry.view<components::StemPoints, const components::StemRestShape, const components::StemSprings, components::StemLoads>().each(
         [&](ecs::Entity e, components::StemPoints& points, const components::StemRestShape& rest,
             const components::StemSprings& springs, components::StemLoads& loads) {
+            // A twig moves with its stem, a stem with twigs with them: one body (step_trees).
+            if (registry.all_of<components::StemFork>(e)) return;
+            if (const auto* twigs = registry.try_get<const components::Twigs>(e); twigs && !twigs->entities.empty()) {
+                tree_roots_.push_back(e);
+                return;
+            }
             const auto* clamp = registry.try_get<const components::StemClamp>(e);
             const auto* frame = registry.try_get<const components::StemFrame>(e);
             // A stiff stem's tick in equal parts (see stable_substeps); the others' external forces act
@@ -69,6 +78,102 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
             loads.force_n.assign(points.position_m.size(), glm::dvec3{0.0});
         }
         for (auto& f : points.external_force_n) f = glm::dvec3{0.0};
+    }
+    step_trees(ctx, gravity);
+}
+
+namespace {
+
+struct Ground {
+    const components::Table* table;
+    const components::Container* container;
+    const components::Kenzan* kenzan;
+};
+
+double ground_floor(const void* context, glm::dvec2 xy, double radius_m, double end_drop_m) {
+    const auto* g = static_cast<const Ground*>(context);
+    return support_floor_m(g->table, g->container, g->kenzan, xy, radius_m, end_drop_m);
+}
+
+glm::dvec3 ground_wall(const void* context, glm::dvec3 x, double radius_m) {
+    const auto* g = static_cast<const Ground*>(context);
+    return g->container ? wall_push_m(*g->container, x, radius_m) : glm::dvec3{0.0};
+}
+
+} // namespace
+
+void SpringPhysicsSystem::step_trees(sched::SystemContext& ctx, glm::dvec3 gravity) {
+    using namespace components;
+    auto& registry = ctx.registry;
+    // What the branches rest on, in their solve (stem_tree.hpp: TreeSupport); table_support leaves their floors to it.
+    const Ground ground{registry.resource<const Table>(), registry.single<const Container>(), registry.single<const Kenzan>()};
+    physics::TreeSupport support;
+    support.floor_m = ground.table || ground.container || ground.kenzan ? &ground_floor : nullptr;
+    support.wall_push_m = ground.container ? &ground_wall : nullptr;
+    support.context = &ground;
+    support.gravity_m_s2 = std::abs(gravity.z) > 0.0 ? std::abs(gravity.z) : support.gravity_m_s2;
+    if (ground.table) support.friction = ground.table->friction;
+    if (trees_.size() < tree_roots_.size()) trees_.resize(tree_roots_.size());
+    if (tree_scratches_.size() < tree_roots_.size()) tree_scratches_.resize(tree_roots_.size());
+    for (std::size_t t = 0; t < tree_roots_.size(); ++t) {
+        const ecs::Entity root = tree_roots_[t];
+        auto& chains = trees_[t];
+        chains.clear();
+        const auto chain_of = [&](ecs::Entity e, std::int32_t parent, const StemFork* fork) {
+            chains.push_back({&registry.get<StemPoints>(e), &registry.get<const StemRestShape>(e), &registry.get<const StemSprings>(e),
+                              parent < 0 ? registry.try_get<const StemClamp>(e) : nullptr, registry.try_get<const StemFrame>(e), parent, fork});
+        };
+        chain_of(root, -1, nullptr);
+        std::vector<ecs::Entity>& members = scratch_members_;
+        members.assign(1, root);
+        bool whole = true;
+        for (const ecs::Entity twig : registry.get<const Twigs>(root).entities) {
+            const auto* fork = registry.try_get<const StemFork>(twig);
+            if (!fork || !registry.all_of<StemPoints>(twig) || !registry.all_of<StemLoads>(twig)) {
+                whole = false;
+                break;
+            }
+            const auto parent = std::find(members.begin(), members.end(), fork->parent);
+            if (parent == members.end()) { // listed before its parent: not a tree this system can solve
+                whole = false;
+                break;
+            }
+            chain_of(twig, static_cast<std::int32_t>(parent - members.begin()), fork);
+            members.push_back(twig);
+        }
+        bool held = false;
+        for (const auto& chain : chains) {
+            held = held || std::any_of(chain.points->pinned.begin(), chain.points->pinned.end(), [](std::uint8_t p) { return p != 0; });
+        }
+        const std::size_t parts = physics::tree_substeps(chains, ctx.dt_s);
+        bool finite = whole;
+        for (std::size_t k = 0; finite && k < parts; ++k) {
+            finite = physics::step_tree(chains, gravity, ctx.dt_s / static_cast<double>(parts), tree_scratches_[t], held && k + 1 == parts, &support);
+        }
+        const auto& scratch = tree_scratches_[t];
+        for (std::size_t c = 0; c < chains.size(); ++c) {
+            auto& points = *chains[c].points;
+            auto& loads = registry.get<StemLoads>(members[c]);
+            if (finite) {
+                loads.force_n = scratch.load[c];
+            } else {
+                // As for a chain: a non-finite step is refused and the body stays where it was, at rest.
+                for (auto& v : points.velocity_m_s) v = glm::dvec3{0.0};
+                loads.force_n.assign(points.position_m.size(), glm::dvec3{0.0});
+            }
+            for (auto& f : points.external_force_n) f = glm::dvec3{0.0};
+        }
+        if (!finite) ++failed_steps;
+        // The twigs' hold on their parents' frames (their sides are in them), for the frames' update
+        // (stem_frame, after this): a free branch's frame turns with its twigs, not on its own.
+        for (std::size_t c = 1; finite && c < chains.size(); ++c) {
+            auto* frame = registry.try_get<StemFrame>(members[static_cast<std::size_t>(chains[c].parent)]);
+            const std::uint32_t segment = chains[c].fork->at_point - 1;
+            if (!frame || segment >= frame->external_twist_nm.size()) continue;
+            frame->external_twist_nm[segment] -= scratch.frame_gradient_nm[c];
+            frame->external_twist_stiffness_nm.resize(frame->external_twist_nm.size(), 0.0);
+            frame->external_twist_stiffness_nm[segment] += scratch.frame_stiffness_nm[c];
+        }
     }
 }
 

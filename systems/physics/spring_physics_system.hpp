@@ -5,10 +5,12 @@
 #include <string_view>
 #include <vector>
 
+#include "components/kenzan.hpp"
 #include "components/physics.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/system.hpp"
 #include "systems/physics/stem_dynamics.hpp"
+#include "systems/physics/stem_tree.hpp"
 
 namespace ikebana::systems {
 
@@ -18,8 +20,9 @@ struct SpringPhysicsSystem {
     static constexpr std::string_view phase = "physics";
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::StemRestShape, components::StemSprings, components::StemClamp,
-                                    components::StemFrame, components::PhysicsSettings>;
-    using writes = sched::Components<components::StemPoints, components::StemLoads>;
+                                    components::PhysicsSettings, components::StemFork, components::Twigs,
+                                    components::Table, components::Container, components::Kenzan>;
+    using writes = sched::Components<components::StemPoints, components::StemLoads, components::StemFrame>; // a twig's twist on its stem
 
     void operator()(sched::SystemContext& ctx);
 
@@ -46,6 +49,13 @@ private:
     std::vector<std::size_t> batch_stem_;
     std::vector<std::uint8_t> batch_ok_;
     std::vector<physics::LaneScratch> lane_scratch_; // one per round (see operator())
+    // Stems with twigs, each solved as one body with them (stem_tree.hpp): the root stems this tick,
+    // each tree's chains and its working memory, by the root's place among them.
+    std::vector<ecs::Entity> tree_roots_;
+    std::vector<std::vector<physics::TreeChain>> trees_;
+    std::vector<physics::TreeScratch> tree_scratches_;
+    std::vector<ecs::Entity> scratch_members_;
+    void step_trees(sched::SystemContext& ctx, glm::dvec3 gravity);
 };
 
 } // namespace ikebana::systems

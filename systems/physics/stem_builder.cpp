@@ -67,7 +67,7 @@ BuiltStem build_stem(const StemSpec& spec) {
 }
 
 BuiltTwig build_twig(StemSpec spec, const components::StemPoints& parent, const components::StemFrame& parent_frame,
-                     std::uint32_t at_point, double angle_rad, glm::dvec2 direction) {
+                     std::uint32_t at_point, double angle_rad, glm::dvec2 direction, glm::dvec3 curve_towards) {
     const auto& x = parent.position_m;
     const glm::dvec3 e_in = glm::normalize(x[at_point] - x[at_point - 1]);
     const std::uint32_t segment = at_point - 1;
@@ -77,7 +77,9 @@ BuiltTwig build_twig(StemSpec spec, const components::StemPoints& parent, const 
     const glm::dvec3 axis = dir.x * d1 + dir.y * glm::cross(e_in, d1); // the fork's rotation, across the parent
     spec.base_m = x[at_point];
     spec.direction = std::cos(angle_rad) * e_in + std::sin(angle_rad) * glm::cross(axis, e_in);
-    spec.bend_towards = glm::dvec3{0.0, 0.0, 1.0};
+    // A natural curve turns up toward the light; a negative one down (a weeping twig).
+    spec.bend_towards = glm::dot(curve_towards, curve_towards) > 0.0 ? curve_towards : glm::dvec3{0.0, 0.0, spec.rest_bend_rad < 0.0 ? -1.0 : 1.0};
+    spec.rest_bend_rad = std::abs(spec.rest_bend_rad);
     BuiltTwig twig{build_stem(spec), {}};
     twig.fork.at_point = at_point;
     twig.fork.angle_rad = angle_rad;

@@ -47,13 +47,15 @@ struct BuiltStem {
 // A side branch leaving `parent` at its point `at_point` (1..n): `spec` without its base and direction,
 // which the fork gives (the parent's point; the parent's segment below it turned by `angle_rad` about
 // `direction` in the parent's frame there). Its natural curve (spec.rest_bend_rad) turns up, toward the
-// light. The root hinge: 2 E I / l_1 of the twig, as the kenzan's clamp (a built-in end).
+// light, or down if negative (a weeping twig). The root hinge: 2 E I / l_1 of the twig, as the kenzan's clamp (a built-in end).
 struct BuiltTwig {
     BuiltStem stem;
     components::StemFork fork;
 };
+// `curve_towards`: where its natural curve turns instead (a branch laid on a table curves its twigs along
+// the table); zero: up, or down.
 [[nodiscard]] BuiltTwig build_twig(StemSpec spec, const components::StemPoints& parent, const components::StemFrame& parent_frame,
-                                   std::uint32_t at_point, double angle_rad, glm::dvec2 direction);
+                                   std::uint32_t at_point, double angle_rad, glm::dvec2 direction, glm::dvec3 curve_towards = glm::dvec3{0.0});
 // A built-in (cantilever) clamp of the stem's bottom in its current pose.
 [[nodiscard]] components::StemClamp clamp_bottom(const BuiltStem& stem);
 

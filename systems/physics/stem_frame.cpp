@@ -60,6 +60,7 @@ StemFrame frame_along(const std::vector<glm::dvec3>& x, glm::dvec3 first, double
     frame.held_director.assign(n, glm::dvec3{0.0});
     frame.held_at.assign(n, glm::dvec3{0.0});
     frame.external_twist_nm.assign(n, 0.0);
+    frame.external_twist_stiffness_nm.assign(n, 0.0);
     glm::dvec3 previous_e{0.0, 0.0, 1.0};
     glm::dvec3 d = first;
     for (std::size_t j = 0; j < n; ++j) {
@@ -169,6 +170,11 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
     for (std::size_t j = 0; j < n && quiet; ++j) {
         quiet = frame.external_twist_nm[j] == 0.0 && (frame.held[j] == 0 || frame.held_director[j] == frame.held_at[j]);
     }
+    // A twig's stiffness comes with its moment: spent with it, whatever happens below.
+    frame.external_twist_stiffness_nm.resize(n, 0.0);
+    std::vector<double>& stiffness = scratch.twist_stiffness;
+    stiffness.swap(frame.external_twist_stiffness_nm);
+    frame.external_twist_stiffness_nm.assign(n, 0.0);
     if (quiet && ++frame.quiet_ticks < quiet_carry_ticks) {
         std::fill(frame.held.begin(), frame.held.end(), std::uint8_t{0});
         return;
@@ -242,6 +248,7 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
     const bool held_somewhere = std::any_of(frame.held.begin(), frame.held.end(), [](std::uint8_t h) { return h != 0; });
     for (std::size_t j = 0; j < n; ++j) {
         g[j] -= frame.external_twist_nm[j];
+        diagonal[j] += stiffness[j];
         // A stem held nowhere turns freely as a whole: a little stiffness against turning at all keeps
         // the system regular (a millionth of the twist's).
         if (!held_somewhere) diagonal[j] += 1e-6 * (largest > 0.0 ? largest : 1.0);

@@ -59,6 +59,7 @@ inline constexpr std::uint8_t quiet_carry_ticks = 8;
 
 struct FrameScratch {
     std::vector<double> diagonal, upper, gradient, step, length;
+    std::vector<double> twist_stiffness; // this tick's StemFrame::external_twist_stiffness_nm
 };
 
 // One tick of the frame: the directors carried with their segments' motion, held ones set where they

@@ -31,6 +31,10 @@ struct RootHinge {
     std::uint32_t below, at, above; // the parent's point at - 1, the shared point, the twig's P1
     glm::dvec3 f_below{0.0}, f_above{0.0};
     double energy_j = 0.0;
+    // What turning the parent's frame at the fork (its director about its segment) does to the hinge's
+    // energy: dE/dphi and, Gauss-Newton, d2E/dphi2 (the fork's side is in that frame).
+    double frame_gradient_nm = 0.0;
+    double frame_stiffness_nm = 0.0;
 };
 
 // The root hinge of twig c: the directed hinge of stem_dynamics between the parent's segment into the
@@ -48,11 +52,17 @@ RootHinge root_hinge(std::span<const TreeChain> chains, std::size_t c) {
     const double l_in = glm::length(d_in), l_out = glm::length(d_out);
     if (l_in <= 0.0 || l_out <= 0.0) return h;
     const glm::dvec3 e_in = d_in / l_in, e_out = d_out / l_out;
-    const glm::dvec3 gap = fork_rest_bend(twig, parent, e_in) - bend_of(e_in, e_out);
-    const glm::dvec3 torque = twig.fork->hinge_nm_per_rad * gap;
+    const glm::dvec3 rest = fork_rest_bend(twig, parent, e_in);
+    const glm::dvec3 gap = rest - bend_of(e_in, e_out);
+    const double stiffness = twig.fork->hinge_nm_per_rad;
+    const glm::dvec3 torque = stiffness * gap;
     h.f_below = glm::cross(torque, e_in) / l_in;
     h.f_above = glm::cross(torque, e_out) / l_out;
-    h.energy_j = 0.5 * twig.fork->hinge_nm_per_rad * glm::dot(gap, gap);
+    h.energy_j = 0.5 * stiffness * glm::dot(gap, gap);
+    // Turning the parent's frame by phi turns the rest bend about e_in: d(rest)/dphi = e_in x rest. Points
+    // cannot take a moment about the parent's own axis; its frame can (stem_frame's update).
+    h.frame_gradient_nm = stiffness * glm::dot(gap, glm::cross(e_in, rest));
+    h.frame_stiffness_nm = stiffness * glm::dot(rest, rest);
     return h;
 }
 
@@ -131,10 +141,17 @@ std::size_t tree_substeps(std::span<const TreeChain> chains, double dt) {
     return parts;
 }
 
-bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt, TreeScratch& s, bool end_forces) {
+bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt, TreeScratch& s, bool end_forces, const TreeSupport* support) {
     if (chains.empty()) return true;
     for (std::size_t c = 1; c < chains.size(); ++c) {
         if (!valid_fork(chains, c)) return false;
+    }
+    // A twig's P0 is its parent's point: whatever moved one of them since the last step (a table pushing
+    // a point up, a hand), the parent's is the one that counts.
+    for (std::size_t c = 1; c < chains.size(); ++c) {
+        const auto& parent = *chains[static_cast<std::size_t>(chains[c].parent)].points;
+        chains[c].points->position_m[0] = parent.position_m[chains[c].fork->at_point];
+        chains[c].points->velocity_m_s[0] = parent.velocity_m_s[chains[c].fork->at_point];
     }
     number_nodes(chains, s);
     const std::size_t n = s.parent_node.size();
@@ -144,6 +161,8 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
     s.inverse.resize(n);
     s.rhs.assign(n, glm::dvec3{0.0});
     s.fixed.assign(n, 0);
+    s.resting.assign(n, 0);
+    s.wall_normal.assign(n, glm::dvec3{0.0});
     s.fixed_velocity.assign(n, glm::dvec3{0.0});
     s.force.resize(chains.size());
     s.segments.resize(chains.size());
@@ -218,6 +237,39 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
             s.rhs[at] -= dt * (h.f_below + h.f_above);
         }
     }
+    // What it rests on: a point below its floor (the shared point once, as its parent's) is pushed up by
+    // a stiff damped spring, implicit: h^2 k + h c on its vertical diagonal, h k (floor - z) its impulse.
+    if (support && support->floor_m) {
+        for (std::size_t c = 0; c < chains.size(); ++c) {
+            const auto& points = *chains[c].points;
+            const double radius = 0.5 * chains[c].rest->diameter_m;
+            for (std::size_t j = (c > 0 ? 1 : 0); j < points.position_m.size(); ++j) {
+                const glm::dvec3 x = points.position_m[j];
+                double end_drop = radius;
+                if (c == 0 && j == 0 && points.position_m.size() >= 2) {
+                    const glm::dvec3 axis = points.position_m[1] - x;
+                    const double length = glm::length(axis);
+                    end_drop = length > 0.0 ? radius * std::sqrt(std::max(0.0, 1.0 - axis.z * axis.z / (length * length))) : radius;
+                }
+                const std::uint32_t q = s.node_of[c][j];
+                if (support->wall_push_m) {
+                    const glm::dvec3 push = support->wall_push_m(support->context, x, radius);
+                    const double depth = glm::length(push);
+                    if (depth > 0.0) {
+                        const glm::dvec3 out = push / depth;
+                        s.wall_normal[q] = out;
+                        s.diagonal[q] += (dt * dt * support->stiffness_n_per_m + dt * support->damping_n_s_per_m) * glm::outerProduct(out, out);
+                        s.rhs[q] += dt * support->stiffness_n_per_m * push;
+                    }
+                }
+                const double floor = support->floor_m(support->context, {x.x, x.y}, radius, end_drop);
+                if (x.z >= floor) continue;
+                s.resting[q] = 1;
+                s.diagonal[q][2][2] += dt * dt * support->stiffness_n_per_m + dt * support->damping_n_s_per_m;
+                s.rhs[q].z += dt * support->stiffness_n_per_m * (floor - x.z);
+            }
+        }
+    }
     // Fixed points keep v' = 0; a held one moving with the hand drags its neighbours: its column's A v
     // goes to the right-hand side first, then its rows and columns become the identity's.
     for (std::uint32_t q = 0; q < n; ++q) {
@@ -269,6 +321,27 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
         s.rhs[q] = s.inverse[q] * b;
         if (!std::isfinite(s.rhs[q].x) || !std::isfinite(s.rhs[q].y) || !std::isfinite(s.rhs[q].z)) return false;
     }
+    // Resting points slide with Coulomb friction: at most mu g h of their sliding speed lost a step. And
+    // leave their floor no faster than exit_speed: the spring puts a point back in one step, and one found
+    // deep inside (a twig laid through a vase's fill, a hand pressing a branch down faster than the
+    // spring answers) would be flung out; it is raised over ticks instead.
+    if (support) {
+        const double loss = support->friction * support->gravity_m_s2 * dt;
+        for (std::uint32_t q = 0; q < n; ++q) {
+            if (s.fixed[q]) continue;
+            glm::dvec3& v = s.rhs[q];
+            if (const glm::dvec3 w = s.wall_normal[q]; w != glm::dvec3{0.0}) {
+                const double out = glm::dot(v, w);
+                if (out > support->exit_speed_m_s) v -= (out - support->exit_speed_m_s) * w;
+            }
+            if (!s.resting[q]) continue;
+            v.z = std::min(v.z, support->exit_speed_m_s);
+            const double speed = std::sqrt(v.x * v.x + v.y * v.y);
+            const double keep = speed > loss ? 1.0 - loss / speed : 0.0;
+            v.x *= keep;
+            v.y *= keep;
+        }
+    }
     // Positions: every chain's points from their nodes; a twig's P0 is its parent's point exactly.
     for (std::size_t c = 0; c < chains.size(); ++c) {
         auto& points = *chains[c].points;
@@ -307,6 +380,13 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
         s.node_force[parent_nodes[h.below]] += h.f_below;
         s.node_force[s.node_of[c][h.above]] += h.f_above;
         s.node_force[parent_nodes[h.at]] -= h.f_below + h.f_above;
+    }
+    s.frame_gradient_nm.assign(chains.size(), 0.0);
+    s.frame_stiffness_nm.assign(chains.size(), 0.0);
+    for (std::size_t c = 1; c < chains.size(); ++c) {
+        const RootHinge h = root_hinge(chains, c);
+        s.frame_gradient_nm[c] = h.frame_gradient_nm;
+        s.frame_stiffness_nm[c] = h.frame_stiffness_nm;
     }
     s.load.resize(chains.size());
     for (std::size_t c = 0; c < chains.size(); ++c) {

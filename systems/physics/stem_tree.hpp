@@ -28,6 +28,25 @@ struct TreeChain {
     const components::StemFork* fork = nullptr;   // how it leaves its parent (parent >= 0)
 };
 
+// What a branch rests on (the table, a container's floor, the kenzan's plate) and leans on (a container's
+// wall), taken into the solve: a point below its floor or in a wall is pushed out by a stiff damped
+// spring solved with the step, and slides on a floor with Coulomb friction. A position correction after the step (table_support, for chains) would squeeze a
+// stiff twig resting on its tip: the tip, a fraction of a gram, is put back each tick, the twig behind it
+// is not, and the segment between them stays compressed by as much as the body sank.
+struct TreeSupport {
+    // The floor under (x, y) for a point of this radius; `end_drop_m` for a stem's bottom point (see
+    // support_floor_m in table_support_system.hpp).
+    double (*floor_m)(const void* context, glm::dvec2 xy, double radius_m, double end_drop_m) = nullptr;
+    // How far a point must move to leave a wall (a container's), zero if it is in none.
+    glm::dvec3 (*wall_push_m)(const void* context, glm::dvec3 x, double radius_m) = nullptr;
+    const void* context = nullptr;
+    double stiffness_n_per_m = 2.0e4; // a 20 g branch on two points sinks 5 um; two hands pressing 20 N, 1 mm
+    double damping_n_s_per_m = 2.0;
+    double exit_speed_m_s = 0.1;      // the fastest a point leaves its floor
+    double friction = 0.6;
+    double gravity_m_s2 = 9.80665;
+};
+
 // Working memory kept from tick to tick: the 1 kHz loop does not allocate once sizes settle.
 struct TreeScratch {
     std::vector<std::vector<std::uint32_t>> node_of; // per chain, per point
@@ -35,9 +54,14 @@ struct TreeScratch {
     std::vector<glm::dmat3> diagonal, to_parent, to_grandparent, inverse;
     std::vector<glm::dvec3> rhs, fixed_velocity, node_force;
     std::vector<std::uint8_t> fixed;
+    std::vector<std::uint8_t> resting; // on its floor this step
+    std::vector<glm::dvec3> wall_normal; // out of the wall it is in this step (zero: none)
     std::vector<std::vector<glm::dvec3>> force;        // per chain, at the step's start
     std::vector<std::vector<StemSegment>> segments;    // per chain
     std::vector<std::vector<glm::dvec3>> load;         // per chain: the body's own force on each point (see step_tree)
+    // Per twig: how its root hinge's energy changes as its parent's frame turns at the fork (dE/dphi,
+    // d2E/dphi2): the parent's frame takes them into its twist (StemFrame::external_twist_*).
+    std::vector<double> frame_gradient_nm, frame_stiffness_nm;
 };
 
 // The root hinge's rest bend as a rotation vector in the room (the fork's angle about its direction in
@@ -52,7 +76,9 @@ struct TreeScratch {
 // gravity, without what other systems pushed): at the step's end if `end_forces`, else at its start.
 // A shared point's load is the whole body's there (the parent's point and its twigs' P0 alike).
 // External forces are not cleared (the caller does, as for a chain).
-bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt, TreeScratch& scratch, bool end_forces);
+// `support`: what it rests on (none: nothing).
+bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt, TreeScratch& scratch, bool end_forces,
+               const TreeSupport* support = nullptr);
 
 // The tree's energy: its chains' and its root hinges' (a twig's P0 is a mass of its own at its parent's point).
 [[nodiscard]] StemEnergy tree_energy(std::span<const TreeChain> chains, glm::dvec3 gravity);

@@ -63,6 +63,12 @@ glm::dvec2 out_of_wall(const Container& c, glm::dvec3& x, double radius_m) {
 }
 } // namespace
 
+glm::dvec3 wall_push_m(const Container& container, glm::dvec3 x, double radius_m) {
+    const glm::dvec3 was = x;
+    (void)out_of_wall(container, x, radius_m);
+    return x - was;
+}
+
 double support_floor_m(const Table* table, const Container* container, const Kenzan* kenzan, glm::dvec2 xy, double radius_m,
                        std::optional<double> end_drop_m) {
     double floor = table ? table->height_m + radius_m : -std::numeric_limits<double>::infinity();
@@ -96,13 +102,14 @@ void TableSupportSystem::operator()(sched::SystemContext& ctx) {
     reg.view<StemPoints, const StemRestShape>().each([&](ecs::Entity e, StemPoints& points, const StemRestShape& rest) {
         const double radius = 0.5 * rest.diameter_m;
         const auto* clamp = reg.try_get<const StemClamp>(e);
+        const bool in_tree = reg.all_of<StemFork>(e) || reg.all_of<Twigs>(e);
         for (std::size_t i = 0; i < points.position_m.size(); ++i) {
             if (points.position_m[i].z >= highest + radius) continue;
             if (points.pinned[i] != 0 || (i == 0 && clamp && clamp->engaged)) continue;
             auto& x = points.position_m[i];
             auto& v = points.velocity_m_s[i];
             if (!std::isfinite(x.x + x.y + x.z)) continue; // the physics' own guard deals with it
-            if (container) {
+            if (container && !in_tree) { // a tree's walls are in its solve too
                 const glm::dvec2 n = out_of_wall(*container, x, radius);
                 const double into = v.x * n.x + v.y * n.y;
                 if (into < 0.0) {
@@ -116,6 +123,7 @@ void TableSupportSystem::operator()(sched::SystemContext& ctx) {
                 const double length = glm::length(axis);
                 end_drop = length > 0.0 ? radius * std::sqrt(std::max(0.0, 1.0 - axis.z * axis.z / (length * length))) : radius;
             }
+            if (in_tree) continue; // its floor is in its solve (stem_tree.hpp: TreeSupport)
             const double floor = support_floor_m(table, container, kenzan, {x.x, x.y}, radius, end_drop);
             if (x.z >= floor) continue;
             x.z = floor;

@@ -6,7 +6,9 @@
 // Keeps stem points out of the rigid things they rest on: the table, the kenzan's base plate and a
 // container's floor and wall. A point that ends a step inside one is put back on its surface, loses
 // its velocity into it, and (on a floor) slides with Coulomb friction. A position correction after the
-// implicit step, so the stiff contact costs nothing in stability. (The pins are the insertion
+// implicit step, so the stiff contact costs nothing in stability. A branch with twigs (a tree) has its
+// floors and walls in its own solve (stem_tree.hpp: TreeSupport): a stiff twig's tip put back alone is
+// squeezed, or kicks the branch. (The pins are the insertion
 // systems'; the plate under them is here: a stem pushed through the pins stops on it.)
 #include <optional>
 #include <string_view>
@@ -24,11 +26,15 @@ struct TableSupportSystem {
     static constexpr std::string_view phase = "constraints";
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::Table, components::Container, components::Kenzan, components::StemRestShape,
-                                    components::StemClamp, components::PhysicsSettings>;
+                                    components::StemClamp, components::PhysicsSettings, components::StemFork, components::Twigs>;
     using writes = sched::Components<components::StemPoints>;
 
     void operator()(sched::SystemContext& ctx);
 };
+
+// How far a point of a stem of `radius_m` at `x` must move to be out of the container's wall (zero if
+// it is not in it): to the side it is on.
+glm::dvec3 wall_push_m(const components::Container& container, glm::dvec3 x, double radius_m);
 
 // The floor under (x, y) for a point of a stem of `radius_m`: the table, or the container's floor, or
 // the kenzan's plate, whichever is highest there. Exposed for tests.

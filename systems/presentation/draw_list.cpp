@@ -81,6 +81,25 @@ void add_container(render::DrawList& list, const Container& c) {
     }
 }
 
+// A stem's (or a twig's) petals and leaves, each placed on its point and turned with its bark.
+void add_parts(render::DrawList& list, const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& directors,
+               const std::vector<Part>& parts, const FlowerLook& look) {
+    for (const auto& part : parts) {
+        const auto f = physics::attachment_frame(x, std::min<std::size_t>(part.stem_point, x.size() - 1), directors);
+        // The mesh runs along +x for one unit: out along the offset's direction, as long as the part.
+        const glm::dvec3 out = f.place(part.offset_m) - f.origin_m;
+        const double size = 2.0 * glm::length(out);
+        if (size <= 0.0) continue;
+        const glm::dvec3 along = glm::normalize(out);
+        const glm::dvec3 across = glm::normalize(glm::cross(f.up, along));
+        const glm::dvec3 normal = glm::cross(along, across);
+        const glm::vec3 part_colour = (part.kind == PartKind::petal ? look.petal_colour : look.leaf_colour) * part.shade;
+        // One unit long before scaling: its cup is the bend per unit.
+        list.batch(part.mesh).instances.push_back(
+            {frame_matrix(along * size, across * size, normal * size, f.origin_m), glm::vec4(part_colour, 1.0f), part.cup_rad});
+    }
+}
+
 } // namespace
 
 render::DrawList build_draw_list(const FrameSnapshot& frame) {
@@ -128,19 +147,20 @@ render::DrawList build_draw_list(const FrameSnapshot& frame) {
             list.batch(look.head_mesh).instances.push_back({frame_matrix(f.side, f.third, f.up, x.back()), glm::vec4(look.head_colour, 1.0f)});
         }
         if (x.empty()) continue;
-        for (const auto& part : flower.parts) {
-            const auto f = physics::attachment_frame(x, std::min<std::size_t>(part.stem_point, x.size() - 1), flower.directors);
-            // The mesh runs along +x for one unit: out along the offset's direction, as long as the part.
-            const glm::dvec3 out = f.place(part.offset_m) - f.origin_m;
-            const double size = 2.0 * glm::length(out);
-            if (size <= 0.0) continue;
-            const glm::dvec3 along = glm::normalize(out);
-            const glm::dvec3 across = glm::normalize(glm::cross(f.up, along));
-            const glm::dvec3 normal = glm::cross(along, across);
-            const glm::vec3 part_colour = (part.kind == PartKind::petal ? look.petal_colour : look.leaf_colour) * part.shade;
-            // One unit long before scaling: its cup is the bend per unit.
-            list.batch(part.mesh).instances.push_back(
-                {frame_matrix(along * size, across * size, normal * size, f.origin_m), glm::vec4(part_colour, 1.0f), part.cup_rad});
+        add_parts(list, x, flower.directors, flower.parts, look);
+        for (const auto& twig : flower.twigs) {
+            const auto& y = twig.points_m;
+            for (std::size_t i = 0; i + 1 < y.size(); ++i) stems.push_back({segment(y[i], y[i + 1], 0.5 * twig.diameter_m), colour});
+            if (!y.empty()) add_parts(list, y, twig.directors, twig.parts, look);
+        }
+    }
+    for (const auto& cutting : frame.cuttings) {
+        auto& stems = list.batch("cylinder").instances;
+        const glm::vec4 colour(cutting.look.stem_colour, 1.0f);
+        for (const auto& piece : cutting.pieces) {
+            const auto& y = piece.points_m;
+            for (std::size_t i = 0; i + 1 < y.size(); ++i) stems.push_back({segment(y[i], y[i + 1], 0.5 * piece.diameter_m), colour});
+            if (!y.empty()) add_parts(list, y, piece.directors, piece.parts, cutting.look);
         }
     }
     for (std::size_t h = 0; h < 2; ++h) {

@@ -7,6 +7,29 @@ namespace ikebana::systems {
 
 using namespace components;
 
+namespace {
+
+// A twig, or a loose piece, as drawn: its points, bark, thickness and parts.
+void piece_of(ecs::Registry& r, ecs::Entity e, TwigStatus& out) {
+    const auto* points = r.try_get<const StemPoints>(e);
+    const auto* rest = r.try_get<const StemRestShape>(e);
+    const auto* frame = r.try_get<const StemFrame>(e);
+    if (points) out.points_m = points->position_m;
+    else out.points_m.clear();
+    if (frame) out.directors = frame->director;
+    else out.directors.clear();
+    out.diameter_m = rest ? rest->diameter_m : 0.0;
+    out.parts.clear();
+    if (const auto* children = r.try_get<const ecs::Children>(e)) {
+        for (const ecs::Entity child : children->entities) {
+            const auto* part = r.try_get<const Part>(child);
+            if (part && part->kind != PartKind::stem && !part->mesh.empty()) out.parts.push_back(*part);
+        }
+    }
+}
+
+} // namespace
+
 void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
     auto* port = r.resource<ecs::Port<FrameChannel>>();
@@ -38,6 +61,11 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
             else status.directors.clear();
             status.diameter_m = rest.diameter_m;
             status.look = look;
+            // Twigs: their points move every frame; their parts are few (copied each time, at the render rate).
+            const auto* twigs = r.try_get<const Twigs>(e);
+            const std::size_t twig_count = twigs ? twigs->entities.size() : 0;
+            status.twigs.resize(twig_count);
+            for (std::size_t t = 0; t < twig_count; ++t) piece_of(r, twigs->entities[t], status.twigs[t]);
             status.insertions = 0;
             status.bottom_broken = false;
             status.in_kenzan = false;
@@ -92,6 +120,19 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
             status.parts.resize(used);
         });
     frame.flowers.resize(count);
+    // What was pruned off, lying loose.
+    std::size_t cuttings = 0;
+    r.view<const Cutting, const StemPoints>().each([&](ecs::Entity e, const Cutting&, const StemPoints&) {
+        if (frame.cuttings.size() <= cuttings) frame.cuttings.emplace_back();
+        auto& out = frame.cuttings[cuttings++];
+        const auto* look = r.try_get<const FlowerLook>(e);
+        out.look = look ? *look : FlowerLook{};
+        const auto* twigs = r.try_get<const Twigs>(e);
+        out.pieces.resize(1 + (twigs ? twigs->entities.size() : 0));
+        piece_of(r, e, out.pieces[0]);
+        for (std::size_t t = 1; t < out.pieces.size(); ++t) piece_of(r, twigs->entities[t - 1], out.pieces[t]);
+    });
+    frame.cuttings.resize(cuttings);
     parts_in_slot[slot].resize(count); // entries dropped with their flowers are not remembered
     for (auto& h : frame.hands) h = HandStatus{false, false, 0, false, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.0, -1, glm::dvec3{0.0}, false};
     r.view<const HandCube, const HandInput, const HandProxy, const HandGrip, const HandForce>().each(

@@ -26,7 +26,7 @@ struct PublishFrameSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "present"; // after every system that writes what it copies
     static constexpr std::string_view rate = "render";
-    using reads = sched::Components<components::StemPoints, components::StemRestShape, components::StemFrame, components::Flower,
+    using reads = sched::Components<components::StemPoints, components::StemRestShape, components::StemFrame, components::Twigs, components::Cutting, components::Flower,
                                     components::FlowerLook, components::Part, ecs::Children, components::Contacts,
                                     components::HandCube, components::HandInput, components::HandProxy, components::HandGrip,
                                     components::HandForce, components::InsertionHistory, components::PinEngagement,

@@ -166,10 +166,14 @@ TEST(RenderGolden, RenderShowsTheSampleAndTheHudLikeTheWindow) {
         if (b.mesh == "cylinder") stems = b.instances.size();
     }
     const auto& latest = (*world)->main.resource<systems::ReceivedFrames>()->latest();
-    for (const auto& f : latest.flowers) world_segments += f.points_m.size() - 1;
+    for (const auto& f : latest.flowers) {
+        world_segments += f.points_m.size() - 1;
+        for (const auto& twig : f.twigs) world_segments += twig.points_m.size() - 1; // a branch's twigs are stems too
+    }
+    EXPECT_GT(world_segments, 50u) << "the default scene's cherry branch has its twigs";
     std::size_t drop_lines = 0; // each hand above the table shows a line down to it
     for (const auto& h : latest.hands) drop_lines += h.present && h.position_m.z - 0.5 * h.edge_m > latest.table_height_m.value_or(0.0) + 0.002 ? 1 : 0;
-    EXPECT_EQ(stems, world_segments + scene->sample.size() + drop_lines) << "every stem segment of the world, one cylinder per sample stem, a line under each hand";
+    EXPECT_EQ(stems, world_segments + scene->sample.size() + drop_lines) << "every stem and twig segment of the world, one cylinder per sample stem, a line under each hand";
 
     if (!render::VulkanContext::create({})) GTEST_SKIP() << "no Vulkan 1.3 device";
     const auto out = std::filesystem::temp_directory_path() / "ikebana_render_hud";

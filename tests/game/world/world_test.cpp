@@ -181,28 +181,36 @@ render::DrawList drawn_standing_alone(const std::string& species) {
 }
 } // namespace
 
-// A part's cup reaches the picture: a cherry's blossoms curl (each instance carries its bend, one unit
-// long, so the bend per unit is the species' cup), a willow's leaves droop, and a sunflower's rays
-// stay flat.
+// How many of these parts, and of their twigs' (each twig as often as it is made), are curled by `cup`.
+std::size_t curled_parts(const std::vector<PartDef>& parts, const std::vector<BranchDef>& branches, float cup, std::uint32_t points) {
+    const auto made = parts_of(parts, points);
+    std::size_t n = static_cast<std::size_t>(std::count_if(made.begin(), made.end(), [&](const components::Part& p) {
+        return std::abs(p.cup_rad - cup) < 1e-5f && p.cup_rad != 0.0f;
+    }));
+    for (const auto& b : branches) n += b.count * curled_parts(b.parts, b.branches, cup, b.segments + 1);
+    return n;
+}
+
+// A part's cup reaches the picture, on the stem and on its twigs: a cherry's blossoms curl (each
+// instance carries its bend, one unit long, so the bend per unit is the species' cup), a willow's leaves
+// droop, and a sunflower's rays stay flat.
 TEST(World, CuppedPartsAreDrawnCurled) {
-    for (const auto& [id, cup_deg] : {std::pair{"cherry_branch", 45.0}, std::pair{"willow_branch", -50.0}, std::pair{"sunflower", 0.0}}) {
+    for (const auto& [id, cup_deg] : {std::pair{"cherry_branch", 45.0}, std::pair{"willow_branch", -20.0}, std::pair{"sunflower", 0.0}}) {
         auto sp = load_species(id);
         ASSERT_TRUE(sp) << sp.error().message;
-        const auto parts = parts_of(*sp, 20);
-        const auto curled = std::count_if(parts.begin(), parts.end(), [&](const components::Part& p) {
-            return std::abs(p.cup_rad - static_cast<float>(cup_deg * glm::pi<double>() / 180.0)) < 1e-5f && p.cup_rad != 0.0f;
-        });
+        const auto cup = static_cast<float>(cup_deg * glm::pi<double>() / 180.0);
+        const std::size_t curled = curled_parts(sp->parts, sp->branches, cup, sp->segments + 1);
         if (cup_deg == 0.0) {
-            EXPECT_EQ(curled, 0) << id;
+            EXPECT_EQ(curled, 0u) << id;
             continue;
         }
-        EXPECT_GT(curled, 0) << id;
+        EXPECT_GT(curled, 0u) << id;
         const auto list = drawn_standing_alone(id);
         std::size_t bent = 0;
         for (const auto& b : list.batches) {
-            for (const auto& inst : b.instances) bent += std::abs(inst.bend_rad_per_unit - static_cast<float>(cup_deg * glm::pi<double>() / 180.0)) < 1e-5f ? 1 : 0;
+            for (const auto& inst : b.instances) bent += std::abs(inst.bend_rad_per_unit - cup) < 1e-5f ? 1 : 0;
         }
-        EXPECT_EQ(bent, static_cast<std::size_t>(curled)) << id << ": every curled part drawn curled";
+        EXPECT_EQ(bent, curled) << id << ": every curled part drawn curled, the twigs' too";
     }
 }
 

@@ -1,0 +1,34 @@
+#pragma once
+// Pruning: a teacher's secateurs. A hand's PruneRequest (the trainee's command at the cube) cuts off the
+// twig nearest the cube at its fork, or strips the leaf or blossom nearest it, whichever is nearer
+// within the cube's reach (its half edge). What comes off falls: a twig becomes a loose stem of its own
+// (a Cutting, its own twigs, leaves and blossoms with it), a stripped leaf a short stem carrying it. The
+// flower's Twigs list loses the twig and all its twigs.
+#include <string_view>
+
+#include "components/appearance.hpp"
+#include "components/collision.hpp"
+#include "components/flower.hpp"
+#include "components/hand.hpp"
+#include "components/insertion.hpp"
+#include "components/stem.hpp"
+#include "engine/ecs/hierarchy.hpp"
+#include "engine/sched/system.hpp"
+
+namespace ikebana::systems {
+
+struct PruningSystem {
+    static constexpr std::string_view name = "pruning";
+    static constexpr std::string_view lane = "sim";
+    static constexpr std::string_view phase = "input";
+    static constexpr std::string_view rate = "haptic";
+    using reads = sched::Components<components::HandCube, components::HandProxy, components::Flower, components::Twigs,
+                                    components::StemPoints, components::StemRestShape, components::StemFrame, components::Part, ecs::Children>;
+    // The pruning itself (a twig taken off its flower, a leaf put on a stalk of its own) is a structural
+    // change, queued on the command buffer and applied after the system, as creating and destroying are.
+    using writes = sched::Components<components::PruneRequest>;
+
+    void operator()(sched::SystemContext& ctx);
+};
+
+} // namespace ikebana::systems
