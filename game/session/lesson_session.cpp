@@ -184,7 +184,7 @@ Result<std::vector<SessionCommand>> parse_session_commands(std::string_view text
         char what[8] = {};
         int used = 0;
         const bool read = line.find('\0') == std::string::npos &&
-                          std::sscanf(line.c_str(), "%18lld,%4[a-z],%1u,%24lf%n", &at, what, &hand, &value, &used) == 4 && used == static_cast<int>(line.size());
+                          std::sscanf(line.c_str(), "%18lld,%5[a-z],%1u,%24lf%n", &at, what, &hand, &value, &used) == 4 && used == static_cast<int>(line.size());
         const std::string kind = read ? what : "";
         SessionCommand c;
         c.at_us = at;

@@ -794,6 +794,44 @@ TEST(LessonControls, AShokaRoleThatLeansAwayFromTheLineIsToBeBentWithBothHandsFi
     EXPECT_EQ(upright.find("bend"), std::string::npos) << upright;
 }
 
+// The Ikenobo teacher prunes soe's side twigs before bending it: the prunings are on record with the
+// cuts ("prune" lines), and the session replays to the same score and state with them (and to another
+// without them).
+TEST(LessonSession, PruningIsRecordedAndReplayed) {
+    const LessonDef l = lesson("ikenobo_shoka_shofutai");
+    const auto dir = std::filesystem::temp_directory_path() / "ikebana-session-prune-test";
+    std::filesystem::remove_all(dir);
+    DemoOptions options;
+    options.record_dir = dir.string();
+    const auto demo = run_lesson_demo(l, options);
+    ASSERT_TRUE(demo.ok()) << demo.error().message;
+    const auto commands = assets::read_text_file(dir / "commands.csv");
+    ASSERT_TRUE(commands.ok());
+    EXPECT_NE(commands->find(",prune,1,0\n"), std::string::npos) << *commands;
+    const auto replayed = replay_lesson_session(dir);
+    ASSERT_TRUE(replayed.ok()) << replayed.error().message;
+    EXPECT_EQ(replayed->score.score, demo->score.score);
+    EXPECT_EQ(replayed->state_hash, demo->state_hash);
+    EXPECT_TRUE(replayed->parted.empty());
+    std::string cuts_only;
+    for (std::size_t from = 0; from < commands->size();) {
+        const std::size_t to = commands->find('\n', from);
+        const std::string line = commands->substr(from, to - from + 1);
+        if (line.find(",prune,") == std::string::npos) cuts_only += line;
+        from = to + 1;
+    }
+    ASSERT_TRUE(assets::write_text_file(dir / "commands.csv", cuts_only).ok());
+    const auto unpruned = replay_lesson_session(dir);
+    ASSERT_TRUE(unpruned.ok()) << unpruned.error().message;
+    EXPECT_NE(unpruned->state_hash, demo->state_hash);
+    EXPECT_FALSE(unpruned->parted.empty());
+    // A prune line with a value is refused with the file and line named.
+    const auto bad = parse_session_commands("1000,prune,1,0.5\n", "commands.csv");
+    ASSERT_FALSE(bad);
+    EXPECT_EQ(bad.error().message.rfind("commands.csv: line 1: expected time_us,cut,hand,keep_length_m (hand 0 or 1, a length in metres), time_us,prune,hand,0, ", 0), 0u) << bad.error().message;
+    std::filesystem::remove_all(dir);
+}
+
 // A demonstration on record (device samples, the cuts as the simulation took them) replays on the
 // deterministic clock to the same score and the same final state, component by component.
 TEST(LessonSession, ADemonstrationOnRecordReplaysToTheSameScoreAndStateHash) {
