@@ -78,6 +78,21 @@ bool valid_fork(std::span<const TreeChain> chains, std::size_t c) {
 // parent's point). Every node's parent has a smaller number: eliminated from the last node down, each
 // goes before its parent and its parent's parent, the only nodes it couples to that remain.
 void number_nodes(std::span<const TreeChain> chains, TreeScratch& s) {
+    // The same tree as last step (the usual case): the same numbering.
+    std::size_t at = 0;
+    bool same = s.topology.size() == 3 * chains.size();
+    for (const auto& chain : chains) {
+        const std::int64_t size = static_cast<std::int64_t>(chain.points->position_m.size());
+        const std::int64_t fork = chain.fork ? static_cast<std::int64_t>(chain.fork->at_point) : -1;
+        for (const std::int64_t v : {size, static_cast<std::int64_t>(chain.parent), fork}) {
+            same = same && s.topology[at] == v;
+            if (at >= s.topology.size()) s.topology.push_back(v);
+            else s.topology[at] = v;
+            ++at;
+        }
+    }
+    s.topology.resize(at);
+    if (same) return;
     s.node_of.resize(chains.size());
     s.parent_node.clear();
     for (std::size_t c = 0; c < chains.size(); ++c) {
@@ -157,7 +172,7 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
     const std::size_t n = s.parent_node.size();
     s.diagonal.assign(n, glm::dmat3(0.0));
     s.to_parent.assign(n, glm::dmat3(0.0));
-    s.to_grandparent.assign(n, glm::dmat3(0.0));
+    s.to_grandparent.assign(n, 0.0);
     s.inverse.resize(n);
     s.rhs.assign(n, glm::dvec3{0.0});
     s.fixed.assign(n, 0);
@@ -214,7 +229,7 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
             s.diagonal[top] += scalar(ks * c2 * c2);
             s.to_parent[b] += scalar(ks * c1 * c0);
             s.to_parent[top] += scalar(ks * c2 * c1);
-            s.to_grandparent[top] += scalar(ks * c2 * c0);
+            s.to_grandparent[top] += ks * c2 * c0;
         };
         for (std::size_t i = 1; i + 1 < count; ++i) {
             hinge(nodes[i - 1], nodes[i], nodes[i + 1], springs.hinge_nm_per_rad[i - 1], rest.segment_length_m[i - 1], rest.segment_length_m[i]);
@@ -279,14 +294,14 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
         if (g >= 0 && s.fixed[static_cast<std::size_t>(g)]) s.rhs[q] -= s.to_grandparent[q] * s.fixed_velocity[static_cast<std::size_t>(g)];
         if (s.fixed[q]) {
             if (p >= 0) s.rhs[static_cast<std::size_t>(p)] -= glm::transpose(s.to_parent[q]) * s.fixed_velocity[q];
-            if (g >= 0) s.rhs[static_cast<std::size_t>(g)] -= glm::transpose(s.to_grandparent[q]) * s.fixed_velocity[q];
+            if (g >= 0) s.rhs[static_cast<std::size_t>(g)] -= s.to_grandparent[q] * s.fixed_velocity[q];
         }
     }
     for (std::uint32_t q = 0; q < n; ++q) {
         const std::int32_t p = parent_of(q);
         const std::int32_t g = p >= 0 ? parent_of(static_cast<std::uint32_t>(p)) : -1;
         if (s.fixed[q] || (p >= 0 && s.fixed[static_cast<std::size_t>(p)])) s.to_parent[q] = glm::dmat3(0.0);
-        if (s.fixed[q] || (g >= 0 && s.fixed[static_cast<std::size_t>(g)])) s.to_grandparent[q] = glm::dmat3(0.0);
+        if (s.fixed[q] || (g >= 0 && s.fixed[static_cast<std::size_t>(g)])) s.to_grandparent[q] = 0.0;
         if (s.fixed[q]) {
             s.diagonal[q] = glm::dmat3(1.0);
             s.rhs[q] = glm::dvec3{0.0};
@@ -304,10 +319,12 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
         const std::int32_t g = parent_of(static_cast<std::uint32_t>(p));
         if (g < 0) continue;
         const auto gi = static_cast<std::size_t>(g);
-        const glm::dmat3 far = glm::transpose(s.to_grandparent[q]) * s.inverse[q]; // A(g, q) D_q^-1
-        s.diagonal[gi] -= far * s.to_grandparent[q];
+        const double gq = s.to_grandparent[q];
+        if (gq == 0.0) continue;
+        const glm::dmat3 far = gq * s.inverse[q]; // A(g, q) D_q^-1 (D_q^-1 is symmetric)
+        s.diagonal[gi] -= gq * far;
         s.rhs[gi] -= far * s.rhs[q];
-        s.to_parent[pi] -= up * s.to_grandparent[q]; // A(p, g) -= A(p, q) D^-1 A(q, g)
+        s.to_parent[pi] -= gq * up; // A(p, g) -= A(p, q) D^-1 A(q, g)
     }
     // Back up from the root: v_q = D_q^-1 (b_q - A(q, p) v_p - A(q, g) v_g), in place in rhs.
     for (std::uint32_t q = 0; q < n; ++q) {
@@ -371,6 +388,8 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
         }
     }
     s.node_force.assign(n, glm::dvec3{0.0});
+    s.frame_gradient_nm.assign(chains.size(), 0.0);
+    s.frame_stiffness_nm.assign(chains.size(), 0.0);
     for (std::size_t c = 0; c < chains.size(); ++c) {
         const auto& points = *chains[c].points;
         for (std::size_t j = 0; j < points.position_m.size(); ++j) s.node_force[s.node_of[c][j]] += s.force[c][j] - points.external_force_n[j];
@@ -380,11 +399,6 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
         s.node_force[parent_nodes[h.below]] += h.f_below;
         s.node_force[s.node_of[c][h.above]] += h.f_above;
         s.node_force[parent_nodes[h.at]] -= h.f_below + h.f_above;
-    }
-    s.frame_gradient_nm.assign(chains.size(), 0.0);
-    s.frame_stiffness_nm.assign(chains.size(), 0.0);
-    for (std::size_t c = 1; c < chains.size(); ++c) {
-        const RootHinge h = root_hinge(chains, c);
         s.frame_gradient_nm[c] = h.frame_gradient_nm;
         s.frame_stiffness_nm[c] = h.frame_stiffness_nm;
     }

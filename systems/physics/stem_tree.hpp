@@ -51,7 +51,12 @@ struct TreeSupport {
 struct TreeScratch {
     std::vector<std::vector<std::uint32_t>> node_of; // per chain, per point
     std::vector<std::int32_t> parent_node;
-    std::vector<glm::dmat3> diagonal, to_parent, to_grandparent, inverse;
+    std::vector<glm::dmat3> diagonal, to_parent, inverse;
+    // A point's coupling with its parent's parent is a hinge's alone, the same on every axis (k c0 c2 I),
+    // and elimination never changes it: one number a point.
+    std::vector<double> to_grandparent;
+    std::vector<std::int64_t> topology; // the chains' sizes, parents and forks the numbering was made for
+    std::vector<std::uint8_t> hinge_known;
     std::vector<glm::dvec3> rhs, fixed_velocity, node_force;
     std::vector<std::uint8_t> fixed;
     std::vector<std::uint8_t> resting; // on its floor this step
