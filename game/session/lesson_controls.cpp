@@ -155,8 +155,19 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
         effects.cut_to_m = advice.keep_length_m;
     }
     cut_was_down_ = in.letter(cut_letter);
-    if (in.letter(prune_letter) && !prune_was_down_) (void)trainee.push({systems::TraineeCommand::Kind::prune, hand, 0.0});
+    if (in.letter(prune_letter) && !prune_was_down_ && trainee.push({systems::TraineeCommand::Kind::prune, hand, 0.0})) {
+        cuttings_before_prune_ = latest.cuttings.size();
+        prune_said_for_ = 60; // about two seconds of readings
+        pruned_ = false;
+    }
     prune_was_down_ = in.letter(prune_letter);
+    if (prune_said_for_ > 0) {
+        --prune_said_for_;
+        pruned_ = pruned_ || latest.cuttings.size() > cuttings_before_prune_;
+        // The simulation answers within a few readings; until then nothing is said either way.
+        if (pruned_) next_step_ = "pruned: what came off lies on the table (P again for the next twig, leaf or blossom)";
+        else if (prune_said_for_ < 50) next_step_ = "nothing to prune under the cube: move it onto a twig, a leaf or a blossom, then P";
+    }
     if (in.letter(ghost_letter) && !ghost_was_down_ && form) {
         ghosts_ = !ghosts_;
         effects.ghosts_toggled = true;

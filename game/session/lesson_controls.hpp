@@ -69,6 +69,11 @@ private:
     KenzanFootprint footprint_;
     bool ghosts_ = false;
     bool prune_was_down_ = false;
+    // After P: how many pieces lay loose before it, and for how many more readings the outcome is said
+    // (what came off, or that nothing was under the cube).
+    std::size_t cuttings_before_prune_ = 0;
+    int prune_said_for_ = 0;
+    bool pruned_ = false;
     bool cut_was_down_ = false, ghost_was_down_ = false, reset_was_down_ = false, enter_was_down_ = false;
     std::vector<std::string> lines_;
     std::string next_step_;

@@ -69,14 +69,17 @@ Result<SceneDef> scene_for_lesson(const LessonDef& l) {
     // A branch's twigs lie flat on both sides of it: it lies far enough from the container that they
     // stay out of it (over the materials in front of it they may lie, as on a real table).
     double y = front - 0.01;
+    double first_row = front - 0.04;
     for (auto& m : lying) {
         y = std::min(y - 0.03, front - 0.04 - m.reach_m);
+        if (&m == &lying.front()) first_row = y;
         m.placement.base_m = {-0.5 * m.length_m, y, 0.0};
         s.flowers.push_back(m.placement);
     }
-    // The hands just above the materials' right and left ends.
-    s.hands.push_back({0, {-0.15, front - 0.08, 0.08}, 0.02, ""});
-    s.hands.push_back({1, {0.15, front - 0.08, 0.08}, 0.02, ""});
+    // The hands just above the materials' right and left ends, over their middle row.
+    const double hands_y = std::min(front - 0.08, 0.5 * (first_row + y));
+    s.hands.push_back({0, {-0.15, hands_y, 0.08}, 0.02, ""});
+    s.hands.push_back({1, {0.15, hands_y, 0.08}, 0.02, ""});
     // Far enough back to see the tallest stem and the materials.
     double tallest = 0.0;
     for (std::size_t i = 0; i < l.stems.size(); ++i) tallest = std::max(tallest, nominal_length_m(l, i));
