@@ -60,12 +60,10 @@ constexpr double bend_span_m = 0.08;               // the bending system's span_
 constexpr double bend_grip_m = 0.012;              // each hand this far from the middle of a bend
 constexpr double hands_together_m = 0.045;         // closer than the bending system's 50 mm, to be sure
 constexpr double bend_seen_rad = 3.0 * pi / 180.0; // a joint bent more than this is part of a bend
-// Before it is raised, a bent stem is held leaning this far its way for at most roll_wait_s, for the
-// bend to roll down to that side.
+// Before it is raised, a bent stem is held leaning this far its way while it is turned about its axis.
 constexpr double roll_tilt_rad = 25.0 * pi / 180.0;
-constexpr double roll_wait_s = 10.0;
 constexpr double table_lift_m = 0.22; // how high a taken stem is lifted off the table
-constexpr double rolled_within_rad = 3.0 * pi / 180.0; // near enough the role's way to stop waiting
+constexpr double rolled_within_rad = 3.0 * pi / 180.0; // near enough the role's side to stop turning
 
 // The point `distance_m` along a stem from its bottom end.
 glm::dvec3 along_stem(const std::vector<glm::dvec3>& points, double distance_m) {
@@ -402,10 +400,8 @@ private:
     }
 
     // A bend made on the level droops in its vertical plane. Its lower part is laid level in that
-    // plane, swung about the upright until it points the role's way, and raised in that plane:
-    // each turn about an axis square to the stem, so it carries the bend round with it (a stem
-    // turned any other way twists under the grip, which the model cannot hold), and the part
-    // above the bend ends leaning the role's way.
+    // plane, swung about the upright until it points the role's way, leaned that way, turned about
+    // its own axis until the part above the bend is on the role's side, and raised in that plane.
     void turn_upright(std::size_t flower, const ArrangementStem& target, const Hold& hold) {
         const auto level = [](glm::dvec3 d) {
             const glm::dvec3 h{d.x, d.y, 0.0};
@@ -417,37 +413,40 @@ private:
         const double yaw = std::atan2(now.x * to.y - now.y * to.x, glm::dot(now, to));
         turn_by(glm::angleAxis(yaw, glm::dvec3{0, 0, 1}), 0.5 + 0.5 * std::abs(yaw));
         wait(0.3);
-        // Raised to lean well the role's way, the bend rolls down into that side under its weight:
-        // held there until it hangs the role's way, then raised in that plane.
+        // Raised to lean the role's way, then turned about its own axis (below) and raised in that plane.
         const glm::dvec3 lean = lesson_direction(roll_tilt_rad, target.azimuth_rad);
         for (int round = 0; round < 3; ++round) {
             turn_by(turn_between(lower_direction(flower, hold), lean), round == 0 ? 1.0 : 0.4);
             wait(0.3);
         }
-        // (From the middle of the bend to the tip: a short stem's bend reaches near its top.)
-        const auto upper_off = [&] {
+        // The bend keeps its side of the bark (the stem's frame), and so does the branch's own curve:
+        // the wrist turns the stem about its own axis until the part above the bend is on the role's
+        // side of it, measured square to the axis (seen from above, a part leaning back over a tilted
+        // axis turns by more or less than the wrist does, and the turns overshot).
+        const auto side_off = [&] {
             const auto x = room_.flower(flower).points_m;
-            const glm::dvec3 d = x.back() - along_stem(x, hold.knee_m);
-            if (std::hypot(d.x, d.y) < 1e-3) return 0.0;
-            return std::remainder(target.azimuth_rad - std::atan2(-d.x, -d.y), 2.0 * pi);
+            const glm::dvec3 axis = lower_direction(flower, hold);
+            glm::dvec3 upper = x.back() - along_stem(x, hold.knee_m);
+            glm::dvec3 way{-std::sin(target.azimuth_rad), -std::cos(target.azimuth_rad), 0.0};
+            upper -= glm::dot(upper, axis) * axis;
+            way -= glm::dot(way, axis) * axis;
+            if (glm::length(upper) < 1e-3 || glm::length(way) < 1e-6) return 0.0;
+            return std::atan2(glm::dot(glm::cross(upper, way), axis), glm::dot(upper, way));
         };
-        // The bend keeps its side of the bark (the stem's frame): the wrist turns the stem about its
-        // own axis until the part above the bend leans the role's way.
-        for (int round = 0; round < 4 && std::abs(upper_off()) > rolled_within_rad; ++round) {
-            turn_by(glm::angleAxis(upper_off(), lower_direction(flower, hold)), 0.3 + 0.5 * std::abs(upper_off()));
+        for (int round = 0; round < 4 && std::abs(side_off()) > rolled_within_rad; ++round) {
+            turn_by(glm::angleAxis(side_off(), lower_direction(flower, hold)), 0.3 + 0.5 * std::abs(side_off()));
             wait(0.3);
         }
-        for (double t = 0.0; t < roll_wait_s && std::abs(upper_off()) > rolled_within_rad; t += 0.25) wait(0.25);
         for (int round = 0; round < 4; ++round) {
             turn_by(turn_between(lower_direction(flower, hold), hold.want), round == 0 ? 1.5 : 0.4);
             wait(0.4);
         }
     }
 
-    // A branch's curve, which lay bowing up on the table, is turned to hang down: a curve held any
-    // other way rolls down under its own weight once let go (a stem has no stiffness against
-    // twisting in the model), so that is where it settles. The stem's axis lay along +x, its curve
-    // rising toward +z: x goes to the role's direction, z to straight down across it.
+    // A branch's curve, which lay bowing up on the table, is turned to hang down: the curve is in its
+    // bark (the stem's frame) and keeps the side it is turned to, and a tilted branch's curve is shown
+    // drooping, not rearing. The stem's axis lay along +x, its curve rising toward +z: x goes to the
+    // role's direction, z to straight down across it.
     void turn_tilted(std::size_t flower, const Hold& hold) {
         const glm::dvec3 want = hold.want;
         glm::dvec3 down = glm::dvec3{0, 0, -1} - glm::dot(glm::dvec3{0, 0, -1}, want) * want;

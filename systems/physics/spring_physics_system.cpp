@@ -25,16 +25,15 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
             }
             const auto* clamp = registry.try_get<const components::StemClamp>(e);
             const auto* frame = registry.try_get<const components::StemFrame>(e);
-            // A stiff stem's tick in equal parts (see stable_substeps); the others' external forces act
+            // A tick longer than the paper's in equal parts (see tick_parts); external forces act
             // through all of them. The last part's end forces are what a hand feels.
-            const std::size_t parts = physics::stable_substeps(points, rest, springs, clamp, ctx.dt_s);
+            const std::size_t parts = physics::tick_parts(ctx.dt_s);
             const bool held = std::any_of(points.pinned.begin(), points.pinned.end(), [](std::uint8_t p) { return p != 0; });
             stems_.push_back({&points, &rest, &springs, clamp, frame, &loads, parts, held, true});
         });
     if (scratches_.size() < stems_.size()) scratches_.resize(stems_.size());
-    // The tick in rounds: round k steps every stem cut into more than k parts by its part, so a stiff
-    // stem's first part is solved beside the others' whole tick and the lanes fill (step_stems: each
-    // stem's results are what stepping it alone gives, whatever shares its register).
+    // The tick in rounds, one a part (tick_parts: one at the paper's rate); a round's stems are solved four
+    // to a register (step_stems: each stem's results are what stepping it alone gives, whatever shares it).
     order_.resize(stems_.size());
     for (std::size_t i = 0; i < order_.size(); ++i) order_[i] = i;
     // Longest first: a group of four costs its longest stem's rows, so similar lengths share a group,
@@ -145,7 +144,7 @@ void SpringPhysicsSystem::step_trees(sched::SystemContext& ctx, glm::dvec3 gravi
         for (const auto& chain : chains) {
             held = held || std::any_of(chain.points->pinned.begin(), chain.points->pinned.end(), [](std::uint8_t p) { return p != 0; });
         }
-        const std::size_t parts = physics::tree_substeps(chains, ctx.dt_s);
+        const std::size_t parts = physics::tick_parts(ctx.dt_s);
         bool finite = whole;
         for (std::size_t k = 0; finite && k < parts; ++k) {
             finite = physics::step_tree(chains, gravity, ctx.dt_s / static_cast<double>(parts), tree_scratches_[t], held && k + 1 == parts, &support);

@@ -62,7 +62,8 @@ BuiltStem build_stem(const StemSpec& spec) {
     const double shear = spec.shear_modulus_pa > 0.0 ? spec.shear_modulus_pa : spec.youngs_modulus_pa / (2.0 * (1.0 + spec.poisson_ratio));
     stem.twist_stiffness_nm2 = shear * 2.0 * inertia;
     stem.frame = frame_along(pts.position_m, first_director(pts.position_m[1] - pts.position_m[0]), stem.twist_stiffness_nm2);
-    stem.rest.hinge_bend_direction.assign(stem.rest.hinge_angle_rad.size(), glm::dvec2{0.0});
+    if (spec.rest_bend_rad != 0.0 && glm::length(side) > 0.0) rest_bends_from_shape(pts.position_m, stem.frame, stem.rest);
+    else stem.rest.hinge_bend_direction.assign(stem.rest.hinge_angle_rad.size(), glm::dvec2{0.0});
     return stem;
 }
 

@@ -312,32 +312,10 @@ StemEnergy stem_energy(const StemPoints& points, const StemRestShape& rest, cons
     return energy;
 }
 
-std::size_t stable_substeps(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs, const StemClamp* clamp, double dt) {
-    // The diagonal of M^-1 H for the hinges (each pulls its middle point with k (1/l_in + 1/l_out)^2)
-    // bounds the fastest bending mode from below within a factor of about 2: enough to choose a count.
-    // Each hinge's k (1/l_in + 1/l_out)^2 / m = k (l_in + l_out)^2 / (m l_in^2 l_out^2), compared as
-    // fractions (a > b/c as a c > b): one division a stem, not two a hinge, every tick.
-    double top = 0.0, bottom = 1.0; // the largest so far: top / bottom
-    const auto consider = [&](double numerator, double denominator) {
-        if (denominator > 0.0 && numerator * bottom > top * denominator) {
-            top = numerator;
-            bottom = denominator;
-        }
-    };
-    const std::size_t count = points.position_m.size();
-    for (std::size_t i = 1; i + 1 < count && i - 1 < springs.hinge_nm_per_rad.size(); ++i) {
-        const double l_in = rest.segment_length_m[i - 1], l_out = rest.segment_length_m[i];
-        const double lengths = l_in * l_out;
-        consider(springs.hinge_nm_per_rad[i - 1] * (l_in + l_out) * (l_in + l_out), points.mass_kg[i] * lengths * lengths);
-    }
-    if (clamp_active(clamp) && count >= 2) {
-        const double l = rest.segment_length_m[0];
-        consider(clamp->hinge_nm_per_rad, points.mass_kg[1] * l * l);
-    }
-    const double omega_squared = top / bottom;
-    const double steps = std::ceil(std::sqrt(omega_squared) * dt / max_omega_dt);
-    if (!std::isfinite(steps) || steps <= 1.0) return 1;
-    return std::min(max_substeps, static_cast<std::size_t>(steps));
+std::size_t tick_parts(double dt) {
+    const double parts = std::ceil(dt / max_part_s - 1e-9); // 1 ms is one part, not two by rounding
+    if (!std::isfinite(parts) || parts <= 1.0) return 1;
+    return std::min(max_substeps, static_cast<std::size_t>(parts));
 }
 
 namespace {
@@ -495,27 +473,38 @@ bool finish_step(StemPoints& points, const StemClamp* clamp, double dt, StemSolv
     for (std::size_t i = 0; i < n; ++i) {
         if (!std::isfinite(solved.b(i))) return false;
     }
+    // The step's motion dx: h v'. A held point's v' is 0 in the solve, but the solve took it as moving
+    // with the hand (its velocity's column went to the right-hand side) and the grab puts it there: its
+    // dx is h times the velocity it came with. Left at zero, the end forces below had the held point
+    // stay while its neighbours went on with the hand: a chrysanthemum (18 g) lifted at 5 cm/s by a
+    // grip on two points pulled 2.6 N on the hand, 9.7 N once its curve had a direction.
+    const bool end_forces = scratch.want_end_force;
+    double* moved = nullptr;
+    if (end_forces) {
+        size_vector(scratch.motion, n, 0.0);
+        moved = scratch.motion.data() + pad;
+    }
     for (std::size_t p = 0; p < count; ++p) {
         if (is_fixed(points, clamp, p)) {
+            if (end_forces && !(clamped && p == 0)) {
+                for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = dt * v[p][static_cast<glm::length_t>(r)];
+            }
             v[p] = glm::dvec3{0.0};
             if (clamped && p == 0) x[0] = clamp->anchor_m;
             continue;
         }
         v[p] = glm::dvec3{solved.b(3 * p), solved.b(3 * p + 1), solved.b(3 * p + 2)};
         x[p] += dt * v[p];
+        if (end_forces) {
+            for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = dt * v[p][static_cast<glm::length_t>(r)];
+        }
     }
     // The forces at the end of the step, as backward Euler has them: f(x + dx) = f(x) - H dx. This is
     // the reaction a held (fixed) point feels: the stem has already answered the hand's move within this
     // step. One banded product, no second pass over the springs.
-    if (!scratch.want_end_force) {
+    if (!end_forces) {
         scratch.end_force = f;
         return true;
-    }
-    // The step's motion dx: h v', zero for fixed points (their v' is 0 now).
-    size_vector(scratch.motion, n, 0.0);
-    double* moved = scratch.motion.data() + pad;
-    for (std::size_t p = 0; p < count; ++p) {
-        for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = dt * v[p][static_cast<glm::length_t>(r)];
     }
     size_vector(scratch.rhs, n, 0.0);
     double* change = scratch.rhs.data() + pad; // (where a lone stem's solution was: it is spent)

@@ -73,17 +73,16 @@ struct StemSolverScratch {
     bool want_end_force = true;
 };
 
-// How many equal steps one tick of dt must be cut into for this stem. The step is linearly implicit
-// (one Newton step of backward Euler): stable for the springs' linear part at any dt, but the bend's
-// nonlinearity is linearised once a step, and a stiff stem's fastest hinge mode taken in steps much
-// longer than its period grows. A cherry branch (hinges of 85 N m/rad on 14 mm, 0.57 g points, fastest
-// mode about 55,000 rad/s) let go at 45 degrees rang up at its grip 0.8 s later and fell at 1 kHz
-// (omega dt = 55); it stood at 2 and 4 kHz (27 and 14), and half fell at 1.5 kHz (37). Steps are cut
-// until omega dt <= max_omega_dt: the cherry's tick in 3, the sunflower's (17) left whole.
-inline constexpr double max_omega_dt = 24.0;
+// How many equal steps one tick of dt is cut into, for every stem alike. The step is linearly implicit
+// (one Newton step of backward Euler) and is stable at the paper's haptic period, 1 ms, for a stem of
+// any stiffness and any number of segments (StemDynamics.*OneStepATick*: the cherry branch, fastest
+// hinge mode omega dt = 55, and an 80-segment sunflower, 40 times the sunflower's 20-segment omega dt):
+// the parts no longer grow with stiffness and segments (omega grows as segments squared), so a tick
+// costs in proportion to a stem's points. A longer tick (a haptic rate set below the paper's) is cut
+// into parts of at most max_part_s, max_substeps at most.
+inline constexpr double max_part_s = 1e-3;
 inline constexpr std::size_t max_substeps = 8;
-[[nodiscard]] std::size_t stable_substeps(const components::StemPoints& points, const components::StemRestShape& rest,
-                                          const components::StemSprings& springs, const components::StemClamp* clamp, double dt);
+[[nodiscard]] std::size_t tick_parts(double dt);
 
 // Advances one stem by dt. Pinned points and a clamped P0 stay where they are. Returns false (and
 // leaves the stem at rest where it was) if the step produced a non-finite value.

@@ -147,6 +147,25 @@ double small_angle(double y, double x) {
     const double u = t * t;
     return t * (1.0 + u * (-1.0 / 3.0 + u * (1.0 / 5.0 - u * (1.0 / 7.0))));
 }
+
+// The bend from unit a to unit b as a rotation vector (bend_vector's, from directions at hand): its
+// angle from atan's series where the hinge is nearly straight (every hinge of a branch's curve), within
+// 1e-12 of the library's.
+glm::dvec3 bend_between(glm::dvec3 a, glm::dvec3 b) {
+    const glm::dvec3 c = glm::cross(a, b);
+    const double s = glm::length(c);
+    if (!(s > 1e-12)) return glm::dvec3{0.0};
+    const double cosine = glm::dot(a, b);
+    double angle;
+    if (cosine > 0.0 && s <= 0.1 * cosine) {
+        const double t = s / cosine;
+        const double u = t * t;
+        angle = t * (1.0 + u * (-1.0 / 3.0 + u * (1.0 / 5.0 + u * (-1.0 / 7.0 + u * (1.0 / 9.0 + u * (-1.0 / 11.0))))));
+    } else {
+        angle = std::atan2(s, cosine);
+    }
+    return c * (angle / s);
+}
 } // namespace
 
 void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const StemRestShape& rest,
@@ -164,9 +183,9 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
     // A quiet frame (relaxed, no directed bends, no moments, its holds where they were) is carried every
     // quiet_carry_ticks-th tick only: its directors then turn with their segments in one go. Only parts
     // and the next grip read it, and a few milliseconds late is nothing to them; it was most of the cost.
+    // (A frame with directed bends is relaxed once its last step turned nothing: a species' natural
+    // curve is on every branch, and its frame was carried every tick, most of a forked branch's cost.)
     bool quiet = frame.relaxed;
-    const std::size_t hinges = bends_have_directions(rest, frame) ? rest.hinge_bend_direction.size() : 0;
-    for (std::size_t i = 1; quiet && i <= hinges; ++i) quiet = !hinge_has_direction(rest, i);
     for (std::size_t j = 0; j < n && quiet; ++j) {
         quiet = frame.external_twist_nm[j] == 0.0 && (frame.held[j] == 0 || frame.held_director[j] == frame.held_at[j]);
     }
@@ -183,7 +202,8 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
     auto& length = scratch.length;
     length.assign(n, 0.0);
     // Carried with the segments' motion since the last tick, then the held ones set.
-    bool pushed = false; // anything holding, twisting or bending the frame this tick
+    bool pushed = false; // anything holding or twisting the frame this tick
+    bool bent = false;   // a bend with a direction on it
     for (std::size_t j = 0; j < n; ++j) {
         glm::dvec3 e;
         if (!unit_direction(x, j, e, length[j])) continue;
@@ -233,18 +253,23 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
         largest = std::max(largest, kappa);
         most_twist = std::max(most_twist, std::abs(m));
         if (directed && hinge_has_direction(rest, i) && rest.hinge_angle_rad[i - 1] > 0.0) {
-            pushed = true;
+            bent = true;
             const double k = hinge_nm_per_rad[i - 1];
-            const glm::dvec3 bend = bend_vector(x, i);
-            const glm::dvec3 b0 = rest_bend_vector(rest, frame, x, i);
+            // The bend from a to b and the rest bend in d_{i-1}'s frame, as bend_vector and
+            // rest_bend_vector have them, from the directions and directors already at hand.
+            const glm::dvec3 bend = bend_between(a, b);
+            const glm::dvec3 d1 = frame.director[i - 1];
+            const glm::dvec2 dir = rest.hinge_bend_direction[i - 1];
+            const glm::dvec3 b0 = rest.hinge_angle_rad[i - 1] * (dir.x * d1 + dir.y * glm::cross(a, d1));
             g[i - 1] -= k * glm::dot(bend - b0, glm::cross(a, b0));
             diagonal[i - 1] += k * glm::dot(b0, b0);
         }
     }
     // Without holds, moments or directed bends the twist's energy is quadratic: this one step relaxes
-    // it, and until something pushes again there is nothing more to solve.
-    frame.relaxed = !pushed;
-    if (!pushed && most_twist < 1e-9) return;
+    // it, and until something pushes again there is nothing more to solve. With directed bends it is
+    // relaxed once a step turns nothing (below).
+    frame.relaxed = !pushed && !bent;
+    if (!pushed && !bent && most_twist < 1e-9) return;
     const bool held_somewhere = std::any_of(frame.held.begin(), frame.held.end(), [](std::uint8_t h) { return h != 0; });
     for (std::size_t j = 0; j < n; ++j) {
         g[j] -= frame.external_twist_nm[j];
@@ -270,14 +295,26 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
         const double next = j + 1 < n ? upper[j] * step[j + 1] : 0.0;
         step[j] = -(g[j] + next) / diagonal[j];
     }
+    double largest_turn = 0.0;
     for (std::size_t j = 0; j < n; ++j) {
         // At most half a radian a tick: an unheld stem with a moment on it spins, it does not jump.
         const double phi = std::clamp(step[j], -0.5, 0.5);
         if (!std::isfinite(phi) || phi == 0.0) continue;
+        largest_turn = std::max(largest_turn, std::abs(phi));
         const glm::dvec3 e = frame.segment_direction[j];
         const glm::dvec3 d = frame.director[j];
-        frame.director[j] = across(d * std::cos(phi) + glm::cross(e, d) * std::sin(phi), e);
+        double c, s;
+        if (std::abs(phi) < 0.05) { // a tick's turn: the series (first omitted terms under 2e-11), not sincos
+            const double u = phi * phi;
+            c = 1.0 - u * (0.5 - u * (1.0 / 24.0));
+            s = phi * (1.0 - u * (1.0 / 6.0 - u * (1.0 / 120.0)));
+        } else {
+            c = std::cos(phi);
+            s = std::sin(phi);
+        }
+        frame.director[j] = across(d * c + glm::cross(e, d) * s, e);
     }
+    if (bent && !pushed) frame.relaxed = largest_turn < 1e-9;
     std::fill(frame.held.begin(), frame.held.end(), std::uint8_t{0});
     std::fill(frame.external_twist_nm.begin(), frame.external_twist_nm.end(), 0.0);
 }

@@ -111,17 +111,40 @@ void number_nodes(std::span<const TreeChain> chains, TreeScratch& s) {
     }
 }
 
-// Sylvester's test and the inverse of a symmetric 3x3 block.
-bool invert_positive(const glm::dmat3& m, glm::dmat3& out) {
-    const double a = m[0][0];
-    const double minor = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-    const double det = glm::determinant(m);
-    if (!(a > 0.0 && minor > 0.0 && det > 0.0)) return false;
-    out = glm::inverse(m);
-    return true;
+using Sym3 = std::array<double, 6>;   // xx xy xz yy yz zz
+using Block3 = std::array<double, 9>; // row-major
+
+void add_scalar(Sym3& m, double v) {
+    m[0] += v;
+    m[3] += v;
+    m[5] += v;
+}
+void add_scalar(Block3& m, double v) {
+    m[0] += v;
+    m[4] += v;
+    m[8] += v;
+}
+glm::dvec3 times(const Sym3& m, glm::dvec3 v) {
+    return {m[0] * v.x + m[1] * v.y + m[2] * v.z, m[1] * v.x + m[3] * v.y + m[4] * v.z, m[2] * v.x + m[4] * v.y + m[5] * v.z};
+}
+glm::dvec3 times(const Block3& m, glm::dvec3 v) {
+    return {m[0] * v.x + m[1] * v.y + m[2] * v.z, m[3] * v.x + m[4] * v.y + m[5] * v.z, m[6] * v.x + m[7] * v.y + m[8] * v.z};
+}
+glm::dvec3 transposed_times(const Block3& m, glm::dvec3 v) {
+    return {m[0] * v.x + m[3] * v.y + m[6] * v.z, m[1] * v.x + m[4] * v.y + m[7] * v.z, m[2] * v.x + m[5] * v.y + m[8] * v.z};
 }
 
-glm::dmat3 scalar(double v) { return glm::dmat3(v); }
+// Sylvester's test and the inverse of a symmetric 3x3 block, by its cofactors (symmetric too).
+bool invert_positive(const Sym3& m, Sym3& out) {
+    const double a = m[0], b = m[1], c = m[2], d = m[3], e = m[4], f = m[5];
+    const double ca = d * f - e * e, cb = c * e - b * f, cc = b * e - c * d;
+    const double cd = a * f - c * c, ce = b * c - a * e, cf = a * d - b * b;
+    const double det = a * ca + b * cb + c * cc;
+    if (!(a > 0.0 && cf > 0.0 && det > 0.0)) return false;
+    const double r = 1.0 / det;
+    out = {ca * r, cb * r, cc * r, cd * r, ce * r, cf * r};
+    return true;
+}
 
 } // namespace
 
@@ -138,24 +161,6 @@ glm::dvec3 fork_rest_bend(const TreeChain& twig, const TreeChain& parent, glm::d
     return twig.fork->angle_rad * (dir.x * d1 + dir.y * glm::cross(e_in, d1));
 }
 
-std::size_t tree_substeps(std::span<const TreeChain> chains, double dt) {
-    std::size_t parts = 1;
-    for (std::size_t c = 0; c < chains.size(); ++c) {
-        const auto& chain = chains[c];
-        parts = std::max(parts, stable_substeps(*chain.points, *chain.rest, *chain.springs, c == 0 ? chain.clamp : nullptr, dt));
-        if (!valid_fork(chains, c)) continue;
-        // The root hinge as stable_substeps takes a hinge: k (1/l_in + 1/l_out)^2 over the shared point's mass.
-        const auto& parent = chains[static_cast<std::size_t>(chain.parent)];
-        const std::uint32_t k = chain.fork->at_point;
-        const double l_in = parent.rest->segment_length_m[k - 1], l_out = chain.rest->segment_length_m[0];
-        const double mass = parent.points->mass_kg[k] + chain.points->mass_kg[0];
-        const double omega_squared = chain.fork->hinge_nm_per_rad * std::pow(1.0 / l_in + 1.0 / l_out, 2) / mass;
-        const double steps = std::ceil(std::sqrt(omega_squared) * dt / max_omega_dt);
-        if (std::isfinite(steps) && steps > 1.0) parts = std::max(parts, std::min(max_substeps, static_cast<std::size_t>(steps)));
-    }
-    return parts;
-}
-
 bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt, TreeScratch& s, bool end_forces, const TreeSupport* support) {
     if (chains.empty()) return true;
     for (std::size_t c = 1; c < chains.size(); ++c) {
@@ -170,8 +175,8 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
     }
     number_nodes(chains, s);
     const std::size_t n = s.parent_node.size();
-    s.diagonal.assign(n, glm::dmat3(0.0));
-    s.to_parent.assign(n, glm::dmat3(0.0));
+    s.diagonal.assign(n, Sym3{});
+    s.to_parent.assign(n, Block3{});
     s.to_grandparent.assign(n, 0.0);
     s.inverse.resize(n);
     s.rhs.assign(n, glm::dvec3{0.0});
@@ -200,7 +205,7 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
         const double scale = dt * springs.stiffness_damping_s + dt * dt;
         for (std::size_t j = 0; j < count; ++j) {
             const std::uint32_t q = nodes[j];
-            s.diagonal[q] += scalar(points.mass_kg[j] * (1.0 + dt * springs.air_drag_per_s));
+            add_scalar(s.diagonal[q], points.mass_kg[j] * (1.0 + dt * springs.air_drag_per_s));
             s.rhs[q] += points.mass_kg[j] * points.velocity_m_s[j] + dt * s.force[c][j];
             const bool fixed = points.pinned[j] != 0 || (j == 0 && clamped(chain));
             if (fixed && !s.fixed[q]) {
@@ -214,21 +219,29 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
             if (seg.length_m <= 0.0) continue;
             const double k = springs.axial_n_per_m[i - 1];
             const double transverse = std::max(0.0, 1.0 - rest.segment_length_m[i - 1] / seg.length_m);
-            const glm::dmat3 block = scale * (k * (1.0 - transverse) * glm::outerProduct(seg.direction, seg.direction) + scalar(k * transverse));
+            const double along = scale * k * (1.0 - transverse), across_ = scale * k * transverse;
+            const glm::dvec3 e = seg.direction;
+            const Sym3 block{along * e.x * e.x + across_, along * e.x * e.y, along * e.x * e.z,
+                             along * e.y * e.y + across_, along * e.y * e.z, along * e.z * e.z + across_};
             const std::uint32_t a = nodes[i - 1], b = nodes[i];
-            s.diagonal[a] += block;
-            s.diagonal[b] += block;
-            s.to_parent[b] -= block; // b's parent is a
+            for (std::size_t m = 0; m < 6; ++m) {
+                s.diagonal[a][m] += block[m];
+                s.diagonal[b][m] += block[m];
+            }
+            Block3& up = s.to_parent[b]; // b's parent is a
+            up[0] -= block[0], up[1] -= block[1], up[2] -= block[2];
+            up[3] -= block[1], up[4] -= block[3], up[5] -= block[4];
+            up[6] -= block[2], up[7] -= block[4], up[8] -= block[5];
         }
         // Hinges: the small-angle Hessian k c c^T on every axis alike.
         const auto hinge = [&](std::uint32_t a, std::uint32_t b, std::uint32_t top, double k, double l_in, double l_out) {
             const double c0 = 1.0 / l_in, c2 = 1.0 / l_out, c1 = -(c0 + c2);
             const double ks = k * scale;
-            s.diagonal[a] += scalar(ks * c0 * c0);
-            s.diagonal[b] += scalar(ks * c1 * c1);
-            s.diagonal[top] += scalar(ks * c2 * c2);
-            s.to_parent[b] += scalar(ks * c1 * c0);
-            s.to_parent[top] += scalar(ks * c2 * c1);
+            add_scalar(s.diagonal[a], ks * c0 * c0);
+            add_scalar(s.diagonal[b], ks * c1 * c1);
+            add_scalar(s.diagonal[top], ks * c2 * c2);
+            add_scalar(s.to_parent[b], ks * c1 * c0);
+            add_scalar(s.to_parent[top], ks * c2 * c1);
             s.to_grandparent[top] += ks * c2 * c0;
         };
         for (std::size_t i = 1; i + 1 < count; ++i) {
@@ -236,9 +249,9 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
         }
         if (clamped(chain) && count >= 2) {
             const double kc = scale * chain.clamp->hinge_nm_per_rad / (rest.segment_length_m[0] * rest.segment_length_m[0]);
-            s.diagonal[nodes[0]] += scalar(kc);
-            s.diagonal[nodes[1]] += scalar(kc);
-            s.to_parent[nodes[1]] -= scalar(kc);
+            add_scalar(s.diagonal[nodes[0]], kc);
+            add_scalar(s.diagonal[nodes[1]], kc);
+            add_scalar(s.to_parent[nodes[1]], -kc);
         }
         if (c > 0) {
             const auto& parent = chains[static_cast<std::size_t>(chain.parent)];
@@ -273,14 +286,17 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
                     if (depth > 0.0) {
                         const glm::dvec3 out = push / depth;
                         s.wall_normal[q] = out;
-                        s.diagonal[q] += (dt * dt * support->stiffness_n_per_m + dt * support->damping_n_s_per_m) * glm::outerProduct(out, out);
+                        const double w = dt * dt * support->stiffness_n_per_m + dt * support->damping_n_s_per_m;
+                        Sym3& d = s.diagonal[q];
+                        d[0] += w * out.x * out.x, d[1] += w * out.x * out.y, d[2] += w * out.x * out.z;
+                        d[3] += w * out.y * out.y, d[4] += w * out.y * out.z, d[5] += w * out.z * out.z;
                         s.rhs[q] += dt * support->stiffness_n_per_m * push;
                     }
                 }
                 const double floor = support->floor_m(support->context, {x.x, x.y}, radius, end_drop);
                 if (x.z >= floor) continue;
                 s.resting[q] = 1;
-                s.diagonal[q][2][2] += dt * dt * support->stiffness_n_per_m + dt * support->damping_n_s_per_m;
+                s.diagonal[q][5] += dt * dt * support->stiffness_n_per_m + dt * support->damping_n_s_per_m;
                 s.rhs[q].z += dt * support->stiffness_n_per_m * (floor - x.z);
             }
         }
@@ -290,52 +306,69 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
     for (std::uint32_t q = 0; q < n; ++q) {
         const std::int32_t p = parent_of(q);
         const std::int32_t g = p >= 0 ? parent_of(static_cast<std::uint32_t>(p)) : -1;
-        if (p >= 0 && s.fixed[static_cast<std::size_t>(p)]) s.rhs[q] -= s.to_parent[q] * s.fixed_velocity[static_cast<std::size_t>(p)];
+        if (p >= 0 && s.fixed[static_cast<std::size_t>(p)]) s.rhs[q] -= times(s.to_parent[q], s.fixed_velocity[static_cast<std::size_t>(p)]);
         if (g >= 0 && s.fixed[static_cast<std::size_t>(g)]) s.rhs[q] -= s.to_grandparent[q] * s.fixed_velocity[static_cast<std::size_t>(g)];
         if (s.fixed[q]) {
-            if (p >= 0) s.rhs[static_cast<std::size_t>(p)] -= glm::transpose(s.to_parent[q]) * s.fixed_velocity[q];
+            if (p >= 0) s.rhs[static_cast<std::size_t>(p)] -= transposed_times(s.to_parent[q], s.fixed_velocity[q]);
             if (g >= 0) s.rhs[static_cast<std::size_t>(g)] -= s.to_grandparent[q] * s.fixed_velocity[q];
         }
     }
     for (std::uint32_t q = 0; q < n; ++q) {
         const std::int32_t p = parent_of(q);
         const std::int32_t g = p >= 0 ? parent_of(static_cast<std::uint32_t>(p)) : -1;
-        if (s.fixed[q] || (p >= 0 && s.fixed[static_cast<std::size_t>(p)])) s.to_parent[q] = glm::dmat3(0.0);
+        if (s.fixed[q] || (p >= 0 && s.fixed[static_cast<std::size_t>(p)])) s.to_parent[q] = Block3{};
         if (s.fixed[q] || (g >= 0 && s.fixed[static_cast<std::size_t>(g)])) s.to_grandparent[q] = 0.0;
         if (s.fixed[q]) {
-            s.diagonal[q] = glm::dmat3(1.0);
+            s.diagonal[q] = Sym3{1.0, 0.0, 0.0, 1.0, 0.0, 1.0};
             s.rhs[q] = glm::dvec3{0.0};
         }
     }
-    // L D L^T from the leaves up. A(q, p) is to_parent[q] (rows q's axes), A(p, q) its transpose.
+    // L D L^T from the leaves up. A(q, p) is B = to_parent[q] (rows q's axes), A(p, q) its transpose;
+    // with W = D_q^-1 B and y = D_q^-1 b_q, eliminating q takes B^T W from D_p (symmetric: six entries),
+    // B^T y from b_p, and through the grandparent's scalar coupling gq: gq^2 D_q^-1 from D_g, gq y from
+    // b_g, gq W^T from A(p, g).
     for (std::uint32_t q = static_cast<std::uint32_t>(n); q-- > 0;) {
+        const Sym3& d = s.inverse[q];
         if (!invert_positive(s.diagonal[q], s.inverse[q])) return false;
         const std::int32_t p = parent_of(q);
         if (p < 0) continue;
         const auto pi = static_cast<std::size_t>(p);
-        const glm::dmat3 up = glm::transpose(s.to_parent[q]) * s.inverse[q]; // A(p, q) D_q^-1
-        s.diagonal[pi] -= up * s.to_parent[q];
-        s.rhs[pi] -= up * s.rhs[q];
+        const Block3& b = s.to_parent[q];
+        Block3 w; // D^-1 B
+        for (std::size_t c = 0; c < 3; ++c) {
+            w[c] = d[0] * b[c] + d[1] * b[3 + c] + d[2] * b[6 + c];
+            w[3 + c] = d[1] * b[c] + d[3] * b[3 + c] + d[4] * b[6 + c];
+            w[6 + c] = d[2] * b[c] + d[4] * b[3 + c] + d[5] * b[6 + c];
+        }
+        const auto column_dot = [&](std::size_t i, std::size_t j) { return b[i] * w[j] + b[3 + i] * w[3 + j] + b[6 + i] * w[6 + j]; };
+        Sym3& dp = s.diagonal[pi];
+        dp[0] -= column_dot(0, 0), dp[1] -= column_dot(0, 1), dp[2] -= column_dot(0, 2);
+        dp[3] -= column_dot(1, 1), dp[4] -= column_dot(1, 2), dp[5] -= column_dot(2, 2);
+        const glm::dvec3 y = times(d, s.rhs[q]);
+        s.rhs[pi] -= transposed_times(b, y);
         const std::int32_t g = parent_of(static_cast<std::uint32_t>(p));
         if (g < 0) continue;
         const auto gi = static_cast<std::size_t>(g);
         const double gq = s.to_grandparent[q];
         if (gq == 0.0) continue;
-        const glm::dmat3 far = gq * s.inverse[q]; // A(g, q) D_q^-1 (D_q^-1 is symmetric)
-        s.diagonal[gi] -= gq * far;
-        s.rhs[gi] -= far * s.rhs[q];
-        s.to_parent[pi] -= gq * up; // A(p, g) -= A(p, q) D^-1 A(q, g)
+        Sym3& dg = s.diagonal[gi];
+        for (std::size_t m = 0; m < 6; ++m) dg[m] -= gq * gq * d[m];
+        s.rhs[gi] -= gq * y;
+        Block3& pg = s.to_parent[pi];
+        for (std::size_t i = 0; i < 3; ++i) {
+            for (std::size_t j = 0; j < 3; ++j) pg[3 * i + j] -= gq * w[3 * j + i];
+        }
     }
     // Back up from the root: v_q = D_q^-1 (b_q - A(q, p) v_p - A(q, g) v_g), in place in rhs.
     for (std::uint32_t q = 0; q < n; ++q) {
         glm::dvec3 b = s.rhs[q];
         const std::int32_t p = parent_of(q);
         if (p >= 0) {
-            b -= s.to_parent[q] * s.rhs[static_cast<std::size_t>(p)];
+            b -= times(s.to_parent[q], s.rhs[static_cast<std::size_t>(p)]);
             const std::int32_t g = parent_of(static_cast<std::uint32_t>(p));
             if (g >= 0) b -= s.to_grandparent[q] * s.rhs[static_cast<std::size_t>(g)];
         }
-        s.rhs[q] = s.inverse[q] * b;
+        s.rhs[q] = times(s.inverse[q], b);
         if (!std::isfinite(s.rhs[q].x) || !std::isfinite(s.rhs[q].y) || !std::isfinite(s.rhs[q].z)) return false;
     }
     // Resting points slide with Coulomb friction: at most mu g h of their sliding speed lost a step. And
@@ -380,8 +413,28 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
             points.velocity_m_s[0] = parent.velocity_m_s[chains[c].fork->at_point];
         }
     }
-    // The body's own forces on each point, summed over a shared point's chains.
+    // The body's own forces on each point, summed over a shared point's chains. A held point is where
+    // the grab will put it, a step on at the velocity the solve took it to move with (as for a chain:
+    // stem_dynamics' finish_step): left behind, its neighbours gone on with the hand pulled it back.
+    const auto shift_held = [&](bool forward) {
+        std::size_t k = 0;
+        if (forward) s.held_position.clear();
+        for (std::size_t c = 0; c < chains.size(); ++c) {
+            auto& points = *chains[c].points;
+            for (std::size_t j = 0; j < points.position_m.size(); ++j) {
+                const std::uint32_t q = s.node_of[c][j];
+                if (!s.fixed[q] || (c == 0 && j == 0 && clamped(chains[c]))) continue;
+                if (forward) {
+                    s.held_position.push_back(points.position_m[j]);
+                    points.position_m[j] += dt * s.fixed_velocity[q];
+                } else {
+                    points.position_m[j] = s.held_position[k++]; // exactly where it was
+                }
+            }
+        }
+    };
     if (end_forces) {
+        shift_held(true);
         for (std::size_t c = 0; c < chains.size(); ++c) {
             const auto& chain = chains[c];
             stem_forces(*chain.points, *chain.rest, *chain.springs, clamped(chain) ? chain.clamp : nullptr, gravity, s.force[c], s.segments[c], chain.frame);
@@ -402,6 +455,7 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
         s.frame_gradient_nm[c] = h.frame_gradient_nm;
         s.frame_stiffness_nm[c] = h.frame_stiffness_nm;
     }
+    if (end_forces) shift_held(false);
     s.load.resize(chains.size());
     for (std::size_t c = 0; c < chains.size(); ++c) {
         const auto& nodes = s.node_of[c];

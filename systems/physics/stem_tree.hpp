@@ -7,6 +7,7 @@
 // leaves up (children before parents) a tree's L D L^T has no fill, so the solve is O(points) with 3x3
 // blocks, whatever the branching. A chain with no twigs takes stem_dynamics' banded path instead: the
 // same system, the same answer (StemTree.OneChainStepsAsTheBandedSolverDoes), four stems to a register.
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -51,7 +52,12 @@ struct TreeSupport {
 struct TreeScratch {
     std::vector<std::vector<std::uint32_t>> node_of; // per chain, per point
     std::vector<std::int32_t> parent_node;
-    std::vector<glm::dmat3> diagonal, to_parent, inverse;
+    // Blocks as plain numbers, written entry by entry (glm's 3x3 temporaries for a scalar on the diagonal
+    // were half the tree's step): a point's diagonal block and its inverse are symmetric (xx xy xz yy yz
+    // zz); its coupling with its parent (rows: its axes, columns: the parent's) is not once eliminated
+    // (row-major).
+    std::vector<std::array<double, 6>> diagonal, inverse;
+    std::vector<std::array<double, 9>> to_parent;
     // A point's coupling with its parent's parent is a hinge's alone, the same on every axis (k c0 c2 I),
     // and elimination never changes it: one number a point.
     std::vector<double> to_grandparent;
@@ -59,6 +65,7 @@ struct TreeScratch {
     std::vector<std::uint8_t> hinge_known;
     std::vector<glm::dvec3> rhs, fixed_velocity, node_force;
     std::vector<std::uint8_t> fixed;
+    std::vector<glm::dvec3> held_position; // held points' positions while the end forces are taken a step on
     std::vector<std::uint8_t> resting; // on its floor this step
     std::vector<glm::dvec3> wall_normal; // out of the wall it is in this step (zero: none)
     std::vector<std::vector<glm::dvec3>> force;        // per chain, at the step's start
@@ -73,8 +80,6 @@ struct TreeScratch {
 // the parent's frame at the parent's segment `at_point - 1`, carried to where that segment points now).
 [[nodiscard]] glm::dvec3 fork_rest_bend(const TreeChain& twig, const TreeChain& parent, glm::dvec3 e_in);
 
-// How many equal steps one tick must be cut into (stable_substeps over the chains and root hinges).
-[[nodiscard]] std::size_t tree_substeps(std::span<const TreeChain> chains, double dt);
 
 // One step of dt for the whole tree; false (and nothing moved) for a non-finite or indefinite system.
 // Afterwards scratch.load[c][j] is the body's own force on chain c's point j (springs, hinges, clamp,
