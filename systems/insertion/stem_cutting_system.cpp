@@ -102,6 +102,24 @@ void move_twigs(ecs::Registry& r, ecs::Entity flower, const std::vector<glm::dve
     twigs->entities = std::move(kept);
 }
 
+void move_parts(ecs::Registry& r, ecs::Entity flower, std::size_t segments, double cut_m, double length_m) {
+    const auto* children = r.try_get<const ecs::Children>(flower);
+    if (!children || segments == 0) return;
+    const double step = (length_m - cut_m) / static_cast<double>(segments);
+    std::vector<ecs::Entity> gone;
+    for (const ecs::Entity child : children->entities) {
+        auto* part = r.try_get<Part>(child);
+        if (!part || part->kind == PartKind::stem) continue;
+        const double along = length_m * static_cast<double>(part->stem_point) / static_cast<double>(segments) - cut_m;
+        if (along < 0.5 * step) {
+            gone.push_back(child);
+            continue;
+        }
+        part->stem_point = static_cast<std::uint32_t>(std::clamp<long>(std::lround(along / step), 1, static_cast<long>(segments)));
+    }
+    for (const ecs::Entity child : gone) r.commands().destroy(child); // with the part cut off
+}
+
 void StemCuttingSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
     r.view<CutRequest, StemPoints, StemRestShape, StemSprings, InsertionHistory>().each(
@@ -144,6 +162,7 @@ void StemCuttingSystem::operator()(sched::SystemContext& ctx) {
             points.position_m = std::move(fresh);
             for (auto& v : points.velocity_m_s) v = glm::dvec3{0.0};
             move_twigs(r, e, before, points.position_m, cut.length_m, length);
+            move_parts(r, e, points.position_m.size() - 1, cut.length_m, length);
             history.bottom_broken = false;
             history.insertions = 0;
             history.holes.clear();

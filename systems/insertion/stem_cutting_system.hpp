@@ -6,8 +6,10 @@
 #include <string_view>
 #include <vector>
 
+#include "components/flower.hpp"
 #include "components/insertion.hpp"
 #include "components/stem.hpp"
+#include "engine/ecs/hierarchy.hpp"
 #include "engine/sched/system.hpp"
 
 namespace ikebana::systems {
@@ -24,15 +26,21 @@ std::vector<glm::dvec2> moved_bend_directions(const components::StemRestShape& r
 void move_twigs(ecs::Registry& registry, ecs::Entity flower, const std::vector<glm::dvec3>& before, const std::vector<glm::dvec3>& after,
                 double cut_m, double length_m);
 
+// The leaves and petals on a stem after a cut (`segments` segments, `cut_m` taken off its `length_m`):
+// each moved to the point nearest where it grows on the stem, or gone with the part cut off. (They kept
+// their point numbers once: on a stem cut to a third, its lower leaves were squeezed down with the points
+// into the water.)
+void move_parts(ecs::Registry& registry, ecs::Entity flower, std::size_t segments, double cut_m, double length_m);
+
 struct StemCuttingSystem {
     static constexpr std::string_view name = "stem_cutting";
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<>;
+    using reads = sched::Components<ecs::Children>;
     // CutRequest: each request is consumed (removed) once carried out.
     using writes = sched::Components<components::CutRequest, components::StemPoints, components::StemRestShape, components::StemSprings,
-                                     components::InsertionHistory, components::Twigs, components::StemFork>;
+                                     components::InsertionHistory, components::Twigs, components::StemFork, components::Part>;
 
     void operator()(sched::SystemContext& ctx);
 

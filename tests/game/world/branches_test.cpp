@@ -149,6 +149,41 @@ TEST(Branches, ACutStemKeepsItsTwigsWhereTheyGrowAndTheCutPartsTwigsGoWithIt) {
     }
 }
 
+// A stem's leaves stay where they grow when its bottom is cut (its points laid anew, closer together):
+// each at the point nearest its old distance below the top, and those on the part cut off go with it.
+// (They kept their point numbers once: a chrysanthemum cut to a third had its lower leaves squeezed down
+// into the water.)
+TEST(Branches, ACutStemKeepsItsLeavesWhereTheyGrowAndTheCutPartsLeavesGoWithIt) {
+    Bench b = branch_standing("chrysanthemum");
+    ASSERT_TRUE(b.w);
+    b.clock->run_for_us(100'000);
+    const auto& rest = b.w->sim.get<StemRestShape>(b.flower());
+    const double length = std::accumulate(rest.segment_length_m.begin(), rest.segment_length_m.end(), 0.0);
+    const auto segments = static_cast<double>(rest.segment_length_m.size());
+    const auto leaves_from_top = [&](double stem_length) {
+        std::vector<double> from_top;
+        for (const ecs::Entity child : b.w->sim.get<const ecs::Children>(b.flower()).entities) {
+            const auto* part = b.w->sim.try_get<const Part>(child);
+            if (part && part->kind == PartKind::leaf) from_top.push_back(stem_length * (1.0 - part->stem_point / segments));
+        }
+        return from_top;
+    };
+    const std::vector<double> before = leaves_from_top(length);
+    ASSERT_GE(before.size(), 4u);
+    const double cut = 0.5 * length;
+    b.w->sim.emplace_or_replace<CutRequest>(b.flower(), CutRequest{cut});
+    b.clock->run_for_us(1000);
+    const double kept = length - cut;
+    const std::vector<double> after = leaves_from_top(kept);
+    std::size_t expected = 0;
+    for (const double d : before) expected += d < kept - 0.5 * kept / segments ? 1 : 0;
+    ASSERT_LT(expected, before.size()) << "some grew on the half cut off";
+    EXPECT_EQ(after.size(), expected);
+    for (const double d : after) {
+        EXPECT_TRUE(std::any_of(before.begin(), before.end(), [&](double was) { return std::abs(was - d) <= kept / segments; })) << d << " m below the top";
+    }
+}
+
 // Secateurs at the hand: P with the cube on a twig cuts it off at its fork; it falls to the table, its
 // spur and blossoms with it, and is drawn where it lies; the branch keeps its other twigs.
 TEST(Branches, APrunedTwigFallsToTheTableWithItsSpurAndBlossoms) {
