@@ -22,8 +22,8 @@ constexpr double deg = 3.14159265358979323846 / 180.0;
 
 const std::vector<std::string> region_names = {"any",   "centre",     "front",       "back",      "left",
                                                "right", "front_left", "front_right", "back_left", "back_right"};
-const std::vector<std::string> rule_names = {"odd_main_stems",     "no_crossing_front", "kenzan_hidden_front",
-                                             "kenzan_off_centre",  "one_line_at_water", "supporting_count"};
+const std::vector<std::string> rule_names = {"odd_main_stems",    "no_crossing_front", "kenzan_hidden_front",  "kenzan_off_centre",
+                                             "one_line_at_water", "supporting_count",  "no_leaves_under_water"};
 
 // Ids name files in assets/: letters, digits and underscores only, so that no id reaches outside it.
 bool plain_id(const std::string& s) {

@@ -61,6 +61,7 @@ enum class RuleKind : std::uint8_t {
     kenzan_off_centre,   // the kenzan is not in the container's centre
     one_line_at_water,   // the stems rise together as one line above the water for a while
     supporting_count,    // no more supporting stems than the lesson allows, each shorter than its main stem
+    no_leaves_under_water, // no standing stem has a leaf under the water line (they rot)
 };
 
 struct RuleDef {

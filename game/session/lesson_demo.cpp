@@ -10,10 +10,12 @@
 
 #include "components/hand.hpp"
 #include "components/insertion.hpp"
+#include "components/flower.hpp"
 #include "components/kenzan.hpp"
 #include "components/stem.hpp"
 #include "engine/assets/files.hpp"
 #include "engine/devices/mouse_keyboard_device.hpp"
+#include "engine/ecs/hierarchy.hpp"
 #include "engine/sched/clocks.hpp"
 #include "game/render/pointer_aim.hpp"
 #include "game/render/offscreen_render.hpp"
@@ -23,6 +25,7 @@
 #include "game/session/teacher.hpp"
 #include "game/world/world.hpp"
 #include "systems/haptics/grab_system.hpp"
+#include "systems/insertion/pruning_system.hpp"
 #include "systems/presentation/frame_channel.hpp"
 
 namespace ikebana::game {
@@ -313,6 +316,15 @@ public:
         }
         const auto& rest = w_.sim.get<StemRestShape>(e);
         f.length_m = std::accumulate(rest.segment_length_m.begin(), rest.segment_length_m.end(), 0.0);
+        if (const auto* children = w_.sim.try_get<const ecs::Children>(e)) {
+            for (const ecs::Entity child : children->entities) {
+                const auto* part = w_.sim.try_get<const Part>(child);
+                if (!part || part->kind != PartKind::leaf || part->stem_point >= f.points_m.size()) continue;
+                double along = 0.0;
+                for (std::size_t k = 1; k <= part->stem_point; ++k) along += glm::length(f.points_m[k] - f.points_m[k - 1]);
+                f.leaves.push_back({along, systems::part_middle(*part, w_.sim.get<StemPoints>(e), w_.sim.try_get<const StemFrame>(e))});
+            }
+        }
         f.diameter_m = rest.diameter_m;
         if (const auto* bending = w_.sim.try_get<const Bending>(e)) f.keeps_bend_beyond_rad = bending->permanent_set_rad;
         const auto& engagement = w_.sim.get<PinEngagement>(e);
@@ -338,6 +350,10 @@ public:
     glm::dvec3 hand_at(std::uint8_t hand) const override { return w_.sim.get<HandProxy>(w_.hands[hand & 1u]).position_m; }
     glm::dvec3 kenzan_origin_m() const override { return w_.sim.single<Kenzan>()->origin_m; }
     double pin_height_m() const override { return w_.sim.single<Kenzan>()->pin_height_m(); }
+    std::optional<double> water_z_m() const override {
+        const auto* container = w_.sim.single<Container>();
+        return container ? std::optional<double>(container->water_z_m) : std::nullopt;
+    }
 
 private:
     World& w_;

@@ -64,6 +64,7 @@ constexpr double bend_seen_rad = 3.0 * pi / 180.0; // a joint bent more than thi
 constexpr double roll_tilt_rad = 25.0 * pi / 180.0;
 constexpr double table_lift_m = 0.22; // how high a taken stem is lifted off the table
 constexpr double rolled_within_rad = 3.0 * pi / 180.0; // near enough the role's side to stop turning
+constexpr double leaf_margin_m = 0.01; // a leaf this far above the water is stripped too (stems settle and lean)
 
 // The point `distance_m` along a stem from its bottom end.
 glm::dvec3 along_stem(const std::vector<glm::dvec3>& points, double distance_m) {
@@ -177,6 +178,7 @@ public:
         }
         if (!take(flower, role, target, lying, keep, rise)) return false;
         if (lying.length_m - keep > 0.001) cut_to(flower, role, target, keep, in_pins);
+        strip_low_leaves(flower, role, std::cos(rise ? 0.0 : target.tilt_rad));
         // Where the bend's middle is from the bottom: where the hands bent it (or would have). It is bent
         // lying on the table, as on a workbench, and lifted bent: the bend keeps its side of the bark
         // (the stem's frame) on the way to the kenzan. (Through the mouse it is bent held up: see
@@ -285,6 +287,47 @@ private:
             wait(0.3);
         }
         if (!room_.flower(flower).twig_aims_m.empty()) say(role + ": some twigs were missed; it is bent with them");
+    }
+
+    // The leaves that would stand in the water once it is in the pins, its lower part leaning at
+    // `cos_tilt` from the vertical: stripped while the right hand holds it up, the left hand's cube on
+    // each leaf, then the secateurs (a teacher's first step with a leafy stem: they rot in the water).
+    // (Lying on the table, a leaf under the stem is out of the cube's reach: it stops on the table.)
+    void strip_low_leaves(std::size_t flower, const std::string& role, double cos_tilt) {
+        const auto water = room_.water_z_m();
+        if (!water || !hand_.two_hands()) return;
+        const double bottom_z = room_.kenzan_origin_m().z; // pushed in to the plate
+        const auto low = [&] {
+            std::vector<glm::dvec3> aims;
+            for (const auto& leaf : room_.flower(flower).leaves) {
+                if (bottom_z + leaf.along_m * cos_tilt < *water + leaf_margin_m) aims.push_back(leaf.at_m);
+            }
+            return aims;
+        };
+        auto aims = low();
+        if (aims.empty()) return;
+        char what[160];
+        std::snprintf(what, sizeof what, "%s: strip the %zu lea%s that would stand in the water", role.c_str(), aims.size(), aims.size() == 1 ? "f" : "ves");
+        say(what);
+        if (!hand_.use(0)) return;
+        press(false); // (with a mouse, Tab hands the pressed button over: see bend_in_hand)
+        hand_.look();
+        const glm::dvec3 aside{0.0, -0.05, 0.0}; // from the viewer's side, clear of the stem
+        for (int round = 0; round < 3 && !aims.empty(); ++round) {
+            for (const glm::dvec3 aim : aims) {
+                move_to(aim + aside, 0.15);
+                move_to(aim, 0.05);
+                hand_.prune();
+                wait(0.05);
+                move_to(aim + aside, 0.05);
+            }
+            wait(0.3);
+            aims = low();
+        }
+        move_to(hand_.position() + aside, 0.1);
+        press(true); // on nothing: with a mouse the button goes down with Tab, and the right keeps its grip
+        hand_.use(1);
+        if (!aims.empty()) say(role + ": some low leaves were missed");
     }
 
     // The right hand takes it again below the bend while the left holds it: held inside the bend, the

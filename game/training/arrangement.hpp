@@ -28,6 +28,9 @@ struct ArrangementStem {
     // Optional: the stem's shape, points from its base up, kenzan coordinates (x, y as base_m; z above
     // the kenzan's plate). A straight line from base to tip when empty.
     std::vector<glm::dvec3> path_m;
+    // Optional: how high above the kenzan's plate each of its leaves (its twigs' too) meets the bark, as
+    // path_m's z. Leaves under the water rot (the rule no_leaves_under_water).
+    std::vector<double> leaf_heights_m;
 };
 
 struct Arrangement {
@@ -37,6 +40,7 @@ struct Arrangement {
 
 inline constexpr std::size_t max_arrangement_stems = 200;
 inline constexpr std::size_t max_path_points = 200;
+inline constexpr std::size_t max_leaf_heights = 2000;
 
 // An arrangement's JSON: {"stems": [...]} or a whole result whose "arrangement" is one.
 Result<Arrangement> parse_arrangement(std::string_view text, const std::string& label);

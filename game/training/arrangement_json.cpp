@@ -41,8 +41,20 @@ void read_path(JsonChecker& c, const Json& path, const std::string& p, Arrangeme
     }
 }
 
+void read_leaf_heights(JsonChecker& c, const Json& heights, const std::string& p, ArrangementStem& st) {
+    if (heights.size() > max_leaf_heights) c.problem(p + "/leaf_heights_mm", "more than " + std::to_string(max_leaf_heights) + " leaves");
+    for (std::size_t j = 0; j < heights.size() && j < max_leaf_heights; ++j) {
+        const Json& h = heights[j];
+        if (!h.is_number() || !std::isfinite(h.get<double>()) || std::abs(h.get<double>()) > 3000.0) {
+            c.problem(p + "/leaf_heights_mm/" + std::to_string(j), "expected a height within 3000 mm, got " + JsonChecker::describe(h));
+            continue;
+        }
+        st.leaf_heights_m.push_back(h.get<double>() * 1e-3);
+    }
+}
+
 ArrangementStem read_stem(JsonChecker& c, const Json& s, const std::string& p) {
-    c.no_unknown_keys(s, p, {"role", "species", "base_mm", "length_mm", "tilt_deg", "azimuth_deg", "standing", "path_mm"});
+    c.no_unknown_keys(s, p, {"role", "species", "base_mm", "length_mm", "tilt_deg", "azimuth_deg", "standing", "path_mm", "leaf_heights_mm"});
     ArrangementStem st;
     st.role = c.string(s, p, "role", false).value_or("");
     st.species = c.string(s, p, "species").value_or("");
@@ -54,6 +66,7 @@ ArrangementStem read_stem(JsonChecker& c, const Json& s, const std::string& p) {
     st.azimuth_rad = c.number(s, p, "azimuth_deg", {-360, 360}).value_or(0) * deg;
     st.standing = c.boolean(s, p, "standing", false).value_or(true);
     if (const Json* path = c.array(s, p, "path_mm", false)) read_path(c, *path, p, st);
+    if (const Json* heights = c.array(s, p, "leaf_heights_mm", false)) read_leaf_heights(c, *heights, p, st);
     return st;
 }
 
@@ -119,6 +132,11 @@ OJson arrangement_object(const Arrangement& a) {
             OJson path = OJson::array();
             for (const auto& q : s.path_m) path.push_back({round_to(q.x * 1e3, 0.1), round_to(q.y * 1e3, 0.1), round_to(q.z * 1e3, 0.1)});
             j["path_mm"] = path;
+        }
+        if (!s.leaf_heights_m.empty()) {
+            OJson heights = OJson::array();
+            for (const double h : s.leaf_heights_m) heights.push_back(round_to(h * 1e3, 0.1));
+            j["leaf_heights_mm"] = heights;
         }
         stems.push_back(j);
     }

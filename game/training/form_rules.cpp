@@ -179,6 +179,34 @@ Verdict supporting_count(const RuleContext& c) {
     return {ok, fmt("%zu supporting stem(s), each shorter than the main stem it supports", n)};
 }
 
+// Leaves under the water rot and foul it: a teacher strips a stem's lower leaves before it goes in. Each
+// standing stem with leaves below the water line is named, with how many.
+Verdict no_leaves_under_water(const RuleContext& c) {
+    const double water_z = water_level_m(c.l, c.k);
+    // By name (a role and its species), in the order they stand: two supporting stems of one species
+    // are said once, with both counts.
+    std::vector<std::pair<std::string, std::pair<std::size_t, std::size_t>>> named; // name, (stems, leaves)
+    for (const auto* s : c.standing) {
+        const auto under = static_cast<std::size_t>(std::count_if(s->leaf_heights_m.begin(), s->leaf_heights_m.end(), [&](double z) { return z < water_z; }));
+        if (under == 0) continue;
+        const std::string who = s->role.empty() ? s->species : s->role + " (" + s->species + ")";
+        auto it = std::find_if(named.begin(), named.end(), [&](const auto& n) { return n.first == who; });
+        if (it == named.end()) named.push_back({who, {1, under}});
+        else {
+            ++it->second.first;
+            it->second.second += under;
+        }
+    }
+    if (named.empty()) return {true, "no leaves under the water"};
+    std::string text;
+    for (const auto& [who, count] : named) {
+        const auto [stems, leaves] = count;
+        text += (text.empty() ? "" : "; ") + (stems == 1 ? who + fmt(" has %zu lea%s", leaves, leaves == 1 ? "f" : "ves")
+                                                        : fmt("%zu stems of %s have %zu leaves", stems, who.c_str(), leaves));
+    }
+    return {false, text + " under the water: strip them (P with the cube on each leaf), they rot in the water"};
+}
+
 Verdict judge(const RuleContext& c) {
     switch (c.rule.kind) {
     case RuleKind::odd_main_stems: return odd_main_stems(c);
@@ -187,6 +215,7 @@ Verdict judge(const RuleContext& c) {
     case RuleKind::kenzan_off_centre: return kenzan_off_centre(c);
     case RuleKind::one_line_at_water: return one_line_at_water(c);
     case RuleKind::supporting_count: return supporting_count(c);
+    case RuleKind::no_leaves_under_water: return no_leaves_under_water(c);
     }
     return {};
 }

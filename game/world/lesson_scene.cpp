@@ -135,6 +135,14 @@ Arrangement measure_arrangement(const components::FrameSnapshot& frame) {
         s.azimuth_rad = std::atan2(-chord.x, -chord.y); // 0 toward the viewer (-y), + to the viewer's left (-x)
         s.standing = f.in_kenzan && !f.fallen;
         for (std::size_t j = from; j < x.size(); ++j) s.path_m.push_back(x[j] - glm::dvec3(k.origin_m));
+        // Where its leaves meet the bark: the stem point each hangs on (a leaf sits on the bark there).
+        const auto leaves_on = [&](const std::vector<glm::dvec3>& points, const std::vector<components::Part>& parts) {
+            for (const auto& part : parts) {
+                if (part.kind == components::PartKind::leaf && part.stem_point < points.size()) s.leaf_heights_m.push_back(points[part.stem_point].z - k.origin_m.z);
+            }
+        };
+        leaves_on(x, f.parts);
+        for (const auto& twig : f.twigs) leaves_on(twig.points_m, twig.parts);
         a.stems.push_back(std::move(s));
     }
     return a;
@@ -187,6 +195,29 @@ std::string role_heading_for(const LessonDef& l, const KenzanFootprint& footprin
     }
     return "";
 }
+
+namespace {
+// The held stem's leaves that would stand in the water once it is cut to `keep_m` and pushed into the
+// pins leaning `tilt_rad`: a line saying so, or nothing (no such leaves, or a lesson without the rule).
+std::string low_leaves_line(const LessonDef& l, const KenzanFootprint& footprint, const components::FlowerStatus& f, double length_m, double keep_m,
+                            double tilt_rad) {
+    if (std::none_of(l.rules.begin(), l.rules.end(), [](const RuleDef& r) { return r.kind == RuleKind::no_leaves_under_water; })) return "";
+    const auto& x = f.points_m;
+    const double cut = std::max(0.0, length_m - keep_m);
+    const double water = water_level_m(l, footprint);
+    std::size_t low = 0;
+    for (const auto& part : f.parts) {
+        if (part.kind != components::PartKind::leaf || part.stem_point >= x.size()) continue;
+        double along = 0.0;
+        for (std::size_t i = 1; i <= part.stem_point; ++i) along += glm::length(x[i] - x[i - 1]);
+        if (along >= cut && (along - cut) * std::cos(tilt_rad) < water) ++low;
+    }
+    if (low == 0) return "";
+    char text[200];
+    std::snprintf(text, sizeof text, "%zu lea%s would stand in the water (they rot): Tab, the other hand's cube on each, P strips it", low, low == 1 ? "f" : "ves");
+    return text;
+}
+} // namespace
 
 HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footprint, const components::FrameSnapshot& frame, std::size_t hand) {
     HeldStemAdvice advice;
@@ -280,6 +311,7 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
                           target * 1e3, follows.c_str(), m.tilt_rad.target * deg, m.tilt_rad.tolerance * deg, lean.c_str(), region_words(m.region).c_str());
         }
         advice.lines.emplace_back(text);
+        if (const auto leaves = low_leaves_line(l, footprint, f, length, advice.keep_length_m, m.tilt_rad.target); !leaves.empty()) advice.lines.push_back(leaves);
         // A form whose stems rise as one line from the water (a shoka): a role that leans well away from
         // the line is bent first, as the demonstration does it (teacher.cpp).
         for (const auto& rule : l.rules) {
@@ -317,6 +349,7 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
                           s.length_m * 1e3, s.tilt_rad * deg, direction_words(s.azimuth_rad).c_str());
         }
         advice.lines.emplace_back(text);
+        if (const auto leaves = low_leaves_line(l, footprint, f, length, advice.keep_length_m, s.tilt_rad); !leaves.empty()) advice.lines.push_back(leaves);
         return advice;
     }
     advice.lines.emplace_back("every role this species may play stands already: it can support (jushi), shorter than " +

@@ -33,12 +33,6 @@ double to_segment(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) {
     return glm::length(p - (a + t * ab));
 }
 
-// A part's middle, as it is drawn (draw_list: from its stem point out along its offset, twice as long).
-glm::dvec3 part_middle(const Part& part, const StemPoints& points, const StemFrame* frame) {
-    const auto& x = points.position_m;
-    const auto f = physics::attachment_frame(x, std::min<std::size_t>(part.stem_point, x.size() - 1), frame ? frame->director : std::vector<glm::dvec3>{});
-    return f.place(part.offset_m);
-}
 
 void consider_parts(ecs::Registry& r, ecs::Entity flower, ecs::Entity owner, glm::dvec3 at, double reach, Found& found) {
     const auto* children = r.try_get<const ecs::Children>(owner);
@@ -147,6 +141,12 @@ void PruningSystem::operator()(sched::SystemContext& ctx) {
     });
     // After the views: pruning changes what they iterate.
     for (const Found& found : cuts) r.commands().defer([found](ecs::Registry& reg) { prune(reg, found); });
+}
+
+glm::dvec3 part_middle(const Part& part, const StemPoints& points, const StemFrame* frame) {
+    const auto& x = points.position_m;
+    const auto f = physics::attachment_frame(x, std::min<std::size_t>(part.stem_point, x.size() - 1), frame ? frame->director : std::vector<glm::dvec3>{});
+    return f.place(part.offset_m);
 }
 
 } // namespace ikebana::systems

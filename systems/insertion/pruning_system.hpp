@@ -17,6 +17,10 @@
 
 namespace ikebana::systems {
 
+// A part's middle, as it is drawn (draw_list: from its stem point out along its offset, twice as long):
+// where the cube strips it from.
+[[nodiscard]] glm::dvec3 part_middle(const components::Part& part, const components::StemPoints& points, const components::StemFrame* frame);
+
 struct PruningSystem {
     static constexpr std::string_view name = "pruning";
     static constexpr std::string_view lane = "sim";

@@ -276,7 +276,7 @@ TEST(FormScore, RolesGoToTheStemsThatFitThemWhateverTheirOrder) {
     std::reverse(a.stems.begin(), a.stems.end());
     for (auto& s : a.stems) s.role.clear();
     // A supporting chrysanthemum beside hikae's.
-    a.stems.push_back({"", "chrysanthemum", {0.01, -0.03}, 0.1, 70 * deg, 0.0, true, {}});
+    a.stems.push_back({"", "chrysanthemum", {0.01, -0.03}, 0.1, 70 * deg, 0.0, true, {}, {}});
     const auto scored = score_form(l, a, footprint(l));
     ASSERT_TRUE(scored.ok());
     const auto& stems = scored->arrangement.stems;
@@ -333,6 +333,44 @@ TEST(FormScore, CrossingStemsAndACentredKenzanBreakTheirRules) {
     const RuleResult* centre = rule(*scored, "kenzan_off_centre");
     EXPECT_FALSE(centre->ok);
     EXPECT_EQ(centre->tip, "the kenzan sits in the container's centre (5 mm from it): move it toward a side, leaving open water");
+}
+
+// Leaves under the water rot: a standing stem with leaves below the water line breaks the rule, and its
+// tip names the stem (role and species) and how many; two stems of one name are said once. Leaves above
+// it, or none known, keep it.
+TEST(FormScore, LeavesUnderTheWaterAreNamedByTheStemTheyGrowOn) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    Arrangement a = model_arrangement(l, footprint(l));
+    const double water = water_level_m(l, footprint(l));
+    ASSERT_GT(water, 0.0) << "a suiban's water stands above the kenzan's plate";
+    stem_with_role(a, "hikae")->leaf_heights_m = {water + 0.02, water + 0.05};
+    const auto dry = score_form(l, a, footprint(l));
+    ASSERT_TRUE(dry.ok());
+    const RuleResult* leaves = rule(*dry, "no_leaves_under_water");
+    ASSERT_NE(leaves, nullptr);
+    EXPECT_TRUE(leaves->ok) << leaves->tip;
+    EXPECT_EQ(leaves->tip, "no leaves under the water");
+    stem_with_role(a, "hikae")->leaf_heights_m = {water - 0.005, water - 0.001, water + 0.02};
+    a.stems.push_back({"supporting", "chrysanthemum", {0.01, -0.03}, 0.05, 60 * deg, 0.0, true, {}, {water - 0.002}});
+    a.stems.push_back({"supporting", "chrysanthemum", {-0.01, -0.03}, 0.05, 60 * deg, 0.0, true, {}, {water - 0.002, water - 0.003}});
+    const auto wet = score_form(l, a, footprint(l));
+    ASSERT_TRUE(wet.ok());
+    leaves = rule(*wet, "no_leaves_under_water");
+    ASSERT_NE(leaves, nullptr);
+    EXPECT_FALSE(leaves->ok);
+    EXPECT_EQ(leaves->tip, "hikae (chrysanthemum) has 2 leaves; 2 stems of supporting (chrysanthemum) have 3 leaves under the water: strip them (P with the "
+                           "cube on each leaf), they rot in the water");
+    EXPECT_LT(wet->score, dry->score) << "the rule's points are lost";
+    // Read back from the result's JSON: the leaves' heights go with it.
+    auto again = parse_arrangement(wet->json(), "result.json");
+    ASSERT_TRUE(again.ok()) << again.error().message;
+    EXPECT_EQ(stem_with_role(*again, "hikae")->leaf_heights_m.size(), 3u);
+    const auto bad = parse_arrangement(R"({"stems": [{"species": "iris", "base_mm": [0, 0], "length_mm": 50, "tilt_deg": 0, "azimuth_deg": 0,
+                                          "leaf_heights_mm": [12, "low"]}]})",
+                                       "a.json");
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("a.json: /stems/0/leaf_heights_mm/1: expected a height within 3000 mm, got \"low\""), std::string::npos)
+        << bad.error().message;
 }
 
 TEST(FormScore, AKenzanSeenFromTheFrontIsNamedWithWhereItShows) {
@@ -460,7 +498,7 @@ TEST(FormScore, FreePracticeIsScoredAgainstItsSceneAsTheSampleComparisonDoes) {
     // The sample's own stems, as an arrangement (its azimuth is from +x toward +y; the lesson's from the front).
     for (const auto& s : scene->sample) {
         const glm::dvec3 dir{std::sin(s.angle_rad) * std::cos(s.azimuth_rad), std::sin(s.angle_rad) * std::sin(s.azimuth_rad), std::cos(s.angle_rad)};
-        a.stems.push_back({"", s.species, s.base_m, s.height_m / dir.z, s.angle_rad, std::atan2(-dir.x, -dir.y), true, {}});
+        a.stems.push_back({"", s.species, s.base_m, s.height_m / dir.z, s.angle_rad, std::atan2(-dir.x, -dir.y), true, {}, {}});
     }
     const FormScore f = score_sample(l, a, scene->sample);
     EXPECT_NEAR(f.score, 100.0, 1e-6);
@@ -794,6 +832,34 @@ TEST(LessonControls, AShokaRoleThatLeansAwayFromTheLineIsToBeBentWithBothHandsFi
     EXPECT_EQ(upright.find("bend"), std::string::npos) << upright;
 }
 
+// Holding a leafy stem for a role, the HUD counts the leaves that would stand in the water once it is
+// cut for it and pushed in, and says how to strip them; the cut's part and the leaves high up are not
+// counted, nor is anything in a lesson without the rule.
+TEST(LessonControls, LeavesThatWouldStandInTheWaterAreCountedForTheHeldStem) {
+    components::FrameSnapshot frame = holding_a_lying_cherry_branch();
+    frame.hands[1].position_m = frame.flowers[0].points_m[3];
+    auto& f = frame.flowers[0];
+    f.species = "chrysanthemum";
+    for (const std::uint32_t point : {1u, 2u, 3u, 19u}) f.parts.push_back({components::PartKind::leaf, point, {0.0, 0.01, 0.0}, "meshes/leaf.gltf"});
+    f.parts.push_back({components::PartKind::petal, 2u, {0.0, 0.01, 0.0}, "meshes/petal.gltf"});
+    const auto says = [&](LessonDef l) {
+        std::string all;
+        for (const auto& line : advise_held_stem(l, footprint(l), frame, 1).lines) all += line + "\n";
+        return all;
+    };
+    LessonDef l = lesson("sogetsu_basic_upright");
+    const std::string hikae = says(l);
+    // For hikae (245 mm, 75 degrees) the 340 mm stem loses 95 mm: its three low leaves go with the cut,
+    // and the top one, 228 mm up the stem, stands 59 mm high, over the 32 mm of water.
+    EXPECT_EQ(hikae.find("would stand in the water"), std::string::npos) << hikae;
+    for (auto& p : f.points_m) p.x = -0.2 + (p.x + 0.2) * 0.25; // 85 mm long: nothing to cut
+    // Leaning 75 degrees, even the top leaf (81 mm up the stem) stands 21 mm high: all four.
+    const std::string short_one = says(l);
+    EXPECT_NE(short_one.find("4 leaves would stand in the water (they rot): Tab, the other hand's cube on each, P strips it"), std::string::npos) << short_one;
+    std::erase_if(l.rules, [](const RuleDef& r) { return r.kind == RuleKind::no_leaves_under_water; });
+    EXPECT_EQ(says(l).find("would stand in the water"), std::string::npos) << "a lesson without the rule";
+}
+
 // The Ikenobo teacher prunes soe's side twigs before bending it: the prunings are on record with the
 // cuts ("prune" lines), and the session replays to the same score and state with them (and to another
 // without them).
@@ -849,10 +915,11 @@ TEST(LessonSession, ADemonstrationOnRecordReplaysToTheSameScoreAndStateHash) {
     EXPECT_EQ(replayed->state_hash, demo->state_hash);
     EXPECT_TRUE(replayed->parted.empty());
     EXPECT_EQ(replayed->kind, "demonstration");
-    // Three cuts, one per role, on record.
+    // Three cuts, one per role, and the two prunings that strip hikae's low leaves, on record.
     const auto commands = assets::read_text_file(dir / "commands.csv");
     ASSERT_TRUE(commands.ok());
-    EXPECT_EQ(std::count(commands->begin(), commands->end(), '\n'), 3);
+    EXPECT_EQ(std::count(commands->begin(), commands->end(), '\n'), 5);
+    EXPECT_NE(demo->steps.end(), std::find_if(demo->steps.begin(), demo->steps.end(), [](const auto& s) { return s.what == "hikae: strip the 2 leaves that would stand in the water"; }));
     // The review's timeline: the three cuts at the ticks they were taken, and each role's stem going
     // into the kenzan after its cut.
     const auto parsed = parse_session_commands(*commands, "commands.csv");
@@ -860,12 +927,17 @@ TEST(LessonSession, ADemonstrationOnRecordReplaysToTheSameScoreAndStateHash) {
     const auto marks = session_timeline(dir);
     ASSERT_TRUE(marks.ok()) << marks.error().message;
     std::vector<std::int64_t> cuts, insertions;
+    std::vector<std::int64_t> cut_commands;
+    for (const auto& c : *parsed) {
+        if (c.command.kind == systems::TraineeCommand::Kind::cut) cut_commands.push_back(c.at_us);
+    }
     for (const auto& m : *marks) {
-        if (m.kind == TimelineMark::Kind::cut) cuts.push_back(m.at_us);
+        if (m.kind == TimelineMark::Kind::cut && m.what.rfind("cut:", 0) == 0) cuts.push_back(m.at_us);
         if (m.kind == TimelineMark::Kind::insertion) insertions.push_back(m.at_us);
     }
     ASSERT_EQ(cuts.size(), 3u);
-    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(cuts[i], (*parsed)[i].at_us);
+    ASSERT_EQ(cut_commands.size(), 3u);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(cuts[i], cut_commands[i]);
     ASSERT_GE(insertions.size(), 3u);
     for (std::size_t i = 0; i < 3; ++i) EXPECT_GT(insertions[i], cuts[i]) << "a stem goes in after it is cut to length";
     EXPECT_TRUE(std::is_sorted(marks->begin(), marks->end(), [](const TimelineMark& a, const TimelineMark& b) { return a.at_us < b.at_us; }));
