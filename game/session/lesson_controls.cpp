@@ -7,9 +7,53 @@
 #include "components/insertion.hpp"
 #include "game/world/lesson_scene.hpp"
 #include "systems/haptics/trainee_command_system.hpp"
+#include "systems/physics/part_attachment.hpp"
 #include "systems/presentation/draw_list.hpp"
 
 namespace ikebana::game {
+
+std::string prune_preview(const components::FrameSnapshot& frame, std::uint8_t hand) {
+    const auto& h = frame.hands[hand & 1u];
+    if (!h.present || h.holding) return "";
+    const glm::dvec3 at = h.position_m;
+    const double reach = 0.5 * h.edge_m;
+    double best = reach;
+    std::string what;
+    const auto to_segment = [](glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) {
+        const glm::dvec3 ab = b - a;
+        const double len2 = glm::dot(ab, ab);
+        const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+        return glm::length(p - (a + t * ab));
+    };
+    const auto consider_parts = [&](const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& directors, const std::vector<components::Part>& parts,
+                                    const std::string& species) {
+        for (const auto& part : parts) {
+            if (part.kind == components::PartKind::stem || part.mesh.empty() || x.empty()) continue;
+            const auto f = systems::physics::attachment_frame(x, std::min<std::size_t>(part.stem_point, x.size() - 1), directors);
+            const double d = glm::length(f.place(part.offset_m) - at);
+            if (d <= best) {
+                best = d;
+                what = std::string("P here: strips a ") + (part.kind == components::PartKind::leaf ? "leaf" : "blossom") + " of the " + species;
+            }
+        }
+    };
+    for (const auto& flower : frame.flowers) {
+        std::string species = flower.species;
+        std::replace(species.begin(), species.end(), '_', ' ');
+        for (const auto& twig : flower.twigs) {
+            for (std::size_t i = 1; i < twig.points_m.size(); ++i) {
+                const double d = std::max(0.0, to_segment(at, twig.points_m[i - 1], twig.points_m[i]) - 0.5 * twig.diameter_m);
+                if (d <= best) {
+                    best = d;
+                    what = "P here: cuts off a twig of the " + species + " at its fork";
+                }
+            }
+            consider_parts(twig.points_m, twig.directors, twig.parts, species);
+        }
+        consider_parts(flower.points_m, flower.directors, flower.parts, species);
+    }
+    return what;
+}
 
 std::string ascii_for_hud(std::string text) {
     for (const auto& [from, to] : {std::pair<std::string, std::string>{"°", " deg"}, {"±", "+-"}, {"×", "x"}}) {
@@ -155,6 +199,7 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
         effects.cut_to_m = advice.keep_length_m;
     }
     cut_was_down_ = in.letter(cut_letter);
+    if (const auto preview = prune_preview(latest, hand); !preview.empty() && prune_said_for_ == 0) say(preview);
     if (in.letter(prune_letter) && !prune_was_down_ && trainee.push({systems::TraineeCommand::Kind::prune, hand, 0.0})) {
         cuttings_before_prune_ = latest.cuttings.size();
         prune_said_for_ = 60; // about two seconds of readings

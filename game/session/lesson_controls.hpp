@@ -22,6 +22,12 @@ class TraineeChannel;
 
 namespace ikebana::game {
 
+// What P would take at the free hand's cube, as the pruning system chooses it (the twig nearest the cube
+// cut at its fork, or the leaf or blossom nearest it, within the cube's half edge): "P here: strips a
+// leaf of the chrysanthemum", or nothing when nothing is in reach (or the hand holds a stem).
+[[nodiscard]] std::string prune_preview(const components::FrameSnapshot& frame, std::uint8_t hand);
+
+
 // The HUD's font is ASCII: degrees, plus-minus and times are spelt out there (a terminal keeps them).
 [[nodiscard]] std::string ascii_for_hud(std::string text);
 // Words into lines of at most `width` characters (a longer word stands alone; later lines indented).

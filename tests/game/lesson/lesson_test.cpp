@@ -860,6 +860,30 @@ TEST(LessonControls, LeavesThatWouldStandInTheWaterAreCountedForTheHeldStem) {
     EXPECT_EQ(says(l).find("would stand in the water"), std::string::npos) << "a lesson without the rule";
 }
 
+// Before P is pressed the HUD says what it would take at the free hand's cube, chosen as the pruning
+// system chooses: the nearest leaf or blossom, or twig (cut at its fork), within the cube's half edge.
+TEST(LessonControls, TheHudSaysWhatPWouldPruneAtTheCube) {
+    components::FrameSnapshot frame = holding_a_lying_cherry_branch();
+    frame.hands[1].holding = false;
+    frame.hands[1].held_flower = -1;
+    frame.hands[1].edge_m = 0.02;
+    auto& f = frame.flowers[0];
+    f.parts.push_back({components::PartKind::leaf, 10u, {0.0, 0.003, 0.0}, "meshes/leaf.gltf"});
+    components::TwigStatus twig;
+    twig.points_m = {f.points_m[15], f.points_m[15] + glm::dvec3{0.0, 0.05, 0.0}, f.points_m[15] + glm::dvec3{0.0, 0.1, 0.0}};
+    twig.diameter_m = 0.002;
+    f.twigs.push_back(twig);
+    frame.hands[1].position_m = f.points_m[10];
+    EXPECT_EQ(prune_preview(frame, 1), "P here: strips a leaf of the cherry branch");
+    frame.hands[1].position_m = f.points_m[15] + glm::dvec3{0.0, 0.06, 0.0};
+    EXPECT_EQ(prune_preview(frame, 1), "P here: cuts off a twig of the cherry branch at its fork");
+    frame.hands[1].position_m = f.points_m[3] + glm::dvec3{0.0, 0.0, 0.05};
+    EXPECT_EQ(prune_preview(frame, 1), "") << "nothing within the cube's reach";
+    frame.hands[1].position_m = f.points_m[10];
+    frame.hands[1].holding = true;
+    EXPECT_EQ(prune_preview(frame, 1), "") << "a hand that holds a stem prunes nothing";
+}
+
 // The Ikenobo teacher prunes soe's side twigs before bending it: the prunings are on record with the
 // cuts ("prune" lines), and the session replays to the same score and state with them (and to another
 // without them).
