@@ -199,7 +199,11 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
         effects.cut_to_m = advice.keep_length_m;
     }
     cut_was_down_ = in.letter(cut_letter);
-    if (const auto preview = prune_preview(latest, hand); !preview.empty() && prune_said_for_ == 0) say(preview);
+    // What P would take, beside the next step (the panel shows that line; the yellow mark is for stems).
+    if (const auto preview = prune_preview(latest, hand); !preview.empty() && prune_said_for_ == 0) {
+        say(preview);
+        next_step_ += (next_step_.empty() ? "" : "; or ") + preview;
+    }
     if (in.letter(prune_letter) && !prune_was_down_ && trainee.push({systems::TraineeCommand::Kind::prune, hand, 0.0})) {
         cuttings_before_prune_ = latest.cuttings.size();
         prune_said_for_ = 60; // about two seconds of readings
