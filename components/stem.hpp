@@ -51,8 +51,9 @@ struct StemFrame {
     // leaves (its side is in this frame). Consumed with the moments; empty: none.
     std::vector<double> external_twist_stiffness_nm;
     double twist_stiffness_nm2 = 0.0;      // G J
-    // The last update found nothing holding, twisting or bending the frame and relaxed its twist: until
-    // something does, the update only carries the directors (the cost of a stem nobody turns).
+    // The last update found nothing holding or twisting the frame, and relaxed its twist (with directed
+    // bends: its step turned nothing): until something does, the update carries the directors (and
+    // solves a frame with directed bends again) every quiet_carry_ticks-th tick only (update_frame).
     bool relaxed = false;
     // What each segment was last held at: a hold that has not changed (the kenzan's, most ticks) does not
     // wake a relaxed frame. And how many ticks a quiet frame has gone uncarried (see update_frame).

@@ -34,7 +34,9 @@ BuiltStem build_stem(const StemSpec& spec) {
     // Lay the points along the rest shape: a circular arc when bent, a line otherwise.
     const glm::dvec3 dir = glm::normalize(spec.direction);
     glm::dvec3 side = spec.bend_towards - glm::dot(spec.bend_towards, dir) * dir;
-    side = glm::length(side) > 1e-12 ? glm::normalize(side) : glm::dvec3{0.0};
+    // A curve toward the stem's own direction has no side: it takes the room's x across the stem (the
+    // bark's first director), so a curved stem is always laid curved, with its curve's direction.
+    side = glm::length(side) > 1e-12 ? glm::normalize(side) : (spec.rest_bend_rad != 0.0 ? first_director(dir) : glm::dvec3{0.0});
     auto& pts = stem.points;
     pts.position_m.resize(n + 1);
     pts.position_m[0] = spec.base_m;

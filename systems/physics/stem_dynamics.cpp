@@ -315,7 +315,7 @@ StemEnergy stem_energy(const StemPoints& points, const StemRestShape& rest, cons
 std::size_t tick_parts(double dt) {
     const double parts = std::ceil(dt / max_part_s - 1e-9); // 1 ms is one part, not two by rounding
     if (!std::isfinite(parts) || parts <= 1.0) return 1;
-    return std::min(max_substeps, static_cast<std::size_t>(parts));
+    return static_cast<std::size_t>(std::min(parts, static_cast<double>(max_substeps)));
 }
 
 namespace {
@@ -486,8 +486,8 @@ bool finish_step(StemPoints& points, const StemClamp* clamp, double dt, StemSolv
     }
     for (std::size_t p = 0; p < count; ++p) {
         if (is_fixed(points, clamp, p)) {
-            if (end_forces && !(clamped && p == 0)) {
-                for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = dt * v[p][static_cast<glm::length_t>(r)];
+            if (end_forces) { // the clamp's anchor stays (every entry written: the buffer is a scratch)
+                for (std::size_t r = 0; r < 3; ++r) moved[3 * p + r] = clamped && p == 0 ? 0.0 : dt * v[p][static_cast<glm::length_t>(r)];
             }
             v[p] = glm::dvec3{0.0};
             if (clamped && p == 0) x[0] = clamp->anchor_m;

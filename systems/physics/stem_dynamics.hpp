@@ -76,7 +76,7 @@ struct StemSolverScratch {
 // How many equal steps one tick of dt is cut into, for every stem alike. The step is linearly implicit
 // (one Newton step of backward Euler) and is stable at the paper's haptic period, 1 ms, for a stem of
 // any stiffness and any number of segments (StemDynamics.*OneStepATick*: the cherry branch, fastest
-// hinge mode omega dt = 55, and an 80-segment sunflower, 40 times the sunflower's 20-segment omega dt):
+// hinge mode omega dt = 55, and an 80-segment sunflower, 16 times the sunflower's 20-segment omega dt):
 // the parts no longer grow with stiffness and segments (omega grows as segments squared), so a tick
 // costs in proportion to a stem's points. A longer tick (a haptic rate set below the paper's) is cut
 // into parts of at most max_part_s, max_substeps at most.

@@ -166,6 +166,15 @@ glm::dvec3 bend_between(glm::dvec3 a, glm::dvec3 b) {
     }
     return c * (angle / s);
 }
+
+// It has a bend with a direction (relaxed or not, such a frame is solved when it is updated).
+bool frame_is_bent(const StemRestShape& rest, const StemFrame& frame) {
+    if (!bends_have_directions(rest, frame)) return false;
+    for (std::size_t i = 1; i <= rest.hinge_angle_rad.size(); ++i) {
+        if (hinge_has_direction(rest, i) && rest.hinge_angle_rad[i - 1] > 0.0) return true;
+    }
+    return false;
+}
 } // namespace
 
 void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const StemRestShape& rest,
@@ -180,11 +189,12 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
     frame.held_director.resize(n, glm::dvec3{0.0});
     frame.external_twist_nm.resize(n, 0.0);
     frame.held_at.resize(n, glm::dvec3{0.0});
-    // A quiet frame (relaxed, no directed bends, no moments, its holds where they were) is carried every
-    // quiet_carry_ticks-th tick only: its directors then turn with their segments in one go. Only parts
-    // and the next grip read it, and a few milliseconds late is nothing to them; it was most of the cost.
-    // (A frame with directed bends is relaxed once its last step turned nothing: a species' natural
-    // curve is on every branch, and its frame was carried every tick, most of a forked branch's cost.)
+    // A quiet frame (relaxed, no moments, its holds where they were) is updated every quiet_carry_ticks-th
+    // tick only: its directors then turn with their segments in one go, and one with directed bends (a
+    // branch's natural curve: every branch has one) is solved again then, as the stem's bending has
+    // moved them. The parts, the next grip and the rest bends read it, and a few milliseconds late is
+    // nothing to them (the rest bends carry their directors to each step's segments); solving every
+    // branch's frame every tick was most of a forked branch's cost.
     bool quiet = frame.relaxed;
     for (std::size_t j = 0; j < n && quiet; ++j) {
         quiet = frame.external_twist_nm[j] == 0.0 && (frame.held[j] == 0 || frame.held_director[j] == frame.held_at[j]);
@@ -222,7 +232,7 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
         pushed = pushed || frame.external_twist_nm[j] != 0.0;
     }
     // Nothing holds, twists or bends the frame, and the last solve left no twist: nothing to solve.
-    if (!pushed && frame.relaxed) return;
+    if (!pushed && frame.relaxed && !frame_is_bent(rest, frame)) return;
     // One Newton step on the twist angles phi_j (each director turned about its segment): E = sum over
     // hinges of GJ / (2 l) m_i^2 + k / 2 |b_i - b0_i|^2 - sum T_j phi_j. Turning d_j adds phi_j to m_j,
     // takes it from m_{j+1}, and turns b0_{j+1} about e_j. The Hessian is tridiagonal (the bends' part
@@ -304,7 +314,7 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
         const glm::dvec3 e = frame.segment_direction[j];
         const glm::dvec3 d = frame.director[j];
         double c, s;
-        if (std::abs(phi) < 0.05) { // a tick's turn: the series (first omitted terms under 2e-11), not sincos
+        if (std::abs(phi) < 0.05) { // a tick's turn: the series (first omitted terms under 3e-11), not sincos
             const double u = phi * phi;
             c = 1.0 - u * (0.5 - u * (1.0 / 24.0));
             s = phi * (1.0 - u * (1.0 / 6.0 - u * (1.0 / 120.0)));

@@ -183,7 +183,7 @@ TEST(StemDynamics, RandomBoundedInputNeverProducesNaN) {
 // The paper's 1 ms is one step for any stem, however stiff and however many segments: the shipped
 // cherry branch (8 mm, fastest hinge mode about 55,000 rad/s, omega dt 55; its tick was once cut in
 // three) with its natural curve, clamped at 45 degrees, and an 80-segment sunflower at 30 degrees
-// (omega dt 40 times its 20-segment one's), each knocked at its top, step once a tick for 3 s: their
+// (omega dt 16 times its 20-segment one's), each knocked at its top, step once a tick for 3 s: their
 // energy never grows, and the knock dies away. A longer tick is cut into 1 ms parts, 8 at most.
 TEST(StemDynamics, AStiffCurvedBranchAndAnEightySegmentStemTakeOneStepATickAndNeverGainEnergy) {
     StemSpec cherry = branch_spec();
