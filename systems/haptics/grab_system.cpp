@@ -148,6 +148,17 @@ void GrabSystem::operator()(sched::SystemContext& ctx) {
                 }
             } else {
                 pin(grip.held_point, grip.held_offset_m);
+                // Two hands on one stem: each fist holds the bark where it grips, where the frame carried
+                // it (the wrists' roll bends the stem: bending_system). Held by points alone, a stem could
+                // spin about its own axis between the hands under any twisting moment.
+                if (!alone) {
+                    const auto last = static_cast<std::uint32_t>(points->position_m.size() - 1);
+                    const std::uint32_t segment = std::min(grip.held_point, last > 0 ? last - 1 : 0u);
+                    if (auto* frame = r.try_get<StemFrame>(grip.held); frame && segment < frame->held.size() && segment < frame->director.size()) {
+                        frame->held[segment] = 1;
+                        frame->held_director[segment] = frame->director[segment];
+                    }
+                }
             }
         });
 }

@@ -251,6 +251,44 @@ BendRun bend_branch(double roll, double roll_at_start = 0.0) {
 }
 } // namespace
 
+// Two fists on one stem hold its bark: lifted by two points 117 mm apart (too far apart to bend it), a
+// twisting moment on its top segment (a tool turning it, a twig's weight) twists the part beyond the
+// upper hand, not the stem between the hands: the bark under each fist stays where it is. (Held by two
+// points alone, nothing held the frame, and the whole stem spun about its axis.)
+TEST(TwoHands, TwoHandsHoldTheBarkAgainstATwistingMoment) {
+    auto w = branch_and_two_hands();
+    const glm::dvec3 a = point(*w, 1);
+    const glm::dvec3 b = point(*w, 9);
+    ASSERT_GT(glm::length(b - a), 0.1);
+    auto lift = [](glm::dvec3 p) {
+        std::ostringstream csv;
+        csv << "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n"
+            << "0," << p.x << "," << p.y << "," << p.z << ",0,0,0,1\n"
+            << "0.5," << p.x << "," << p.y << ",0.12,0,0,0,1\n"
+            << "3.0," << p.x << "," << p.y << ",0.12,0,0,0,1\n";
+        return std::make_unique<devices::ScriptedDevice>(*devices::parse_trajectory(csv.str(), "lift"), devices::ScriptedDevice::Mode::interpolate);
+    };
+    w->attach_device(0, lift(a));
+    w->attach_device(1, lift(b));
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(800'000);
+    const ecs::Entity e = w->flowers[0].entity;
+    ASSERT_TRUE(hand(*w, 0).held == e && hand(*w, 1).held == e) << "both hands hold it";
+    ASSERT_FALSE(w->sim.get<Bending>(e).active) << "too far apart to bend it";
+    const std::size_t middle = 5; // between the hands
+    const glm::dvec3 before = w->sim.get<StemFrame>(e).director[middle];
+    for (int t = 0; t < 500; ++t) {
+        auto& f = w->sim.get<StemFrame>(e);
+        f.external_twist_nm.back() = 0.002; // 2 mN m on the top segment, every tick for half a second
+        clock.run_for_us(1000);
+    }
+    const auto& x = w->sim.get<StemPoints>(e).position_m;
+    const glm::dvec3 axis = glm::normalize(x[middle + 1] - x[middle]);
+    const glm::dvec3 now = w->sim.get<StemFrame>(e).director[middle];
+    const double turned = std::atan2(glm::dot(glm::cross(before, now), axis), glm::dot(before, now));
+    EXPECT_LT(std::abs(turned), 2.0 * M_PI / 180.0) << "the bark between the hands turned " << turned * 180.0 / M_PI << " degrees";
+}
+
 // Figures 6-8 as a gesture: the stem between the supports takes Eq. 4's shape and both hands feel F^b.
 TEST(TwoHands, BendingFeedsEq5BackToBothHands) {
     auto run = bend_branch(0.5);
