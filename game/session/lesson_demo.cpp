@@ -325,6 +325,18 @@ public:
                 f.leaves.push_back({along, systems::part_middle(*part, w_.sim.get<StemPoints>(e), w_.sim.try_get<const StemFrame>(e))});
             }
         }
+        if (const auto* twigs = w_.sim.try_get<const Twigs>(e)) {
+            for (const ecs::Entity t : twigs->entities) {
+                const auto* children = w_.sim.try_get<const ecs::Children>(t);
+                const auto* points = w_.sim.try_get<const StemPoints>(t);
+                if (!children || !points) continue;
+                for (const ecs::Entity child : children->entities) {
+                    const auto* part = w_.sim.try_get<const Part>(child);
+                    if (!part || part->kind != PartKind::leaf || part->stem_point >= points->position_m.size()) continue;
+                    f.leaves.push_back({0.0, systems::part_middle(*part, *points, w_.sim.try_get<const StemFrame>(t)), true});
+                }
+            }
+        }
         f.diameter_m = rest.diameter_m;
         if (const auto* bending = w_.sim.try_get<const Bending>(e)) f.keeps_bend_beyond_rad = bending->permanent_set_rad;
         const auto& engagement = w_.sim.get<PinEngagement>(e);

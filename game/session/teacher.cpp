@@ -266,6 +266,47 @@ public:
         return knee_m;
     }
 
+    // Once the stems stand, the leaves that hang in the water (a weeping twig's, reaching down past the
+    // rim) are stripped where they are: the right hand's cube lowered onto each from above, then the
+    // secateurs.
+    void strip_leaves_in_water() {
+        const auto water = room_.water_z_m();
+        if (!water) return;
+        const auto wet = [&] {
+            std::vector<glm::dvec3> aims;
+            for (std::size_t i = 0; i < room_.flower_count(); ++i) {
+                const SeenFlower f = room_.flower(i);
+                if (!f.in_kenzan || f.fallen) continue;
+                for (const auto& leaf : f.leaves) {
+                    if (leaf.at_m.z < *water) aims.push_back(leaf.at_m);
+                }
+            }
+            return aims;
+        };
+        auto aims = wet();
+        if (aims.empty()) return;
+        char what[160];
+        std::snprintf(what, sizeof what, "strip the %zu lea%s hanging in the water", aims.size(), aims.size() == 1 ? "f" : "ves");
+        say(what);
+        hand_.use(1);
+        press(false);
+        hand_.look();
+        const glm::dvec3 above{0.0, 0.0, 0.06};
+        for (int round = 0; round < 2 && !aims.empty(); ++round) {
+            for (const glm::dvec3 aim : aims) {
+                move_to(aim + above, 0.15);
+                move_to(aim, 0.05);
+                hand_.prune();
+                wait(0.05);
+                move_to(aim + above, 0.05);
+            }
+            wait(0.3);
+            aims = wet();
+        }
+        move_to(hand_.position() + glm::dvec3{0.0, -0.1, 0.05}, 0.1);
+        if (!aims.empty()) say("some leaves in the water were missed");
+    }
+
 private:
     // Every twig on the stem as it lies, off at its fork: the hand's cube on the twig a segment out from
     // the fork (nearer it than any leaf), then secateurs (TeacherHand::prune).
@@ -300,7 +341,7 @@ private:
         const auto low = [&] {
             std::vector<glm::dvec3> aims;
             for (const auto& leaf : room_.flower(flower).leaves) {
-                if (bottom_z + leaf.along_m * cos_tilt < *water + leaf_margin_m) aims.push_back(leaf.at_m);
+                if (!leaf.on_twig && bottom_z + leaf.along_m * cos_tilt < *water + leaf_margin_m) aims.push_back(leaf.at_m);
             }
             return aims;
         };
@@ -624,6 +665,7 @@ void teach(const LessonDef& lesson, const Arrangement& model, Classroom& room, T
             teacher.place(*pick, target.role, aimed, rise);
         }
     }
+    teacher.strip_leaves_in_water();
     teacher.say("done: let the arrangement settle");
     teacher.wait(2.0);
 }

@@ -24,10 +24,11 @@ struct SeenFlower {
     std::vector<glm::dvec3> points_m; // bottom first
     std::vector<glm::dvec3> twig_aims_m; // on each twig growing from the stem, a segment out from its fork
     struct Leaf {
-        double along_m;  // from the stem's bottom to where it grows
+        double along_m;  // from the stem's bottom to where it grows (on a twig: to the twig's fork)
         glm::dvec3 at_m; // where it is (its middle)
+        bool on_twig = false;
     };
-    std::vector<Leaf> leaves; // on the stem itself (not its twigs)
+    std::vector<Leaf> leaves; // on the stem, then on its twigs
     double length_m = 0.0;
     double diameter_m = 0.0;
     bool in_kenzan = false;
