@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <utility>
 
 #include "components/insertion.hpp"
@@ -14,10 +15,10 @@ namespace ikebana::game {
 
 std::string prune_preview(const components::FrameSnapshot& frame, std::uint8_t hand) {
     const auto& h = frame.hands[hand & 1u];
-    if (!h.present || h.holding) return "";
+    if (!h.present) return "";
     const glm::dvec3 at = h.position_m;
     const double reach = 0.5 * h.edge_m;
-    double best = reach;
+    double best = std::numeric_limits<double>::infinity(); // nearer than what was found, and within reach
     std::string what;
     const auto to_segment = [](glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) {
         const glm::dvec3 ab = b - a;
@@ -31,7 +32,7 @@ std::string prune_preview(const components::FrameSnapshot& frame, std::uint8_t h
             if (part.kind == components::PartKind::stem || part.mesh.empty() || x.empty()) continue;
             const auto f = systems::physics::attachment_frame(x, std::min<std::size_t>(part.stem_point, x.size() - 1), directors);
             const double d = glm::length(f.place(part.offset_m) - at);
-            if (d <= best) {
+            if (d <= reach && d < best) {
                 best = d;
                 what = std::string("P here: strips a ") + (part.kind == components::PartKind::leaf ? "leaf" : "blossom") + " of the " + species;
             }
@@ -43,7 +44,7 @@ std::string prune_preview(const components::FrameSnapshot& frame, std::uint8_t h
         for (const auto& twig : flower.twigs) {
             for (std::size_t i = 1; i < twig.points_m.size(); ++i) {
                 const double d = std::max(0.0, to_segment(at, twig.points_m[i - 1], twig.points_m[i]) - 0.5 * twig.diameter_m);
-                if (d <= best) {
+                if (d <= reach && d < best) {
                     best = d;
                     what = "P here: cuts off a twig of the " + species + " at its fork";
                 }

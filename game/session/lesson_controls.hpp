@@ -24,7 +24,8 @@ namespace ikebana::game {
 
 // What P would take at the free hand's cube, as the pruning system chooses it (the twig nearest the cube
 // cut at its fork, or the leaf or blossom nearest it, within the cube's half edge): "P here: strips a
-// leaf of the chrysanthemum", or nothing when nothing is in reach (or the hand holds a stem).
+// leaf of the chrysanthemum", or nothing when nothing is in reach. (A hand that holds a stem prunes too:
+// a twig or leaf of the stem it holds, near its fist.)
 [[nodiscard]] std::string prune_preview(const components::FrameSnapshot& frame, std::uint8_t hand);
 
 

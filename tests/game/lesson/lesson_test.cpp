@@ -860,7 +860,7 @@ TEST(LessonControls, LeavesThatWouldStandInTheWaterAreCountedForTheHeldStem) {
     EXPECT_EQ(says(l).find("would stand in the water"), std::string::npos) << "a lesson without the rule";
 }
 
-// Before P is pressed the HUD says what it would take at the free hand's cube, chosen as the pruning
+// Before P is pressed the HUD says what it would take at the hand's cube, chosen as the pruning
 // system chooses: the nearest leaf or blossom, or twig (cut at its fork), within the cube's half edge.
 TEST(LessonControls, TheHudSaysWhatPWouldPruneAtTheCube) {
     components::FrameSnapshot frame = holding_a_lying_cherry_branch();
@@ -881,7 +881,7 @@ TEST(LessonControls, TheHudSaysWhatPWouldPruneAtTheCube) {
     EXPECT_EQ(prune_preview(frame, 1), "") << "nothing within the cube's reach";
     frame.hands[1].position_m = f.points_m[10];
     frame.hands[1].holding = true;
-    EXPECT_EQ(prune_preview(frame, 1), "") << "a hand that holds a stem prunes nothing";
+    EXPECT_EQ(prune_preview(frame, 1), "P here: strips a leaf of the cherry branch") << "a hand that holds a stem prunes at its fist as well";
 }
 
 // The Ikenobo teacher prunes soe's side twigs before bending it: the prunings are on record with the
