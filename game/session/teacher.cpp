@@ -419,14 +419,19 @@ private:
         // bends it (one that will not be bent too: it is then held by the part that stands upright).
         const double grip_from_new_bottom = rise ? rise->knee_m - bend_grip_m : std::min(0.06, 0.3 * keep);
         // On the stem as it lies (a branch's curve lifts it off the line between its ends).
-        const glm::dvec3 grip_at = along_stem(lying.points_m, std::max(0.0, cut) + grip_from_new_bottom);
+        const auto grip_point = [&] { return along_stem(room_.flower(flower).points_m, std::max(0.0, cut) + grip_from_new_bottom); };
+        glm::dvec3 grip_at = along_stem(lying.points_m, std::max(0.0, cut) + grip_from_new_bottom);
         say(role + ": take the " + target.species + " from the table");
         hand_.look();
         move_to(grip_at + glm::dvec3{0, 0, 0.06});
         // Looked at again above it: after a long way the hand is not quite where it was sent (the X
         // pointer moves in whole pixels, fewer of them for a metre far from the camera than near it).
+        // And the stem again: a curved branch keeps its curve's side and may still be rocking on it
+        // (the window's state comes frames late), so the hand goes down to where it is now.
         hand_.look();
+        grip_at = grip_point();
         move_to(grip_at + glm::dvec3{0, 0, 0.06});
+        grip_at = grip_point();
         move_to(grip_at);
         press(true);
         if (room_.held(1) != flower) {
