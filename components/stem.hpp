@@ -28,9 +28,9 @@ struct StemRestShape {
     // frame of the segment below the hinge (StemFrame: d1, d2 = e x d1): the rest bend is the rotation
     // theta0 (cos psi d1 + sin psi d2) from that segment to the next. A bend with a direction of its own
     // (a permanent set made with both hands) stays on its side of the stem however the stem is carried or
-    // turned, and so does a species' natural curve (given its direction when the stem is built). A zero
-    // vector, or none at all (empty), is a bend without a direction: it takes the plane the hinge is
-    // bent in now, so it settles wherever the stem's weight takes it (docs/physics.md).
+    // turned. A zero vector, or none at all (empty), is a bend without a direction: it takes the plane
+    // the hinge is bent in now, so it settles wherever the stem's weight takes it (a species' natural
+    // curve, for now; see docs/physics.md).
     std::vector<glm::dvec2> hinge_bend_direction;
 };
 

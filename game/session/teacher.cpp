@@ -508,7 +508,7 @@ private:
             turn_by(turn_between(lower_direction(flower, hold), lean), round == 0 ? 1.0 : 0.4);
             wait(0.3);
         }
-        // The bend keeps its side of the bark (the stem's frame), and so does the branch's own curve:
+        // The bend keeps its side of the bark (the stem's frame; a branch's own curve does not, it settles):
         // the wrist turns the stem about its own axis until the part above the bend is on the role's
         // side of it, measured square to the axis (seen from above, a part leaning back over a tilted
         // axis turns by more or less than the wrist does, and the turns overshot).
@@ -532,9 +532,9 @@ private:
         }
     }
 
-    // A branch's curve, which lay bowing up on the table, is turned to hang down: the curve is in its
-    // bark (the stem's frame) and keeps the side it is turned to, and a tilted branch's curve is shown
-    // drooping, not rearing. The stem's axis lay along +x, its curve rising toward +z: x goes to the
+    // A branch's curve, which lay bowing up on the table, is turned to hang down: a curve held any other
+    // way rolls down under its weight once let go (it has no side of the bark: docs/physics.md), so that
+    // is where it settles. The stem's axis lay along +x, its curve rising toward +z: x goes to the
     // role's direction, z to straight down across it.
     void turn_tilted(std::size_t flower, const Hold& hold) {
         const glm::dvec3 want = hold.want;

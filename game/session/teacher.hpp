@@ -81,7 +81,7 @@ public:
     virtual bool use(std::uint8_t hand) { return hand == 1; }
     [[nodiscard]] virtual bool two_hands() const { return false; }
     // Can it turn a held stem about any axis, its own included, as a wrist does? The mouse's hand turns in
-    // steps about the viewer's axes and the vertical. Since a branch's curve has its side of the bark, a
+    // steps about the viewer's axes and the vertical. With a branch's curve on its side of the bark (tried), a
     // bend made lying on the table is turned round through the mouse as well (within 3 degrees), but tai's
     // line came out at 25 degrees, not the devices' 35, and the Shoka's stems parted 86 mm above the
     // water (the form: 60-80): through the mouse a stem is still bent held up.
