@@ -242,14 +242,32 @@ ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPla
     spec.air_drag_per_s = sp.air_drag_per_s;
     spec.direction = placement.direction;
     spec.base_m = placement.base_m;
+    // Laid on the table (not held up in the air, as the sag trial holds one).
+    const bool on_table = placement.placement == Placement::lying && placement.base_m.z <= table_height_m + sp.diameter_m;
     if (placement.placement == Placement::lying) {
         spec.base_m.z = std::max(spec.base_m.z, table_height_m + 0.5 * sp.diameter_m);
-        spec.bend_towards = glm::dvec3{0, 0, 1};
+        // Its curve, if any, toward the table. On the table a curved stem lies as it would fall, on
+        // its two ends with its curve arching between them (laid with its curve rising from its base,
+        // it rocked on it): it leaves its base rising by half its curve and curves down.
+        const glm::dvec3 d = glm::dvec3{placement.direction.x, placement.direction.y, 0.0};
+        if (on_table && sp.rest_bend_rad != 0.0 && glm::length(d) > 1e-9) {
+            const double half = 0.5 * sp.rest_bend_rad;
+            spec.direction = std::cos(half) * glm::normalize(d) + std::sin(half) * glm::dvec3{0, 0, 1};
+        }
+        spec.bend_towards = glm::dvec3{0, 0, -1};
     } else {
         // Bend (if any) away from the kenzan's centre line, in a vertical plane.
         spec.bend_towards = glm::dvec3{1, 0, 0};
     }
     auto stem = systems::physics::build_stem(spec);
+    // Raised until its lowest point is on the table.
+    if (on_table) {
+        double lowest = spec.base_m.z;
+        for (const auto& x : stem.points.position_m) lowest = std::min(lowest, x.z);
+        const double lift = std::max(0.0, table_height_m + 0.5 * sp.diameter_m - lowest);
+        for (auto& x : stem.points.position_m) x.z += lift;
+        spec.base_m.z += lift;
+    }
 
     const ecs::Entity flower = r.create();
     r.emplace<Flower>(flower, sp.id, sp.total_mass_kg());

@@ -59,15 +59,13 @@ BuiltStem build_stem(const StemSpec& spec) {
     pts.mass_kg[n] += spec.head_mass_kg;
     // The frame: its first director the room's x across the first segment (as parts were placed before
     // the frame), carried up without twist.
-    // The natural curve's bends have no direction of their own (zero): they hang where the weight takes
-    // them. Given one (rest_bends_from_shape: the curve on its side of the bark), every test and
-    // in-process demonstration held, but a curved branch laid on the table rocked on its curve and the
-    // window's X-pointer demonstration missed the cherry and lost hikae (66-67 / 100, not >= 90);
-    // left for the next session. A bend made with both hands gets one (bending.cpp).
+    // The natural curve's bends get their direction in that frame: the curve is the wood's, on its side
+    // of the bark wherever the branch is turned (without one it rolled down under its weight).
     const double shear = spec.shear_modulus_pa > 0.0 ? spec.shear_modulus_pa : spec.youngs_modulus_pa / (2.0 * (1.0 + spec.poisson_ratio));
     stem.twist_stiffness_nm2 = shear * 2.0 * inertia;
     stem.frame = frame_along(pts.position_m, first_director(pts.position_m[1] - pts.position_m[0]), stem.twist_stiffness_nm2);
-    stem.rest.hinge_bend_direction.assign(stem.rest.hinge_angle_rad.size(), glm::dvec2{0.0});
+    if (spec.rest_bend_rad != 0.0 && glm::length(side) > 0.0) rest_bends_from_shape(pts.position_m, stem.frame, stem.rest);
+    else stem.rest.hinge_bend_direction.assign(stem.rest.hinge_angle_rad.size(), glm::dvec2{0.0});
     return stem;
 }
 

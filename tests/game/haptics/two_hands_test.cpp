@@ -185,11 +185,24 @@ namespace {
 // by `roll` radians to bend it; then let go.
 struct BendRun {
     std::unique_ptr<World> w;
-    double total_rest_before = 0.0;
+    std::vector<glm::dvec2> rest_bends_before;
     Bending during{};
     glm::dvec3 left_force{0.0};
     glm::dvec3 right_force{0.0};
 };
+// Each hinge's rest bend as a vector in its frame (angle times direction): the natural curve's and a
+// permanent set's add as vectors, so the set is how far these moved.
+std::vector<glm::dvec2> rest_bends(World& w) {
+    const auto& rest = w.sim.get<StemRestShape>(w.flowers[0].entity);
+    std::vector<glm::dvec2> bends;
+    for (std::size_t i = 0; i < rest.hinge_angle_rad.size(); ++i) bends.push_back(rest.hinge_angle_rad[i] * rest.hinge_bend_direction[i]);
+    return bends;
+}
+double set_between(const std::vector<glm::dvec2>& before, const std::vector<glm::dvec2>& after) {
+    double set = 0.0;
+    for (std::size_t i = 0; i < before.size() && i < after.size(); ++i) set += glm::length(after[i] - before[i]);
+    return set;
+}
 // The shipped cherry without its twigs (a stem the bend law's figures are exactly about: twigs roll a
 // lying branch off the plane its natural curve lies in).
 std::string bare_cherry() {
@@ -227,7 +240,7 @@ BendRun bend_branch(double roll, double roll_at_start = 0.0) {
     };
     w.attach_device(0, script6(a, roll_at_start, roll_at_start + roll));
     w.attach_device(1, script6(b, 0.0, 0.0));
-    for (double angle : w.sim.get<StemRestShape>(w.flowers[0].entity).hinge_angle_rad) run.total_rest_before += angle;
+    run.rest_bends_before = rest_bends(w);
     sched::DeterministicClock clock(w.schedule);
     clock.run_for_us(1'500'000);
     run.during = w.sim.get<Bending>(w.flowers[0].entity);
@@ -235,11 +248,6 @@ BendRun bend_branch(double roll, double roll_at_start = 0.0) {
     run.right_force = hand(w, 1).force_n;
     clock.run_for_us(2'000'000);
     return run;
-}
-double total_rest(World& w) {
-    double total = 0.0;
-    for (double angle : w.sim.get<StemRestShape>(w.flowers[0].entity).hinge_angle_rad) total += angle;
-    return total;
 }
 } // namespace
 
@@ -296,11 +304,11 @@ TEST(TwoHands, BendingFeedsEq5BackToBothHands) {
 // Bent 0.5 rad (28.6 degrees) against a 12-degree threshold: 16.6 degrees stay after release.
 TEST(TwoHands, BendingPastTheThresholdLeavesAPermanentSet) {
     auto run = bend_branch(0.5);
-    const double set = total_rest(*run.w) - run.total_rest_before;
+    const double set = set_between(run.rest_bends_before, rest_bends(*run.w));
     EXPECT_NEAR(set, 0.5 - 12.0 * M_PI / 180.0, 1e-6);
     EXPECT_FALSE(run.w->sim.get<Bending>(run.w->flowers[0].entity).active) << "released";
     auto gentle = bend_branch(0.15); // 8.6 degrees: springs back
-    EXPECT_NEAR(total_rest(*gentle.w), gentle.total_rest_before, 1e-12);
+    EXPECT_NEAR(set_between(gentle.rest_bends_before, rest_bends(*gentle.w)), 0.0, 1e-12);
 }
 
 // Two devices are never held at the same roll: a second hand that takes the stem rolled two radians
@@ -310,7 +318,7 @@ TEST(TwoHands, ABendCountsFromTheWristsAsTheyCameTogether) {
     auto run = bend_branch(0.5, 2.0);
     ASSERT_TRUE(run.during.active);
     EXPECT_NEAR(run.during.theta_rad, M_PI - 0.5, 1e-9) << "rolled 0.5 rad since the hands came together";
-    const double set = total_rest(*run.w) - run.total_rest_before;
+    const double set = set_between(run.rest_bends_before, rest_bends(*run.w));
     EXPECT_NEAR(set, 0.5 - 12.0 * M_PI / 180.0, 1e-6);
     for (const auto& x : run.w->sim.get<StemPoints>(run.w->flowers[0].entity).position_m) {
         EXPECT_LT(glm::length(x - glm::dvec3{0.1, 0.1, 0.0}), 0.5) << "the branch stays within reach";

@@ -77,16 +77,17 @@ TEST(StemFrame, ATwistingMomentTwistsTheStemByTLOverGJ) {
     EXPECT_NEAR(total_twist(stem), 0.0, 1e-6);
 }
 
-// A bend with a direction on the stem (a permanent set) turns with the stem when the stem is turned
-// about its own axis; a bend without one (the natural curve's) stays where its shape put it, the stem
-// turning under it. The bottom two points are held as a hand holds them.
+// A bend with a direction on the stem (a permanent set, a species' natural curve: build_stem gives it
+// one) turns with the stem when the stem is turned about its own axis; a bend without one (the rest
+// shape's directions zeroed: the model keeps that case) stays where its shape put it, the stem turning
+// under it. The bottom two points are held as a hand holds them.
 TEST(StemFrame, ABendWithADirectionTurnsWithTheStemWhenTheHandTurnsIt) {
     for (const bool directed : {true, false}) {
         StemSpec spec = willow_spec();
         spec.rest_bend_rad = 40 * deg;
         spec.bend_towards = {1, 0, 0};
         BuiltStem stem = build_stem(spec);
-        if (directed) rest_bends_from_shape(stem.points.position_m, stem.frame, stem.rest);
+        if (!directed) stem.rest.hinge_bend_direction.assign(stem.rest.hinge_angle_rad.size(), glm::dvec2{0.0});
         stem.points.pinned[0] = stem.points.pinned[1] = 1;
         StemSolverScratch scratch;
         FrameScratch frame_scratch;
