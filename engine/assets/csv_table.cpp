@@ -3,65 +3,112 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
+#include "engine/core/utf8.hpp"
 
 namespace ikebana::assets {
 
 namespace {
 
-struct Cell {
-    std::string text;
-    std::size_t column; // 1-based character column where the cell starts
-};
+// A record's cells (RFC 4180): fields separated by commas, optionally quoted ("a, b", "" for a quote,
+// and line breaks inside the quotes, as spreadsheets write a cell with Enter in it). It reads one
+// record from `at` and leaves `at` after its line ending; `line` counts the file's physical lines,
+// so messages name the line where a thing is, not where its record began. At most `keep` cells are
+// kept: past them the rest are only counted, so a row of millions of commas costs no memory.
+struct Reader {
+    std::string_view text;
+    std::string label;
+    std::size_t at = 0;
+    std::size_t line = 1;
+    std::size_t line_start = 0; // where the current physical line begins, for columns
 
-// Splits one line into cells; an unterminated quote is an error.
-Result<std::vector<Cell>> split(std::string_view line, const std::string& where_prefix) {
-    std::vector<Cell> cells;
-    std::size_t i = 0;
-    for (;;) {
-        Cell cell{std::string{}, i + 1};
-        if (i < line.size() && line[i] == '"') {
-            ++i;
-            bool closed = false;
-            while (i < line.size()) {
-                if (line[i] == '"') {
-                    if (i + 1 < line.size() && line[i + 1] == '"') {
-                        cell.text += '"';
-                        i += 2;
+    [[nodiscard]] bool done() const { return at >= text.size(); }
+    [[nodiscard]] std::size_t column() const { return at - line_start + 1; }
+    [[nodiscard]] bool at_line_end() const { return done() || text[at] == '\n' || text[at] == '\r'; }
+    std::string where(std::size_t l, std::size_t c) const { return label + ":" + std::to_string(l) + ":" + std::to_string(c) + ": "; }
+    // Past one line ending ("\r\n", "\n" or a lone "\r").
+    void end_line() {
+        if (done()) return;
+        at += text.substr(at, 2) == "\r\n" ? 2 : 1;
+        ++line;
+        line_start = at;
+    }
+    // A blank or comment line where a record would begin: skipped.
+    bool skip_blank_or_comment() {
+        std::size_t i = at;
+        while (i < text.size() && (text[i] == ' ' || text[i] == '\t')) ++i;
+        const bool blank = i >= text.size() || text[i] == '\n' || text[i] == '\r';
+        if (!blank && text[at] != '#') return false;
+        while (!at_line_end()) ++at;
+        end_line();
+        return true;
+    }
+
+    struct Record {
+        std::vector<std::string> cells;
+        std::vector<std::pair<std::size_t, std::size_t>> starts; // each kept cell's line and column
+        std::size_t count = 0;      // every cell, kept or not
+        std::size_t first_line = 0; // where it began
+        std::size_t last_line = 0;  // where it ended (a quoted line break spans lines)
+    };
+    Result<Record> record(std::size_t keep) {
+        Record r;
+        r.first_line = line;
+        for (;;) {
+            std::string cell;
+            const bool kept = r.count < keep;
+            if (kept) r.starts.emplace_back(line, column());
+            if (!done() && text[at] == '"') {
+                const std::size_t open_line = line, open_column = column();
+                ++at;
+                bool closed = false;
+                while (!done()) {
+                    const char c = text[at];
+                    if (c == '"') {
+                        if (at + 1 < text.size() && text[at + 1] == '"') {
+                            if (kept) cell += '"';
+                            at += 2;
+                            continue;
+                        }
+                        closed = true;
+                        ++at;
+                        break;
+                    }
+                    if (c == '\n' || c == '\r') {
+                        const std::size_t before = at;
+                        end_line();
+                        if (kept) cell.append(text.substr(before, at - before));
                         continue;
                     }
-                    closed = true;
-                    ++i;
-                    break;
+                    if (kept) cell += c;
+                    ++at;
                 }
-                cell.text += line[i++];
+                if (!closed) return make_error(ErrorCode::parse_error, where(open_line, open_column) + "unterminated quote (its field runs to the end of the file)");
+                if (!done() && text[at] != ',' && !at_line_end()) return make_error(ErrorCode::parse_error, where(line, column()) + "expected ',' after a quoted field");
+            } else {
+                const std::size_t from = at;
+                while (!done() && text[at] != ',' && text[at] != '\n' && text[at] != '\r') ++at;
+                if (kept) {
+                    const std::string_view raw = text.substr(from, at - from);
+                    // Surrounding blanks are not part of the value.
+                    const auto first = raw.find_first_not_of(" \t");
+                    const auto last = raw.find_last_not_of(" \t");
+                    if (first != std::string_view::npos) cell = std::string(raw.substr(first, last - first + 1));
+                }
             }
-            if (!closed) return make_error(ErrorCode::parse_error, where_prefix + std::to_string(cell.column) + ": unterminated quote");
-            if (i < line.size() && line[i] != ',') {
-                return make_error(ErrorCode::parse_error, where_prefix + std::to_string(i + 1) + ": expected ',' after a quoted field");
-            }
-        } else {
-            const std::size_t comma = line.find(',', i);
-            const std::size_t end = comma == std::string_view::npos ? line.size() : comma;
-            cell.text = std::string(line.substr(i, end - i));
-            // Surrounding blanks are not part of the value.
-            const auto first = cell.text.find_first_not_of(" \t");
-            const auto last = cell.text.find_last_not_of(" \t");
-            cell.text = first == std::string::npos ? std::string{} : cell.text.substr(first, last - first + 1);
-            i = end;
+            ++r.count;
+            if (kept) r.cells.push_back(std::move(cell));
+            if (done() || text[at] != ',') break;
+            ++at; // the comma
         }
-        cells.push_back(std::move(cell));
-        if (i >= line.size()) break;
-        ++i; // the comma
-        if (i == line.size()) {
-            cells.push_back(Cell{std::string{}, i + 1});
-            break;
-        }
+        r.last_line = line;
+        end_line();
+        return r;
     }
-    return cells;
-}
+};
 
 std::optional<double> number(const std::string& text) {
     double v = 0.0;
@@ -99,32 +146,53 @@ std::vector<TextLine> split_lines(std::string_view text) {
 Result<CsvTable> parse_csv(std::string_view text, const std::string& label, std::size_t max_cells) {
     CsvTable table;
     table.label = label;
+    if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+    // A file that is not UTF-8 (a spreadsheet's Latin-1 or Windows-1252 export) is read as
+    // Windows-1252, and a note says so and where the first such byte is.
+    std::string decoded;
+    if (const auto bad = first_non_utf8(text)) {
+        std::size_t line = 1, line_start = 0;
+        for (std::size_t i = 0; i < *bad; ++i) {
+            if (text[i] == '\n' || (text[i] == '\r' && (i + 1 >= text.size() || text[i + 1] != '\n'))) {
+                ++line;
+                line_start = i + 1;
+            }
+        }
+        table.note = label + ":" + std::to_string(line) + ":" + std::to_string(*bad - line_start + 1) + ": " + byte_text(text, *bad) +
+                     " is not UTF-8: the file is read as Windows-1252 (Latin-1), as spreadsheets write it";
+        decoded = windows1252_to_utf8(text);
+        text = decoded;
+    }
+    Reader in{text, label};
     bool header_seen = false;
-    std::size_t line_no = 0;
-    for (const auto& [line, ending] : split_lines(text)) {
-        ++line_no;
-        if (line.find_first_not_of(" \t") == std::string_view::npos || line.front() == '#') continue;
+    while (!in.done()) {
+        if (in.skip_blank_or_comment()) continue;
+        const std::size_t line_no = in.line;
         const std::string where = label + ":" + std::to_string(line_no) + ":";
-        auto cells = split(line, where);
-        if (!cells) return std::move(cells).error();
+        // The header may have as many columns as a table may; a row, as many as the header (one more
+        // is kept to tell a wide row, the rest only counted).
+        auto record = in.record(header_seen ? table.columns.size() + 1 : max_csv_columns + 1);
+        if (!record) return std::move(record).error();
+        auto& cells = record->cells;
         if (!header_seen) {
             header_seen = true;
-            if (cells->size() > max_csv_columns) {
-                return make_error(ErrorCode::parse_error, where + "1: " + std::to_string(cells->size()) + " columns, more than the " +
+            if (record->count > max_csv_columns) {
+                return make_error(ErrorCode::parse_error, where + "1: " + std::to_string(record->count) + " columns, more than the " +
                                                               std::to_string(max_csv_columns) + " a table may have here");
             }
-            for (const auto& c : *cells) {
-                if (c.text.empty()) return make_error(ErrorCode::parse_error, where + std::to_string(c.column) + ": empty column name in the header");
-                if (table.find(c.text)) {
-                    return make_error(ErrorCode::parse_error, where + std::to_string(c.column) + ": column '" + c.text + "' appears twice");
-                }
-                table.columns.push_back(CsvColumn{c.text, {}, std::nullopt});
+            for (std::size_t i = 0; i < cells.size(); ++i) {
+                const auto& c = cells[i];
+                const std::string at = in.where(record->starts[i].first, record->starts[i].second);
+                if (c.empty()) return make_error(ErrorCode::parse_error, at + "empty column name in the header");
+                if (table.find(c)) return make_error(ErrorCode::parse_error, at + "column '" + c + "' appears twice");
+                table.columns.push_back(CsvColumn{c, {}, std::nullopt});
             }
+            table.header_last_line = record->last_line;
             continue;
         }
-        if (cells->size() != table.columns.size()) {
+        if (record->count != table.columns.size()) {
             return make_error(ErrorCode::parse_error, where + "1: expected " + std::to_string(table.columns.size()) + " fields (as the header), found " +
-                                                          std::to_string(cells->size()));
+                                                          std::to_string(record->count));
         }
         if (table.rows() == max_csv_rows) {
             return make_error(ErrorCode::parse_error, where + "1: more than " + std::to_string(max_csv_rows) + " rows, the most a table may have here");
@@ -134,8 +202,9 @@ Result<CsvTable> parse_csv(std::string_view text, const std::string& label, std:
                                                           " cells (rows x columns), the most a table may hold here (about " +
                                                           std::to_string(max_cells * 40 >> 20) + " MiB in memory); split the file");
         }
-        for (std::size_t c = 0; c < cells->size(); ++c) table.columns[c].text.push_back(std::move((*cells)[c].text));
+        for (std::size_t c = 0; c < cells.size(); ++c) table.columns[c].text.push_back(std::move(cells[c]));
         table.line_of_row.push_back(line_no);
+        table.last_line_of_row.push_back(record->last_line);
     }
     if (!header_seen) return make_error(ErrorCode::parse_error, label + ": empty; expected a header row");
     for (auto& column : table.columns) {

@@ -1,6 +1,7 @@
 #pragma once
 // A CSV table as researchers write it: a header row, lines starting with '#' are comments, fields
-// separated by commas, optionally quoted ("a, b" and "" for a quote). Every column is kept as text
+// separated by commas, optionally quoted ("a, b", "" for a quote, and line breaks inside quotes as
+// RFC 4180 and spreadsheets have them). UTF-8, or else read as Windows-1252 with a note. Every column is kept as text
 // and, where every non-empty cell parses as a finite number, also as numbers, so that columns the
 // program has never heard of can be analysed as numeric or categorical. Errors name the file, the
 // line and the column; nothing is returned half read.
@@ -24,7 +25,10 @@ struct CsvColumn {
 struct CsvTable {
     std::string label;
     std::vector<CsvColumn> columns;
-    std::vector<std::size_t> line_of_row; // source line of each row, for messages about rows
+    std::vector<std::size_t> line_of_row;      // source line where each row begins, for messages about rows
+    std::vector<std::size_t> last_line_of_row; // and where it ends (a quoted cell may hold line breaks)
+    std::size_t header_last_line = 0;          // the line the header ends on
+    std::string note; // how it was read, when not as written (a file that is not UTF-8); empty otherwise
     [[nodiscard]] std::size_t rows() const noexcept { return line_of_row.size(); }
     [[nodiscard]] const CsvColumn* find(std::string_view name) const noexcept;
 };

@@ -168,8 +168,25 @@ Result<void> check_output_path(const std::filesystem::path& path) {
     return {};
 }
 
+namespace {
+// Writes `bytes` to a new temporary beside `path` (see write_file_atomically) and returns its name.
+Result<std::string> write_temporary(const std::filesystem::path& path, std::string_view bytes);
+} // namespace
+
 Result<void> write_file_atomically(const std::filesystem::path& path, std::string_view bytes) {
-    if (auto ok = check_output_path(path); !ok) return ok;
+    auto temporary = write_temporary(path, bytes);
+    if (!temporary) return std::move(temporary).error();
+    if (::rename(temporary->c_str(), path.c_str()) != 0) {
+        const int err = errno;
+        ::unlink(temporary->c_str());
+        return os_error(path, "cannot be replaced", err);
+    }
+    return {};
+}
+
+namespace {
+Result<std::string> write_temporary(const std::filesystem::path& path, std::string_view bytes) {
+    if (auto ok = check_output_path(path); !ok) return std::move(ok).error();
     const auto folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
     // mkstemp creates the name with O_CREAT|O_EXCL: a file or link planted at a predictable
     // temporary name is never written through.
@@ -189,9 +206,9 @@ Result<void> write_file_atomically(const std::filesystem::path& path, std::strin
     if (!write_all(file.fd, bytes.data(), bytes.size())) return fail("cannot be written");
     if (::fsync(file.fd) != 0) return fail("cannot be written to disk");
     if (::close(file.release()) != 0) return fail("cannot be written");
-    if (::rename(name.c_str(), path.c_str()) != 0) return fail("cannot be replaced");
-    return {};
+    return name;
 }
+} // namespace
 
 Result<void> write_text_file(const std::filesystem::path& path, const std::string& text) {
     return write_file_atomically(path, text);
@@ -218,6 +235,51 @@ Result<void> create_output_folder(const std::filesystem::path& path) {
     }
     std::filesystem::create_directories(path, ec);
     if (ec) return make_error(ErrorCode::io_error, path.string() + ": cannot create the folder (" + ec.message() + ")");
+    return {};
+}
+
+OutputBatch::~OutputBatch() {
+    if (committed_) return;
+    for (const auto& staged : staged_) ::unlink(staged.temporary.c_str());
+    // Innermost first; a folder something else has put a file in meanwhile is kept (remove() of a
+    // folder that is not empty fails).
+    std::error_code ec;
+    for (auto it = made_folders_.rbegin(); it != made_folders_.rend(); ++it) std::filesystem::remove(*it, ec);
+}
+
+Result<void> OutputBatch::folder(const std::filesystem::path& path) {
+    // The folders create_directories would make, outermost first.
+    std::vector<std::filesystem::path> missing;
+    std::error_code ec;
+    for (auto p = path; !p.empty() && !std::filesystem::exists(std::filesystem::symlink_status(p, ec)); p = p.parent_path()) {
+        missing.insert(missing.begin(), p);
+        if (p == p.parent_path()) break;
+    }
+    if (auto made = create_output_folder(path); !made) return made;
+    made_folders_.insert(made_folders_.end(), missing.begin(), missing.end());
+    return {};
+}
+
+Result<void> OutputBatch::add(const std::filesystem::path& path, std::string_view bytes) {
+    for (const auto& staged : staged_) {
+        if (staged.target == path) return make_error(ErrorCode::invalid_argument, path.string() + ": named twice as an output");
+    }
+    auto temporary = write_temporary(path, bytes);
+    if (!temporary) return std::move(temporary).error();
+    staged_.push_back({path, std::move(temporary).value()});
+    return {};
+}
+
+Result<void> OutputBatch::commit() {
+    for (std::size_t i = 0; i < staged_.size(); ++i) {
+        if (::rename(staged_[i].temporary.c_str(), staged_[i].target.c_str()) != 0) {
+            const int err = errno;
+            staged_.erase(staged_.begin(), staged_.begin() + static_cast<std::ptrdiff_t>(i)); // those are in place
+            return os_error(staged_.front().target, "cannot be replaced", err);
+        }
+    }
+    staged_.clear();
+    committed_ = true;
     return {};
 }
 

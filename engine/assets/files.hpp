@@ -9,6 +9,7 @@
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "engine/core/result.hpp"
 
@@ -46,5 +47,32 @@ Result<std::unique_ptr<std::ostream>> open_output_stream(const std::filesystem::
 // Creates the folder (and its parents) that outputs go to; refuses a path that exists and is not a
 // folder (or a link to one).
 Result<void> create_output_folder(const std::filesystem::path& path);
+
+// The files one command writes, all or none. Each is checked (check_output_path) and written to a
+// temporary beside its target as it is added; commit() renames them over their targets. Destroyed
+// without commit() (the command failed after some of its outputs were ready: a planted link where
+// the report goes), it removes the temporaries and the folders it made, so a failed command leaves
+// what was there before. (The renames themselves are one system call each, after every write has
+// succeeded: the only step left that can fail half-way, and it does not in one folder of one disk.)
+class OutputBatch {
+public:
+    OutputBatch() = default;
+    OutputBatch(const OutputBatch&) = delete;
+    OutputBatch& operator=(const OutputBatch&) = delete;
+    ~OutputBatch();
+    // A folder outputs go to (create_output_folder), remembered if this made it.
+    Result<void> folder(const std::filesystem::path& path);
+    Result<void> add(const std::filesystem::path& path, std::string_view bytes);
+    Result<void> commit();
+
+private:
+    struct Staged {
+        std::filesystem::path target;
+        std::string temporary;
+    };
+    std::vector<Staged> staged_;
+    std::vector<std::filesystem::path> made_folders_; // outermost first
+    bool committed_ = false;
+};
 
 } // namespace ikebana::assets

@@ -19,6 +19,14 @@ namespace ikebana::assets {
 
 using Json = nlohmann::json;
 
+// JSON written out. Every string in it should already be UTF-8 (names, cells and settings are checked
+// where they come in), but a byte that is not would make the library throw halfway through a file
+// (a trainee's name once aborted `history --json` for good): here it becomes U+FFFD instead.
+template <typename J>
+[[nodiscard]] std::string json_text(const J& j, int indent = -1) {
+    return j.dump(indent, ' ', false, J::error_handler_t::replace);
+}
+
 struct NumberRange {
     double min = -std::numeric_limits<double>::infinity();
     double max = std::numeric_limits<double>::infinity();

@@ -613,7 +613,7 @@ std::string gltf_text(const MeshData& mesh) {
                         {{"buffer", 0}, {"byteOffset", vbytes}, {"byteLength", vbytes}, {"target", 34962}},
                         {{"buffer", 0}, {"byteOffset", 2 * vbytes}, {"byteLength", ibytes}, {"target", 34963}}};
     j["buffers"] = {{{"byteLength", bytes.size()}, {"uri", "data:application/octet-stream;base64," + base64(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()))}}};
-    return j.dump(1) + "\n";
+    return assets::json_text(j, 1) + "\n";
 }
 
 Result<void> write_gltf_mesh(const std::filesystem::path& path, const MeshData& mesh) {

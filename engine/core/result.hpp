@@ -17,6 +17,7 @@ enum class ErrorCode {
     device_error,      // a device (Vulkan, HID) is missing or misbehaves
     device_silent,     // a force device is plugged in but has sent no report for longer than its limit
     device_lost,       // a force device stopped taking forces (writes failed again and again)
+    busy,              // a shared file another process holds for now (a database mid-write): try again later
 };
 
 struct Error {

@@ -31,6 +31,10 @@ Result<std::vector<Keyframe>> parse_trajectory(std::string_view text, const std:
             seen_header = true;
             continue;
         }
+        // A row wider than the header is refused before it is split (a row of millions of commas
+        // once took gigabytes as cells before its width was checked).
+        if (const auto commas = static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')); commas != 7)
+            return make_error(ErrorCode::parse_error, where(1) + "expected 8 fields, found " + std::to_string(commas + 1));
         // Split into cells, remembering where each starts (for the column in messages).
         std::vector<std::pair<std::string_view, std::size_t>> cells;
         for (std::size_t pos = 0;;) {

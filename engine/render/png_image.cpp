@@ -13,20 +13,26 @@ IKEBANA_THIRD_PARTY_END
 
 namespace ikebana::render {
 
-Result<void> write_png(const std::filesystem::path& path, const RgbaImage& image) {
+Result<std::string> encode_png(const RgbaImage& image, const std::string& label) {
     if (image.width == 0 || image.height == 0 || image.pixels.size() != 4ull * image.width * image.height) {
-        return make_error(ErrorCode::invalid_argument, path.string() + ": no image to write");
+        return make_error(ErrorCode::invalid_argument, label + ": no image to write");
     }
-    // Encoded in memory and written through the one output door (exclusive temporary, rename).
     std::string bytes;
     const auto append = [](void* context, void* data, int size) {
         static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
     };
     if (!stbi_write_png_to_func(append, &bytes, static_cast<int>(image.width), static_cast<int>(image.height), 4, image.pixels.data(),
                                 static_cast<int>(image.width * 4))) {
-        return make_error(ErrorCode::io_error, path.string() + ": cannot be encoded");
+        return make_error(ErrorCode::io_error, label + ": cannot be encoded");
     }
-    return assets::write_file_atomically(path, bytes);
+    return bytes;
+}
+
+Result<void> write_png(const std::filesystem::path& path, const RgbaImage& image) {
+    // Encoded in memory and written through the one output door (exclusive temporary, rename).
+    auto bytes = encode_png(image, path.string());
+    if (!bytes) return std::move(bytes).error();
+    return assets::write_file_atomically(path, *bytes);
 }
 
 Result<RgbaImage> read_png(const std::filesystem::path& path) {

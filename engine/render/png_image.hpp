@@ -3,6 +3,7 @@
 // golden-image tests.
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "engine/core/result.hpp"
@@ -16,6 +17,8 @@ struct RgbaImage {
 };
 
 Result<void> write_png(const std::filesystem::path& path, const RgbaImage& image);
+// The PNG file's bytes (for a command that writes its outputs all or none); `label` names it in errors.
+Result<std::string> encode_png(const RgbaImage& image, const std::string& label);
 Result<RgbaImage> read_png(const std::filesystem::path& path);
 
 // Mean absolute difference per channel (0..255) and the share of pixels differing by more than

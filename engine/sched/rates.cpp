@@ -60,14 +60,11 @@ Result<void> RateTable::set_from_string(std::string_view assignment) {
     }
     const auto name = assignment.substr(0, eq);
     const auto number = std::string(assignment.substr(eq + 1));
+    // Decimal only, as a person writes Hz: strtod also reads "0x10" (16) and "  60", and would take
+    // what was a typo for a rate.
     double hz = 0.0;
-    std::size_t used = 0;
-    try {
-        hz = std::stod(number, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used == 0 || used != number.size()) {
+    const auto [end, ec] = std::from_chars(number.data(), number.data() + number.size(), hz);
+    if (number.empty() || ec != std::errc{} || end != number.data() + number.size()) {
         return make_error(ErrorCode::invalid_argument,
                           "rate '" + std::string(name) + "': '" + number + "' is not a number of Hz");
     }

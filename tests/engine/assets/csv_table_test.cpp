@@ -37,7 +37,7 @@ TEST(CsvTable, ErrorsNameFileLineAndColumn) {
     EXPECT_EQ(fields.error().message, "f.csv:3:1: expected 3 fields (as the header), found 2");
     const auto quote = parse_csv("a,b\n1,\"open\n", "q.csv");
     ASSERT_FALSE(quote);
-    EXPECT_EQ(quote.error().message, "q.csv:2:3: unterminated quote");
+    EXPECT_EQ(quote.error().message, "q.csv:2:3: unterminated quote (its field runs to the end of the file)");
     const auto twice = parse_csv("a,b,a\n", "d.csv");
     ASSERT_FALSE(twice);
     EXPECT_EQ(twice.error().message, "d.csv:1:5: column 'a' appears twice");
@@ -108,4 +108,56 @@ TEST(CsvTable, AByteOrderMarkAndAnyLineEndingReadAsPlainLines) {
     EXPECT_EQ(lines[1].ending, "\r");
     EXPECT_EQ(lines[3].text, "d");
     EXPECT_EQ(lines[3].ending, "");
+}
+
+// RFC 4180 as spreadsheets write it: a cell with Enter in it is quoted and holds the line break. Its
+// row is read whole, the rows after it keep their own line numbers (the file's physical lines), and
+// commas, doubled quotes, UTF-8, CRLF and a byte-order mark in the same file still work.
+TEST(CsvTable, QuotedLineBreaksStayInTheirCellAndLinesStayPhysical) {
+    const auto t = parse_csv("\xEF\xBB\xBF"
+                             "flower_id,insertion,max_force_gf,note\r\n"
+                             "A,1,484,\"Zoe\r\nNakamura\"\r\n"
+                             "A,2,460,\"said \"\"ok\"\", then left\"\r\n"
+                             "B,1,470,\"Zoë\n\n, x\"\n"
+                             "B,2,455,plain\n",
+                             "m.csv");
+    ASSERT_TRUE(t) << t.error().message;
+    ASSERT_EQ(t->rows(), 4u);
+    EXPECT_EQ(t->find("note")->text[0], "Zoe\r\nNakamura");
+    EXPECT_EQ(t->find("note")->text[1], "said \"ok\", then left");
+    EXPECT_EQ(t->find("note")->text[2], "Zoë\n\n, x");
+    EXPECT_EQ(t->line_of_row, (std::vector<std::size_t>{2, 4, 5, 8}));
+    EXPECT_EQ(t->last_line_of_row, (std::vector<std::size_t>{3, 4, 7, 8}));
+    EXPECT_TRUE(t->note.empty());
+    // An error after a cell with line breaks names the physical line it is on.
+    const auto bad = parse_csv("a,b\n1,\"x\ny\"\n2,3,4\n", "b.csv");
+    ASSERT_FALSE(bad);
+    EXPECT_EQ(bad.error().message, "b.csv:4:1: expected 2 fields (as the header), found 3");
+    const auto after = parse_csv("a,b\n1,\"x\ny\"z\n", "z.csv");
+    ASSERT_FALSE(after);
+    EXPECT_EQ(after.error().message, "z.csv:3:3: expected ',' after a quoted field");
+}
+
+// A row wider than the header is refused as soon as it is, with its count, without keeping its cells:
+// a row of 8 million commas (the issue's was 67 million: 2.7 GB as cells) is counted, not split.
+TEST(CsvTable, ARowWiderThanTheHeaderIsRefusedWithoutKeepingItsCells) {
+    std::string text = "a,b,c\n";
+    text += std::string(8'000'000, ',');
+    text += "\n";
+    const auto t = parse_csv(text, "wide.csv");
+    ASSERT_FALSE(t);
+    EXPECT_EQ(t.error().message, "wide.csv:2:1: expected 3 fields (as the header), found 8000001");
+}
+
+// A file that is not UTF-8 (a spreadsheet's Latin-1 or Windows-1252 export) is read as Windows-1252,
+// and the table says so, naming the first such byte's line and column.
+TEST(CsvTable, AFileThatIsNotUtf8IsReadAsWindows1252WithANote) {
+    const auto t = parse_csv("flower_id,lot\nF1,ok\nF2,Zo\xeb \x80\n", "lab.csv");
+    ASSERT_TRUE(t) << t.error().message;
+    EXPECT_EQ(t->find("lot")->text[1], "Zoë €");
+    EXPECT_EQ(t->note, "lab.csv:3:6: byte 0xEB is not UTF-8: the file is read as Windows-1252 (Latin-1), as spreadsheets write it");
+    const auto fine = parse_csv("flower_id,lot\nF1,Zoë\n", "utf8.csv");
+    ASSERT_TRUE(fine);
+    EXPECT_TRUE(fine->note.empty());
+    EXPECT_EQ(fine->find("lot")->text[0], "Zoë");
 }

@@ -125,3 +125,33 @@ TEST(Files, AnOutputFolderThatIsAFileIsRefused) {
     EXPECT_TRUE(create_output_folder(dir / "a" / "b"));
     EXPECT_TRUE(fs::is_directory(dir / "a" / "b"));
 }
+
+// A command's outputs, all or none: staged outputs are not there until commit; a batch dropped
+// without commit (the command failed at its third output) leaves no file, no temporary and no folder
+// it made, and the files that were there before are as they were.
+TEST(Files, AnOutputBatchWritesAllOrNone) {
+    Folder dir("batch");
+    ASSERT_TRUE(write_text_file(dir / "old.json", "old"));
+    {
+        OutputBatch batch;
+        ASSERT_TRUE(batch.folder(dir / "report" / "deep"));
+        ASSERT_TRUE(batch.add(dir / "old.json", "new"));
+        ASSERT_TRUE(batch.add(dir / "report" / "deep" / "report.md", "# report"));
+        fs::create_symlink(dir / "old.json", dir / "report" / "deep" / "figure.svg");
+        const auto planted = batch.add(dir / "report" / "deep" / "figure.svg", "<svg/>");
+        ASSERT_FALSE(planted);
+        EXPECT_NE(planted.error().message.find("figure.svg: is a symbolic link"), std::string::npos) << planted.error().message;
+        EXPECT_EQ(contents(dir / "old.json"), "old") << "nothing is in place before commit";
+        fs::remove(dir / "report" / "deep" / "figure.svg");
+    }
+    EXPECT_EQ(contents(dir / "old.json"), "old");
+    EXPECT_FALSE(fs::exists(dir / "report")) << "the folders the batch made went with it";
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator{}), 1) << "no temporary is left";
+    OutputBatch batch;
+    ASSERT_TRUE(batch.folder(dir / "report"));
+    ASSERT_TRUE(batch.add(dir / "old.json", "new"));
+    ASSERT_TRUE(batch.add(dir / "report" / "report.md", "# report"));
+    ASSERT_TRUE(batch.commit());
+    EXPECT_EQ(contents(dir / "old.json"), "new");
+    EXPECT_EQ(contents(dir / "report" / "report.md"), "# report");
+}

@@ -52,6 +52,10 @@ TEST(ScriptedDevice, BadFilesNameLineAndColumn) {
     const auto fields = parse_trajectory("time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n1,0,0,0,0,0,0,0,9\n", "d.csv");
     ASSERT_FALSE(fields);
     EXPECT_NE(fields.error().message.find("expected 8 fields, found 9"), std::string::npos);
+    // A row of a million commas is counted, not split into a million cells first.
+    const auto wide = parse_trajectory("time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n" + std::string(1'000'000, ',') + "\n", "w.csv");
+    ASSERT_FALSE(wide);
+    EXPECT_EQ(wide.error().message, "w.csv:2:1: expected 8 fields, found 1000001");
     EXPECT_FALSE(parse_trajectory("", "e.csv"));
     EXPECT_FALSE(load_trajectory("/nonexistent.csv"));
 }
