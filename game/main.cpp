@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "engine/core/utf8.hpp"
 #include "game/app/trainee_app.hpp"
 #include "game/asset_paths.hpp"
 #include "game/progress/progress_db.hpp"
@@ -75,6 +76,12 @@ int main(int argc, char** argv) {
         return app.exit(e);
     }
     if (app.get_subcommands().empty()) {
+        // The name is stored and written back out as JSON: bytes that are not UTF-8 are refused here,
+        // before they reach the trainee's record.
+        if (auto words = ikebana::non_utf8_words("--trainee", app_options.trainee)) {
+            std::cerr << "ikebana: " << *words << "\n";
+            return 2;
+        }
         app_options.scene = app_scene;
         app_options.left_device = left_device;
         app_options.right_device = right_device;

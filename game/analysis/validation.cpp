@@ -70,7 +70,7 @@ Result<std::string> extended_species_json(const std::string& species, const std:
     const std::string id = root.value("id", std::string("species"));
     if (!id.ends_with("-extended")) root["id"] = id + "-extended";
     root["name"] = root.value("name", id) + " (extended by ikebana validate)";
-    std::string json = root.dump(2) + "\n";
+    std::string json = assets::json_text(root, 2) + "\n";
     // Refuse to hand out a file the species loader would reject.
     auto check = parse_species(json, "extended species");
     if (!check) return make_error(ErrorCode::parse_error, "the extended species does not load: " + check.error().message);

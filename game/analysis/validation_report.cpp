@@ -222,7 +222,7 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
     j["options"] = {{"permutations", options.permutations}, {"alpha", options.alpha}, {"seed", options.seed}, {"folds", a.folds},
                     {"bootstrap", options.bootstrap}};
     j["log"] = a.log;
-    return j.dump(2) + "\n";
+    return assets::json_text(j, 2) + "\n";
 }
 
 // The findings in words a plant-biomechanics reader needs no statistics glossary for: how far the
@@ -325,7 +325,15 @@ std::string validation_summary(const ValidationResult& v) {
 
 Result<void> write_validation_report(const ValidationResult& v, const AnalysisOptions& options, const std::filesystem::path& dir,
                                      const std::string& extra_markdown) {
-    if (auto folder = assets::create_output_folder(dir); !folder) return folder;
+    assets::OutputBatch batch;
+    if (auto folder = batch.folder(dir); !folder) return folder;
+    for (const auto& [name, text] : validation_report_files(v, options, extra_markdown)) {
+        if (auto staged = batch.add(dir / name, text); !staged) return staged;
+    }
+    return batch.commit();
+}
+
+std::vector<std::pair<std::string, std::string>> validation_report_files(const ValidationResult& v, const AnalysisOptions& options, const std::string& extra_markdown) {
     const AnalysisResult& a = v.analysis;
     std::ostringstream md;
     md << "# Measured insertions against the simulation\n\n";
@@ -431,10 +439,7 @@ Result<void> write_validation_report(const ValidationResult& v, const AnalysisOp
     md << "## Decisions, step by step\n\n";
     for (const auto& line : a.log) md << "- " << line << "\n";
     figures.emplace_back("report.md", md.str());
-    for (const auto& [name, text] : figures) {
-        if (auto w = assets::write_text_file(dir / name, text); !w) return w;
-    }
-    return Ok{};
+    return figures;
 }
 
 } // namespace ikebana::game

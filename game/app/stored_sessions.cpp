@@ -7,15 +7,33 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <thread>
 
+#include "engine/core/utf8.hpp"
 #include "game/world/world.hpp"
 
 namespace ikebana::game {
+
+namespace {
+std::string fallback_trainee() {
+    const char* user = std::getenv("USER");
+    return user && *user && is_utf8(user) ? user : "trainee";
+}
+} // namespace
 
 StoredSessions::Opened StoredSessions::open(bool lessons_ahead, const LessonDef* lesson) {
     if (o_.progress_db.empty()) return {};
     if (!lessons_ahead && !lesson) return {};
     auto db = ProgressDb::open(o_.progress_db);
+    if (!db && db.error().code == ErrorCode::busy) {
+        // Another station is writing it: the sessions are stored once it is free (store, finish).
+        std::cerr << "ikebana: " << db.error().message << " (sessions are stored when it is free)\n";
+        busy_ = true;
+        session_.trainee = o_.demonstration ? "teacher" : (!o_.trainee.empty() ? o_.trainee : fallback_trainee());
+        session_.kind = o_.demonstration ? "demonstration" : "practice";
+        session_.lesson = lesson ? lesson->id : "";
+        return {"Results are kept in " + o_.progress_db + " (busy now: stored when it is free)", session_.trainee};
+    }
     if (!db) {
         progress_error_ = db.error().message;
         std::cerr << "ikebana: sessions will not be stored: " << progress_error_ << "\n";
@@ -28,10 +46,7 @@ StoredSessions::Opened StoredSessions::open(bool lessons_ahead, const LessonDef*
     } else if (auto kept = progress_->set_setting("trainee", trainee); !kept) {
         std::cerr << "ikebana: the trainee's name is not remembered: " << kept.error().message << "\n";
     }
-    if (trainee.empty()) {
-        const char* user = std::getenv("USER");
-        trainee = user && *user ? user : "trainee";
-    }
+    if (trainee.empty()) trainee = fallback_trainee();
     session_.trainee = o_.demonstration ? "teacher" : trainee;
     session_.kind = o_.demonstration ? "demonstration" : "practice";
     session_.lesson = lesson ? lesson->id : "";
@@ -40,6 +55,7 @@ StoredSessions::Opened StoredSessions::open(bool lessons_ahead, const LessonDef*
 
 void StoredSessions::set_trainee(const std::string& name) {
     if (!progress_ || o_.demonstration) return;
+    if (!is_utf8(name)) return; // the start screen's field is UTF-8; anything else is not stored
     if (auto kept = progress_->set_setting("trainee", name); !kept) std::cerr << "ikebana: the trainee's name is not remembered: " << kept.error().message << "\n";
     session_.trainee = name;
 }
@@ -62,11 +78,12 @@ std::vector<SessionRecord> StoredSessions::sessions_of(const std::string& traine
 }
 
 void StoredSessions::begin(World& world, const LessonDef* lesson) {
+    if (unsaved_) (void)save_pending(); // the last one still waiting for a busy database: one more try
     recorder_.reset();
     scored_.reset();
     session_.recording.clear();
     session_.lesson = lesson ? lesson->id : "";
-    if (progress_ && lesson) start_recording(world, *lesson);
+    if ((progress_ || busy_) && lesson) start_recording(world, *lesson);
     session_.id = 0;
     session_.started_unix_s = static_cast<std::int64_t>(std::time(nullptr));
     session_start_ = std::chrono::steady_clock::now();
@@ -127,25 +144,81 @@ void StoredSessions::finish(World& w, const LessonDef* lesson) {
     std::filesystem::remove_all(folder, ec);
 }
 
+// The database, opened now if it was busy at the start.
+bool StoredSessions::reopen() {
+    if (progress_) return true;
+    if (!busy_) return false;
+    auto db = ProgressDb::open(o_.progress_db);
+    if (!db) {
+        if (db.error().code != ErrorCode::busy) {
+            busy_ = false;
+            progress_error_ = db.error().message;
+        }
+        return false;
+    }
+    busy_ = false;
+    progress_.emplace(std::move(db).value());
+    return true;
+}
+
+Result<void> StoredSessions::save_pending() {
+    if (!reopen()) return make_error(ErrorCode::busy, o_.progress_db + ": busy (another program, perhaps another Ikebana, is writing it)");
+    auto saved = progress_->save(session_);
+    if (saved) unsaved_ = false;
+    return saved;
+}
+
 void StoredSessions::store(const FormScore& result, const components::FrameSnapshot& frame, components::HudInfo& hud) {
     if (!progress_error_.empty()) {
         hud.result.push_back("not stored: " + progress_error_.substr(0, 60));
         return;
     }
-    if (!progress_ || session_.lesson.empty()) return;
+    if ((!progress_ && !busy_) || session_.lesson.empty()) return;
     session_.result = result;
     session_.flowers = flower_outcomes(frame);
     session_.duration_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - session_start_).count();
-    if (auto saved = progress_->save(session_); !saved) {
-        std::cerr << "ikebana: the session was not stored: " << saved.error().message << "\n";
-        hud.result.push_back("not stored (see the terminal)");
+    unsaved_ = true;
+    // The recording ends at this score: the frame it was taken from, when one had come (an Enter
+    // before the first frame scores nothing the simulation published). Kept whether or not the
+    // database took the session now: it is stored later (a busy file) and points at the recording.
+    if (recorder_ && !frame.flowers.empty()) scored_ = std::make_pair(frame.sim_time_us, result.score);
+    if (auto saved = save_pending(); !saved) {
+        if (saved.error().code == ErrorCode::busy) {
+            std::cerr << "ikebana: the session is not stored yet: " << saved.error().message << "; it is kept and stored at the next Enter or when the window closes\n";
+            hud.result.push_back("not stored yet: the database is busy (kept)");
+        } else {
+            std::cerr << "ikebana: the session was not stored: " << saved.error().message << "\n";
+            hud.result.push_back("not stored (see the terminal)");
+        }
         return;
     }
-    // The recording ends at this score: the frame it was taken from, when one had come (an Enter
-    // before the first frame scores nothing the simulation published).
-    if (recorder_ && !frame.flowers.empty()) scored_ = std::make_pair(frame.sim_time_us, result.score);
     std::printf("ikebana: stored as session %lld in %s\n", static_cast<long long>(session_.id), progress_->path().c_str());
     std::fflush(stdout);
+}
+
+void StoredSessions::store_pending_at_exit() {
+    if (!unsaved_ || !progress_error_.empty()) return;
+    // The window is closing: a scored session still waiting for a busy database is given time (the
+    // other station's writes take milliseconds; a minute means it is stuck).
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    bool said = false;
+    for (;;) {
+        if (progress_) progress_->set_busy_wait_ms(1000);
+        auto saved = save_pending();
+        if (saved) {
+            std::printf("ikebana: stored as session %lld in %s\n", static_cast<long long>(session_.id), progress_->path().c_str());
+            std::fflush(stdout);
+            return;
+        }
+        if (saved.error().code != ErrorCode::busy || std::chrono::steady_clock::now() > until) {
+            std::cerr << "ikebana: the session was not stored: " << saved.error().message << "\n";
+            if (!session_.recording.empty()) std::cerr << "ikebana: its recording is kept in " << session_.recording << "\n";
+            return;
+        }
+        if (!said) std::cerr << "ikebana: waiting for " << o_.progress_db << " to store the session (another program is writing it)\n";
+        said = true;
+        if (!progress_) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
 }
 
 } // namespace ikebana::game

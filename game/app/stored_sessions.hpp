@@ -3,7 +3,9 @@
 // its first Enter and again at each later one) and each stored session's recording (the hands'
 // samples, cuts, the camera's turns, the clock's skips) for `ikebana replay`, made with the world and
 // finished when it stops, at the last Enter's score. A database that cannot be used is said once, and
-// the lesson goes on without storing: a damaged file is never written to.
+// the lesson goes on without storing: a damaged file is never written to. A database another station
+// is writing is busy, not damaged: a session it could not take is kept and stored at the next Enter,
+// the next session's start, or when the window closes.
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -58,13 +60,20 @@ public:
     // When the world has stopped: session.json with the last Enter's score, or no recording at all when
     // nothing was scored (no stored session points at it).
     void finish(World& world, const LessonDef* lesson);
+    // When the window closes: a scored session the database was too busy to take is stored now,
+    // waiting up to a minute for the other station.
+    void store_pending_at_exit();
 
 private:
+    bool reopen();
+    Result<void> save_pending();
     void start_recording(World& world, const LessonDef& lesson);
 
     const TraineeAppOptions& o_;
     std::optional<ProgressDb> progress_;
     std::string progress_error_; // why sessions are not stored (said once, and under each result)
+    bool busy_ = false;          // the database was busy at the start: opened at the next store
+    bool unsaved_ = false;       // the last scored session is not in the database yet (it was busy)
     SessionRecord session_;
     std::chrono::steady_clock::time_point session_start_ = std::chrono::steady_clock::now();
     std::unique_ptr<SessionRecorder> recorder_;

@@ -765,6 +765,7 @@ int TraineeSession::run_once() {
         if (w.hand_devices[hand]) (void)w.hand_devices[hand]->zero_force();
     }
     stored_.finish(w, lesson_ ? &*lesson_ : nullptr);
+    stored_.store_pending_at_exit();
     write_screenshot();
     char line[600];
     std::snprintf(line, sizeof line, "ikebana: camera turned %.0f deg round, tilted %.0f deg\n", camera_.yaw_rad() * 180.0 / M_PI, camera_.pitch_rad() * 180.0 / M_PI);

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/assets/json_checker.hpp"
 #include "engine/assets/files.hpp"
 #include "game/progress/progress_db.hpp"
 #include "game/progress/progress_plot.hpp"
@@ -78,7 +79,7 @@ int show_history(const HistoryArgs& args) {
     if (args.json) {
         OJson list = OJson::array();
         for (const auto& s : sessions) list.push_back(session_json(s));
-        std::printf("%s\n", OJson{{"database", path.string()}, {"sessions", list}}.dump(1).c_str());
+        std::printf("%s\n", assets::json_text(OJson{{"database", path.string()}, {"sessions", list}}, 1).c_str());
         return 0;
     }
     if (sessions.empty()) {

@@ -1,5 +1,6 @@
 #include "game/cli/lesson_command.hpp"
 
+#include <charconv>
 #include <cinttypes>
 #include <algorithm>
 #include <cstdio>
@@ -11,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/assets/json_checker.hpp"
 #include "engine/assets/files.hpp"
 #include "game/asset_paths.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
@@ -81,7 +83,7 @@ int list_lessons(bool json) {
             out.push_back({{"id", l.id}, {"title", l.title}, {"school", l.school}, {"scoring", l.scoring}, {"roles", roles},
                            {"file", std::filesystem::relative(l.file, asset_dir()).string()}});
         }
-        std::printf("%s\n", out.dump(1).c_str());
+        std::printf("%s\n", assets::json_text(out, 1).c_str());
         return 0;
     }
     for (const auto& l : *lessons) std::printf("%-26s %-9s %s (%s)\n", l.id.c_str(), l.school.c_str(), l.title.c_str(), roles_of(l).c_str());
@@ -215,9 +217,10 @@ int demo_lesson(const DemoArgs& args) {
         const auto eq = t.find('=');
         const auto role = t.substr(0, eq);
         const bool known = std::any_of(lesson->stems.begin(), lesson->stems.end(), [&](const MainStemDef& m) { return m.role == role; });
-        char* end = nullptr;
-        const double deg = eq == std::string::npos ? 0.0 : std::strtod(t.c_str() + eq + 1, &end);
-        if (eq == std::string::npos || !known || end == t.c_str() + eq + 1 || *end != '\0' || !(deg >= 0.0 && deg <= 90.0)) {
+        double deg = -1.0; // decimal only (strtod reads "0x1E" too)
+        const char* text = eq == std::string::npos ? t.c_str() + t.size() : t.c_str() + eq + 1;
+        const auto [end, ec] = std::from_chars(text, t.c_str() + t.size(), deg);
+        if (eq == std::string::npos || !known || ec != std::errc{} || end != t.c_str() + t.size() || !(deg >= 0.0 && deg <= 90.0)) {
             std::cerr << who << "--tilt: '" << t << "': expected ROLE=DEGREES with a role of " << lesson->id << " and 0-90 degrees\n";
             return 2;
         }

@@ -27,6 +27,7 @@ int run_predict(const std::string& input, const std::string& species_override, c
         std::cerr << "ikebana predict: " << data.error().message << "\n";
         return 2;
     }
+    if (!data->table.note.empty()) std::cerr << "ikebana predict: note: " << data->table.note << "\n";
     InsertionPredictor predictor;
     std::vector<std::pair<double, std::string>> predictions(data->trials.size());
     const bool tty = isatty(fileno(stderr)) != 0;
@@ -48,17 +49,15 @@ int run_predict(const std::string& input, const std::string& species_override, c
         return 2;
     }
     std::map<std::size_t, std::size_t> row_of_line;
-    for (std::size_t i = 0; i < data->table.line_of_row.size(); ++i) row_of_line[data->table.line_of_row[i]] = i;
+    // Each row's predictions go at the end of its last line (a quoted cell may hold line breaks).
+    for (std::size_t i = 0; i < data->table.last_line_of_row.size(); ++i) row_of_line[data->table.last_line_of_row[i]] = i;
     std::ostringstream out;
     // Split as the table was read (any line ending, no byte-order mark), each line's ending kept.
-    bool header_done = false;
     std::size_t line_no = 0;
     for (const auto& [text_line, ending] : assets::split_lines(*text)) {
         ++line_no;
         std::string line(text_line);
-        const bool blank = line.find_first_not_of(" \t") == std::string::npos;
-        if (!blank && line.front() != '#' && !header_done) {
-            header_done = true;
+        if (line_no == data->table.header_last_line) {
             line += data->has_outcome ? ",predicted_force_gf,predicted_outcome" : ",predicted_force_gf";
         } else if (const auto it = row_of_line.find(line_no); it != row_of_line.end()) {
             char value[64];

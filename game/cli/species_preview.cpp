@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/assets/json_checker.hpp"
 #include "engine/assets/files.hpp"
 #include "engine/render/stereo_renderer.hpp"
 #include "game/meshes/procedural_meshes.hpp"
@@ -100,7 +101,7 @@ int print_numbers(const PreviewOptions& o, const SpeciesMechanics& m) {
     for (const auto& t : m.stands) std::fprintf(words, "  %s\n", joined(stand_lines(t)).c_str());
     std::fprintf(words, "  %s\n", joined(sag_lines(m.sag)).c_str());
     if (!o.json.empty()) {
-        const std::string text = mechanics_json(m).dump(2) + "\n";
+        const std::string text = assets::json_text(mechanics_json(m), 2) + "\n";
         if (o.json == "-") std::fputs(text.c_str(), stdout);
         else if (auto wr = assets::write_text_file(o.json, text); !wr) {
             std::cerr << who << "--json: " << wr.error().message << "\n";

@@ -77,7 +77,7 @@ Result<std::string> papers_own_model_species() {
     j["id"] = "sunflower-papers-model";
     j["breakage"] = {{"model", "none"}};
     const auto path = (std::filesystem::temp_directory_path() / ("ikebana-papers-model-" + std::to_string(getpid()) + ".json")).string();
-    if (auto w = assets::write_text_file(path, j.dump(2)); !w) return std::move(w).error();
+    if (auto w = assets::write_text_file(path, assets::json_text(j, 2)); !w) return std::move(w).error();
     return path;
 }
 
@@ -103,8 +103,11 @@ int run_validate(Args& args) {
             return 2;
         }
     }
+    // Every output is written at the end, all or none: a command that fails leaves nothing behind
+    // (the report's folder, made here, goes again too).
+    assets::OutputBatch outputs;
     if (!args.report.empty()) {
-        if (auto ok = assets::create_output_folder(args.report); !ok) {
+        if (auto ok = outputs.folder(args.report); !ok) {
             std::cerr << "ikebana validate: --report: " << ok.error().message << "\n";
             return 2;
         }
@@ -131,31 +134,29 @@ int run_validate(Args& args) {
         return 2;
     }
     const ValidationResult& v = *result;
+    if (!v.data.table.note.empty()) std::printf("note: %s\n", v.data.table.note.c_str());
     std::printf("%s", validation_summary(v).c_str());
     for (std::size_t k = 0; k < v.explanations.size(); ++k) std::printf("  %zu. %s\n", k + 1, v.explanations[k].c_str());
 
     std::string json = validation_json(v, args.analysis);
-    std::string extra;
-    std::string species_file = args.write_species;
-    bool temporary_species = false;
-    if (!v.extended_species_json.empty()) {
-        if (species_file.empty() && args.paper) {
-            species_file = (std::filesystem::temp_directory_path() / ("ikebana-paper-extended-" + std::to_string(getpid()) + ".json")).string();
-            temporary_species = true;
-        }
-        if (!species_file.empty()) {
-            if (auto w = assets::write_text_file(species_file, v.extended_species_json); !w) {
-                std::cerr << "ikebana validate: " << w.error().message << "\n";
-                return 1;
-            }
-            if (!temporary_species) std::printf("wrote the extended species to %s\n", species_file.c_str());
+    std::string extra = v.data.table.note.empty() ? std::string() : "Note on the input: " + v.data.table.note + ".\n\n";
+    if (!v.extended_species_json.empty() && !args.write_species.empty()) {
+        if (auto w = outputs.add(args.write_species, v.extended_species_json); !w) {
+            std::cerr << "ikebana validate: " << w.error().message << "\n";
+            return 1;
         }
     } else if (!args.write_species.empty()) {
         std::printf("nothing found: no extended species written (%s)\n", args.write_species.c_str());
     }
     if (args.paper && !v.extended_species_json.empty()) {
+        // The paper's experiment reads the extended species from a file of its own.
+        const auto species_file = (std::filesystem::temp_directory_path() / ("ikebana-paper-extended-" + std::to_string(getpid()) + ".json")).string();
+        if (auto w = assets::write_text_file(species_file, v.extended_species_json); !w) {
+            std::cerr << "ikebana validate: " << w.error().message << "\n";
+            return 1;
+        }
         auto experiment = run_paper_experiment(species_file, args.paper_trials, tty);
-        if (temporary_species) std::filesystem::remove(species_file);
+        std::filesystem::remove(species_file);
         if (!experiment) {
             std::cerr << "ikebana validate: the paper's experiment: " << experiment.error().message << "\n";
             return 1;
@@ -169,14 +170,14 @@ int run_validate(Args& args) {
                       experiment->extended_fall_mean, experiment->extended_never_fell, args.paper_trials, experiment->max_insertions,
                       experiment->max_insertions + 1);
         std::printf("%s", text);
-        extra = std::string("## The paper's experiment with the extended species\n\n") + text + "\n";
+        extra += std::string("## The paper's experiment with the extended species\n\n") + text + "\n";
         auto j = nlohmann::ordered_json::parse(json);
         j["paper_experiment"] = {{"trials", args.paper_trials},
                                  {"measured", {{"insertions_to_break", 2.6}, {"insertions_to_fall", 5.8}}},
                                  {"baseline", {{"insertions_to_break", experiment->break_mean}, {"insertions_to_fall", experiment->fall_mean}}},
                                  {"extended", {{"insertions_to_break", experiment->extended_break_mean}, {"insertions_to_fall", experiment->extended_fall_mean},
                                                {"still_standing", experiment->extended_never_fell}}}};
-        json = j.dump(2) + "\n";
+        json = assets::json_text(j, 2) + "\n";
     }
     if (args.paper) {
         // Table 2 against the paper's own model too: is "insertions 3-6 are experimental error"
@@ -213,22 +214,29 @@ int run_validate(Args& args) {
         extra += std::string("## Table 2 against the paper's own model\n\n") + text + "\n";
         auto j = nlohmann::ordered_json::parse(json);
         j["papers_own_model"] = nlohmann::ordered_json::parse(validation_json(*second, args.analysis));
-        json = j.dump(2) + "\n";
+        json = assets::json_text(j, 2) + "\n";
     }
     if (!args.json.empty()) {
-        if (auto w = assets::write_text_file(args.json, json); !w) {
+        if (auto w = outputs.add(args.json, json); !w) {
             std::cerr << "ikebana validate: " << w.error().message << "\n";
             return 1;
         }
-        std::printf("wrote %s\n", args.json.c_str());
     }
     if (!args.report.empty()) {
-        if (auto w = write_validation_report(v, args.analysis, args.report, extra); !w) {
-            std::cerr << "ikebana validate: " << w.error().message << "\n";
-            return 1;
+        for (const auto& [name, text] : validation_report_files(v, args.analysis, extra)) {
+            if (auto w = outputs.add(std::filesystem::path(args.report) / name, text); !w) {
+                std::cerr << "ikebana validate: --report: " << w.error().message << "\n";
+                return 1;
+            }
         }
-        std::printf("wrote %s/report.md\n", args.report.c_str());
     }
+    if (auto done = outputs.commit(); !done) {
+        std::cerr << "ikebana validate: " << done.error().message << "\n";
+        return 1;
+    }
+    if (!v.extended_species_json.empty() && !args.write_species.empty()) std::printf("wrote the extended species to %s\n", args.write_species.c_str());
+    if (!args.json.empty()) std::printf("wrote %s\n", args.json.c_str());
+    if (!args.report.empty()) std::printf("wrote %s/report.md\n", args.report.c_str());
     return 0;
 }
 

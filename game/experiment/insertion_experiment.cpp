@@ -15,6 +15,7 @@
 #include <glm/gtc/constants.hpp>
 #include <nlohmann/json.hpp>
 
+#include "engine/assets/json_checker.hpp"
 #include "components/insertion.hpp"
 #include "components/kenzan.hpp"
 #include "components/stem.hpp"
@@ -256,7 +257,7 @@ std::string experiment_json(const ExperimentResult& r, const ExperimentOptions& 
     j["per_trial"] = trials;
     j["simulated_s"] = r.simulated_s;
     j["wall_s"] = r.wall_s;
-    return j.dump(2) + "\n";
+    return assets::json_text(j, 2) + "\n";
 }
 
 std::string experiment_csv(const ExperimentResult& r) {

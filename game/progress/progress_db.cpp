@@ -10,6 +10,8 @@
 
 #include <sqlite3.h>
 
+#include "engine/core/utf8.hpp"
+
 namespace ikebana::game {
 namespace {
 
@@ -50,7 +52,19 @@ CREATE TABLE settings(key TEXT PRIMARY KEY, value TEXT NOT NULL);
 
 const char* left_alone = "; it is left as it is (move it aside to start a new record)";
 
+// Two stations on one database: while one writes (a session, or the tables of a new file), the
+// other waits this long, then is told the file is busy, never that it is damaged.
+constexpr int open_wait_ms = 5000;  // at start-up and for a command
+constexpr int save_wait_ms = 250;   // an Enter in the window: its frame waits (StoredSessions tries again later)
+
+bool is_busy(int code) { return (code & 0xFF) == SQLITE_BUSY || (code & 0xFF) == SQLITE_LOCKED; } // and their extended codes
+
+Error busy_error(const std::filesystem::path& path, const std::string& doing) {
+    return make_error(ErrorCode::busy, path.string() + ": " + doing + ": busy (another program, perhaps another Ikebana, is writing it); try again");
+}
+
 Error db_error(const std::filesystem::path& path, sqlite3* db, const std::string& doing) {
+    if (db && is_busy(sqlite3_errcode(db))) return busy_error(path, doing);
     return make_error(ErrorCode::io_error, path.string() + ": " + doing + ": " + (db ? sqlite3_errmsg(db) : "out of memory"));
 }
 
@@ -87,7 +101,9 @@ public:
     }
     [[nodiscard]] std::string text(int i) const {
         const auto* t = sqlite3_column_text(stmt_, i);
-        return t ? std::string(reinterpret_cast<const char*>(t), static_cast<std::size_t>(sqlite3_column_bytes(stmt_, i))) : std::string{};
+        // A cell another program wrote may hold bytes that are not UTF-8 (SQLite does not check, and
+        // integrity_check passes): read as U+FFFD, so the history still reads and prints.
+        return t ? utf8_or_replacement({reinterpret_cast<const char*>(t), static_cast<std::size_t>(sqlite3_column_bytes(stmt_, i))}) : std::string{};
     }
     [[nodiscard]] double real(int i) const { return sqlite3_column_double(stmt_, i); }
     [[nodiscard]] std::int64_t integer(int i) const { return sqlite3_column_int64(stmt_, i); }
@@ -120,6 +136,21 @@ struct Closer {
     }
 };
 
+// The database's path gets the checks every input path gets (assets/files.hpp): a FIFO would block
+// the open for ever, and a device (`/dev/zero`) read as an empty database had a journal created beside
+// it. Anything but a regular file (or a missing one) is refused before SQLite sees it.
+Result<void> check_regular(const std::filesystem::path& path) {
+    std::error_code ec;
+    const auto status = std::filesystem::symlink_status(path, ec);
+    if (ec || status.type() == std::filesystem::file_type::not_found || status.type() == std::filesystem::file_type::regular) return {};
+    switch (status.type()) {
+    case std::filesystem::file_type::directory: return make_error(ErrorCode::io_error, path.string() + ": a folder, not a progress database");
+    case std::filesystem::file_type::symlink: return make_error(ErrorCode::io_error, path.string() + ": a symbolic link, not a progress database (name the file itself)");
+    case std::filesystem::file_type::fifo: return make_error(ErrorCode::io_error, path.string() + ": a FIFO, not a progress database");
+    default: return make_error(ErrorCode::io_error, path.string() + ": a device or socket, not a progress database");
+    }
+}
+
 // Looks at an existing file through a read-only connection. Returns whether it still needs our
 // tables (an empty file, or a database with nothing in it).
 Result<bool> check_existing(const std::filesystem::path& path) {
@@ -127,13 +158,16 @@ Result<bool> check_existing(const std::filesystem::path& path) {
     const int rc = sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOFOLLOW, nullptr);
     Closer closer{db};
     if (rc != SQLITE_OK) return make_error(ErrorCode::io_error, path.string() + ": cannot be opened: " + (db ? sqlite3_errmsg(db) : "out of memory"));
+    sqlite3_busy_timeout(db, open_wait_ms);
     int code = SQLITE_OK;
     const auto app = single_integer(db, "PRAGMA application_id", code);
     if (!app) {
+        if (is_busy(code)) return busy_error(path, "cannot be read now");
         if (code == SQLITE_NOTADB) return make_error(ErrorCode::parse_error, path.string() + ": not an Ikebana progress database (not an SQLite file)" + left_alone);
         return make_error(ErrorCode::parse_error, path.string() + ": damaged (" + app.error().message + ")" + left_alone);
     }
     const auto tables = single_integer(db, "SELECT count(*) FROM sqlite_schema", code);
+    if (!tables && is_busy(code)) return busy_error(path, "cannot be read now");
     if (!tables) return make_error(ErrorCode::parse_error, path.string() + ": damaged (" + tables.error().message + ")" + left_alone);
     if (*app != application_id) {
         if (*app == 0 && *tables == 0) return true; // an empty file: ours to fill
@@ -152,7 +186,9 @@ Result<bool> check_existing(const std::filesystem::path& path) {
     // passes quick_check, and a session saved into such a file was read back without its criteria (a
     // fuzzer's file); a progress record is small enough to check whole at every open.
     Statement check(db, "PRAGMA integrity_check(1)");
-    if (!check.prepared() || check.step() != SQLITE_ROW)
+    const int checked = check.prepared() ? check.step() : sqlite3_errcode(db);
+    if (checked != SQLITE_ROW && is_busy(sqlite3_errcode(db))) return busy_error(path, "cannot be read now");
+    if (checked != SQLITE_ROW)
         return make_error(ErrorCode::parse_error, path.string() + ": damaged (" + sqlite3_errmsg(db) + ")" + left_alone);
     if (const auto verdict = check.text(0); verdict != "ok") return make_error(ErrorCode::parse_error, path.string() + ": damaged (" + verdict + ")" + left_alone);
     if (*version < schema_version) return make_error(ErrorCode::parse_error, path.string() + ": damaged (no schema version)" + left_alone);
@@ -168,6 +204,7 @@ Result<void> exec(sqlite3* db, const std::filesystem::path& path, const char* sq
     if (sqlite3_exec(db, sql, nullptr, nullptr, &message) != SQLITE_OK) {
         std::string why = message ? message : sqlite3_errmsg(db);
         sqlite3_free(message);
+        if (is_busy(sqlite3_errcode(db))) return busy_error(path, doing);
         return make_error(ErrorCode::io_error, path.string() + ": " + doing + ": " + why);
     }
     return {};
@@ -221,9 +258,9 @@ std::string iso_utc(std::int64_t unix_s) {
 }
 
 Result<ProgressDb> ProgressDb::open(const std::filesystem::path& path) {
+    if (auto regular = check_regular(path); !regular) return regular.error();
     std::error_code ec;
     const bool exists = std::filesystem::exists(path, ec);
-    if (exists && std::filesystem::is_directory(path, ec)) return make_error(ErrorCode::io_error, path.string() + ": a folder, not a progress database");
     bool fresh = !exists;
     if (exists) {
         auto needs_tables = check_existing(path);
@@ -240,27 +277,42 @@ Result<ProgressDb> ProgressDb::open(const std::filesystem::path& path) {
         return e;
     }
     ProgressDb out(db, path);
-    sqlite3_busy_timeout(db, 250); // another window of the app saving at the same moment (saves run on the frame's lane: no long waits)
+    sqlite3_busy_timeout(db, open_wait_ms);
     if (fresh) {
-        char init[160];
-        std::snprintf(init, sizeof init, "BEGIN IMMEDIATE; PRAGMA application_id = %d; PRAGMA user_version = %d;", application_id, schema_version);
-        if (auto r = exec(db, path, init, "cannot be started"); !r) return r.error();
-        if (auto r = exec(db, path, schema_sql, "cannot be started"); !r) {
-            (void)exec(db, path, "ROLLBACK", "");
-            return r.error();
+        // Two stations started at once on a new file both find it empty: the first to hold the write
+        // lock makes the tables, and the other, let in after it, finds them made.
+        if (auto r = exec(db, path, "BEGIN IMMEDIATE", "cannot be started"); !r) return r.error();
+        int code = SQLITE_OK;
+        const auto app = single_integer(db, "PRAGMA application_id", code);
+        if (app && *app == application_id) {
+            if (auto r = exec(db, path, "COMMIT", "cannot be started"); !r) return r.error();
+        } else {
+            char init[160];
+            std::snprintf(init, sizeof init, "PRAGMA application_id = %d; PRAGMA user_version = %d;", application_id, schema_version);
+            if (auto r = exec(db, path, init, "cannot be started"); !r) {
+                (void)exec(db, path, "ROLLBACK", "");
+                return r.error();
+            }
+            if (auto r = exec(db, path, schema_sql, "cannot be started"); !r) {
+                (void)exec(db, path, "ROLLBACK", "");
+                return r.error();
+            }
+            if (auto r = exec(db, path, "COMMIT", "cannot be started"); !r) return r.error();
         }
-        if (auto r = exec(db, path, "COMMIT", "cannot be started"); !r) return r.error();
     }
     // A killed app loses at most the session it was writing: each commit is in the log before it
     // returns (FULL), and the log survives the process.
     if (auto r = exec(db, path, "PRAGMA journal_mode = WAL; PRAGMA synchronous = FULL; PRAGMA foreign_keys = ON;", "cannot be set up"); !r) return r.error();
+    // Another window of the app saving at the same moment: saves run on the frame's lane, so no long
+    // waits there (a save that finds the file busy is tried again: StoredSessions).
+    sqlite3_busy_timeout(db, save_wait_ms);
     return out;
 }
 
 Result<ProgressDb> ProgressDb::open_read_only(const std::filesystem::path& path) {
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) return make_error(ErrorCode::not_found, path.string() + ": no sessions yet (the file does not exist)");
-    if (std::filesystem::is_directory(path, ec)) return make_error(ErrorCode::io_error, path.string() + ": a folder, not a progress database");
+    if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) return make_error(ErrorCode::not_found, path.string() + ": no sessions yet (the file does not exist)");
+    if (auto regular = check_regular(path); !regular) return regular.error();
     auto empty = check_existing(path);
     if (!empty) return empty.error();
     sqlite3* db = nullptr;
@@ -273,7 +325,7 @@ Result<ProgressDb> ProgressDb::open_read_only(const std::filesystem::path& path)
         sqlite3_close_v2(db);
         return make_error(ErrorCode::not_found, path.string() + ": no sessions yet (the file is empty)");
     }
-    sqlite3_busy_timeout(db, 1000);
+    sqlite3_busy_timeout(db, open_wait_ms);
     return ProgressDb(db, path);
 }
 
@@ -287,6 +339,8 @@ ProgressDb& ProgressDb::operator=(ProgressDb&& other) noexcept {
     }
     return *this;
 }
+
+void ProgressDb::set_busy_wait_ms(int ms) { sqlite3_busy_timeout(db_, ms); }
 
 ProgressDb::~ProgressDb() {
     if (db_) sqlite3_close_v2(db_);

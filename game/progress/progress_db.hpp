@@ -7,7 +7,9 @@
 // the one being written either whole or absent); the journal is a write-ahead log. The file is the
 // trainee's record of months of practice: a file that is not ours (another program's database,
 // damaged bytes, a newer schema) is reported and never written to, not even by opening it - it is
-// checked through a read-only connection before a writing one is opened.
+// checked through a read-only connection before a writing one is opened. Two stations may share one
+// file: each waits for the other's write, and a file that stays busy is said to be busy
+// (ErrorCode::busy), never damaged.
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -79,6 +81,10 @@ public:
     // Small remembered things: the trainee's name.
     Result<std::optional<std::string>> setting(const std::string& key) const;
     Result<void> set_setting(const std::string& key, const std::string& value);
+
+    // How long a save waits for another station's write before it fails with ErrorCode::busy (250 ms
+    // after open: an Enter's frame waits for it).
+    void set_busy_wait_ms(int ms);
 
     [[nodiscard]] const std::filesystem::path& path() const { return path_; }
 

@@ -58,7 +58,10 @@ int run_render(const RenderOptions& o) {
         std::cerr << "ikebana render: " << mode.error().message << "\n";
         return 2;
     }
-    if (auto folder = assets::create_output_folder(o.out); !folder) {
+    // The PNGs are written at the end, all or none: a render that fails (a size the device refuses)
+    // leaves no empty or half-filled folder behind.
+    assets::OutputBatch outputs;
+    if (auto folder = outputs.folder(o.out); !folder) {
         std::cerr << "ikebana render: --out: " << folder.error().message << "\n";
         return 2;
     }
@@ -106,7 +109,10 @@ int run_render(const RenderOptions& o) {
         char name[64];
         for (const auto& [suffix, image] : {std::pair{"left", &frame->left}, std::pair{"right", &frame->right}, std::pair{"composed", &frame->composed}}) {
             std::snprintf(name, sizeof name, "frame_%04u_%s.png", written, suffix);
-            if (auto wr = render::write_png(std::filesystem::path(o.out) / name, *image); !wr) {
+            const auto path = std::filesystem::path(o.out) / name;
+            auto png = render::encode_png(*image, path.string());
+            auto wr = png ? outputs.add(path, *png) : Result<void>(png.error());
+            if (!wr) {
                 std::cerr << "ikebana render: " << wr.error().message << "\n";
                 code = 1;
                 return;
@@ -127,6 +133,10 @@ int run_render(const RenderOptions& o) {
     while (written < o.frames && code == 0) clock.run_for_us(step_us);
     if (tty && !o.quiet) std::fprintf(stderr, "\r\033[K");
     if (code != 0) return code;
+    if (auto done = outputs.commit(); !done) {
+        std::cerr << "ikebana render: " << done.error().message << "\n";
+        return 1;
+    }
     const auto out_extent = (*renderer)->output_extent();
     std::printf("rendered %u frame(s) of the scene on %s (%s, %s, %ux%u per eye, %ux anti-aliasing, composed %ux%u) into %s\n", o.frames,
                 (*ctx)->device_name().c_str(), render::stereo_mode_name(*mode), (*renderer)->multiview() ? "multiview" : "one pass per eye",

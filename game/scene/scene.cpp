@@ -1,5 +1,8 @@
 #include "game/scene/scene.hpp"
 
+#include "engine/core/utf8.hpp"
+
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -114,10 +117,13 @@ Result<SceneDef> parse_scene(std::string_view text, const std::string& label) {
             fp.placement = c.choice(f, p, "placement", {"inserted", "lying"}) == "lying" ? Placement::lying : Placement::inserted;
             fp.base_m = vec3(c, f, p, "base_mm", true, 1e-3, workspace).value_or(glm::dvec3{0.0});
             fp.direction = vec3(c, f, p, "direction", true, 1.0).value_or(glm::dvec3{0, 0, 1});
-            if (glm::length(fp.direction) < 1e-9) {
+            // Only its direction counts: scaled by its largest component first, as [1e200, 1e200, 1e200]
+            // (whose length overflows) points where [1, 1, 1] does.
+            const double largest = std::max({std::abs(fp.direction.x), std::abs(fp.direction.y), std::abs(fp.direction.z)});
+            if (!(largest > 0.0) || !std::isfinite(largest) || glm::length(fp.direction / largest) < 1e-9) {
                 c.problem(p + "/direction", "must not be the zero vector");
             } else {
-                fp.direction = glm::normalize(fp.direction);
+                fp.direction = glm::normalize(fp.direction / largest);
             }
             fp.inserted_depth_m = c.number(f, p, "inserted_depth_mm", {0, 100}, false).value_or(10) * 1e-3;
             fp.length_m = c.number(f, p, "length_mm", {20, 3000}, false).value_or(0) * 1e-3;
@@ -160,6 +166,7 @@ Result<void> apply_environment_overrides(systems::insertion::Covariates& environ
         if (eq == std::string::npos || eq == 0 || eq + 1 == setting.size()) {
             return make_error(ErrorCode::invalid_argument, "--env '" + setting + "': expected name=value");
         }
+        if (auto words = non_utf8_words("--env '" + utf8_or_replacement(setting) + "'", setting)) return make_error(ErrorCode::invalid_argument, *words);
         const std::string name = setting.substr(0, eq);
         const std::string value = setting.substr(eq + 1);
         double number = 0.0;

@@ -24,7 +24,10 @@ namespace ikebana::game {
 
 namespace {
 constexpr const char* file_names[3] = {"left.csv", "right.csv", "commands.csv"};
-constexpr std::int64_t max_session_us = 24ll * 3600 * 1'000'000; // a day: longer is not a lesson
+// Four hours: a long class. A day was accepted once (a session.json that said so replayed for two
+// hours); the hands are recorded only when they move, so a quiet end cannot be told from a lie by
+// the samples, but not a lesson's length.
+constexpr std::int64_t max_session_us = 4ll * 3600 * 1'000'000;
 // A window session logs each camera turn it reads (a line a frame while the camera moves): two
 // million is hours of turning at 60 frames a second.
 constexpr std::size_t max_session_commands = 2'000'000;
@@ -88,10 +91,19 @@ Result<void> SessionRecorder::write(const LessonDef& lesson, const std::string& 
     commands_->flush();
     nlohmann::ordered_json j;
     j["format"] = "ikebana-session/1";
-    // A shipped lesson by its id (the recording then replays on another checkout), another by its file.
+    // A shipped lesson by its id (the recording then replays on another checkout), another by a copy
+    // in the recording's folder: a session names only files beside it or shipped ones (a session.json
+    // is a file anyone may hand over, and once named any file on the machine).
     std::error_code ec;
     const bool shipped = !lesson.file.empty() && std::filesystem::equivalent(lesson.file.parent_path(), asset_dir() / "lessons", ec);
-    j["lesson"] = lesson.file.empty() || shipped ? lesson.id : std::filesystem::absolute(lesson.file).string();
+    if (lesson.file.empty() || shipped) {
+        j["lesson"] = lesson.id;
+    } else {
+        auto text = assets::read_text_file(lesson.file);
+        if (!text) return std::move(text).error();
+        if (auto copied = assets::write_text_file(folder_ / "lesson.json", *text); !copied) return copied;
+        j["lesson"] = "lesson.json";
+    }
     j["kind"] = kind;
     j["scored_at_us"] = scored_us;
     j["end_us"] = end_us;
@@ -110,7 +122,7 @@ Result<void> SessionRecorder::write(const LessonDef& lesson, const std::string& 
                        {"env", window->env},
                        {"rate_device", {window->rate_device[0], window->rate_device[1]}}};
     }
-    return assets::write_text_file(folder_ / "session.json", j.dump(1) + "\n");
+    return assets::write_text_file(folder_ / "session.json", assets::json_text(j, 1) + "\n");
 }
 
 Result<SessionInfo> parse_session(std::string_view text, const std::string& label) {
@@ -228,7 +240,10 @@ Result<std::unique_ptr<SessionPlayback>> SessionPlayback::open(const std::filesy
     auto info = parse_session(*text, session_file.string());
     if (!info) return std::move(info).error();
     p->info_ = std::move(info).value();
-    auto lesson = load_lesson(p->info_.lesson);
+    const bool by_id = p->info_.lesson.find('/') == std::string::npos && !p->info_.lesson.ends_with(".json");
+    auto lesson_file = by_id ? Result<std::filesystem::path>(std::filesystem::path{}) : named_from(session_file, p->info_.lesson);
+    if (!lesson_file) return make_error(lesson_file.error().code, session_file.string() + ": /lesson: " + lesson_file.error().message);
+    auto lesson = by_id ? load_lesson(p->info_.lesson) : load_lesson_file(*lesson_file);
     if (!lesson) return make_error(lesson.error().code, session_file.string() + ": /lesson: " + lesson.error().message);
     p->lesson_ = std::move(lesson).value();
     auto scene = scene_for_lesson(p->lesson_);

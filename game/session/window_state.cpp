@@ -172,7 +172,7 @@ std::string window_state_json(const WindowState& s) {
     j["layout"] = {{"panels", boxes(s.layout.panels)}, {"views", boxes(s.layout.views)}, {"scene", boxes(s.layout.scene)}};
     j["results"] = s.results;
     j["result"] = s.result_json.empty() ? Json(nullptr) : Json::parse(s.result_json, nullptr, false);
-    return j.dump();
+    return assets::json_text(j);
 }
 
 Result<WindowState> parse_window_state(std::string_view text, const std::string& label) {
@@ -268,7 +268,7 @@ Result<WindowState> parse_window_state(std::string_view text, const std::string&
         read("scene", s.layout.scene);
     }
     s.results = r.get<std::uint64_t>(j, "results");
-    if (r.error.empty() && j.contains("result") && !j["result"].is_null()) s.result_json = j["result"].dump();
+    if (r.error.empty() && j.contains("result") && !j["result"].is_null()) s.result_json = assets::json_text(j["result"]);
     if (!r.error.empty()) return make_error(ErrorCode::parse_error, label + ": " + r.error);
     return s;
 }

@@ -356,23 +356,28 @@ Result<SpeciesDef> load_species_file(const std::filesystem::path& path) {
     species->file = path;
     // A mesh beside the species file is that one; otherwise the assets folder's (the name stays as
     // written, and the one who draws it looks there). Where it is not, `species check` says where it looked.
-    const auto beside = [&](std::string& mesh) {
-        if (mesh.empty() || std::filesystem::path(mesh).is_absolute()) return;
+    // A mesh outside the species file's folder and the assets folder is refused here (named_from).
+    std::string outside;
+    const auto beside = [&](std::string& mesh, const std::string& field) {
+        if (mesh.empty()) return;
         const auto found = named_from(path, mesh);
+        if (!found && found.error().code == ErrorCode::invalid_argument && outside.empty()) outside = path.filename().string() + ": " + field + ": " + found.error().message;
         std::error_code ec;
         if (!found || *found == (asset_dir() / mesh).lexically_normal()) return;
         const auto whole = std::filesystem::absolute(*found, ec);
         mesh = ec ? found->string() : whole.string();
     };
-    beside(species->head_mesh);
-    for (auto& part : species->parts) beside(part.mesh);
-    const auto twig_meshes = [&](auto& self, std::vector<BranchDef>& branches) -> void {
-        for (auto& b : branches) {
-            for (auto& part : b.parts) beside(part.mesh);
-            self(self, b.branches);
+    beside(species->head_mesh, "/head/mesh");
+    for (std::size_t i = 0; i < species->parts.size(); ++i) beside(species->parts[i].mesh, "/parts/" + std::to_string(i) + "/mesh");
+    const auto twig_meshes = [&](auto& self, std::vector<BranchDef>& branches, const std::string& at) -> void {
+        for (std::size_t i = 0; i < branches.size(); ++i) {
+            const std::string p = at + "/branches/" + std::to_string(i);
+            for (std::size_t k = 0; k < branches[i].parts.size(); ++k) beside(branches[i].parts[k].mesh, p + "/parts/" + std::to_string(k) + "/mesh");
+            self(self, branches[i].branches, p);
         }
     };
-    twig_meshes(twig_meshes, species->branches);
+    twig_meshes(twig_meshes, species->branches, "");
+    if (!outside.empty()) return make_error(ErrorCode::parse_error, outside);
     return species;
 }
 

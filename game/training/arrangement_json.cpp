@@ -146,7 +146,7 @@ OJson arrangement_object(const Arrangement& a) {
 }
 } // namespace
 
-std::string arrangement_json(const Arrangement& a, int indent) { return arrangement_object(a).dump(indent) + "\n"; }
+std::string arrangement_json(const Arrangement& a, int indent) { return assets::json_text(arrangement_object(a), indent) + "\n"; }
 
 std::string FormScore::json(int indent) const {
     OJson crit = OJson::array();
@@ -163,7 +163,7 @@ std::string FormScore::json(int indent) const {
     OJson rl = OJson::array();
     for (const auto& r : rules) rl.push_back({{"name", r.name}, {"ok", r.ok}, {"points", round_to(r.points, 0.01)}, {"max_points", r.max_points}, {"tip", r.tip}});
     const OJson out = {{"lesson", lesson}, {"score", round_to(score, 0.1)}, {"how", how}, {"criteria", crit}, {"rules", rl}, {"arrangement", arrangement_object(arrangement)}};
-    return out.dump(indent) + "\n";
+    return assets::json_text(out, indent) + "\n";
 }
 
 } // namespace ikebana::game

@@ -1134,6 +1134,24 @@ TEST(LessonSession, ACommandLineOutOfOrderOrNotACutIsRefusedWithItsFileAndLine) 
     EXPECT_FALSE(parse_session_commands("100,back,0,1\n", "c.csv").ok());
 }
 
+// A session.json is a file anyone may hand over: the lesson it names is a shipped one's id or a file
+// beside it (the recorder copies a designer's lesson into the recording), never any file on the
+// machine, and the answer is the same whether or not the file is there.
+TEST(LessonSession, ASessionNamesItsLessonOnlyBesideItOrShipped) {
+    const auto dir = std::filesystem::temp_directory_path() / "ikebana-session-lesson-path";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    for (const std::string named : {"/etc/shadow", "/etc/no-such-lesson.json", "../../etc/passwd"}) {
+        ASSERT_TRUE(assets::write_text_file(dir / "session.json", R"({"format": "ikebana-session/1", "lesson": ")" + named +
+                                                          R"(", "kind": "practice", "scored_at_us": 0, "end_us": 10, "score": 50, "state_hash": "00000000000000ff"})"));
+        const auto replayed = replay_lesson_session(dir);
+        ASSERT_FALSE(replayed.ok());
+        EXPECT_NE(replayed.error().message.find("/lesson: \"" + named + "\" is outside session.json's folder and the assets folder"), std::string::npos)
+            << replayed.error().message;
+    }
+    std::filesystem::remove_all(dir);
+}
+
 TEST(LessonSession, ASessionFileNamesTheFieldItLacks) {
     const auto missing = parse_session(R"({"format": "ikebana-session/1", "lesson": "x", "kind": "practice", "scored_at_us": 0, "end_us": 10, "score": 50})", "s.json");
     ASSERT_FALSE(missing.ok());
@@ -1143,6 +1161,13 @@ TEST(LessonSession, ASessionFileNamesTheFieldItLacks) {
         R"({"format": "ikebana-session/1", "lesson": "x", "kind": "practice", "scored_at_us": 20, "end_us": 10, "score": 50, "state_hash": "00000000000000ff"})", "s.json");
     ASSERT_FALSE(order.ok());
     EXPECT_NE(order.error().message.find("/scored_at_us"), std::string::npos) << order.error().message;
+    // A day's end (it replayed for two hours) is no lesson: four hours is the most.
+    const auto day = parse_session(
+        R"({"format": "ikebana-session/1", "lesson": "x", "kind": "practice", "scored_at_us": 20, "end_us": 86400000000, "score": 50, "state_hash": "00000000000000ff"})", "s.json");
+    ASSERT_FALSE(day.ok());
+    EXPECT_NE(day.error().message.find("/end_us"), std::string::npos) << day.error().message;
+    EXPECT_TRUE(parse_session(
+        R"({"format": "ikebana-session/1", "lesson": "x", "kind": "practice", "scored_at_us": 20, "end_us": 14400000000, "score": 50, "state_hash": "00000000000000ff"})", "s.json"));
 }
 
 // The layout a test checks the window by: panels, views and scene boxes read back as written, and a

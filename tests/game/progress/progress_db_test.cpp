@@ -1,14 +1,17 @@
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <latch>
+#include <set>
 #include <thread>
 #include <string>
 
 #include <sqlite3.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -443,4 +446,213 @@ TEST(StoredSessions, TwoSessionsBegunInOneSecondRecordIntoFoldersOfTheirOwn) {
         second.finish(**two, &*lesson);
     }
     std::filesystem::remove_all(dir);
+}
+
+namespace {
+// Another station's connection holding the write lock (as one saving a session does) until released.
+struct WriteLock {
+    sqlite3* db = nullptr;
+    explicit WriteLock(const std::filesystem::path& path) {
+        EXPECT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+        EXPECT_EQ(sqlite3_exec(db, "BEGIN IMMEDIATE", nullptr, nullptr, nullptr), SQLITE_OK);
+    }
+    void release() {
+        if (!db) return;
+        sqlite3_exec(db, "COMMIT", nullptr, nullptr, nullptr);
+        sqlite3_close(db);
+        db = nullptr;
+    }
+    ~WriteLock() { release(); }
+};
+} // namespace
+
+// Two stations on one database: a save that finds the other writing waits for it, and one that
+// waits in vain is told the file is busy (ErrorCode::busy), never that it is damaged; once the other
+// is done, the same session is stored.
+TEST(ProgressDb, AFileAnotherStationIsWritingIsBusyNotDamaged) {
+    const auto path = fresh_dir() / "progress.sqlite";
+    auto db = ProgressDb::open(path);
+    ASSERT_TRUE(db) << db.error().message;
+    {
+        WriteLock other(path);
+        auto s = session("sogetsu_basic_upright", "mika", 70.0, 1);
+        auto saved = db->save(s);
+        ASSERT_FALSE(saved);
+        EXPECT_EQ(saved.error().code, ErrorCode::busy);
+        EXPECT_NE(saved.error().message.find("busy (another program, perhaps another Ikebana, is writing it)"), std::string::npos) << saved.error().message;
+        EXPECT_EQ(saved.error().message.find("damaged"), std::string::npos);
+        other.release();
+        EXPECT_TRUE(db->save(s));
+    }
+    // Held for half a second while a save waits up to two: stored, after the other.
+    db->set_busy_wait_ms(2000);
+    WriteLock other(path);
+    std::thread releaser([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(500));
+        other.release();
+    });
+    auto later = session("sogetsu_basic_upright", "mika", 80.0, 2);
+    EXPECT_TRUE(db->save(later));
+    releaser.join();
+    auto all = db->sessions();
+    ASSERT_TRUE(all);
+    EXPECT_EQ(all->size(), 2u);
+}
+
+// Two apps started at once on one new file (3 of 7 tries once said "damaged (database is locked)"
+// and stored nothing all session): both open it and every session of each is stored. Eight rounds of
+// two processes, each saving five sessions.
+TEST(ProgressDb, TwoStationsStartedAtOnceOnANewFileBothStoreEverySession) {
+    const auto dir = fresh_dir();
+    for (int round = 0; round < 8; ++round) {
+        const auto path = dir / ("progress-" + std::to_string(round) + ".sqlite");
+        pid_t children[2];
+        for (auto& child : children) {
+            child = fork();
+            ASSERT_GE(child, 0);
+            if (child == 0) {
+                auto db = ProgressDb::open(path);
+                if (!db) _exit(db.error().code == ErrorCode::busy ? 5 : 3);
+                for (std::int64_t i = 0; i < 5; ++i) {
+                    auto s = session("sogetsu_basic_upright", "station " + std::to_string(getpid()), 50.0, i);
+                    db->set_busy_wait_ms(5000);
+                    if (!db->save(s)) _exit(4);
+                }
+                _exit(0);
+            }
+        }
+        for (const pid_t child : children) {
+            int status = 0;
+            waitpid(child, &status, 0);
+            ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "round " << round << ": a station failed, exit " << WEXITSTATUS(status);
+        }
+        auto db = ProgressDb::open_read_only(path);
+        ASSERT_TRUE(db) << db.error().message;
+        auto all = db->sessions();
+        ASSERT_TRUE(all) << all.error().message;
+        EXPECT_EQ(all->size(), 10u) << "round " << round;
+    }
+}
+
+// The app killed mid-session twenty times, at moments spread over its saves: after each kill the
+// database opens whole (integrity_check, in open) and every session the killed writer had been told
+// was stored is there, whole.
+TEST(ProgressDb, KilledTwentyTimesMidSessionTheDatabaseStaysWholeAndNoStoredSessionIsLost) {
+    const auto path = fresh_dir() / "progress.sqlite";
+    std::set<std::int64_t> told;
+    for (int kill_no = 0; kill_no < 20; ++kill_no) {
+        int pipe_fd[2];
+        ASSERT_EQ(pipe(pipe_fd), 0);
+        const pid_t child = fork();
+        ASSERT_GE(child, 0);
+        if (child == 0) {
+            close(pipe_fd[0]);
+            auto db = ProgressDb::open(path);
+            if (!db) _exit(3);
+            for (std::int64_t i = 0;; ++i) {
+                auto s = session("sogetsu_basic_upright", "mika", 50.0, i);
+                for (int k = 0; k < 100; ++k) s.result.criteria.push_back(s.result.criteria.front());
+                if (!db->save(s)) _exit(4);
+                // Told only after save() returned: this one is stored.
+                if (write(pipe_fd[1], &s.id, sizeof s.id) != static_cast<ssize_t>(sizeof s.id)) _exit(5);
+            }
+        }
+        close(pipe_fd[1]);
+        usleep(static_cast<useconds_t>(30'000 + 17'000 * kill_no)); // 30-350 ms: before, between and in saves
+        kill(child, SIGKILL);
+        int status = 0;
+        waitpid(child, &status, 0);
+        ASSERT_TRUE(WIFSIGNALED(status)) << "kill " << kill_no << ": the writer stopped by itself, exit " << WEXITSTATUS(status);
+        std::int64_t id = 0;
+        while (read(pipe_fd[0], &id, sizeof id) == static_cast<ssize_t>(sizeof id)) told.insert(id);
+        close(pipe_fd[0]);
+        auto db = ProgressDb::open(path);
+        ASSERT_TRUE(db) << "kill " << kill_no << ": " << db.error().message;
+        auto all = db->sessions();
+        ASSERT_TRUE(all) << all.error().message;
+        std::set<std::int64_t> stored;
+        for (const auto& s : *all) {
+            stored.insert(s.id);
+            EXPECT_EQ(s.result.criteria.size(), 102u) << "kill " << kill_no << ": session " << s.id << " is half stored";
+        }
+        for (const auto t : told) EXPECT_TRUE(stored.contains(t)) << "kill " << kill_no << ": session " << t << " was stored and is lost";
+    }
+    EXPECT_GT(told.size(), 20u) << "the writers stored little: the kills did not fall among saves";
+}
+
+// The database's path gets every input path's checks: a FIFO is refused at once (it hung), a device
+// is refused (/dev/zero read as no sessions, and got a journal beside it), with the path in the message.
+TEST(ProgressDb, AFifoOrADeviceWhereTheDatabaseGoesIsRefusedWithoutWaiting) {
+    const auto dir = fresh_dir();
+    const auto fifo = dir / "f.db";
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    auto writer = ProgressDb::open(fifo);
+    ASSERT_FALSE(writer);
+    EXPECT_EQ(writer.error().message, fifo.string() + ": a FIFO, not a progress database");
+    auto reader = ProgressDb::open_read_only(fifo);
+    ASSERT_FALSE(reader);
+    EXPECT_EQ(reader.error().message, fifo.string() + ": a FIFO, not a progress database");
+    auto zero = ProgressDb::open_read_only("/dev/zero");
+    ASSERT_FALSE(zero);
+    EXPECT_EQ(zero.error().message, "/dev/zero: a device or socket, not a progress database");
+    EXPECT_FALSE(ProgressDb::open("/dev/zero"));
+    EXPECT_FALSE(std::filesystem::exists("/dev/zero-journal"));
+    EXPECT_FALSE(std::filesystem::exists("/dev/zero-wal"));
+}
+
+// Text another program wrote into our tables (SQLite does not check UTF-8, and integrity_check passes)
+// is read with U+FFFD where a byte is not UTF-8: the history still reads.
+TEST(ProgressDb, TextThatIsNotUtf8InACellIsReadWithReplacementCharacters) {
+    const auto path = fresh_dir() / "progress.sqlite";
+    {
+        auto db = ProgressDb::open(path);
+        ASSERT_TRUE(db);
+        auto s = session("sogetsu_basic_upright", "Zoe", 70.0, 1);
+        ASSERT_TRUE(db->save(s));
+    }
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(raw, "UPDATE sessions SET trainee = CAST(X'5A6FEB' AS TEXT)", nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(raw);
+    auto db = ProgressDb::open_read_only(path);
+    ASSERT_TRUE(db) << db.error().message;
+    auto all = db->sessions();
+    ASSERT_TRUE(all) << all.error().message;
+    ASSERT_EQ(all->size(), 1u);
+    EXPECT_EQ(all->front().trainee, "Zo\xEF\xBF\xBD");
+}
+
+// A session scored while another station holds the database is kept, not lost: the HUD says it is
+// not stored yet, and it is stored once the other is done (here when the window closes).
+TEST(StoredSessions, ASessionScoredWhileTheDatabaseIsBusyIsKeptAndStoredLater) {
+    const auto dir = fresh_dir();
+    game::TraineeAppOptions options;
+    options.progress_db = (dir / "progress.sqlite").string();
+    options.trainee = "mika";
+    auto lesson = game::load_lesson("sogetsu_basic_upright");
+    ASSERT_TRUE(lesson.ok()) << lesson.error().message;
+    auto scene = game::scene_for_lesson(*lesson);
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    auto world = game::World::create(*scene);
+    ASSERT_TRUE(world.ok());
+    game::StoredSessions stored(options);
+    (void)stored.open(false, &*lesson);
+    stored.begin(**world, &*lesson);
+    components::HudInfo hud;
+    FormScore score = session("sogetsu_basic_upright", "mika", 77.0, 1).result;
+    {
+        WriteLock other(dir / "progress.sqlite");
+        stored.store(score, components::FrameSnapshot{}, hud);
+    }
+    ASSERT_FALSE(hud.result.empty());
+    EXPECT_EQ(hud.result.back(), "not stored yet: the database is busy (kept)");
+    stored.finish(**world, &*lesson);
+    stored.store_pending_at_exit();
+    auto db = ProgressDb::open_read_only(dir / "progress.sqlite");
+    ASSERT_TRUE(db) << db.error().message;
+    auto all = db->sessions();
+    ASSERT_TRUE(all);
+    ASSERT_EQ(all->size(), 1u);
+    EXPECT_DOUBLE_EQ(all->front().result.score, 77.0);
+    EXPECT_EQ(all->front().trainee, "mika");
 }

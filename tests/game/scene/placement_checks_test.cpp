@@ -79,6 +79,7 @@ TEST(PlacementChecks, AScriptedHandOutsideTheWorkspaceIsRefused) {
         out << "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n0,0,0,0.1,0,0,0,0\n1,5,0,0.1,0,0,0,1\n";
     }
     auto scene = default_scene();
+    scene.file = dir / "default.json"; // as if the scene lay beside its trajectories (a file names only files beside it or shipped)
     scene.hands[0].trajectory = (dir / "far.csv").string();
     EXPECT_EQ(refusal(scene), "default.json: /hands/0/trajectory: at 1.000 s the hand is at (5, 0, 0.1) m, outside the workspace (2 m from the "
                               "origin on each axis)");
