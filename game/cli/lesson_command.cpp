@@ -213,6 +213,14 @@ int demo_lesson(const DemoArgs& args) {
             return 2;
         }
     }
+    // The database is looked at before a minute is spent demonstrating: a FIFO or a device there is
+    // refused now, not after (the window stores through the app, which opens it at its start).
+    if (!args.no_history && !args.window) {
+        if (auto ok = check_progress_path(args.db.empty() ? default_progress_path() : std::filesystem::path(args.db)); !ok) {
+            std::cerr << who << "--db: " << ok.error().message << "\n";
+            return 2;
+        }
+    }
     for (const auto& t : args.tilts) {
         const auto eq = t.find('=');
         const auto role = t.substr(0, eq);

@@ -139,7 +139,7 @@ struct Closer {
 // The database's path gets the checks every input path gets (assets/files.hpp): a FIFO would block
 // the open for ever, and a device (`/dev/zero`) read as an empty database had a journal created beside
 // it. Anything but a regular file (or a missing one) is refused before SQLite sees it.
-Result<void> check_regular(const std::filesystem::path& path) {
+Result<void> check_regular_path(const std::filesystem::path& path) {
     std::error_code ec;
     const auto status = std::filesystem::symlink_status(path, ec);
     if (ec || status.type() == std::filesystem::file_type::not_found || status.type() == std::filesystem::file_type::regular) return {};
@@ -238,6 +238,8 @@ std::filesystem::path xdg_dir(const char* variable, const char* fallback) {
     return std::filesystem::path(home && *home ? home : ".") / ".local" / fallback;
 }
 
+Result<void> check_progress_path(const std::filesystem::path& path) { return check_regular_path(path); }
+
 std::filesystem::path default_progress_path() { return xdg_dir("XDG_DATA_HOME", "share") / "ikebana" / "progress.sqlite"; }
 
 std::filesystem::path default_log_path() { return xdg_dir("XDG_STATE_HOME", "state") / "ikebana" / "last-session.log"; }
@@ -258,7 +260,7 @@ std::string iso_utc(std::int64_t unix_s) {
 }
 
 Result<ProgressDb> ProgressDb::open(const std::filesystem::path& path) {
-    if (auto regular = check_regular(path); !regular) return regular.error();
+    if (auto regular = check_regular_path(path); !regular) return regular.error();
     std::error_code ec;
     const bool exists = std::filesystem::exists(path, ec);
     bool fresh = !exists;
@@ -312,7 +314,7 @@ Result<ProgressDb> ProgressDb::open(const std::filesystem::path& path) {
 Result<ProgressDb> ProgressDb::open_read_only(const std::filesystem::path& path) {
     std::error_code ec;
     if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) return make_error(ErrorCode::not_found, path.string() + ": no sessions yet (the file does not exist)");
-    if (auto regular = check_regular(path); !regular) return regular.error();
+    if (auto regular = check_regular_path(path); !regular) return regular.error();
     auto empty = check_existing(path);
     if (!empty) return empty.error();
     sqlite3* db = nullptr;

@@ -52,6 +52,9 @@ struct SessionFilter {
     std::string lesson;  // empty: every lesson
 };
 
+// Whether a database may be at `path`: missing, or a regular file (not a FIFO, a device, a folder or
+// a link); what open() checks first, for a command to ask before it starts a long run.
+Result<void> check_progress_path(const std::filesystem::path& path);
 // $XDG_DATA_HOME/ikebana/progress.sqlite, or ~/.local/share/ikebana/progress.sqlite.
 [[nodiscard]] std::filesystem::path default_progress_path();
 // $XDG_STATE_HOME/ikebana/last-session.log, or ~/.local/state/ikebana/last-session.log: the app's

@@ -44,6 +44,7 @@ run "a 30 M-comma row under a 1 GB limit" 2 "wide.csv:2:1: expected 3 fields (as
 # 4. --db on a FIFO or a device: refused at once.
 mkfifo f.db
 run "history --db FIFO" 1 "f.db: a FIFO, not a progress database" "$ikebana" history --db f.db
+run "lesson demo --db FIFO" 2 "ikebana lesson demo: --db: f.db: a FIFO, not a progress database" "$ikebana" lesson demo sogetsu_basic_upright --db f.db
 run "history --db /dev/zero" 1 "/dev/zero: a device or socket, not a progress database" "$ikebana" history --db /dev/zero
 [ -e /dev/zero-journal ] && fail "/dev/zero-journal was made"
 
