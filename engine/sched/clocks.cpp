@@ -1,5 +1,12 @@
 #include "engine/sched/clocks.hpp"
 
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h>
+#define IKEBANA_HAS_CALLGRIND 1
+#else
+#define IKEBANA_HAS_CALLGRIND 0
+#endif
+
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -40,6 +47,15 @@ DeterministicClock::DeterministicClock(Schedule& schedule) : schedule_(schedule)
     if (!schedule_.finalized()) throw std::logic_error("DeterministicClock needs a finalized schedule");
 }
 
+namespace {
+// Callgrind's collection, on or off (a no-op outside valgrind, and where its header is missing).
+void toggle_instruction_count() {
+#if IKEBANA_HAS_CALLGRIND
+    CALLGRIND_TOGGLE_COLLECT;
+#endif
+}
+} // namespace
+
 void DeterministicClock::run_until(std::int64_t t_us) {
     auto& systems = schedule_.systems();
     const auto& lanes = schedule_.lanes();
@@ -58,6 +74,8 @@ void DeterministicClock::run_until(std::int64_t t_us) {
         // `systems` is already in tie-break order (lane, phase, after, registration).
         for (auto& s : systems) {
             if (s.next_due_us != t) continue;
+            const bool counted = counted_lane_ && *counted_lane_ == s.lane;
+            if (counted) toggle_instruction_count();
             if (measure_) {
                 const auto begin = monotonic_ns();
                 s.fire(*lanes[s.lane].registry);
@@ -68,6 +86,7 @@ void DeterministicClock::run_until(std::int64_t t_us) {
             } else {
                 s.fire(*lanes[s.lane].registry);
             }
+            if (counted) toggle_instruction_count();
             ++s.stats.calls;
         }
         for (std::size_t li = 0; li < lane_ns.size(); ++li) {

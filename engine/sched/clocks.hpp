@@ -9,6 +9,7 @@
 // thread. Lanes share no registry; data crosses threads only through TripleBuffer snapshots
 // (engine/sched/triple_buffer.hpp). When a lane falls behind by more than its catch-up window, the
 // firings it missed are dropped and counted instead of run back to back (no spiral of death).
+#include <optional>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -31,6 +32,10 @@ public:
     void skip_lane(std::size_t lane, std::int64_t until_us);
     // Turns the per-firing duration measurement off, for benchmarks of the scheduler itself.
     void measure_durations(bool on) noexcept { measure_ = on; }
+    // Under `valgrind --tool=callgrind --collect-atstart=no`, instructions are counted only while
+    // this lane's systems run (callgrind's client requests; outside valgrind they do nothing): the
+    // haptic tick alone, without the main lane's frame work the whole process's count carries.
+    void count_instructions_of_lane(std::optional<std::size_t> lane) noexcept { counted_lane_ = lane; }
     // Duration of everything one lane ran at one timestamp (a "tick"), per lane.
     [[nodiscard]] const std::vector<DurationHistogram>& tick_ns() const noexcept { return tick_ns_; }
 
@@ -39,6 +44,7 @@ private:
     std::vector<DurationHistogram> tick_ns_;
     std::int64_t now_us_ = 0;
     bool measure_ = true;
+    std::optional<std::size_t> counted_lane_;
 };
 
 struct LaneReport {

@@ -307,7 +307,7 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
             if (!sim) return std::move(sim).error();
             // Kept for the rows that share it, the oldest let go beyond max_profiles (about 0.3 MB
             // each: rows whose extension reads a continuous covariate share nothing).
-            if (profile_order_.size() >= max_profiles) {
+            if (profile_order_.size() >= max_profiles_) {
                 profiles_.erase(profile_order_.front());
                 profile_order_.pop_front();
             }
@@ -331,6 +331,16 @@ Result<InsertionPrediction> InsertionPredictor::predict(const InsertionCondition
     cache_.emplace(key, out);
     ++simulated_;
     return out;
+}
+
+std::vector<std::size_t> InsertionPredictor::simulation_order(const std::vector<InsertionConditions>& rows) {
+    std::vector<std::string> keys;
+    keys.reserve(rows.size());
+    for (const auto& r : rows) keys.push_back(key(r));
+    std::vector<std::size_t> order(rows.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
+    return order;
 }
 
 } // namespace ikebana::game

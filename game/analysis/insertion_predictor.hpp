@@ -60,7 +60,8 @@ struct DepthSample {
 
 class InsertionPredictor {
 public:
-    explicit InsertionPredictor(std::string kenzan = "standard") : kenzan_(std::move(kenzan)) {}
+    // `max_profiles`: simulations kept for rows that share them (about 0.3 MB each).
+    explicit InsertionPredictor(std::string kenzan = "standard", std::size_t max_profiles = 256) : kenzan_(std::move(kenzan)), max_profiles_(max_profiles) {}
     Result<InsertionPrediction> predict(const InsertionConditions& conditions);
     // Simulations run so far: pushes to a row's own depth, and pushes to the base plate that rows of
     // any depth are read from.
@@ -68,6 +69,10 @@ public:
     // What identifies a simulation: rows with equal keys share one (empty when the species is bad).
     // Rows that differ only in depth (or pins) have one key when they share a push.
     std::string key(const InsertionConditions& conditions);
+    // The order to predict rows in so that each distinct simulation runs once, whatever the rows'
+    // order: rows that share a key, together (stable: first rows first). In the file's order, rows of
+    // 405 conditions in flower order took 3,895 simulations through the 256-entry cache; sorted, 405.
+    std::vector<std::size_t> simulation_order(const std::vector<InsertionConditions>& rows);
     // false: each row with a depth is pushed to its own depth (what the shared pushes are checked against).
     void share_depths(bool on) noexcept { share_depths_ = on; }
 
@@ -93,7 +98,7 @@ private:
     std::size_t simulated_ = 0;
     bool share_depths_ = true;
     [[nodiscard]] bool shares_depth(const InsertionConditions& c) const noexcept { return c.depth_m && !c.want_outcome && share_depths_; }
-    static constexpr std::size_t max_profiles = 256;
+    std::size_t max_profiles_ = 256;
     std::map<std::string, Simulation> profiles_;
     std::deque<std::string> profile_order_; // oldest first
     std::map<std::string, InsertionPrediction> cache_;

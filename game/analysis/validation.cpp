@@ -94,16 +94,24 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
     // The baseline: every row through the live systems.
     InsertionPredictor predictor;
     const bool outcomes = v.data.has_outcome;
-    std::vector<double> baseline_fall(v.data.trials.size(), 0.0);
-    for (std::size_t i = 0; i < v.data.trials.size(); ++i) {
+    const std::size_t n_rows = v.data.trials.size();
+    std::vector<double> baseline_fall(n_rows, 0.0);
+    v.input.flower.resize(n_rows);
+    v.input.measured_gf.resize(n_rows);
+    v.input.predicted_gf.resize(n_rows);
+    std::vector<InsertionConditions> rows;
+    for (const auto& t : v.data.trials) rows.push_back(conditions_for(t, options.species_override, outcomes));
+    const auto order = predictor.simulation_order(rows); // each distinct simulation once, whatever the rows' order
+    for (std::size_t n = 0; n < n_rows; ++n) {
+        const std::size_t i = order[n];
         const auto& t = v.data.trials[i];
-        const auto p = predictor.predict(conditions_for(t, options.species_override, outcomes));
+        const auto p = predictor.predict(rows[i]);
         if (!p) return make_error(p.error().code, measured_path + ":" + std::to_string(t.line) + ": " + p.error().message);
-        v.input.flower.push_back(t.flower_id);
-        v.input.measured_gf.push_back(t.max_force_gf);
-        v.input.predicted_gf.push_back(std::max(p->max_force_n / gram_force_n, 1e-6));
+        v.input.flower[i] = t.flower_id;
+        v.input.measured_gf[i] = t.max_force_gf;
+        v.input.predicted_gf[i] = std::max(p->max_force_n / gram_force_n, 1e-6);
         baseline_fall[i] = p->fall_probability;
-        if (options.progress) options.progress("simulating the baseline", i + 1, v.data.trials.size());
+        if (options.progress) options.progress("simulating the baseline", n + 1, n_rows);
     }
     v.input.covariates = std::move(covariates).value();
     auto analysis = analyse_discrepancy(v.input, options.analysis);
@@ -141,21 +149,26 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
         std::vector<bool> aside(v.data.trials.size(), false);
         for (const auto& r : v.analysis.suspected) aside[r.row] = true;
         std::size_t used = 0;
-        for (std::size_t i = 0; i < v.data.trials.size(); ++i) {
+        std::vector<InsertionConditions> extended_rows;
+        for (const auto& t : v.data.trials) extended_rows.push_back(conditions_for(t, temporary, outcomes));
+        const auto extended_order = predictor.simulation_order(extended_rows);
+        v.simulated_extended_gf.assign(n_rows, 0.0);
+        for (std::size_t n = 0; n < n_rows; ++n) {
+            const std::size_t i = extended_order[n];
             const auto& t = v.data.trials[i];
-            const auto p = predictor.predict(conditions_for(t, temporary, outcomes));
+            const auto p = predictor.predict(extended_rows[i]);
             if (!p) {
                 std::filesystem::remove(temporary);
                 return make_error(p.error().code, measured_path + ":" + std::to_string(t.line) + ": " + p.error().message);
             }
             const double gf = p->max_force_n / gram_force_n;
-            v.simulated_extended_gf.push_back(gf);
+            v.simulated_extended_gf[i] = gf;
             if (!aside[i]) {
                 sum += (t.max_force_gf - gf) * (t.max_force_gf - gf);
                 ++used;
             }
             fall[i] = p->fall_probability;
-            if (options.progress) options.progress("simulating the extended species", i + 1, v.data.trials.size());
+            if (options.progress) options.progress("simulating the extended species", n + 1, n_rows);
         }
         v.simulated_extended_rmse_gf = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(used, 1)));
         if (outcomes) v.extended_outcome_accuracy = outcome_accuracy(v.data, fall, nullptr);

@@ -31,15 +31,19 @@ int run_predict(const std::string& input, const std::string& species_override, c
     InsertionPredictor predictor;
     std::vector<std::pair<double, std::string>> predictions(data->trials.size());
     const bool tty = isatty(fileno(stderr)) != 0;
-    for (std::size_t i = 0; i < data->trials.size(); ++i) {
+    std::vector<InsertionConditions> rows;
+    for (const auto& t : data->trials) rows.push_back(conditions_for(t, species_override, data->has_outcome));
+    const auto order = predictor.simulation_order(rows);
+    for (std::size_t n = 0; n < order.size(); ++n) {
+        const std::size_t i = order[n];
         const auto& t = data->trials[i];
-        const auto p = predictor.predict(conditions_for(t, species_override, data->has_outcome));
+        const auto p = predictor.predict(rows[i]);
         if (!p) {
             std::cerr << "ikebana predict: " << input << ":" << t.line << ": " << p.error().message << "\n";
             return 2;
         }
         predictions[i] = {p->max_force_n / gram_force_n, p->fall_probability > 0.5 ? "fell" : "stood"};
-        if (tty) std::fprintf(stderr, "\rpredicted %zu / %zu rows (%zu simulated)", i + 1, data->trials.size(), predictor.simulated());
+        if (tty) std::fprintf(stderr, "\rpredicted %zu / %zu rows (%zu simulated)", n + 1, data->trials.size(), predictor.simulated());
     }
     if (tty) std::fprintf(stderr, "\n");
     // The input's lines, unchanged, each data line with the predictions appended.

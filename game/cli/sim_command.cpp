@@ -79,6 +79,10 @@ int run_sim(const SimOptions& options) {
         std::printf("recording every device sample to %s/{left,right}.csv (replay with --left replay:FILE)\n", options.record_dir.c_str());
     }
     const auto wall_start = std::chrono::steady_clock::now();
+    if (options.realtime && !options.count_lane.empty()) {
+        std::cerr << "ikebana sim: --count-lane counts a run on the deterministic clock, not --realtime\n";
+        return 2;
+    }
     if (options.realtime) {
         std::printf("running %.1f s in real time (simulation lane on its own thread)...\n", options.seconds);
         std::fflush(stdout);
@@ -97,6 +101,20 @@ int run_sim(const SimOptions& options) {
         std::printf("%s", format_realtime_report(w, reports).c_str());
     } else {
         sched::DeterministicClock clock(w.schedule);
+        if (!options.count_lane.empty()) {
+            const auto& lanes = w.schedule.lanes();
+            std::optional<std::size_t> lane;
+            for (std::size_t i = 0; i < lanes.size(); ++i) {
+                if (lanes[i].name == options.count_lane) lane = i;
+            }
+            if (!lane) {
+                std::string names;
+                for (const auto& l : lanes) names += (names.empty() ? "" : ", ") + l.name;
+                std::cerr << "ikebana sim: --count-lane: no lane '" << options.count_lane << "' (lanes: " << names << ")\n";
+                return 2;
+            }
+            clock.count_instructions_of_lane(lane);
+        }
         const auto print_ticks = [&] {
             const auto& lanes = w.schedule.lanes();
             for (std::size_t i = 0; i < clock.tick_ns().size(); ++i) {
@@ -178,6 +196,8 @@ void add_sim_command(CLI::App& app, int& exit_code) {
         ->check(CLI::IsMember({"full_rate", "paper"}));
     sim->add_option("--record", options->record_dir, "Record every device sample of each hand into this folder");
     sim->add_option("--env", options->env, "Set an environment covariate for extended species, e.g. --env humidity_pct=70 --env vase=metal");
+    sim->add_option("--count-lane", options->count_lane,
+                    "With valgrind --tool=callgrind --collect-atstart=no: count instructions only while this lane's systems run (sim: the haptic tick; main)");
     sim->add_option("--rate", options->rates, "Change a rate, e.g. --rate render=60 (haptic, position_estimate, position_check, render)");
     sim->callback([options, &exit_code] { exit_code = run_sim(*options); });
 }

@@ -13,6 +13,7 @@ struct SimOptions {
     bool hash = false;
     bool realtime = false;
     std::vector<std::string> rates;
+    std::string count_lane; // --count-lane: the lane whose systems callgrind counts (empty: everything)
     std::string left_device;  // empty: what the scene says (see game/devices/hand_device_selection.hpp)
     std::string right_device;
     std::string record_dir;   // when set: every device sample of each hand, to replay later

@@ -141,4 +141,7 @@ file(WRITE ${out}/escaping_species.json "${escaping_species}")
 expect_refusal("a glTF buffer at /etc/passwd" "escaping.gltf: /buffers/0/uri: '/etc/passwd' is refused: a mesh reads only files in its own folder"
                ${IKEBANA} species check ${out}/escaping_species.json)
 
+# Issue 40: a lane callgrind is asked to count that is not there is named with the lanes there are.
+expect_refusal("--count-lane of no lane" "ikebana sim: --count-lane: no lane 'nope' (lanes: " ${IKEBANA} sim --seconds 0.1 --count-lane nope)
+
 message(STATUS "every hostile input is refused or handled, and nothing it pointed at was touched")

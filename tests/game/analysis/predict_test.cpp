@@ -186,3 +186,38 @@ TEST(Predict, RowsOfAnyDepthReadOffOnePushAgreeWithEachRowPushedToItsOwnDepth) {
     EXPECT_EQ(shared.key(shallow), shared.key(deep)) << "one simulation, so one key (validate counts keys)";
     EXPECT_NE(own.key(shallow), own.key(deep));
 }
+
+// Each distinct condition is simulated once whatever the rows' order: six angles, each flower (at a
+// depth of its own) in turn at every angle, through a cache of four pushes (the 256-entry cache in small). In the file's order
+// the first-in-first-out cache let every angle go before its next row and simulated 18 times;
+// grouped by simulation_order, 6, with the same predictions as each row alone.
+TEST(Predict, EachDistinctConditionIsSimulatedOnceWhateverTheRowsOrder) {
+    std::vector<InsertionConditions> rows;
+    for (int flower = 0; flower < 3; ++flower) {
+        for (int a = 0; a < 6; ++a) {
+            InsertionConditions c;
+            c.angle_deg = 20.0 + 5.0 * a;
+            c.depth_m = 0.008 + 0.002 * flower; // each flower's own depth: rows read one push per angle
+            rows.push_back(c);
+        }
+    }
+    InsertionPredictor in_file_order("standard", 4);
+    std::vector<double> as_read;
+    for (const auto& r : rows) {
+        const auto p = in_file_order.predict(r);
+        ASSERT_TRUE(p) << p.error().message;
+        as_read.push_back(p->max_force_n);
+    }
+    EXPECT_EQ(in_file_order.simulated(), 18u) << "the cache of four forgot each angle before its next row";
+    InsertionPredictor grouped("standard", 4);
+    const auto order = grouped.simulation_order(rows);
+    ASSERT_EQ(order.size(), rows.size());
+    std::vector<double> predicted(rows.size(), 0.0);
+    for (const std::size_t i : order) {
+        const auto p = grouped.predict(rows[i]);
+        ASSERT_TRUE(p) << p.error().message;
+        predicted[i] = p->max_force_n;
+    }
+    EXPECT_EQ(grouped.simulated(), 6u);
+    EXPECT_EQ(predicted, as_read) << "the same predictions, row for row";
+}
