@@ -38,8 +38,11 @@ grep -q '^F1,1,484,"Zoe' pred.csv || fail "the row's first line changed: $(cat p
 
 # 3. A row of millions of commas: refused at its width, in bounded memory (1 GB here; it took 2.7).
 python3 -c "open('wide.csv','w').write('flower_id,insertion,max_force_gf\n'+','*30000000+'\n')"
+# (A sanitizer's shadow memory does not fit under such a limit: there the row is refused without it.)
+limit="ulimit -v 1000000;"
+ldd "$ikebana" | grep -qE "lib(a|t)san" && limit=""
 run "a 30 M-comma row under a 1 GB limit" 2 "wide.csv:2:1: expected 3 fields (as the header), found 30000001" \
-    bash -c "ulimit -v 1000000; exec \"$ikebana\" predict wide.csv -o wide_out.csv"
+    bash -c "$limit exec \"$ikebana\" predict wide.csv -o wide_out.csv"
 
 # 4. --db on a FIFO or a device: refused at once.
 mkfifo f.db
