@@ -91,6 +91,10 @@ struct PinResistance {
     // deterioration model (index k-1 for the k-th insertion; the last value holds from then on).
     std::vector<double> n_per_m_by_insertion;
     std::vector<DeteriorationTerm> extension;
+    // true: the extension multiplies only the resistance to the push (what a gauge measures as the stem
+    // slides in), not what holds a stem at rest in the pins (its holding moment, the base model's).
+    // Fitted to pushes and holding too, it held the paper's sunflowers for 16 insertions, not 5.8.
+    bool extension_push_only;
     // hard_eq6 (Table 1)
     double cortex_tip_n_per_m;
     double cortex_trunk_n_per_m;

@@ -1,5 +1,6 @@
 #include "game/analysis/validation.hpp"
 
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -172,9 +173,37 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
         }
         v.simulated_extended_rmse_gf = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(used, 1)));
         if (outcomes) v.extended_outcome_accuracy = outcome_accuracy(v.data, fall, nullptr);
+        // Stood or fell, row by row: a perfect model is right on every row; five points of accuracy
+        // lost is clearly worse.
+        if (v.baseline_outcome_accuracy && v.extended_outcome_accuracy)
+            v.others.push_back(judge_other_measure("outcome accuracy (share of rows whose stood/fell it gets right)", 1.0, *v.baseline_outcome_accuracy,
+                                                   *v.extended_outcome_accuracy, 0.05));
     }
     std::filesystem::remove(temporary);
     return v;
+}
+
+OtherMeasure judge_other_measure(std::string name, double measured, double baseline, double extended, double tolerance) {
+    OtherMeasure m{std::move(name), measured, baseline, extended, tolerance, false};
+    m.worse = std::abs(extended - measured) > std::abs(baseline - measured) + tolerance;
+    return m;
+}
+
+std::string other_measure_words(const OtherMeasure& m) {
+    char text[512];
+    std::snprintf(text, sizeof text, "%s: extended %.3g against the measured %.3g (the baseline %.3g): %s", m.name.c_str(), m.extended, m.measured, m.baseline,
+                  m.worse ? "the extension makes it clearly worse, so it is no improvement here"
+                          : (std::abs(m.extended - m.measured) < std::abs(m.baseline - m.measured) ? "the extension brings it nearer" : "about as before"));
+    return text;
+}
+
+Result<std::string> extended_species_applied_to(const std::string& species_json, const std::string& applies_to) {
+    auto root = nlohmann::ordered_json::parse(species_json, nullptr, false);
+    if (root.is_discarded() || !root.contains("deterioration")) return make_error(ErrorCode::invalid_argument, "not an extended species");
+    root["deterioration"]["applies_to"] = applies_to;
+    std::string json = assets::json_text(root, 2) + "\n";
+    if (auto check = parse_species(json, "extended species"); !check) return make_error(ErrorCode::parse_error, "the extended species does not load: " + check.error().message);
+    return json;
 }
 
 } // namespace ikebana::game

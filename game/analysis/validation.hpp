@@ -25,6 +25,22 @@ struct ValidationOptions {
     std::function<void(const std::string& stage, std::size_t done, std::size_t of)> progress;
 };
 
+// A quantity measured besides the forces the extension was fitted to (the paper's experiment means,
+// an `outcome` column's accuracy), before and after the extension. A model fitted to one observable
+// and broken on another is no improvement: `worse` says the extension moved this one clearly away
+// from its measurement (further than the baseline by more than `tolerance`).
+struct OtherMeasure {
+    std::string name;     // "insertions until the flower falls (the paper's experiment)"
+    double measured = 0.0;
+    double baseline = 0.0;
+    double extended = 0.0;
+    double tolerance = 0.0;
+    bool worse = false;
+};
+OtherMeasure judge_other_measure(std::string name, double measured, double baseline, double extended, double tolerance);
+// One sentence: "... 16.0 against the measured 5.8 (the baseline 6.8): the extension makes it clearly worse".
+std::string other_measure_words(const OtherMeasure& m);
+
 struct ValidationResult {
     std::string measured_file;
     std::string species;                 // what the extension was fitted for
@@ -39,7 +55,11 @@ struct ValidationResult {
     std::optional<double> baseline_outcome_accuracy; // over rows whose outcome is stood or fell
     std::optional<double> extended_outcome_accuracy;
     std::size_t outcome_rows = 0;
+    std::vector<OtherMeasure> others; // every other measured quantity, before and after the extension
 };
+
+// The extended species' file with its extension applied to `applies_to` ("push" or "push_and_hold").
+Result<std::string> extended_species_applied_to(const std::string& species_json, const std::string& applies_to);
 
 Result<ValidationResult> run_validation(const std::string& measured_path, const ValidationOptions& options);
 

@@ -142,6 +142,14 @@ nlohmann::ordered_json term_json(const components::DeteriorationTerm& t) {
 
 } // namespace
 
+nlohmann::ordered_json other_measurements_json(const std::vector<OtherMeasure>& others) {
+    nlohmann::ordered_json list = nlohmann::ordered_json::array();
+    for (const auto& m : others) {
+        list.push_back({{"name", m.name}, {"measured", m.measured}, {"baseline", m.baseline}, {"extended", m.extended}, {"tolerance", m.tolerance}, {"worse", m.worse}});
+    }
+    return list;
+}
+
 std::string validation_json(const ValidationResult& v, const AnalysisOptions& options) {
     const AnalysisResult& a = v.analysis;
     nlohmann::ordered_json j;
@@ -181,6 +189,7 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
     if (v.simulated_extended_rmse_gf) j["extended"]["simulated_rmse_gf"] = *v.simulated_extended_rmse_gf;
     if (v.extended_outcome_accuracy) j["extended"]["outcome_accuracy"] = *v.extended_outcome_accuracy;
     if (!v.resimulation_note.empty()) j["extended"]["note"] = v.resimulation_note;
+    j["other_measurements"] = other_measurements_json(v.others);
     j["diagnostics"] = nlohmann::ordered_json::array();
     for (const auto& d : a.diagnostics) {
         nlohmann::ordered_json bins = nlohmann::ordered_json::array();
@@ -320,6 +329,7 @@ std::string validation_summary(const ValidationResult& v) {
     if (v.extended_outcome_accuracy) o << ", outcome accuracy " << fmt("%.0f %%", 100 * *v.extended_outcome_accuracy);
     o << "\n";
     if (!v.resimulation_note.empty()) o << "note: " << v.resimulation_note << "\n";
+    for (const auto& m : v.others) o << (m.worse ? "WORSE:     " : "also:      ") << other_measure_words(m) << "\n";
     return o.str();
 }
 
@@ -435,6 +445,15 @@ std::vector<std::pair<std::string, std::string>> validation_report_files(const V
     }
     md << "\nGain = 1 − extended CV RMSE / baseline CV RMSE = **" << fmt("%.1f %%", 100 * a.gain) << "**.\n\n";
     if (!v.resimulation_note.empty()) md << "Note: " << v.resimulation_note << ".\n\n";
+    if (!v.others.empty()) {
+        md << "## Every other measurement, before and after\n\nAn extension fitted to the forces must not move what else was measured away from "
+              "its measurement.\n\n| measured quantity | measured | baseline | extended | verdict |\n|---|---|---|---|---|\n";
+        for (const auto& m : v.others) {
+            md << "| " << m.name << " | " << fmt("%.3g", m.measured) << " | " << fmt("%.3g", m.baseline) << " | " << fmt("%.3g", m.extended) << " | "
+               << (m.worse ? "**clearly worse**" : "not worse") << " |\n";
+        }
+        md << "\n";
+    }
     md << extra_markdown;
     md << "## Decisions, step by step\n\n";
     for (const auto& line : a.log) md << "- " << line << "\n";

@@ -6,12 +6,16 @@
 #include <filesystem>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "engine/core/result.hpp"
 #include "game/analysis/validation.hpp"
 
 namespace ikebana::game {
 
 std::string validation_json(const ValidationResult& v, const AnalysisOptions& options);
+// The other measurements' verdicts as JSON (validation_json's "other_measurements").
+nlohmann::ordered_json other_measurements_json(const std::vector<OtherMeasure>& others);
 // A few lines for the terminal.
 std::string validation_summary(const ValidationResult& v);
 // report.md and the figures (file name, contents), for a command that writes them with its other

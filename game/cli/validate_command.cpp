@@ -133,13 +133,90 @@ int run_validate(Args& args) {
         std::cerr << "ikebana validate: " << result.error().message << "\n";
         return 2;
     }
-    const ValidationResult& v = *result;
+    ValidationResult& v = *result;
     if (!v.data.table.note.empty()) std::printf("note: %s\n", v.data.table.note.c_str());
     std::printf("%s", validation_summary(v).c_str());
     for (std::size_t k = 0; k < v.explanations.size(); ++k) std::printf("  %zu. %s\n", k + 1, v.explanations[k].c_str());
 
     std::string json = validation_json(v, args.analysis);
     std::string extra = v.data.table.note.empty() ? std::string() : "Note on the input: " + v.data.table.note + ".\n\n";
+    if (args.paper && !v.extended_species_json.empty()) {
+        // The paper's experiment reads the extended species from a file of its own.
+        const auto run_with = [&](const std::string& species_json) -> Result<PaperExperiment> {
+            const auto species_file = (std::filesystem::temp_directory_path() / ("ikebana-paper-extended-" + std::to_string(getpid()) + ".json")).string();
+            if (auto w = assets::write_text_file(species_file, species_json); !w) return std::move(w).error();
+            auto experiment = run_paper_experiment(species_file, args.paper_trials, tty);
+            std::filesystem::remove(species_file);
+            return experiment;
+        };
+        // The experiment's means are measurements too: an extension that fits the forces and moves the
+        // falls away from the paper's 5.8 is said to (within an insertion is not clearly worse).
+        const auto judged = [](const PaperExperiment& e) {
+            return std::vector<OtherMeasure>{
+                judge_other_measure("insertions until the bottom breaks (the paper's experiment)", 2.6, e.break_mean, e.extended_break_mean, 1.0),
+                judge_other_measure("insertions until the flower falls (the paper's experiment)", 5.8, e.fall_mean, e.extended_fall_mean, 1.0)};
+        };
+        const auto any_worse = [](const std::vector<OtherMeasure>& ms) { return std::any_of(ms.begin(), ms.end(), [](const OtherMeasure& m) { return m.worse; }); };
+        const auto describe = [&](const PaperExperiment& e, const char* which) {
+            char text[1024];
+            std::snprintf(text, sizeof text,
+                          "The paper's experiment (%u flowers at 45 degrees, again and again): the paper measured 2.6 insertions until the bottom "
+                          "broke and 5.8 until the flower fell. Baseline species: %.1f and %.1f. Extended species%s: %.1f and %.1f "
+                          "(%u of %u flowers still standing after %u insertions, counted as %u).\n",
+                          args.paper_trials, e.break_mean, e.fall_mean, which, e.extended_break_mean, e.extended_fall_mean, e.extended_never_fell,
+                          args.paper_trials, e.max_insertions, e.max_insertions + 1);
+            return std::string(text);
+        };
+        auto experiment = run_with(v.extended_species_json);
+        if (!experiment) {
+            std::cerr << "ikebana validate: the paper's experiment: " << experiment.error().message << "\n";
+            return 1;
+        }
+        std::string text = describe(*experiment, "");
+        std::printf("%s", text.c_str());
+        auto measures = judged(*experiment);
+        for (const auto& m : measures) std::printf("%s%s\n", m.worse ? "WORSE: " : "also: ", other_measure_words(m).c_str());
+        std::string applies_to = "push_and_hold";
+        if (any_worse(measures)) {
+            // Looked for again with that constraint: the forces are measured while the stem slides in;
+            // the falls come from what holds it at rest. The same terms on the push alone fit the same
+            // forces; if they leave the falls where the measurement is, that is the part of the model
+            // that gives both.
+            auto variant = extended_species_applied_to(v.extended_species_json, "push");
+            auto again = variant ? run_with(*variant) : Result<PaperExperiment>(variant.error());
+            if (!again) {
+                std::cerr << "ikebana validate: the paper's experiment, the extension on the push alone: " << again.error().message << "\n";
+                return 1;
+            }
+            const std::string second = describe(*again, " with the extension on the push alone");
+            auto measures_again = judged(*again);
+            const bool better = !any_worse(measures_again);
+            const std::string verdict = better ? "Looked for again with the falls as a constraint: the extension applies to the push alone (the force a "
+                                                 "gauge reads as the stem slides in); what holds a stem at rest stays the base model's. It keeps the "
+                                                 "forces' fit and the falls; the species written is that one.\n"
+                                               : "Looked for again with the falls as a constraint: the extension on the push alone is clearly worse too; "
+                                                 "no part of the model found here gives both. The species written is the first, said to be worse.\n";
+            std::printf("%s%s", second.c_str(), verdict.c_str());
+            for (const auto& m : measures_again) std::printf("%s%s\n", m.worse ? "WORSE: " : "also: ", other_measure_words(m).c_str());
+            text += "\n" + second + "\n" + verdict;
+            if (better) {
+                v.extended_species_json = *variant;
+                experiment = std::move(again);
+                measures = std::move(measures_again);
+                applies_to = "push";
+            }
+        }
+        v.others.insert(v.others.end(), measures.begin(), measures.end());
+        extra += std::string("## The paper's experiment with the extended species\n\n") + text + "\n";
+        auto j = nlohmann::ordered_json::parse(json);
+        j["other_measurements"] = other_measurements_json(v.others);
+        j["paper_experiment"] = {{"trials", args.paper_trials},
+                                 {"measured", {{"insertions_to_break", 2.6}, {"insertions_to_fall", 5.8}}},
+                                 {"baseline", {{"insertions_to_break", experiment->break_mean}, {"insertions_to_fall", experiment->fall_mean}}},
+                                 {"extended", {{"insertions_to_break", experiment->extended_break_mean}, {"insertions_to_fall", experiment->extended_fall_mean},
+                                               {"still_standing", experiment->extended_never_fell}, {"applies_to", applies_to}}}};
+        json = assets::json_text(j, 2) + "\n";
+    }
     if (!v.extended_species_json.empty() && !args.write_species.empty()) {
         if (auto w = outputs.add(args.write_species, v.extended_species_json); !w) {
             std::cerr << "ikebana validate: " << w.error().message << "\n";
@@ -147,37 +224,6 @@ int run_validate(Args& args) {
         }
     } else if (!args.write_species.empty()) {
         std::printf("nothing found: no extended species written (%s)\n", args.write_species.c_str());
-    }
-    if (args.paper && !v.extended_species_json.empty()) {
-        // The paper's experiment reads the extended species from a file of its own.
-        const auto species_file = (std::filesystem::temp_directory_path() / ("ikebana-paper-extended-" + std::to_string(getpid()) + ".json")).string();
-        if (auto w = assets::write_text_file(species_file, v.extended_species_json); !w) {
-            std::cerr << "ikebana validate: " << w.error().message << "\n";
-            return 1;
-        }
-        auto experiment = run_paper_experiment(species_file, args.paper_trials, tty);
-        std::filesystem::remove(species_file);
-        if (!experiment) {
-            std::cerr << "ikebana validate: the paper's experiment: " << experiment.error().message << "\n";
-            return 1;
-        }
-        char text[1024];
-        std::snprintf(text, sizeof text,
-                      "The paper's experiment (%u flowers at 45 degrees, again and again): the paper measured 2.6 insertions until the bottom "
-                      "broke and 5.8 until the flower fell. Baseline species: %.1f and %.1f. Extended species: %.1f and %.1f "
-                      "(%u of %u flowers still standing after %u insertions, counted as %u).\n",
-                      args.paper_trials, experiment->break_mean, experiment->fall_mean, experiment->extended_break_mean,
-                      experiment->extended_fall_mean, experiment->extended_never_fell, args.paper_trials, experiment->max_insertions,
-                      experiment->max_insertions + 1);
-        std::printf("%s", text);
-        extra += std::string("## The paper's experiment with the extended species\n\n") + text + "\n";
-        auto j = nlohmann::ordered_json::parse(json);
-        j["paper_experiment"] = {{"trials", args.paper_trials},
-                                 {"measured", {{"insertions_to_break", 2.6}, {"insertions_to_fall", 5.8}}},
-                                 {"baseline", {{"insertions_to_break", experiment->break_mean}, {"insertions_to_fall", experiment->fall_mean}}},
-                                 {"extended", {{"insertions_to_break", experiment->extended_break_mean}, {"insertions_to_fall", experiment->extended_fall_mean},
-                                               {"still_standing", experiment->extended_never_fell}}}};
-        json = assets::json_text(j, 2) + "\n";
     }
     if (args.paper) {
         // Table 2 against the paper's own model too: is "insertions 3-6 are experimental error"

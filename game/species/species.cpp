@@ -212,8 +212,9 @@ void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
     out.deterioration.model = model.value_or("");
     std::string base = out.deterioration.model;
     if (model == "extended") {
-        c.no_unknown_keys(*d, p, {"model", "base", "terms", "fitted_from", "notes"});
+        c.no_unknown_keys(*d, p, {"model", "base", "terms", "applies_to", "fitted_from", "notes"});
         base = c.choice(*d, p, "base", plain).value_or("");
+        if (d->contains("applies_to")) out.deterioration.applies_to = c.choice(*d, p, "applies_to", {"push_and_hold", "push"}).value_or("push_and_hold");
         out.deterioration.base_model = base;
         if (const Json* terms = c.array(*d, p, "terms")) {
             for (std::size_t i = 0; i < terms->size(); ++i) {

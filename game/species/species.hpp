@@ -82,6 +82,9 @@ struct DeteriorationDef {
     std::string model;
     std::string base_model;                        // "extended": the model the terms multiply
     std::vector<components::DeteriorationTerm> terms; // "extended": exp(sum of terms) factor
+    // "extended": "push_and_hold" (the factor multiplies the holding moment too) or "push" (only the
+    // resistance to the push; a stem at rest is held as the base model holds it).
+    std::string applies_to = "push_and_hold";
 };
 
 // The stem bottom splitting (section 3.1: on average after 2.6 insertions).

@@ -135,6 +135,7 @@ components::PinResistance pin_resistance_of(const SpeciesDef& sp) {
         m.n_per_m_by_insertion = systems::insertion::expand_deterioration(base, sp.soft->n_per_m_by_insertion);
         m.extension = sp.deterioration.terms;
     }
+    m.extension_push_only = sp.deterioration.applies_to == "push";
     m.break_probability_by_insertion = sp.breakage.model == "hazard_by_insertion" ? sp.breakage.probability_by_insertion : std::vector<double>{};
     m.broken_holding_factor = sp.breakage.broken_holding_factor;
     m.broken_seat_loss_m = sp.breakage.broken_seat_loss_m;

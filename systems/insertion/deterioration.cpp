@@ -101,10 +101,10 @@ std::vector<MissingCovariate> missing_covariates(const std::vector<components::D
     return out;
 }
 
-double soft_resistance_n_per_m(const components::PinResistance& model, std::uint32_t insertion, const Covariates& covariates) {
+double soft_resistance_n_per_m(const components::PinResistance& model, std::uint32_t insertion, const Covariates& covariates, bool extended) {
     if (model.n_per_m_by_insertion.empty()) return 0.0;
     const std::size_t k = std::clamp<std::size_t>(insertion, 1, model.n_per_m_by_insertion.size()) - 1;
-    return model.n_per_m_by_insertion[k] * extension_factor(model.extension, insertion, covariates);
+    return model.n_per_m_by_insertion[k] * (extended ? extension_factor(model.extension, insertion, covariates) : 1.0);
 }
 
 } // namespace ikebana::systems::insertion

@@ -53,6 +53,7 @@ std::vector<MissingCovariate> missing_covariates(const std::vector<components::D
 double term_basis(const std::string& form, double x, double scale);
 
 // Resistance per metre of pin at the k-th insertion (k >= 1) of a sound stem end.
-double soft_resistance_n_per_m(const components::PinResistance& model, std::uint32_t insertion, const Covariates& covariates = {});
+// `extended` false: the base model's alone (an extension that applies to the push, for the holding).
+double soft_resistance_n_per_m(const components::PinResistance& model, std::uint32_t insertion, const Covariates& covariates = {}, bool extended = true);
 
 } // namespace ikebana::systems::insertion

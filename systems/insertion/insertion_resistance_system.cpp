@@ -47,11 +47,18 @@ void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
             const double extension = model.kind == ResistanceKind::soft_table
                                          ? 1.0
                                          : insertion::extension_factor(model.extension, std::max(history.insertions, 1u), covariates);
-            const double factor = (history.bottom_broken ? model.broken_holding_factor : 1.0) * extension;
+            const double broken = history.bottom_broken ? model.broken_holding_factor : 1.0;
+            const double factor = broken * extension;
+            // An extension that applies to the push alone leaves the holding moment the base model's.
+            const bool hold_apart = !model.extension.empty() && model.extension_push_only;
+            const double soft_base = hold_apart && model.kind == ResistanceKind::soft_table
+                                         ? insertion::soft_resistance_n_per_m(model, std::max(history.insertions, 1u), covariates, false)
+                                         : soft;
             for (auto& p : engagement.pins) {
                 p.force_n = factor * insertion::pin_resistance_n(p, model, soft);
                 engagement.resistance_n += p.force_n;
-                engagement.holding_moment_nm += p.force_n * p.lever_m;
+                const double holding_n = hold_apart ? broken * insertion::pin_resistance_n(p, model, soft_base) : p.force_n;
+                engagement.holding_moment_nm += holding_n * p.lever_m;
             }
             // Gravity moment about the tipping edge, from the live mass points.
             const auto& x = points.position_m;

@@ -212,3 +212,17 @@ TEST(Validation, AnInteractionTermRoundTripsThroughTheSpeciesFile) {
               std::string::npos)
         << no_range.error().message;
 }
+
+// What else was measured, before and after: clearly worse only when the extension moves it further
+// from its measurement than the baseline by more than its tolerance.
+TEST(Validation, AnotherMeasurementIsClearlyWorseOnlyBeyondItsTolerance) {
+    const auto falls = game::judge_other_measure("falls", 5.8, 6.8, 16.0, 1.0);
+    EXPECT_TRUE(falls.worse);
+    EXPECT_EQ(game::other_measure_words(falls),
+              "falls: extended 16 against the measured 5.8 (the baseline 6.8): the extension makes it clearly worse, so it is no improvement here");
+    EXPECT_FALSE(game::judge_other_measure("falls", 5.8, 6.8, 7.5, 1.0).worse) << "0.7 further is within the tolerance of one insertion";
+    const auto nearer = game::judge_other_measure("accuracy", 1.0, 0.7, 0.9, 0.05);
+    EXPECT_FALSE(nearer.worse);
+    EXPECT_NE(game::other_measure_words(nearer).find("the extension brings it nearer"), std::string::npos);
+    EXPECT_TRUE(game::judge_other_measure("accuracy", 1.0, 0.9, 0.8, 0.05).worse);
+}

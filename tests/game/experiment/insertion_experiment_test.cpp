@@ -248,3 +248,37 @@ TEST(Falling, FlowerTipsOverAboutTheKenzan) {
     // Free fall from 0.2 m reaches 2 m/s; a tipping stem's top moves slower than that.
     EXPECT_LT(fastest, 3.0) << "m/s: no jump";
 }
+
+// Issue 40: an extension may apply to the push alone. Tripling the force (a constant term of ln 3): on
+// push and hold, the pins hold the stems far longer than the base model; on the push alone, every
+// push is three times as hard and the stems fall exactly when the base model's do (what holds a stem
+// at rest is the base model's; the scripted hand pushes the same whatever the force).
+TEST(InsertionExperiment, AnExtensionOnThePushAloneLeavesTheFallsTheBaseModels) {
+    auto text = assets::read_text_file(asset_dir() / "species" / "sunflower.json");
+    ASSERT_TRUE(text);
+    const auto run = [&](const char* applies_to) {
+        auto species = nlohmann::json::parse(*text);
+        if (applies_to) {
+            species["deterioration"] = {{"model", "extended"},
+                                        {"base", species["deterioration"]["model"]},
+                                        {"applies_to", applies_to},
+                                        {"terms", {{{"covariate", "insertion"}, {"form", "constant"}, {"coefficient", std::log(3.0)}}}}};
+        }
+        const auto path = std::filesystem::temp_directory_path() / (std::string("sunflower_") + (applies_to ? applies_to : "base") + ".json");
+        EXPECT_TRUE(assets::write_text_file(path, species.dump()));
+        ExperimentOptions o;
+        o.trials = 4;
+        o.max_insertions = 12;
+        o.species = path.string();
+        auto result = run_insertion_experiment(o);
+        EXPECT_TRUE(result) << result.error().message;
+        return std::move(result).value();
+    };
+    const auto base = run(nullptr);
+    const auto push = run("push");
+    const auto both = run("push_and_hold");
+    EXPECT_EQ(push.mean_insertions_to_fall, base.mean_insertions_to_fall);
+    EXPECT_GT(both.mean_insertions_to_fall, base.mean_insertions_to_fall + 2.0) << "held by three times the force";
+    ASSERT_FALSE(base.force_by_insertion_gf.empty());
+    EXPECT_NEAR(push.force_by_insertion_gf[0], 3.0 * base.force_by_insertion_gf[0], 0.01 * base.force_by_insertion_gf[0]);
+}
