@@ -1,6 +1,9 @@
 #include "game/cli/lesson_command.hpp"
 
 #include <charconv>
+#include <chrono>
+#include <csignal>
+#include <cstring>
 #include <cinttypes>
 #include <algorithm>
 #include <cstdio>
@@ -175,6 +178,34 @@ struct DemoArgs {
     bool no_history = false;
 };
 
+// A demonstration stopped by a signal (Ctrl-C, a timeout) says which step it was at and how long it
+// had run, and ends the window it drove; the handler only writes what the progress callback prepared.
+struct StoppedDemo {
+    char line[400] = "ikebana lesson demo: stopped before its first step\n";
+    volatile sig_atomic_t length = 0;
+    volatile pid_t window_pid = 0;
+    std::chrono::steady_clock::time_point started;
+};
+StoppedDemo stopped_demo;
+
+void remember_step(std::size_t done, std::size_t of, const std::string& step) {
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - stopped_demo.started).count();
+    stopped_demo.length = 0;
+    const int n = std::snprintf(stopped_demo.line, sizeof stopped_demo.line, "\nikebana lesson demo: stopped at step %zu of %zu, %.0f s in: %s\n", done, of, s,
+                                step.c_str());
+    stopped_demo.length = n < 0 ? 0 : std::min<int>(n, static_cast<int>(sizeof stopped_demo.line) - 1);
+}
+
+extern "C" void say_where_it_stopped(int signal_number) {
+    const sig_atomic_t length = stopped_demo.length;
+    const char* line = stopped_demo.line;
+    const auto size = length > 0 ? static_cast<std::size_t>(length) : std::strlen(line);
+    (void)!::write(STDERR_FILENO, line, size);
+    if (stopped_demo.window_pid > 0) ::kill(stopped_demo.window_pid, SIGTERM);
+    std::signal(signal_number, SIG_DFL);
+    std::raise(signal_number);
+}
+
 // A demonstration goes into the progress database beside the trainees' sessions, marked as one.
 int store_demonstration(const std::string& who, const DemoArgs& args, const LessonDef& lesson, const DemoResult& demo, std::int64_t started_unix_s) {
     const std::filesystem::path path = args.db.empty() ? default_progress_path() : std::filesystem::path(args.db);
@@ -235,11 +266,19 @@ int demo_lesson(const DemoArgs& args) {
         options.tilt_deg[role] = deg;
     }
     const bool tty = isatty(fileno(stderr)) != 0;
-    if (tty) {
-        options.progress = [](std::size_t done, std::size_t of, const std::string& step) {
-            std::fprintf(stderr, "\r\033[K[%zu/%zu] %s", done, of, step.c_str());
-        };
-    }
+    // Each step as it starts: on a terminal in one line; in the window (minutes long) also into a pipe
+    // or log, a line a step. The step is kept for a signal that stops the command, which says where.
+    const bool lines = !tty && args.window;
+    options.progress = [tty, lines](std::size_t done, std::size_t planned, const std::string& step) {
+        const std::size_t of = std::max(done, planned); // a stem taken again adds steps to the plan
+        remember_step(done, of, step);
+        if (tty) std::fprintf(stderr, "\r\033[K[%zu/%zu] %s", done, of, step.c_str());
+        else if (lines) std::fprintf(stderr, "[%zu/%zu] %s\n", done, of, step.c_str());
+    };
+    options.window_started = [](int pid) { stopped_demo.window_pid = pid; };
+    stopped_demo.started = std::chrono::steady_clock::now();
+    std::signal(SIGINT, say_where_it_stopped);
+    std::signal(SIGTERM, say_where_it_stopped);
     options.record_dir = args.record;
     if (args.window && !args.record.empty()) {
         std::cerr << who << "--record records the headless demonstration; the window records its own session beside the progress database (`ikebana history --json` says where)\n";

@@ -49,6 +49,8 @@ struct DemoOptions {
     std::string window_progress_db;
     std::string record_dir; // headless: the session on record (lesson_session.hpp), for `lesson replay` (empty: none)
     std::function<void(std::size_t done, std::size_t of, const std::string& step)> progress; // each step, as it starts
+    // In the window: the window's process, once started (a command stopped by a signal ends it too).
+    std::function<void(int pid)> window_started;
 };
 
 // A device whose pose a script sets between simulation steps (the demo's hand).

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -34,6 +35,39 @@
 extern char** environ;
 
 namespace ikebana::game {
+
+namespace {
+
+// `xdotool COMMANDS` (words split at spaces, as the shell did), its output to /dev/null; true when it
+// exits 0. Spawned and waited for, not std::system: system() ignores SIGINT while its child runs,
+// and the demonstration runs xdotool all the time, so Ctrl-C did not stop it.
+bool run_xdotool(const std::string& commands) {
+    std::vector<std::string> words{"xdotool"};
+    std::size_t from = 0;
+    while (from < commands.size()) {
+        const std::size_t to = std::min(commands.find(' ', from), commands.size());
+        if (to > from) words.push_back(commands.substr(from, to - from));
+        from = to + 1;
+    }
+    std::vector<char*> argv;
+    for (auto& w : words) argv.push_back(w.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+    pid_t pid = -1;
+    const int spawned = posix_spawnp(&pid, "xdotool", &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (spawned != 0) return false;
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0) {
+        if (errno != EINTR) return false;
+    }
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+} // namespace
 
 namespace {
 
@@ -330,8 +364,7 @@ private:
     }
     void xdo(const std::string& commands) {
         if (!failure_.empty() || commands.empty()) return;
-        const std::string line = "xdotool " + commands + " >/dev/null 2>&1";
-        if (std::system(line.c_str()) != 0) fail("xdotool refused: " + commands.substr(0, 80));
+        if (!run_xdotool(commands)) fail("xdotool refused: " + commands.substr(0, 80));
     }
 
     std::filesystem::path state_path_, log_path_;
@@ -368,8 +401,7 @@ Result<DemoResult> run_lesson_demo_in_window(const LessonDef& lesson, const Demo
     // its middle, where a trainee's hand would be. A first-time trainee's screen: flat, 1280x720, the
     // panel beside the scene.
     constexpr int width = 1280, height = 720;
-    const std::string centre = "xdotool mousemove " + std::to_string(width / 2) + " " + std::to_string(height / 2) + " >/dev/null 2>&1";
-    if (std::system(centre.c_str()) != 0) return make_error(ErrorCode::device_error, std::string("--window: xdotool cannot move the pointer on display ") + display);
+    if (!run_xdotool("mousemove " + std::to_string(width / 2) + " " + std::to_string(height / 2))) return make_error(ErrorCode::device_error, std::string("--window: xdotool cannot move the pointer on display ") + display);
     std::vector<std::string> args{self.string(), "--lesson", lesson.file.empty() ? lesson.id : lesson.file.string(), "--width", std::to_string(width),
                                         "--height", std::to_string(height), "--stereo", "mono", "--state-out", state.string()};
     if (options.window_progress_db.empty()) {
@@ -390,6 +422,7 @@ Result<DemoResult> run_lesson_demo_in_window(const LessonDef& lesson, const Demo
     if (spawned != 0) return make_error(ErrorCode::io_error, "--window: cannot start the window: " + std::string(std::strerror(spawned)));
 
     WindowSession window(state, log, pid);
+    if (options.window_started) options.window_started(pid);
     DemoResult result;
     if (window.start(60.0)) teach(lesson, model_arrangement(lesson, *footprint), window, window, result, options);
     if (window.failure().empty()) window.finish(20.0);
