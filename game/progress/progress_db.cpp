@@ -1,6 +1,8 @@
 #include "game/progress/progress_db.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -159,6 +161,11 @@ Result<bool> check_existing(const std::filesystem::path& path) {
     Closer closer{db};
     if (rc != SQLITE_OK) return make_error(ErrorCode::io_error, path.string() + ": cannot be opened: " + (db ? sqlite3_errmsg(db) : "out of memory"));
     sqlite3_busy_timeout(db, open_wait_ms);
+    // One snapshot for every look below: read apart, a station making the tables of a new file at the
+    // same moment was seen with no application id yet and its tables already there ("another
+    // program's database", 1 run in 60 of the two-stations test). The transaction ends when the
+    // connection closes.
+    sqlite3_exec(db, "BEGIN", nullptr, nullptr, nullptr);
     int code = SQLITE_OK;
     const auto app = single_integer(db, "PRAGMA application_id", code);
     if (!app) {
@@ -304,7 +311,17 @@ Result<ProgressDb> ProgressDb::open(const std::filesystem::path& path) {
     }
     // A killed app loses at most the session it was writing: each commit is in the log before it
     // returns (FULL), and the log survives the process.
-    if (auto r = exec(db, path, "PRAGMA journal_mode = WAL; PRAGMA synchronous = FULL; PRAGMA foreign_keys = ON;", "cannot be set up"); !r) return r.error();
+    // Turning the log on takes the file alone, and SQLite answers busy at once rather than call the
+    // busy handler while another station has it open (two stations started on a new file: 4 runs in
+    // 40 of the two-stations test failed here): tried again until the open's wait is over.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(open_wait_ms);
+    for (;;) {
+        auto r = exec(db, path, "PRAGMA journal_mode = WAL", "cannot be set up");
+        if (r) break;
+        if (r.error().code != ErrorCode::busy || std::chrono::steady_clock::now() > until) return r.error();
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (auto r = exec(db, path, "PRAGMA synchronous = FULL; PRAGMA foreign_keys = ON;", "cannot be set up"); !r) return r.error();
     // Another window of the app saving at the same moment: saves run on the frame's lane, so no long
     // waits there (a save that finds the file busy is tried again: StoredSessions).
     sqlite3_busy_timeout(db, save_wait_ms);
