@@ -7,6 +7,8 @@
 #include <unordered_map>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
+#include <random>
 
 #include <Eigen/Dense>
 
@@ -174,10 +176,9 @@ std::pair<std::size_t, std::string> working_memory(const AnalysisInput& input) {
 
 namespace {
 
-// The input without the rows in `out` (sorted).
-AnalysisInput without_rows(const AnalysisInput& in, const std::vector<std::size_t>& out) {
-    std::vector<bool> drop(in.measured_gf.size(), false);
-    for (std::size_t i : out) drop[i] = true;
+// The input at `rows` (sorted, each once); a categorical column keeps the whole file's levels, so a
+// level means the same in both.
+AnalysisInput rows_of(const AnalysisInput& in, const std::vector<std::size_t>& rows) {
     AnalysisInput kept;
     kept.covariates.constant = in.covariates.constant;
     for (const auto& c : in.covariates.columns) {
@@ -186,8 +187,8 @@ AnalysisInput without_rows(const AnalysisInput& in, const std::vector<std::size_
         k.level.clear();
         kept.covariates.columns.push_back(std::move(k));
     }
-    for (std::size_t i = 0; i < drop.size(); ++i) {
-        if (drop[i]) continue;
+    kept.flower.reserve(rows.size());
+    for (std::size_t i : rows) {
         kept.flower.push_back(in.flower[i]);
         kept.measured_gf.push_back(in.measured_gf[i]);
         kept.predicted_gf.push_back(in.predicted_gf[i]);
@@ -199,6 +200,16 @@ AnalysisInput without_rows(const AnalysisInput& in, const std::vector<std::size_
         }
     }
     return kept;
+}
+
+// The input without the rows in `out` (sorted).
+AnalysisInput without_rows(const AnalysisInput& in, const std::vector<std::size_t>& out) {
+    std::vector<std::size_t> rows;
+    for (std::size_t i = 0, k = 0; i < in.measured_gf.size(); ++i) {
+        if (k < out.size() && out[k] == i) ++k;
+        else rows.push_back(i);
+    }
+    return rows_of(in, rows);
 }
 
 // The fitted extension's log factor at row i of the input, as the species model applies it.
@@ -242,17 +253,157 @@ void drop_untestable(AnalysisInput& in) {
     }
 }
 
+// A random sample of whole flowers holding at least `target` rows (every row when there are fewer),
+// in the file's order; `flowers` receives how many flowers it holds.
+std::vector<std::size_t> flower_sample(const AnalysisInput& in, std::size_t target, std::uint64_t seed, std::size_t& flowers) {
+    const discrepancy::Groups groups = discrepancy::make_groups(in.flower, false);
+    std::vector<std::size_t> order(groups.rows.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::mt19937_64 rng(seed ^ 0x5A4D'504CULL);
+    std::shuffle(order.begin(), order.end(), rng);
+    std::vector<std::size_t> rows;
+    flowers = 0;
+    for (std::size_t g : order) {
+        if (rows.size() >= target) break;
+        for (const Eigen::Index i : groups.rows[g]) rows.push_back(static_cast<std::size_t>(i));
+        ++flowers;
+    }
+    std::sort(rows.begin(), rows.end());
+    return rows;
+}
+
+// |z| beyond which a two-sided normal test has probability p.
+double z_two_sided(double p) {
+    double lo = 0.0, hi = 40.0;
+    for (int k = 0; k < 100; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+// The slope of e on x as a z, its standard error from the flowers' sums (a flower's rows share its
+// stem and its day: they are not independent, and a row-wise error would overstate the evidence).
+double clustered_z(const Eigen::VectorXd& x, const Eigen::VectorXd& e, const discrepancy::Groups& groups) {
+    const double sxx = x.squaredNorm();
+    if (!(sxx > 0.0)) return 0.0;
+    const double b = x.dot(e) / sxx;
+    double v = 0.0;
+    for (const auto& rows : groups.rows) {
+        double s = 0.0;
+        for (const Eigen::Index i : rows) s += x(i) * (e(i) - b * x(i));
+        v += s * s;
+    }
+    return v > 0.0 ? b * sxx / std::sqrt(v) : 0.0;
+}
+
+// Every row's word on the numeric columns the sample's search left out of the model: a linear and a
+// curved trend of each against the final residual.
+SearchSample check_left_out(const discrepancy::Analysis& every, const Eigen::VectorXd& residual, const std::vector<bool>& in_model, double alpha) {
+    SearchSample out;
+    for (std::size_t c = 0; c < every.candidates.size(); ++c) {
+        const CovariateColumn& column = every.column_of(c);
+        if (!column.numeric || in_model[c]) continue;
+        const Eigen::Index n = every.n;
+        Eigen::VectorXd x(n);
+        for (Eigen::Index i = 0; i < n; ++i) x(i) = column.values[static_cast<std::size_t>(i)];
+        x.array() -= x.mean();
+        Eigen::VectorXd q = x.array().square().matrix();
+        q.array() -= q.mean();
+        if (const double sxx = x.squaredNorm(); sxx > 0.0) q -= x * (x.dot(q) / sxx); // the curve apart from the line
+        out.columns.push_back(column.name);
+        out.z.push_back(std::max(std::abs(clustered_z(x, residual, every.groups)), std::abs(clustered_z(q, residual, every.groups))));
+    }
+    out.z_needed = z_two_sided(alpha / static_cast<double>(std::max<std::size_t>(1, 2 * out.columns.size())));
+    return out;
+}
+
+// The search for causes on a sample of whole flowers, the final model on every row (`full` may lose a
+// column the sample cannot test: a column must mean the same candidate in both).
+Result<AnalysisResult> run_sampled(AnalysisInput& full, const AnalysisOptions& options, std::size_t target) {
+    if (auto checked = discrepancy::check_rows(full); !checked) return std::move(checked).error();
+    std::size_t flowers = 0;
+    const std::vector<std::size_t> rows = flower_sample(full, target, options.seed, flowers);
+    AnalysisInput sample = rows_of(full, rows);
+    for (std::size_t c = sample.covariates.columns.size(); c-- > 0;) {
+        const auto& column = sample.covariates.columns[c];
+        if (!column.numeric || !all_shapes_of(column).empty()) continue;
+        full.covariates.constant.push_back(column.name);
+        full.covariates.columns.erase(full.covariates.columns.begin() + static_cast<std::ptrdiff_t>(c));
+        sample.covariates.columns.erase(sample.covariates.columns.begin() + static_cast<std::ptrdiff_t>(c));
+    }
+    discrepancy::Screening screening;
+    discrepancy::Elimination backward;
+    discrepancy::Interactions interactions;
+    std::vector<std::string> log;
+    {
+        // The search, on the sample: its every shape's columns are freed before the every-row fit.
+        const discrepancy::Analysis a(sample, options);
+        screening = discrepancy::screen(a);
+        const discrepancy::Selection forward = discrepancy::select_forward(a, screening.first);
+        backward = discrepancy::eliminate_backward(a, forward);
+        interactions = discrepancy::add_interactions(a, backward.terms);
+        log = std::move(screening.log);
+        for (const discrepancy::Log* stage : std::initializer_list<const discrepancy::Log*>{&forward.log, &backward.log, &interactions.log}) {
+            log.insert(log.end(), stage->begin(), stage->end());
+        }
+    }
+    const discrepancy::Analysis every(full, options, false);
+    // The chosen terms at the shapes the search chose, on every row.
+    auto on_every_row = [&](const discrepancy::Term& t) {
+        discrepancy::Term u = every.make_term(t.candidate, t.shape);
+        u.times = t.times;
+        u.times_origin = t.times_origin;
+        if (t.times) {
+            const CovariateColumn& other = every.column_of(*t.times);
+            for (Eigen::Index i = 0; i < every.n; ++i) u.basis(i, 0) *= other.values[static_cast<std::size_t>(i)] - t.times_origin;
+        }
+        return u;
+    };
+    std::vector<bool> in_model(every.candidates.size(), false);
+    for (auto* terms : {&interactions.causes, &interactions.terms}) {
+        for (auto& t : *terms) {
+            in_model[t.candidate] = true;
+            t = on_every_row(t);
+        }
+    }
+    auto diagnostics = given_model(std::move(screening.diagnostics), interactions.causes, backward);
+    discrepancy::FinalFit fit = discrepancy::fit_final(every, std::move(interactions), backward.kept_p, screening.calibration);
+    SearchSample checked = check_left_out(every, every.r - fit.fitted, in_model, options.alpha);
+    checked.rows = rows.size();
+    checked.flowers = flowers;
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "the search for causes ran on a random %zu of %zu flowers (%zu of %zu rows, at most %zu: --search-rows); the model, its intervals and its "
+                  "cross-validated gain are fitted on every row",
+                  flowers, every.n_flowers, rows.size(), full.measured_gf.size(), options.search_rows);
+    log.insert(log.begin(), line);
+    AnalysisResult result = result_of(every, std::move(fit), std::move(diagnostics), std::move(log));
+    result.sample = std::move(checked);
+    return result;
+}
+
 Result<AnalysisResult> analyse_rows(const AnalysisInput& input, const AnalysisOptions& options) {
     std::vector<ScreenedColumn> screened;
     AnalysisInput kept = screened_input(input, options, screened);
     drop_untestable(kept);
-    if (const auto [bytes, widest] = working_memory(kept); bytes > options.memory_budget_bytes) {
+    const std::size_t n = kept.measured_gf.size();
+    const auto [bytes, widest] = working_memory(kept);
+    const bool sample = options.search_rows > 0 && (n > options.search_rows || bytes > options.memory_budget_bytes);
+    // A sample: as many rows as the budget leaves once the fit on every row has its own (the
+    // residuals, flowers, folds and the model's columns with their copies: about 32 numbers a row).
+    const std::size_t every_row_bytes = sample ? 32 * n * sizeof(double) : 0;
+    const std::size_t per_row = std::max<std::size_t>(1, bytes / std::max<std::size_t>(1, n));
+    const std::size_t target = every_row_bytes < options.memory_budget_bytes
+                                   ? std::min(options.search_rows, (options.memory_budget_bytes - every_row_bytes) / per_row)
+                                   : 0;
+    if ((!sample && bytes > options.memory_budget_bytes) || (sample && target < std::min<std::size_t>(1000, options.search_rows))) {
         return make_error(ErrorCode::invalid_argument,
                           "the covariates would need " + std::to_string(bytes >> 10) + " KiB of working memory, more than the " +
-                              std::to_string(options.memory_budget_bytes >> 10) + " KiB budget; the widest is the column '" + widest +
-                              "': leave it out (--ignore " + widest + ") or split the file");
+                              std::to_string(options.memory_budget_bytes >> 10) + " KiB budget" + (sample ? " even for a sample of 1,000 rows" : "") +
+                              "; the widest is the column '" + widest + "': leave it out (--ignore " + widest + ") or split the file");
     }
-    auto result = run(kept, options);
+    auto result = sample ? run_sampled(kept, options, target) : run(kept, options);
     if (result) result->screened = std::move(screened);
     return result;
 }

@@ -22,6 +22,7 @@
 //    one row per insertion count), rows stand in for flowers and the report says so.
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,7 +40,9 @@ struct AnalysisInput {
     CovariateSet covariates;
 };
 
+// Permutations of a stage's tests, or (stage == bootstrap_stage) the flower resamples of the intervals.
 using AnalysisProgress = std::function<void(const std::string& stage, std::uint32_t done, std::uint32_t of)>;
+inline constexpr const char* bootstrap_stage = "intervals";
 
 struct AnalysisOptions {
     std::uint32_t permutations = 1000;
@@ -56,6 +59,11 @@ struct AnalysisOptions {
     // The analysis' working memory (its design columns, each a row long, and their copies): an input
     // that would need more is refused naming its widest column, instead of swapping.
     std::size_t memory_budget_bytes = std::size_t{1} << 30;
+    // Long data: the search for causes (tests, forms, selection, interactions) runs on a random sample
+    // of whole flowers of at most this many rows (fewer when the budget needs it), the final fit, its
+    // intervals and its cross-validated gain on every row; 0: every row, within the budget. On this
+    // machine 60,000 rows of 7 numeric columns take 14 s to search (docs/benchmarks.md).
+    std::size_t search_rows = 60000;
     // Gross errors (a slipped gauge, a misread scale): a row whose ln(measured / model) lies more than
     // this many robust standard deviations (1.4826 x the median absolute deviation) from the median of all rows is
     // set aside, said so, and the analysis runs without it; 0 turns it off. Checked on the baseline's
@@ -133,6 +141,17 @@ struct InteractionCheck {
     double coefficient = 0.0; // when kept
 };
 
+// A search run on a sample of flowers (AnalysisOptions::search_rows), and what every row says about
+// the columns the sample left out: each one's linear and curved trend against the final model's
+// residual, as a z with flower-clustered errors (rows of a flower are not independent). A column
+// beyond `z_needed` carries an effect the sample was too small to find.
+struct SearchSample {
+    std::size_t rows = 0, flowers = 0;       // the sample's
+    double z_needed = 0.0;                   // two-sided, Bonferroni over the columns and both trends at alpha
+    std::vector<std::string> columns;        // the numeric columns not in the model
+    std::vector<double> z;                   // per column: the larger |z| of its two trends, on every row
+};
+
 struct Calibration {
     double factor = 1.0;         // geometric mean of measured / predicted the extended model applies
     double low = 1.0, high = 1.0; // 95 % interval
@@ -164,6 +183,7 @@ struct AnalysisResult {
     std::vector<double> fitted_log_factor;        // per row, in sample (a suspected row: the model's value)
     std::vector<double> cv_log_factor;            // per row, from the fold that held the row out
     std::vector<std::string> log;                 // what each step decided, for the report
+    std::optional<SearchSample> sample;           // set when the search ran on a sample of flowers
 };
 
 Result<AnalysisResult> analyse_discrepancy(const AnalysisInput& input, const AnalysisOptions& options);

@@ -165,6 +165,8 @@ void add_intervals(const Analysis& a, const Model& m, FinalFit& out) {
     std::mt19937_64 rng(a.opt.seed ^ 0xB007B007ULL);
     std::uniform_int_distribution<std::size_t> pick(0, a.groups.rows.size() - 1);
     for (std::uint32_t b = 0; b < a.opt.bootstrap; ++b) {
+        // On every row of a long file these are the last tens of seconds: a terminal sees them.
+        if (a.opt.progress && b % 8 == 0) a.opt.progress(bootstrap_stage, b, a.opt.bootstrap);
         RowList rows;
         for (std::size_t g = 0; g < a.groups.rows.size(); ++g) {
             const Rows& gr = a.groups.rows[pick(rng)];

@@ -61,7 +61,7 @@ std::vector<int> deal_folds(const Groups& groups, std::size_t rows, std::uint32_
     return fold_of_row;
 }
 
-std::vector<Candidate> candidates_of(const CovariateSet& covariates) {
+std::vector<Candidate> candidates_of(const CovariateSet& covariates, bool bases) {
     std::vector<Candidate> candidates;
     for (std::size_t c = 0; c < covariates.columns.size(); ++c) {
         const auto& column = covariates.columns[c];
@@ -70,7 +70,7 @@ std::vector<Candidate> candidates_of(const CovariateSet& covariates) {
         cand.block = !column.numeric;
         cand.shapes = all_shapes_of(column);
         if (cand.block) cand.factor = {&column.level, column.levels.size()};
-        else for (const auto& s : cand.shapes) cand.bases.push_back(basis_of(column, s));
+        else if (bases) for (const auto& s : cand.shapes) cand.bases.push_back(basis_of(column, s));
         candidates.push_back(std::move(cand));
     }
     return candidates;
@@ -78,7 +78,7 @@ std::vector<Candidate> candidates_of(const CovariateSet& covariates) {
 
 } // namespace
 
-Analysis::Analysis(const AnalysisInput& input, const AnalysisOptions& options) : in(input), opt(options) {
+Analysis::Analysis(const AnalysisInput& input, const AnalysisOptions& options, bool bases) : in(input), opt(options) {
     const std::size_t rows = in.measured_gf.size();
     n = idx(rows);
     r.resize(n);
@@ -91,7 +91,7 @@ Analysis::Analysis(const AnalysisInput& input, const AnalysisOptions& options) :
     }
     folds = std::min<std::uint32_t>(std::max<std::uint32_t>(2, opt.folds), static_cast<std::uint32_t>(groups.rows.size()));
     fold_of_row = deal_folds(groups, rows, folds, opt.seed);
-    candidates = candidates_of(in.covariates);
+    candidates = candidates_of(in.covariates, bases);
 }
 
 GroupedDesign Analysis::design_of(const std::vector<Term>& terms, bool intercept) const {

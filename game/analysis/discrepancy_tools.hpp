@@ -69,7 +69,9 @@ Result<void> check_rows(const AnalysisInput& in);
 // The input (checked by check_rows) as every stage sees it: the log residual, the flowers, the folds
 // and the candidates; and the tests and fits on them.
 struct Analysis {
-    Analysis(const AnalysisInput& input, const AnalysisOptions& options);
+    // bases = false: the candidates' shapes and factors without their row-long columns (a final fit on
+    // every row of a long file whose search ran on a sample needs only the chosen terms').
+    Analysis(const AnalysisInput& input, const AnalysisOptions& options, bool bases = true);
 
     TestOutcome test(const Eigen::VectorXd& residual, const GroupedDesign& design, const std::vector<std::size_t>& which, std::uint64_t stream,
                      const std::string& stage) const;

@@ -55,7 +55,12 @@ InsertionConditions conditions_for(const MeasuredTrial& t, const std::string& sp
     c.insertion = t.insertion;
     c.pins = t.pins;
     c.want_outcome = want_outcome;
-    c.covariates = t.covariates;
+    return c;
+}
+
+InsertionConditions InsertionPredictor::conditions_of(const MeasuredData& data, std::size_t i, const std::string& species_override, bool want_outcome) {
+    InsertionConditions c = conditions_for(data.trials[i], species_override, want_outcome);
+    if (const auto* used = covariates_used(c.species, nullptr); used && !used->empty()) c.covariates = data.covariates_of(i, used);
     return c;
 }
 

@@ -42,6 +42,7 @@ struct InsertionPrediction {
 
 // A measured row as simulation conditions: the species from `species_override`, else the row's, else
 // sunflower; 45 degrees and down to the base plate where the row does not say.
+// The trial's own columns only; conditions_of below adds the covariates its species reads.
 InsertionConditions conditions_for(const MeasuredTrial& trial, const std::string& species_override, bool want_outcome);
 
 // One placement's push: the largest resistance and the most pins, and whether the stem fell.
@@ -63,6 +64,9 @@ public:
     // `max_profiles`: simulations kept for rows that share them (about 0.3 MB each).
     explicit InsertionPredictor(std::string kenzan = "standard", std::size_t max_profiles = 256) : kenzan_(std::move(kenzan)), max_profiles_(max_profiles) {}
     Result<InsertionPrediction> predict(const InsertionConditions& conditions);
+    // Row i of the data as conditions, with the covariates the species' extension reads and no others
+    // (they change nothing, and 500,000 rows of every column were hundreds of MB).
+    InsertionConditions conditions_of(const MeasuredData& data, std::size_t i, const std::string& species_override, bool want_outcome);
     // Simulations run so far: pushes to a row's own depth, and pushes to the base plate that rows of
     // any depth are read from.
     [[nodiscard]] std::size_t simulated() const noexcept { return simulated_; }

@@ -76,17 +76,22 @@ Result<MeasuredData> read_measured_data(assets::CsvTable table, MeasuredForce ne
             if (v != "stood" && v != "fell" && v != "broke") return problem(row, "outcome", "expected stood, fell or broke, got '" + v + "'");
             t.outcome = v;
         }
-        // Covariates: every column but the identity and the measurement itself.
-        for (const auto& column : table.columns) {
-            if (column.name == "flower_id" || column.name == "max_force_gf" || column.name == "outcome" || column.name == "species") continue;
-            if (column.text[row].empty()) continue;
-            if (column.numeric()) t.covariates.numeric[column.name] = (*column.numbers)[row];
-            else if (!standard.contains(column.name)) t.covariates.category[column.name] = column.text[row];
-        }
         data.trials.push_back(std::move(t));
     }
     data.table = std::move(table);
     return data;
+}
+
+systems::insertion::Covariates MeasuredData::covariates_of(std::size_t row, const std::set<std::string>* only) const {
+    systems::insertion::Covariates c;
+    for (const auto& column : table.columns) {
+        if (column.name == "flower_id" || column.name == "max_force_gf" || column.name == "outcome" || column.name == "species") continue;
+        if (only && !only->contains(column.name)) continue;
+        if (column.text[row].empty()) continue;
+        if (column.numeric()) c.numeric[column.name] = (*column.numbers)[row];
+        else if (!standard.contains(column.name)) c.category[column.name] = column.text[row];
+    }
+    return c;
 }
 
 Result<MeasuredData> load_measured_data(const std::string& path, MeasuredForce force) {

@@ -5,6 +5,7 @@
 // broke). Every other column is a candidate covariate, numeric or categorical.
 #include <cstdint>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -24,13 +25,17 @@ struct MeasuredTrial {
     std::optional<double> depth_mm;
     std::optional<std::uint32_t> pins;
     std::optional<std::string> outcome;
-    systems::insertion::Covariates covariates; // every other column (and the standard numeric ones)
+    // The trial's other columns stay in the table (MeasuredData::covariates_of): a map per row was
+    // most of the memory of a long file (500,000 rows: about 700 MB).
 };
 
 struct MeasuredData {
     assets::CsvTable table;
     std::vector<MeasuredTrial> trials;
     bool has_outcome = false;
+    // Row i's covariates: every column but the identity, the measurement, the outcome and the species
+    // (and the standard numeric ones); `only` (when given) keeps those names alone.
+    systems::insertion::Covariates covariates_of(std::size_t i, const std::set<std::string>* only = nullptr) const;
 };
 
 // What a file must hold: `validate` compares with measurements, so every row needs max_force_gf;

@@ -101,7 +101,8 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
     v.input.measured_gf.resize(n_rows);
     v.input.predicted_gf.resize(n_rows);
     std::vector<InsertionConditions> rows;
-    for (const auto& t : v.data.trials) rows.push_back(conditions_for(t, options.species_override, outcomes));
+    rows.reserve(n_rows);
+    for (std::size_t i = 0; i < n_rows; ++i) rows.push_back(predictor.conditions_of(v.data, i, options.species_override, outcomes));
     const auto order = predictor.simulation_order(rows); // each distinct simulation once, whatever the rows' order
     for (std::size_t n = 0; n < n_rows; ++n) {
         const std::size_t i = order[n];
@@ -139,7 +140,7 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
     std::filesystem::rename(scratch, temporary);
     if (auto w = assets::write_text_file(temporary, v.extended_species_json); !w) return std::move(w).error();
     std::set<std::string> distinct;
-    for (const auto& t : v.data.trials) distinct.insert(predictor.key(conditions_for(t, temporary, outcomes)));
+    for (std::size_t i = 0; i < n_rows; ++i) distinct.insert(predictor.key(predictor.conditions_of(v.data, i, temporary, outcomes)));
     if (distinct.size() > options.resimulate_limit) {
         v.resimulation_note = std::to_string(distinct.size()) + " distinct conditions for the extended species (limit " +
                               std::to_string(options.resimulate_limit) + "): not re-simulated here; `ikebana predict --species EXT.json` does it";
@@ -151,7 +152,7 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
         for (const auto& r : v.analysis.suspected) aside[r.row] = true;
         std::size_t used = 0;
         std::vector<InsertionConditions> extended_rows;
-        for (const auto& t : v.data.trials) extended_rows.push_back(conditions_for(t, temporary, outcomes));
+        for (std::size_t i = 0; i < n_rows; ++i) extended_rows.push_back(predictor.conditions_of(v.data, i, temporary, outcomes));
         const auto extended_order = predictor.simulation_order(extended_rows);
         v.simulated_extended_gf.assign(n_rows, 0.0);
         for (std::size_t n = 0; n < n_rows; ++n) {

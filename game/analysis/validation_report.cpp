@@ -228,8 +228,15 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
                                          {"chance_share", c.chance_share},
                                          {"reason", c.reason}});
     }
+    // The search ran on a sample of flowers (long data): how large, and every row's check of the columns it left out.
+    j["search_sample"] = nullptr;
+    if (a.sample) {
+        nlohmann::ordered_json left_out = nlohmann::ordered_json::array();
+        for (std::size_t k = 0; k < a.sample->columns.size(); ++k) left_out.push_back({{"covariate", a.sample->columns[k]}, {"z", a.sample->z[k]}});
+        j["search_sample"] = {{"rows", a.sample->rows}, {"flowers", a.sample->flowers}, {"z_needed", a.sample->z_needed}, {"left_out", left_out}};
+    }
     j["options"] = {{"permutations", options.permutations}, {"alpha", options.alpha}, {"seed", options.seed}, {"folds", a.folds},
-                    {"bootstrap", options.bootstrap}};
+                    {"bootstrap", options.bootstrap}, {"search_rows", options.search_rows}};
     j["log"] = a.log;
     return assets::json_text(j, 2) + "\n";
 }
@@ -273,12 +280,44 @@ std::string in_short(const ValidationResult& v) {
     return o.str();
 }
 
+namespace {
+
+// A search on a sample of flowers, and what every row says of the columns it left out.
+std::string sample_words(const AnalysisResult& a) {
+    const SearchSample& s = *a.sample;
+    std::ostringstream o;
+    o << "the search for causes ran on a random " << s.flowers << " of " << a.n_flowers << " flowers (" << s.rows << " of " << a.n_trials
+      << " rows); the model, its intervals and its gain are fitted on every row. ";
+    std::vector<std::size_t> missed;
+    std::size_t largest = 0;
+    for (std::size_t k = 0; k < s.columns.size(); ++k) {
+        if (s.z[k] > s.z_needed) missed.push_back(k);
+        if (s.z[k] > s.z[largest]) largest = k;
+    }
+    if (s.columns.empty()) {
+        o << "Every column is in the model.";
+    } else if (missed.empty()) {
+        o << "On every row, no column left out of the model shows a trend against it: the largest is " << s.columns[largest] << " at |z| "
+          << fmt("%.1f", s.z[largest]) << ", " << fmt("%.1f", s.z_needed) << " needed (flower-clustered errors, a line and a curve each)";
+    } else {
+        for (std::size_t k = 0; k < missed.size(); ++k) {
+            o << (k ? ", " : "") << s.columns[missed[k]] << " (|z| " << fmt("%.1f", s.z[missed[k]]) << ")";
+        }
+        o << (missed.size() == 1 ? " shows" : " show") << " a trend on every row that the sample did not find (" << fmt("%.1f", s.z_needed)
+          << " needed, flower-clustered errors): an effect too small for the sample; run again with a larger --search-rows";
+    }
+    return o.str();
+}
+
+} // namespace
+
 std::string validation_summary(const ValidationResult& v) {
     const AnalysisResult& a = v.analysis;
     std::ostringstream o;
     o << v.measured_file << ": " << a.n_trials << " trials, " << a.n_flowers << " flower(s), species " << (v.species.empty() ? "(several)" : v.species)
       << "\n";
     o << in_short(v);
+    if (a.sample) o << "sample:    " << sample_words(a) << "\n";
     for (const auto& c : a.screened) {
         o << "screened:  " << c.covariate << " (" << c.levels << " levels, " << fmt("%.1f", c.flowers_per_level)
           << " flowers a level): not tested level by level; " << fmt("%.1f %%", 100 * c.between_level_share) << " of the residual's variance lies between its levels, "

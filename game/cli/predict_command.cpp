@@ -32,7 +32,7 @@ int run_predict(const std::string& input, const std::string& species_override, c
     std::vector<std::pair<double, std::string>> predictions(data->trials.size());
     const bool tty = isatty(fileno(stderr)) != 0;
     std::vector<InsertionConditions> rows;
-    for (const auto& t : data->trials) rows.push_back(conditions_for(t, species_override, data->has_outcome));
+    for (std::size_t i = 0; i < data->trials.size(); ++i) rows.push_back(predictor.conditions_of(*data, i, species_override, data->has_outcome));
     const auto order = predictor.simulation_order(rows);
     for (std::size_t n = 0; n < order.size(); ++n) {
         const std::size_t i = order[n];

@@ -122,7 +122,7 @@ int run_validate(Args& args) {
     options.analysis = args.analysis;
     options.analysis.memory_budget_bytes = std::size_t{args.memory_mb} << 20;
     options.analysis.progress = [tty](const std::string& stage, std::uint32_t done, std::uint32_t of) {
-        if (tty) std::fprintf(stderr, "\r\033[K%s: %u / %u permutations", stage.c_str(), done, of);
+        if (tty) std::fprintf(stderr, "\r\033[K%s: %u / %u %s", stage.c_str(), done, of, stage == bootstrap_stage ? "flower resamples" : "permutations");
     };
     options.progress = [tty](const std::string& stage, std::size_t done, std::size_t of) {
         if (tty) std::fprintf(stderr, "\r\033[K%s: row %zu / %zu", stage.c_str(), done, of);
@@ -304,9 +304,14 @@ void add_validate_command(CLI::App& app, int& exit_code) {
         ->capture_default_str()
         ->check(CLI::Number & finite_in(0.0, 100.0, ""));
     cmd->add_option("--ignore", args->ignore, "Columns that are not covariates (repeat or comma-separate)")->delimiter(',');
-    cmd->add_option("--memory-mb", args->memory_mb, "Working memory the analysis may use (an input needing more is refused, naming its widest column)")
+    cmd->add_option("--memory-mb", args->memory_mb,
+                    "Working memory the analysis may use (more: the search runs on a sample of flowers; with --search-rows 0 it is refused, naming the widest column)")
         ->capture_default_str()
         ->check(CLI::Range(64u, 1u << 20));
+    cmd->add_option("--search-rows", args->analysis.search_rows,
+                    "Longer files: the search for causes runs on a random sample of whole flowers of about this many rows, the fit on every row (0: every row)")
+        ->capture_default_str()
+        ->check(CLI::Range(std::size_t{0}, std::size_t{1} << 40));
     cmd->add_flag("--paper", args->paper, "Run on the paper's Table 2 and report its experiment with the extended species");
     cmd->add_option("--paper-trials", args->paper_trials, "Flowers in the paper's experiment")->capture_default_str()->check(CLI::Range(1u, 1000u));
     cmd->callback([args, alpha, &exit_code] {

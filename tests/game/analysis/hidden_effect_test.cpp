@@ -62,8 +62,8 @@ TEST_P(HiddenEffect, PlantedCauseIsNamedFirstAndTheExtensionPredictsNewFlowers) 
         // New flowers: the extension as the species model applies it, against the generating truth.
         const auto test = make_synthetic_trials({.effect = effect, .seed = seed + 100000}, shared_predictor());
         std::vector<double> fitted;
-        for (const auto& t : test.data.trials) {
-            fitted.push_back(std::log(systems::insertion::extension_factor(result->extension, t.insertion, t.covariates)));
+        for (std::size_t i = 0; i < test.data.trials.size(); ++i) {
+            fitted.push_back(std::log(systems::insertion::extension_factor(result->extension, test.data.trials[i].insertion, test.data.covariates_of(i))));
         }
         const double ratio = held_out_rmse(test, fitted) / held_out_rmse(test, test.true_log_factor);
         ratios.push_back(ratio);
@@ -121,7 +121,7 @@ TEST(HiddenEffect, TwoEffectsAtOnceAreBothNamedAndPredictAsTheTruthDoes) {
         interactions += std::any_of(result->interactions.begin(), result->interactions.end(), [](const InteractionCheck& i) { return i.kept; }) ? 1 : 0;
         const auto test = make_synthetic_trials({.effect = PlantedEffect::two_effects, .seed = seed + 100000}, shared_predictor());
         std::vector<double> fitted;
-        for (const auto& t : test.data.trials) fitted.push_back(std::log(systems::insertion::extension_factor(result->extension, t.insertion, t.covariates)));
+        for (std::size_t i = 0; i < test.data.trials.size(); ++i) fitted.push_back(std::log(systems::insertion::extension_factor(result->extension, test.data.trials[i].insertion, test.data.covariates_of(i))));
         const double ratio = held_out_rmse(test, fitted) / held_out_rmse(test, test.true_log_factor);
         ratios.push_back(ratio);
         close_to_truth += ratio <= 1.10 ? 1 : 0;
@@ -154,7 +154,7 @@ TEST(HiddenEffect, AnEffectThatChangesWithASecondColumnIsKeptAsAnInteraction) {
         found += ok ? 1 : 0;
         const auto test = make_synthetic_trials({.effect = PlantedEffect::interaction, .seed = seed + 100000}, shared_predictor());
         std::vector<double> fitted;
-        for (const auto& t : test.data.trials) fitted.push_back(std::log(systems::insertion::extension_factor(result->extension, t.insertion, t.covariates)));
+        for (std::size_t i = 0; i < test.data.trials.size(); ++i) fitted.push_back(std::log(systems::insertion::extension_factor(result->extension, test.data.trials[i].insertion, test.data.covariates_of(i))));
         const double ratio = held_out_rmse(test, fitted) / held_out_rmse(test, test.true_log_factor);
         close_to_truth += ratio <= 1.10 ? 1 : 0;
         if (!ok || ratio > 1.10) {
@@ -315,6 +315,7 @@ TEST(HiddenEffect, AnInputBeyondTheMemoryBudgetIsRefusedNamingItsWidestColumn) {
                                              shared_predictor());
     AnalysisOptions o = options_for(7);
     o.memory_budget_bytes = 4 << 20;
+    o.search_rows = 0; // every row or nothing: no sample
     const auto result = analyse_discrepancy(analysis_input(train), o);
     ASSERT_FALSE(result);
     EXPECT_NE(result.error().message.find("KiB of working memory, more than the 4096 KiB budget; the widest is the column 'speed_mm_s': leave it out (--ignore speed_mm_s) or split the file"),
@@ -331,4 +332,57 @@ TEST(HiddenEffect, AnInputBeyondTheMemoryBudgetIsRefusedNamingItsWidestColumn) {
     EXPECT_TRUE(batch->screened.empty());
     ASSERT_EQ(batch->diagnostics.size(), 1u);
     EXPECT_GT(batch->diagnostics[0].p_value, 0.01) << "no effect was planted";
+}
+
+// Long data (issue 40): beyond AnalysisOptions::search_rows the search for causes runs on a random
+// sample of whole flowers, and the model it chose is fitted on every row. The sample holds whole
+// flowers (six rows each here), the planted cause is named, and every row has its own fitted value.
+TEST(HiddenEffect, ALongFilesSearchRunsOnASampleOfWholeFlowersAndItsModelIsFittedOnEveryRow) {
+    const auto train = make_synthetic_trials({.effect = PlantedEffect::unknown_numeric, .seed = 41, .flowers = 600, .insertions = 6}, shared_predictor());
+    AnalysisOptions o = options_for(41);
+    o.search_rows = 900;
+    const auto result = analyse_discrepancy(analysis_input(train), o);
+    ASSERT_TRUE(result) << result.error().message;
+    ASSERT_TRUE(result->sample.has_value());
+    EXPECT_GE(result->sample->rows, 900u);
+    EXPECT_LT(result->sample->rows, 906u);
+    EXPECT_EQ(result->sample->rows % 6, 0u) << "whole flowers";
+    EXPECT_EQ(result->sample->flowers, result->sample->rows / 6);
+    EXPECT_EQ(result->n_trials, 3600u);
+    EXPECT_EQ(result->n_flowers, 600u);
+    ASSERT_EQ(result->fitted_log_factor.size(), 3600u);
+    ASSERT_EQ(result->cv_log_factor.size(), 3600u);
+    ASSERT_FALSE(result->causes.empty());
+    EXPECT_EQ(result->causes[0].covariate, "humidity_pct");
+    EXPECT_EQ(result->causes[0].direction, "increases");
+    EXPECT_LT(result->extended_cv_rmse_gf, result->baseline_cv_rmse_gf);
+    // Every row's check of the columns left out finds nothing: nothing else was planted.
+    for (std::size_t k = 0; k < result->sample->columns.size(); ++k) {
+        EXPECT_LE(result->sample->z[k], result->sample->z_needed) << result->sample->columns[k];
+    }
+    EXPECT_NE(result->log.front().find("the search for causes ran on a random 150 of 600 flowers"), std::string::npos) << result->log.front();
+
+    // The same file under the sample size: every row is searched, and nothing says otherwise.
+    o.search_rows = 3600;
+    const auto whole = analyse_discrepancy(analysis_input(train), o);
+    ASSERT_TRUE(whole) << whole.error().message;
+    EXPECT_FALSE(whole->sample.has_value());
+}
+
+// A sample can miss what every row shows: with 19 permutations no p-value can fall below 0.05, so the
+// sample's search names nothing at alpha 0.01, and the check on every row says humidity carries a
+// trend the sample did not find.
+TEST(HiddenEffect, AnEffectTheSampleCannotFindIsFlaggedByEveryRow) {
+    const auto train = make_synthetic_trials({.effect = PlantedEffect::unknown_numeric, .seed = 42, .flowers = 600, .insertions = 6}, shared_predictor());
+    AnalysisOptions o = options_for(42);
+    o.search_rows = 600;
+    o.permutations = 19;
+    const auto result = analyse_discrepancy(analysis_input(train), o);
+    ASSERT_TRUE(result) << result.error().message;
+    ASSERT_TRUE(result->sample.has_value());
+    EXPECT_TRUE(result->causes.empty());
+    const auto& s = *result->sample;
+    const auto at = std::find(s.columns.begin(), s.columns.end(), "humidity_pct");
+    ASSERT_NE(at, s.columns.end());
+    EXPECT_GT(s.z[static_cast<std::size_t>(at - s.columns.begin())], s.z_needed);
 }

@@ -119,9 +119,9 @@ TEST(Predict, APlanOfTrialsNotYetRunIsPredicted) {
 TEST(Predict, UnknownColumnsBecomeCovariates) {
     const auto data = load_measured_data(write("cov.csv", "flower_id,insertion,max_force_gf,room_c,batch\nA,1,480,21.5,north\n"));
     ASSERT_TRUE(data) << data.error().message;
-    EXPECT_EQ(data->trials[0].covariates.numeric.at("room_c"), 21.5);
-    EXPECT_EQ(data->trials[0].covariates.category.at("batch"), "north");
-    EXPECT_EQ(data->trials[0].covariates.numeric.at("insertion"), 1.0);
+    EXPECT_EQ(data->covariates_of(0).numeric.at("room_c"), 21.5);
+    EXPECT_EQ(data->covariates_of(0).category.at("batch"), "north");
+    EXPECT_EQ(data->covariates_of(0).numeric.at("insertion"), 1.0);
 }
 
 TEST(Predict, DepthsBeyondThePinsAndPinCountsNoStemCanTouchAreRefused) {
