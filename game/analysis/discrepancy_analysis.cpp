@@ -174,11 +174,7 @@ std::pair<std::size_t, std::string> working_memory(const AnalysisInput& input) {
 
 } // namespace
 
-namespace {
-
-// The input at `rows` (sorted, each once); a categorical column keeps the whole file's levels, so a
-// level means the same in both.
-AnalysisInput rows_of(const AnalysisInput& in, const std::vector<std::size_t>& rows) {
+AnalysisInput input_rows(const AnalysisInput& in, const std::vector<std::size_t>& rows) {
     AnalysisInput kept;
     kept.covariates.constant = in.covariates.constant;
     for (const auto& c : in.covariates.columns) {
@@ -202,6 +198,8 @@ AnalysisInput rows_of(const AnalysisInput& in, const std::vector<std::size_t>& r
     return kept;
 }
 
+namespace {
+
 // The input without the rows in `out` (sorted).
 AnalysisInput without_rows(const AnalysisInput& in, const std::vector<std::size_t>& out) {
     std::vector<std::size_t> rows;
@@ -209,7 +207,7 @@ AnalysisInput without_rows(const AnalysisInput& in, const std::vector<std::size_
         if (k < out.size() && out[k] == i) ++k;
         else rows.push_back(i);
     }
-    return rows_of(in, rows);
+    return input_rows(in, rows);
 }
 
 // The fitted extension's log factor at row i of the input, as the species model applies it.
@@ -324,7 +322,7 @@ Result<AnalysisResult> run_sampled(AnalysisInput& full, const AnalysisOptions& o
     if (auto checked = discrepancy::check_rows(full); !checked) return std::move(checked).error();
     std::size_t flowers = 0;
     const std::vector<std::size_t> rows = flower_sample(full, target, options.seed, flowers);
-    AnalysisInput sample = rows_of(full, rows);
+    AnalysisInput sample = input_rows(full, rows);
     for (std::size_t c = sample.covariates.columns.size(); c-- > 0;) {
         const auto& column = sample.covariates.columns[c];
         if (!column.numeric || !all_shapes_of(column).empty()) continue;

@@ -188,4 +188,8 @@ struct AnalysisResult {
 
 Result<AnalysisResult> analyse_discrepancy(const AnalysisInput& input, const AnalysisOptions& options);
 
+// The input at `rows` (sorted, each once); a categorical column keeps the whole input's levels, so a
+// level means the same in both.
+AnalysisInput input_rows(const AnalysisInput& in, const std::vector<std::size_t>& rows);
+
 } // namespace ikebana::game

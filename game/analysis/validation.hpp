@@ -36,10 +36,23 @@ struct OtherMeasure {
     double extended = 0.0;
     double tolerance = 0.0;
     bool worse = false;
+    bool error = false;   // an error (measured is its ideal, 0): said as "with the extension, without"
 };
 OtherMeasure judge_other_measure(std::string name, double measured, double baseline, double extended, double tolerance);
 // One sentence: "... 16.0 against the measured 5.8 (the baseline 6.8): the extension makes it clearly worse".
 std::string other_measure_words(const OtherMeasure& m);
+
+// A file of several species: each one's rows, held out, without and with the extension found on
+// all rows; and when that extension makes one clearly worse, each species' own search on its rows
+// alone (an effect of one species is not the model's for all).
+struct SpeciesCheck {
+    std::string species;
+    std::size_t rows = 0;
+    double baseline_rmse_gf = 0.0;       // the simulation alone
+    double shared_cv_rmse_gf = 0.0;      // with the extension fitted on every species' rows
+    std::optional<AnalysisResult> own;   // its own search (when the shared extension was worse somewhere)
+    std::string extended_species_json;   // what --write-species writes for it (empty: nothing found)
+};
 
 struct ValidationResult {
     std::string measured_file;
@@ -56,7 +69,13 @@ struct ValidationResult {
     std::optional<double> extended_outcome_accuracy;
     std::size_t outcome_rows = 0;
     std::vector<OtherMeasure> others; // every other measured quantity, before and after the extension
+    std::vector<SpeciesCheck> by_species; // several species in the file: per species
+    bool per_species = false;             // the shared extension was clearly worse for one: each has its own
 };
+
+// Where --write-species FILE puts species S's file when the data hold several: FILE's name with
+// ".S" before its extension (ext.json -> ext.iris.json).
+std::string species_output_path(const std::string& path, const std::string& species);
 
 // The extended species' file with its extension applied to `applies_to` ("push" or "push_and_hold").
 Result<std::string> extended_species_applied_to(const std::string& species_json, const std::string& applies_to);

@@ -228,6 +228,22 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
                                          {"chance_share", c.chance_share},
                                          {"reason", c.reason}});
     }
+    // A file of several species: each one's rows with the shared extension, and its own search when that was worse for one.
+    j["per_species"] = v.per_species;
+    j["by_species"] = nlohmann::ordered_json::array();
+    for (const auto& c : v.by_species) {
+        nlohmann::ordered_json e = {{"species", c.species}, {"rows", c.rows}, {"baseline_rmse_gf", c.baseline_rmse_gf},
+                                    {"shared_cv_rmse_gf", c.shared_cv_rmse_gf}, {"own", nullptr}};
+        if (c.own) {
+            nlohmann::ordered_json causes = nlohmann::ordered_json::array();
+            for (const auto& cause : c.own->causes) {
+                causes.push_back({{"covariate", cause.covariate}, {"direction", cause.direction}, {"effect_size", cause.effect_size}, {"p_value", cause.p_value}});
+            }
+            e["own"] = {{"discrepancy_found", c.own->discrepancy_found}, {"causes", causes}, {"cv_rmse_gf", c.own->extended_cv_rmse_gf}, {"gain", c.own->gain}};
+        }
+        e["extended_species_written"] = !c.extended_species_json.empty();
+        j["by_species"].push_back(e);
+    }
     // The search ran on a sample of flowers (long data): how large, and every row's check of the columns it left out.
     j["search_sample"] = nullptr;
     if (a.sample) {
@@ -369,6 +385,23 @@ std::string validation_summary(const ValidationResult& v) {
     o << "\n";
     if (!v.resimulation_note.empty()) o << "note: " << v.resimulation_note << "\n";
     for (const auto& m : v.others) o << (m.worse ? "WORSE:     " : "also:      ") << other_measure_words(m) << "\n";
+    if (v.per_species) {
+        o << "again:     the extension found on every species' rows is worse for one, so each species was searched on its own rows:\n";
+        for (const auto& c : v.by_species) {
+            o << "  " << c.species << " (" << c.rows << " rows): ";
+            if (!c.own) {
+                o << "too few rows to search\n";
+                continue;
+            }
+            if (c.own->causes.empty()) o << (c.own->discrepancy_found ? "an overall level only" : "nothing beyond chance");
+            for (std::size_t k = 0; k < c.own->causes.size(); ++k) {
+                const Cause& cause = c.own->causes[k];
+                o << (k ? ", " : "") << cause.covariate << " " << cause.direction << " " << fmt("%+.1f %%", 100 * cause.effect_size);
+            }
+            o << "; held-out error " << fmt("%.1f", c.own->baseline_cv_rmse_gf) << " -> " << fmt("%.1f", c.own->discrepancy_found ? c.own->extended_cv_rmse_gf : c.own->baseline_cv_rmse_gf)
+              << " gf\n";
+        }
+    }
     return o.str();
 }
 

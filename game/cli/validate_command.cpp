@@ -217,12 +217,22 @@ int run_validate(Args& args) {
                                                {"still_standing", experiment->extended_never_fell}, {"applies_to", applies_to}}}};
         json = assets::json_text(j, 2) + "\n";
     }
+    // Several species: a file for each that has an extension (FILE.<species>.json).
+    std::vector<std::string> species_written;
+    for (const auto& c : v.by_species) {
+        if (c.extended_species_json.empty() || args.write_species.empty()) continue;
+        species_written.push_back(species_output_path(args.write_species, c.species));
+        if (auto w = outputs.add(species_written.back(), c.extended_species_json); !w) {
+            std::cerr << "ikebana validate: " << w.error().message << "\n";
+            return 1;
+        }
+    }
     if (!v.extended_species_json.empty() && !args.write_species.empty()) {
         if (auto w = outputs.add(args.write_species, v.extended_species_json); !w) {
             std::cerr << "ikebana validate: " << w.error().message << "\n";
             return 1;
         }
-    } else if (!args.write_species.empty()) {
+    } else if (!args.write_species.empty() && species_written.empty()) {
         std::printf("nothing found: no extended species written (%s)\n", args.write_species.c_str());
     }
     if (args.paper) {
@@ -281,6 +291,7 @@ int run_validate(Args& args) {
         return 1;
     }
     if (!v.extended_species_json.empty() && !args.write_species.empty()) std::printf("wrote the extended species to %s\n", args.write_species.c_str());
+    for (const auto& path : species_written) std::printf("wrote an extended species to %s\n", path.c_str());
     if (!args.json.empty()) std::printf("wrote %s\n", args.json.c_str());
     if (!args.report.empty()) std::printf("wrote %s/report.md\n", args.report.c_str());
     return 0;

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include <nlohmann/json.hpp>
 
@@ -225,4 +226,65 @@ TEST(Validation, AnotherMeasurementIsClearlyWorseOnlyBeyondItsTolerance) {
     EXPECT_FALSE(nearer.worse);
     EXPECT_NE(game::other_measure_words(nearer).find("the extension brings it nearer"), std::string::npos);
     EXPECT_TRUE(game::judge_other_measure("accuracy", 1.0, 0.9, 0.8, 0.05).worse);
+}
+
+// Issue 40 item 1: a file of two species where only sunflower's force rises with humidity. The
+// extension found on both species' rows carries half the effect to iris, whose held-out error it makes
+// clearly worse; so each species is searched on its own rows: sunflower names humidity, iris nothing,
+// and --write-species writes sunflower's alone.
+TEST(Validation, AnExtensionThatMakesAnotherSpeciesWorseIsSaidToAndEachSpeciesIsSearchedAlone) {
+    InsertionPredictor predictor;
+    std::mt19937_64 rng(40);
+    std::normal_distribution<double> noise(0.0, 0.04);
+    std::uniform_real_distribution<double> humidity(30.0, 90.0);
+    std::string csv = "flower_id,species,insertion,max_force_gf,humidity_pct\n";
+    for (const char* species : {"sunflower", "iris"}) {
+        for (int f = 0; f < 60; ++f) {
+            const double h = humidity(rng);
+            for (std::uint32_t k = 1; k <= 3; ++k) {
+                MeasuredTrial t;
+                t.insertion = k;
+                const auto p = predictor.predict(conditions_for(t, species, false));
+                ASSERT_TRUE(p) << p.error().message;
+                const double effect = std::string(species) == "sunflower" ? 0.01 * (h - 60.0) : 0.0;
+                const double gf = p->max_force_n / gram_force_n * std::exp(effect + noise(rng));
+                char row[128];
+                std::snprintf(row, sizeof row, "%s-%d,%s,%u,%.2f,%.1f\n", species, f, species, k, gf, h);
+                csv += row;
+            }
+        }
+    }
+    const auto dir = std::filesystem::temp_directory_path() / "ikebana_validation_species";
+    std::filesystem::create_directories(dir);
+    const auto file = (dir / "two_species.csv").string();
+    ASSERT_TRUE(assets::write_text_file(file, csv));
+    ValidationOptions options;
+    options.analysis.bootstrap = 50;
+    const auto v = run_validation(file, options);
+    ASSERT_TRUE(v) << v.error().message;
+    EXPECT_TRUE(v->species.empty());
+    ASSERT_EQ(v->by_species.size(), 2u);
+    const SpeciesCheck& iris = v->by_species[0].species == "iris" ? v->by_species[0] : v->by_species[1];
+    const SpeciesCheck& sunflower = v->by_species[0].species == "iris" ? v->by_species[1] : v->by_species[0];
+    EXPECT_EQ(iris.rows, 180u);
+    EXPECT_GT(iris.shared_cv_rmse_gf, 1.05 * iris.baseline_rmse_gf) << "the shared extension carries sunflower's effect to iris";
+    EXPECT_LT(sunflower.shared_cv_rmse_gf, sunflower.baseline_rmse_gf);
+    ASSERT_TRUE(v->per_species);
+    const auto worse = std::find_if(v->others.begin(), v->others.end(), [](const OtherMeasure& m) { return m.worse; });
+    ASSERT_NE(worse, v->others.end());
+    EXPECT_EQ(worse->name.rfind("iris's 180 rows, held-out error in gf", 0), 0u) << worse->name;
+
+    ASSERT_TRUE(sunflower.own.has_value());
+    ASSERT_FALSE(sunflower.own->causes.empty());
+    EXPECT_EQ(sunflower.own->causes[0].covariate, "humidity_pct");
+    EXPECT_EQ(sunflower.own->causes[0].direction, "increases");
+    ASSERT_TRUE(iris.own.has_value());
+    EXPECT_TRUE(std::none_of(iris.own->causes.begin(), iris.own->causes.end(), [](const Cause& c) { return c.covariate == "humidity_pct"; }));
+    EXPECT_FALSE(sunflower.extended_species_json.empty());
+    const auto summary = validation_summary(*v);
+    EXPECT_NE(summary.find("WORSE:     iris's 180 rows, held-out error in gf"), std::string::npos) << summary;
+    EXPECT_NE(summary.find("each species was searched on its own rows"), std::string::npos) << summary;
+    EXPECT_NE(summary.find("  sunflower (180 rows): humidity_pct increases"), std::string::npos) << summary;
+    EXPECT_EQ(species_output_path("out/ext.json", "sunflower"), "out/ext.sunflower.json");
+    EXPECT_EQ(species_output_path("ext.json", "../designs/my rose.json"), "ext.my_rose.json");
 }
