@@ -9,6 +9,7 @@
 
 #include <imgui.h>
 
+#include "game/lesson/form_table.hpp"
 #include "game/lesson/role_colours.hpp"
 
 namespace ikebana::game {
@@ -83,24 +84,18 @@ void form_numbers(const LessonDef& l) {
         ImGui::TableSetupColumn("tilt");
         ImGui::TableSetupColumn("leaning toward");
         ImGui::TableHeadersRow();
-        for (std::size_t i = 0; i < l.stems.size(); ++i) {
-            const auto& m = l.stems[i];
+        for (const FormTableRow& row : form_table(l)) {
             ImGui::TableNextRow();
             ImGui::TableNextColumn();
-            ImGui::PushStyleColor(ImGuiCol_Text, role_colour_u32(i));
-            ImGui::TextUnformatted(m.label.c_str());
-            ImGui::PopStyleColor();
+            if (row.role >= 0) ImGui::PushStyleColor(ImGuiCol_Text, role_colour_u32(static_cast<std::size_t>(row.role)));
+            ImGui::TextUnformatted(row.stem.c_str());
+            if (row.role >= 0) ImGui::PopStyleColor();
             ImGui::TableNextColumn();
-            ImGui::Text("%.0f mm", nominal_length_m(l, i) * 1e3);
-            // A length that follows another role's changes with the trainee's own stem: said so here.
-            if (m.length_of.kind == LengthBase::Kind::role) {
-                ImGui::SameLine();
-                ImGui::TextDisabled("(%.2g x %s as cut)", m.length_ratio.target, l.stems[m.length_of.role].label.c_str());
-            }
+            ImGui::TextUnformatted(row.length.c_str());
             ImGui::TableNextColumn();
-            ImGui::Text("%.0f deg +-%.0f", m.tilt_rad.target / deg, m.tilt_rad.tolerance / deg);
+            ImGui::TextUnformatted(row.tilt.c_str());
             ImGui::TableNextColumn();
-            ImGui::TextUnformatted(m.azimuth_rad ? direction_words(m.azimuth_rad->target).c_str() : "any side");
+            ImGui::TextUnformatted(row.leaning.c_str());
         }
         ImGui::EndTable();
     }

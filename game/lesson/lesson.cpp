@@ -76,10 +76,21 @@ void parse_main_stems(JsonChecker& c, const Json& root, LessonDef& l) {
         }
         if (const Json* length = c.object(s, p, "length")) {
             const std::string lp = p + "/length";
-            c.no_unknown_keys(*length, lp, {"ratio", "of", "tolerance"});
+            c.no_unknown_keys(*length, lp, {"ratio", "of", "tolerance", "also"});
             const auto ratio = c.number(*length, lp, "ratio", {0.05, 10});
             const auto tol = c.number(*length, lp, "tolerance", {0, 5});
             if (ratio && tol) m.length_ratio = Band{*ratio, *tol};
+            if (const Json* also = c.array(*length, lp, "also", false)) {
+                for (std::size_t j = 0; j < also->size() && j < 4; ++j) {
+                    const Json& r = (*also)[j];
+                    if (!r.is_number() || !std::isfinite(r.get<double>()) || r.get<double>() < 0.05 || r.get<double>() > 10) {
+                        c.problem(lp + "/also/" + std::to_string(j), "expected a ratio in [0.05, 10], got " + JsonChecker::describe(r));
+                    } else {
+                        m.length_also.push_back(r.get<double>());
+                    }
+                }
+                if (also->size() > 4) c.problem(lp + "/also", "more than 4 other ratios");
+            }
             const auto of = c.string(*length, lp, "of");
             if (of == "container_size") {
                 m.length_of.kind = LengthBase::Kind::container_size;
@@ -105,7 +116,8 @@ void parse_main_stems(JsonChecker& c, const Json& root, LessonDef& l) {
 
 void parse_rules(JsonChecker& c, const Json& root, LessonDef& l, const std::map<std::string, std::size_t>& roles) {
     if (const Json* supporting = c.object(root, "", "supporting", false)) {
-        c.no_unknown_keys(*supporting, "/supporting", {"max_count", "shorter_than"});
+        c.no_unknown_keys(*supporting, "/supporting", {"max_count", "shorter_than", "label"});
+        l.supporting.label = c.string(*supporting, "/supporting", "label", false).value_or(l.supporting.label);
         l.supporting.max_count = static_cast<std::uint32_t>(c.integer(*supporting, "/supporting", "max_count", 0, 100).value_or(0));
         if (const auto role = c.string(*supporting, "/supporting", "shorter_than", false)) {
             if (const auto it = roles.find(*role); it != roles.end()) l.supporting.shorter_than_role = it->second;
@@ -129,6 +141,9 @@ void parse_rules(JsonChecker& c, const Json& root, LessonDef& l, const std::map<
             rule.min_m = c.number(r, p, "min_mm", {1, 500}).value_or(0) * 1e-3;
             rule.max_m = c.number(r, p, "max_mm", {1, 500}).value_or(0) * 1e-3;
             if (rule.max_m < rule.min_m) c.problem(p + "/max_mm", "is below min_mm");
+        } else if (rule.kind == RuleKind::kenzan_hidden_front) {
+            c.no_unknown_keys(r, p, {"rule", "points", "by"});
+            rule.supporting_only = c.choice(r, p, "by", {"any_stem", "supporting"}, false).value_or("any_stem") == "supporting";
         } else {
             c.no_unknown_keys(r, p, {"rule", "points"});
         }

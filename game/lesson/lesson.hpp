@@ -36,6 +36,7 @@ struct MainStemDef {
     std::vector<std::string> species;  // which materials may play it (empty: any)
     LengthBase length_of;
     Band length_ratio;                 // length above the kenzan / the base's length
+    std::vector<double> length_also;   // other ratios the school also teaches (Sogetsu's hikae: 1/2 of soe besides 3/4), same tolerance
     Band tilt_rad;                     // from the vertical
     std::optional<Band> azimuth_rad;   // which way it leans, seen from above: 0 toward the viewer, + to the viewer's left
     KenzanRegion region = KenzanRegion::any;
@@ -50,6 +51,7 @@ struct MaterialDef {
 // Supporting stems (jushi): what is not a main stem.
 struct SupportingDef {
     std::uint32_t max_count = 0;
+    std::string label = "Supporting stems"; // the school's name: Sogetsu's jushi, Ohara's fillers
     // Each must be shorter than this main stem (by index), when set.
     std::optional<std::size_t> shorter_than_role;
 };
@@ -69,6 +71,7 @@ struct RuleDef {
     double min_m = 0.0; // one_line_at_water: the bundle holds at least this high ...
     double max_m = 0.0; // ... and parts by this height
     double points = 4.0;
+    bool supporting_only = false; // kenzan_hidden_front: only the supporting stems (jushi, fillers) hide it, as Sogetsu and Ohara teach
 };
 
 struct LessonDef {

@@ -78,10 +78,13 @@ std::string along_the_front(double from, double to, double x0, double x1) {
 
 // From the front, the kenzan's width is hidden by stems that lean toward the viewer and stay
 // low (tilted 45° or more): each hides the width between its base and its tip, and a head or
-// leaves of about 20 mm either side.
+// leaves of about 20 mm either side. In Sogetsu the supporting stems (jushi) hide it, in Ohara the
+// fillers: with `by: supporting` a main stem hides nothing here (a 98 was once scored "hidden" by
+// the hikae alone).
 Verdict kenzan_hidden_front(const RuleContext& c) {
     std::vector<std::pair<double, double>> cover;
     for (const auto* s : c.standing) {
+        if (c.rule.supporting_only && s->role != "supporting") continue;
         const double az = wrap_deg(s->azimuth_rad / deg);
         if (s->tilt_rad < 45.0 * deg || std::abs(az) > 90.0) continue;
         const glm::dvec3 tip = tip_of(*s);
@@ -106,14 +109,17 @@ Verdict kenzan_hidden_front(const RuleContext& c) {
         gap_from = reach;
         gap_to = x1;
     }
-    const double part = covered / (x1 - x0);
-    const bool ok = part >= 0.8;
+    // Judged on the whole per cent the tip shows: 79.6 % was said as "80 %" and failed beside another
+    // 80 % that passed (issue 41).
+    const double percent = std::round(100.0 * covered / (x1 - x0));
+    const bool ok = percent >= 80.0;
+    const char* who = c.rule.supporting_only ? "the supporting stems" : "the stems";
     // Said as what is hidden against what the form wants ("70 % of its width hidden" next to "shows"
     // read as a contradiction), and where to add, in words.
-    return {ok, ok ? fmt("the kenzan is hidden from the front: the stems hide %.0f %% of its width", part * 100)
-                   : fmt("the kenzan still shows from the front: the stems hide %.0f %% of its width, the form wants 80 %%: add a low stem "
+    return {ok, ok ? fmt("the kenzan is hidden from the front: %s hide %.0f %% of its width", who, percent)
+                   : fmt("the kenzan still shows from the front: %s hide %.0f %% of its width, the form wants 80 %%: add a low %s "
                          "leaning toward the viewer, %s",
-                         part * 100, along_the_front(gap_from, gap_to, x0, x1).c_str())};
+                         who, percent, c.rule.supporting_only ? "supporting stem" : "stem", along_the_front(gap_from, gap_to, x0, x1).c_str())};
 }
 
 Verdict kenzan_off_centre(const RuleContext& c) {

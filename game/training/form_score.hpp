@@ -82,8 +82,12 @@ FormScore score_sample(const LessonDef& lesson, const Arrangement& arrangement, 
 // kenzan; in a vase, the mouth where the stems are held (the kenzan stands in for a kubari there).
 [[nodiscard]] double water_level_m(const LessonDef& lesson, const KenzanFootprint& kenzan);
 
-// Points for a measured error against a band: all of them within it, falling linearly to none at
-// three times the band (a band of 0 counts as the kenzan's pitch, 4 units).
+// Points for a measured error against a band: all of them within it; outside, outside_band_share of
+// them at its edge, falling linearly to none one band further (a band of 0 counts as the kenzan's
+// pitch, 4 units). A school's band is a rule, not a slope.
+inline constexpr double outside_band_share = 0.3;
 [[nodiscard]] double band_points(double error, double tolerance, double max_points);
+// Points for a stem's base `outside_mm` from its part of the kenzan: all at 0, none at 8 mm.
+[[nodiscard]] double position_points(double outside_mm, double max_points);
 
 } // namespace ikebana::game

@@ -168,11 +168,22 @@ void hide_kenzan(const LessonDef& l, const KenzanFootprint& k, const RuleDef& hi
         ArrangementStem s;
         s.role = "supporting";
         s.species = filler;
-        s.base_m = {x, -0.5 * k.size_m.y + 0.006};
+        s.base_m = {x, -0.5 * k.size_m.y + 0.010};
         // Short and not too low: a flower's head bends a long low stem over.
         s.length_m = std::min(0.12, 0.35 * shortest);
         s.tilt_rad = 55.0 * 3.14159265358979323846 / 180.0;
         s.azimuth_rad = 0.0;
+        // Its head inside the container's wall: in Sogetsu's upright style the kenzan sits at the front,
+        // and an 86 mm jushi leaning forward met the wall at rim height and tore out of its pins.
+        if (l.container.shape != ContainerShape::vase) {
+            const glm::dvec2 base = a.kenzan_offset_m.value_or(l.kenzan_offset_m) + s.base_m;
+            const glm::dvec3 way = lesson_direction(s.tilt_rad, s.azimuth_rad);
+            const double wall = 0.5 * (l.container.shape == ContainerShape::round ? l.container.width_m : l.container.front_to_back_m) - 0.02;
+            // How far forward the base may lean before the head meets the wall (the front, -y).
+            const double room_m = wall + base.y;
+            const double reach = std::hypot(way.x, way.y);
+            if (reach > 1e-9 && s.length_m * reach > room_m) s.length_m = std::max(0.05, room_m / reach);
+        }
         a.stems.push_back(std::move(s));
     }
 }

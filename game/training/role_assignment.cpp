@@ -24,6 +24,7 @@ RoleCost role_cost(const LessonDef& l, std::size_t role, const ArrangementStem& 
     const double nominal = nominal_length_m(l, role);
     const double length_band = std::max(1e-3, m.length_ratio.tolerance / std::max(1e-9, m.length_ratio.target) * nominal);
     double cost = std::abs(s.length_m - nominal) / length_band;
+    for (const double other : m.length_also) cost = std::min(cost, std::abs(s.length_m - nominal * other / m.length_ratio.target) / length_band);
     cost += std::abs(s.tilt_rad - m.tilt_rad.target) / std::max(deg, m.tilt_rad.tolerance);
     if (m.azimuth_rad) cost += std::abs(wrap_deg((s.azimuth_rad - m.azimuth_rad->target) / deg)) * deg / std::max(deg, m.azimuth_rad->tolerance);
     cost += outside_region(s.base_m, m.region, k.size_m) / 0.004;

@@ -22,20 +22,24 @@ expect_refusal("a lesson whose length follows an unknown role"
                ${IKEBANA} lesson check ${out}/broken_lesson.json)
 expect_refusal("a lesson id that is a path outside the lessons" "no lesson \"..\"" ${IKEBANA} lesson model ..)
 
-# Scoring: the measured arrangement in every band, then the same with shin at 45 degrees.
+# Scoring: the measured arrangement in every band, then the same with shin at 45 degrees. Its one
+# jushi hides half the kenzan; hikae, low in front, hides more but is a main stem, and in Sogetsu the
+# jushi hide the kenzan (issue 41): the rule is not met.
 set(fixtures ${CMAKE_CURRENT_LIST_DIR}/fixtures/arrangements)
-expect_success("an arrangement inside every band" "RESULT: 100 / 100 (sogetsu_basic_upright)"
+expect_success("an arrangement inside every band" "RESULT: 96 / 100 (sogetsu_basic_upright)"
                ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${fixtures}/sogetsu_upright_measured.json --json ${out}/result.json)
 file(READ ${out}/result.json result)
 string(JSON roles_given GET "${result}" arrangement stems 0 role)
 if(NOT roles_given STREQUAL "shin")
   message(FATAL_ERROR "the result's arrangement gives the first stem the role '${roles_given}', not shin")
 endif()
-expect_success("a result scored again" "RESULT: 100 / 100 (sogetsu_basic_upright)"
+expect_success("the jushi rule's tip" "rule      the kenzan still shows from the front: the supporting stems hide 48 % of its width, the form wants 80 %: add a low supporting stem leaning toward the viewer, in front of its left end"
+               ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${fixtures}/sogetsu_upright_measured.json)
+expect_success("a result scored again" "RESULT: 96 / 100 (sogetsu_basic_upright)"
                ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${out}/result.json)
-expect_success("shin at 45 degrees" "shin      16.0 / 30   shin: 45° from vertical, the form wants 15° ±10°: raise it 30° toward upright"
+expect_success("shin at 45 degrees" "shin      16.0 / 30   shin: 45° from vertical, the form wants 15° ±10°, 20° outside it: raise it 30° toward upright"
                ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${fixtures}/sogetsu_upright_shin45.json)
-expect_success("shin at 45 degrees, as JSON" "\"score\": 87.7" ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${fixtures}/sogetsu_upright_shin45.json --json -)
+expect_success("shin at 45 degrees, as JSON" "\"score\": 84.2" ${IKEBANA} lesson score sogetsu_basic_upright --arrangement ${fixtures}/sogetsu_upright_shin45.json --json -)
 expect_success("free practice against the sample" "RESULT: " ${IKEBANA} lesson score free_practice --arrangement ${fixtures}/sogetsu_upright_measured.json)
 file(READ ${fixtures}/sogetsu_upright_measured.json measured)
 string(REPLACE "{\"species\": \"willow_branch\"" "{\"role\": \"tai\", \"species\": \"willow_branch\"" tai "${measured}")

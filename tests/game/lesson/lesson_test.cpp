@@ -32,6 +32,7 @@
 #include "engine/platform/pointer_input.hpp"
 #include "engine/sched/clocks.hpp"
 #include "../haptics/scripted_hands.hpp"
+#include "game/lesson/form_table.hpp"
 #include "game/lesson/lesson.hpp"
 #include "game/lesson/role_colours.hpp"
 #include "game/scene/scene.hpp"
@@ -243,7 +244,7 @@ TEST(FormScore, ShinLeftAt45DegreesLosesPointsOnShinsTiltWithATipNamingShin) {
     const Criterion* tilt = criterion(*scored, "shin", "tilt_deg");
     ASSERT_NE(tilt, nullptr);
     EXPECT_DOUBLE_EQ(tilt->points, 0.0) << "30 degrees off a band of 10 is three bands";
-    EXPECT_EQ(tilt->tip, "shin: 45° from vertical, the form wants 15° ±10°: raise it 30° toward upright");
+    EXPECT_EQ(tilt->tip, "shin: 45° from vertical, the form wants 15° ±10°, 20° outside it: raise it 30° toward upright");
     for (const auto& c : scored->criteria) {
         if (c.stem != "shin" || c.name != "tilt_deg") {
             EXPECT_EQ(c.points, c.max_points) << c.tip;
@@ -258,16 +259,24 @@ TEST(FormScore, AStemTooUprightIsToldToTiltTowardTheFormsDirection) {
     const auto scored = score_form(l, a, footprint(l));
     const Criterion* tilt = criterion(*scored, "soe", "tilt_deg");
     ASSERT_NE(tilt, nullptr);
-    EXPECT_EQ(tilt->tip, "soe: 28° from vertical, the form wants 45° ±10°: lean it 17° more toward the left front");
-    EXPECT_NEAR(tilt->points, 14.0 * (1.0 - 7.0 / 20.0), 1e-9) << "7 degrees beyond the band of 10: 35 % less";
+    EXPECT_EQ(tilt->tip, "soe: 28° from vertical, the form wants 45° ±10°, 7° outside it: lean it 17° more toward the left front");
+    EXPECT_NEAR(tilt->points, 14.0 * 0.3 * (1.0 - 7.0 / 10.0), 1e-9) << "7 degrees beyond the band of 10: 30 % at its edge, 70 % of the way to nothing";
 }
 
-TEST(FormScore, PointsFallLinearlyFromTheBandToThreeTimesIt) {
+// Issue 41: a school's band is strict. Within it every point; just outside, 30 %; one band further, none
+// (soe at 58 degrees for 45 +-10 earned 12.2 of 14 when points fell to nothing only at three bands).
+TEST(FormScore, OutsideItsBandACriterionEarnsLittleAndNothingOneBandFurther) {
     EXPECT_DOUBLE_EQ(band_points(10, 10, 8), 8);
-    EXPECT_DOUBLE_EQ(band_points(-20, 10, 8), 4);
-    EXPECT_DOUBLE_EQ(band_points(30, 10, 8), 0);
+    EXPECT_NEAR(band_points(10.001, 10, 8), 8 * 0.3, 1e-3);
+    EXPECT_DOUBLE_EQ(band_points(-15, 10, 8), 8 * 0.3 * 0.5);
+    EXPECT_DOUBLE_EQ(band_points(20, 10, 8), 0);
     EXPECT_DOUBLE_EQ(band_points(300, 10, 8), 0);
-    EXPECT_DOUBLE_EQ(band_points(4, 0, 3), 1.5) << "a band of 0 counts as a pin pitch, 4";
+    EXPECT_DOUBLE_EQ(band_points(2, 0, 3), 3 * 0.3 * 0.5) << "a band of 0 counts as a pin pitch, 4";
+    EXPECT_NEAR(band_points(13, 10, 14), 2.94, 1e-9) << "soe at 58 for 45 +-10";
+    // A base off its part of the kenzan is a near miss: all points at the edge, none two pitches out.
+    EXPECT_DOUBLE_EQ(position_points(0, 3), 3);
+    EXPECT_DOUBLE_EQ(position_points(4, 3), 1.5);
+    EXPECT_DOUBLE_EQ(position_points(9, 3), 0);
 }
 
 TEST(FormScore, RolesGoToTheStemsThatFitThemWhateverTheirOrder) {
@@ -280,10 +289,14 @@ TEST(FormScore, RolesGoToTheStemsThatFitThemWhateverTheirOrder) {
     const auto scored = score_form(l, a, footprint(l));
     ASSERT_TRUE(scored.ok());
     const auto& stems = scored->arrangement.stems;
-    EXPECT_EQ(stems[0].role, "hikae");
-    EXPECT_EQ(stems[1].role, "soe");
-    EXPECT_EQ(stems[2].role, "shin");
-    EXPECT_EQ(stems[3].role, "supporting");
+    // The model's two supporting stems (the jushi that hide the kenzan) came last, so first now.
+    ASSERT_EQ(stems.size(), 6u);
+    EXPECT_EQ(stems[0].role, "supporting");
+    EXPECT_EQ(stems[1].role, "supporting");
+    EXPECT_EQ(stems[2].role, "hikae");
+    EXPECT_EQ(stems[3].role, "soe");
+    EXPECT_EQ(stems[4].role, "shin");
+    EXPECT_EQ(stems[5].role, "supporting");
     EXPECT_GE(scored->score, 90.0);
 }
 
@@ -381,8 +394,8 @@ TEST(FormScore, AKenzanSeenFromTheFrontIsNamedWithWhereItShows) {
     const RuleResult* hidden = rule(*scored, "kenzan_hidden_front");
     ASSERT_NE(hidden, nullptr);
     EXPECT_FALSE(hidden->ok);
-    EXPECT_NE(hidden->tip.find("the kenzan still shows from the front: the stems hide "), std::string::npos) << hidden->tip;
-    EXPECT_NE(hidden->tip.find("the form wants 80 %: add a low stem leaning toward the viewer, "), std::string::npos) << hidden->tip;
+    EXPECT_NE(hidden->tip.find("the kenzan still shows from the front: the supporting stems hide "), std::string::npos) << hidden->tip;
+    EXPECT_NE(hidden->tip.find("the form wants 80 %: add a low supporting stem leaning toward the viewer, "), std::string::npos) << hidden->tip;
     // Where, in words a beginner can see: never coordinates.
     EXPECT_EQ(hidden->tip.find("x ="), std::string::npos) << hidden->tip;
     EXPECT_EQ(hidden->tip.find(" mm"), std::string::npos) << hidden->tip;
@@ -538,16 +551,34 @@ TEST(LessonDemo, TheOharaDemoStandsSubjectAndObjectThroughTheHandAndScoresThem) 
     EXPECT_GE(demo->score.score, 90.0);
 }
 
-TEST(LessonDemo, TheSogetsuBasicUprightDemoStandsAllThreeAndScoresNinety) {
+namespace {
+// Sogetsu's hikae, a 245 mm chrysanthemum held at 60 degrees, settles at 61-63 for the form's 75 +-10:
+// held steeper (65-70) the pins give way under 58-114 mN m while its weight pulls with 16-18 (issue
+// 41, open). With bands strict it keeps a little of its tilt's points; every other criterion is met.
+void expect_only_hikaes_tilt_short(const FormScore& score, const std::string& why) {
+    for (const auto& c : score.criteria) {
+        if (c.stem == "hikae" && c.name == "tilt_deg") {
+            ASSERT_TRUE(c.measured.has_value()) << why;
+            EXPECT_GE(*c.measured, 58.0) << "it stands low, not flat\n" << why;
+            continue;
+        }
+        EXPECT_DOUBLE_EQ(c.points, c.max_points) << c.stem << " " << c.name << ": " << c.tip << "\n" << why;
+    }
+}
+} // namespace
+
+TEST(LessonDemo, TheSogetsuBasicUprightDemoStandsItsStemsAndJushiAndHidesTheKenzan) {
     const LessonDef l = lesson("sogetsu_basic_upright");
     const auto demo = run_lesson_demo(l);
     ASSERT_TRUE(demo.ok()) << demo.error().message;
     std::size_t standing = 0;
     for (const auto& s : demo->score.arrangement.stems) standing += s.standing ? 1 : 0;
-    EXPECT_EQ(standing, 3u) << "shin (a willow), soe (a cherry branch at 45 degrees) and hikae (a chrysanthemum, low)";
     std::string why;
     for (const auto& line : demo->score.lines()) why += line + "\n";
-    EXPECT_GE(demo->score.score, 90.0) << why;
+    EXPECT_EQ(standing, 5u) << "shin (a willow), soe (a cherry branch at 45 degrees), hikae (a chrysanthemum, low) and two jushi\n" << why;
+    expect_only_hikaes_tilt_short(demo->score, why);
+    for (const auto& r : demo->score.rules) EXPECT_TRUE(r.ok) << r.tip << "\n" << why;
+    EXPECT_GE(demo->score.score, 85.0) << why;
 }
 
 // What the Ikenobo demonstrations show, whatever works the hands: soe and tai bent (shin not), no stem
@@ -680,7 +711,7 @@ TEST(LessonWithTheMouse, CtrlDragTiltsTheHeldStemUpright) {
 // The Sogetsu lesson through the mouse, as the window reads it: the same MouseKeyboardHands and the
 // same lesson keys (C cuts for the role, Enter scores), in whole pixels and wheel clicks, one motion
 // per reading. Not a device: the hand is wherever the mouse took it.
-TEST(LessonWithTheMouse, TheSogetsuBasicUprightLessonScoresNinetyThroughTheMouse) {
+TEST(LessonWithTheMouse, TheSogetsuBasicUprightLessonThroughTheMouseMeetsEveryBandButHikaesTilt) {
     const LessonDef l = lesson("sogetsu_basic_upright");
     DemoOptions options;
     options.through_mouse = true;
@@ -693,7 +724,8 @@ TEST(LessonWithTheMouse, TheSogetsuBasicUprightLessonScoresNinetyThroughTheMouse
     EXPECT_EQ(steps.find("missed"), std::string::npos) << steps;
     std::string why;
     for (const auto& line : session->score.lines()) why += line + "\n";
-    EXPECT_GE(session->score.score, 90.0) << why;
+    expect_only_hikaes_tilt_short(session->score, why);
+    EXPECT_GE(session->score.score, 85.0) << why;
 }
 
 // With a mouse the other hand is Tab away, and the button goes with the mouse as it is: the left hand
@@ -723,7 +755,7 @@ TEST(LessonWithTheMouse, ShinLeftAtFortyFiveLosesPointsOnShinsTiltWithATipNaming
             EXPECT_NE(c.tip.find("shin"), std::string::npos) << c.tip;
             ASSERT_TRUE(c.measured.has_value());
             EXPECT_NEAR(*c.measured, 45.0, 8.0);
-        } else if (c.name == "tilt_deg") {
+        } else if (c.name == "tilt_deg" && c.stem != "hikae") { // hikae: see expect_only_hikaes_tilt_short
             EXPECT_GE(c.points, 0.8 * c.max_points) << c.stem << ": only shin was held wrong; " << c.tip;
         }
     }
@@ -939,10 +971,11 @@ TEST(LessonSession, ADemonstrationOnRecordReplaysToTheSameScoreAndStateHash) {
     EXPECT_EQ(replayed->state_hash, demo->state_hash);
     EXPECT_TRUE(replayed->parted.empty());
     EXPECT_EQ(replayed->kind, "demonstration");
-    // Three cuts, one per role, and the two prunings that strip hikae's low leaves, on record.
+    // Five cuts, one per role and one per supporting stem (the jushi that hide the kenzan), and the two
+    // prunings that strip hikae's low leaves, on record.
     const auto commands = assets::read_text_file(dir / "commands.csv");
     ASSERT_TRUE(commands.ok());
-    EXPECT_EQ(std::count(commands->begin(), commands->end(), '\n'), 5);
+    EXPECT_EQ(std::count(commands->begin(), commands->end(), '\n'), 7);
     EXPECT_NE(demo->steps.end(), std::find_if(demo->steps.begin(), demo->steps.end(), [](const auto& s) { return s.what == "hikae: strip the 2 leaves that would stand in the water"; }));
     // The review's timeline: the three cuts at the ticks they were taken, and each role's stem going
     // into the kenzan after its cut.
@@ -959,11 +992,11 @@ TEST(LessonSession, ADemonstrationOnRecordReplaysToTheSameScoreAndStateHash) {
         if (m.kind == TimelineMark::Kind::cut && m.what.rfind("cut:", 0) == 0) cuts.push_back(m.at_us);
         if (m.kind == TimelineMark::Kind::insertion) insertions.push_back(m.at_us);
     }
-    ASSERT_EQ(cuts.size(), 3u);
-    ASSERT_EQ(cut_commands.size(), 3u);
-    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(cuts[i], cut_commands[i]);
-    ASSERT_GE(insertions.size(), 3u);
-    for (std::size_t i = 0; i < 3; ++i) EXPECT_GT(insertions[i], cuts[i]) << "a stem goes in after it is cut to length";
+    ASSERT_EQ(cuts.size(), 5u);
+    ASSERT_EQ(cut_commands.size(), 5u);
+    for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(cuts[i], cut_commands[i]);
+    ASSERT_GE(insertions.size(), 5u);
+    for (std::size_t i = 0; i < 5; ++i) EXPECT_GT(insertions[i], cuts[i]) << "a stem goes in after it is cut to length";
     EXPECT_TRUE(std::is_sorted(marks->begin(), marks->end(), [](const TimelineMark& a, const TimelineMark& b) { return a.at_us < b.at_us; }));
     // Without its cuts the replay is another session: it says where it parts.
     ASSERT_TRUE(assets::write_text_file(dir / "commands.csv", "").ok());
@@ -1515,7 +1548,7 @@ TEST(ResultPanel, EachStemHasABarPerCriterionAndATipInPlainDirectionsWhereItLost
     const auto tilt = std::find_if(shin.bars.begin(), shin.bars.end(), [](const auto& b) { return b.label.rfind("tilt ", 0) == 0; });
     ASSERT_NE(tilt, shin.bars.end());
     EXPECT_FLOAT_EQ(tilt->fraction, 0.0f);
-    EXPECT_EQ(tilt->tip, "45° from vertical, the form wants 15° ±10°: raise it 30° toward upright");
+    EXPECT_EQ(tilt->tip, "45° from vertical, the form wants 15° ±10°, 20° outside it: raise it 30° toward upright");
     for (const auto& b : shin.bars) {
         if (&b != &*tilt) {
             EXPECT_TRUE(b.tip.empty() && b.fraction == 1.0f) << b.label << ": " << b.tip;
@@ -1556,4 +1589,106 @@ TEST(Reach, TheNextStepSaysWhenAStemIsInThePinsAndWhatToDoAfterTheScore) {
     hand.holding = true; // a stem taken again: the lesson goes on
     (void)controls.update(platform::PointerState{}, 1, t.frame, channel);
     EXPECT_EQ(controls.next_step().rfind("scored: ", 0), std::string::npos) << controls.next_step();
+}
+
+// Issue 41: in Sogetsu the jushi hide the kenzan, not the main stems. The model arrangement without
+// its supporting stems (hikae low in front, which once earned "hidden (94 %)" on its own) fails the
+// rule, and the tip asks for a supporting stem.
+TEST(FormScore, InSogetsuTheMainStemsDoNotHideTheKenzanTheJushiDo) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    Arrangement a = model_arrangement(l, footprint(l));
+    ASSERT_GE(std::count_if(a.stems.begin(), a.stems.end(), [](const ArrangementStem& s) { return s.role == "supporting"; }), 2);
+    const auto with = score_form(l, a, footprint(l));
+    ASSERT_TRUE(with.ok());
+    EXPECT_TRUE(rule(*with, "kenzan_hidden_front")->ok) << rule(*with, "kenzan_hidden_front")->tip;
+    std::erase_if(a.stems, [](const ArrangementStem& s) { return s.role == "supporting"; });
+    // Hikae laid low right across the front: still not a jushi.
+    stem_with_role(a, "hikae")->tilt_rad = 80 * deg;
+    stem_with_role(a, "hikae")->azimuth_rad = 0.0;
+    const auto without = score_form(l, a, footprint(l));
+    ASSERT_TRUE(without.ok());
+    const RuleResult* hidden = rule(*without, "kenzan_hidden_front");
+    ASSERT_NE(hidden, nullptr);
+    EXPECT_FALSE(hidden->ok);
+    EXPECT_EQ(hidden->tip.rfind("the kenzan still shows from the front: the supporting stems hide 0 % of its width", 0), 0u) << hidden->tip;
+}
+
+// Sogetsu teaches hikae at 3/4 of soe, and at 1/2: a hikae at half of soe keeps its length points
+// (it lost all of them), scored against the ratio it is nearest, and the tip names that ratio.
+TEST(FormScore, HikaeAtHalfOfSoeAPublishedAlternativeKeepsItsLengthPoints) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    Arrangement a = model_arrangement(l, footprint(l));
+    const double soe = stem_with_role(a, "soe")->length_m;
+    stem_with_role(a, "hikae")->length_m = 0.5 * soe;
+    const auto scored = score_form(l, a, footprint(l));
+    ASSERT_TRUE(scored.ok());
+    const Criterion* length = criterion(*scored, "hikae", "length_mm");
+    ASSERT_NE(length, nullptr);
+    EXPECT_DOUBLE_EQ(length->points, length->max_points) << length->tip;
+    EXPECT_NE(length->tip.find("(0.50 × soe"), std::string::npos) << length->tip;
+    // Between the two (0.62 of soe) it is outside both bands and keeps little.
+    stem_with_role(a, "hikae")->length_m = 0.62 * soe;
+    const auto between = score_form(l, a, footprint(l));
+    EXPECT_LT(criterion(*between, "hikae", "length_mm")->points, 0.3 * length->max_points + 1e-9);
+}
+
+// What a tip says and what the bar gives agree: the shoka's tai at 47.4 degrees was "47°, 0° outside"
+// in words and lost points; judged on the whole degrees shown, 47 is within 35 +-12 and full.
+TEST(FormScore, ACriterionIsJudgedOnTheWholeDegreesItsTipShows) {
+    const LessonDef l = lesson("ikenobo_shoka_shofutai");
+    Arrangement a = model_arrangement(l, footprint(l));
+    ArrangementStem* tai = stem_with_role(a, "tai");
+    ASSERT_NE(tai, nullptr);
+    tai->path_m.clear();
+    tai->tilt_rad = 47.4 * deg;
+    auto scored = score_form(l, a, footprint(l));
+    ASSERT_TRUE(scored.ok());
+    const Criterion* tilt = criterion(*scored, "tai", "tilt_deg");
+    EXPECT_DOUBLE_EQ(tilt->points, tilt->max_points) << tilt->tip;
+    EXPECT_NE(tilt->tip.find("47° from vertical, within"), std::string::npos) << tilt->tip;
+    tai->tilt_rad = 47.6 * deg;
+    scored = score_form(l, a, footprint(l));
+    tilt = criterion(*scored, "tai", "tilt_deg");
+    EXPECT_NEAR(tilt->points, tilt->max_points * 0.3 * (1.0 - 1.0 / 12.0), 1e-9) << tilt->tip;
+    EXPECT_NE(tilt->tip.find("48° from vertical, the form wants 35° ±12°, 1° outside it"), std::string::npos) << tilt->tip;
+}
+
+// The start screen's table lists what the rules score: Sogetsu's jushi, with what they are for, and
+// both of hikae's ratios.
+TEST(FormTable, TheStartScreensTableListsTheJushiARuleScoresAndHikaesTwoRatios) {
+    const auto rows = form_table(lesson("sogetsu_basic_upright"));
+    ASSERT_EQ(rows.size(), 4u);
+    EXPECT_EQ(rows[2].stem, "Hikae (earth)");
+    EXPECT_NE(rows[2].length.find("(0.75 or 0.5 x Soe (person) as cut)"), std::string::npos) << rows[2].length;
+    EXPECT_TRUE(rows[3].supporting);
+    EXPECT_EQ(rows[3].stem, "Jushi (supporting)");
+    EXPECT_EQ(rows[3].length, "shorter than Shin (heaven), up to 4");
+    EXPECT_EQ(rows[3].tilt, "45 deg or more");
+    EXPECT_EQ(rows[3].leaning, "the front: they hide the kenzan (80 % of its width)");
+    const auto shoka = form_table(lesson("ikenobo_shoka_shofutai"));
+    EXPECT_EQ(shoka.size(), 3u) << "no supporting stems in a shoka";
+    EXPECT_EQ(form_table(lesson("ohara_rising_form")).back().stem, "Fillers (chukan-shi)");
+}
+
+// The lesson format's new fields: other ratios a school teaches, and who hides the kenzan; each
+// wrong value named by its JSON path.
+TEST(LessonFormat, OtherRatiosAndWhoHidesTheKenzanAreReadAndCheckedByField) {
+    const auto good = parse_lesson(lesson_text([](nlohmann::json& j) {
+                                       j["main_stems"][1]["length"]["also"] = {0.75};
+                                       j["rules"] = {{{"rule", "kenzan_hidden_front"}, {"by", "supporting"}}};
+                                   }),
+                                   "t.json");
+    ASSERT_TRUE(good.ok()) << good.error().message;
+    ASSERT_EQ(good->stems[1].length_also.size(), 1u);
+    EXPECT_DOUBLE_EQ(good->stems[1].length_also[0], 0.75);
+    EXPECT_TRUE(good->rules[0].supporting_only);
+    const auto bad_ratio = parse_lesson(lesson_text([](nlohmann::json& j) { j["main_stems"][1]["length"]["also"] = {0.75, "half"}; }), "t.json");
+    ASSERT_FALSE(bad_ratio.ok());
+    EXPECT_NE(bad_ratio.error().message.find("/main_stems/1/length/also/1: expected a ratio in [0.05, 10], got \"half\""), std::string::npos)
+        << bad_ratio.error().message;
+    const auto bad_by = parse_lesson(lesson_text([](nlohmann::json& j) { j["rules"] = {{{"rule", "kenzan_hidden_front"}, {"by", "main"}}}; }), "t.json");
+    ASSERT_FALSE(bad_by.ok());
+    EXPECT_NE(bad_by.error().message.find("/rules/0/by"), std::string::npos) << bad_by.error().message;
+    const auto by_elsewhere = parse_lesson(lesson_text([](nlohmann::json& j) { j["rules"] = {{{"rule", "no_crossing_front"}, {"by", "supporting"}}}; }), "t.json");
+    EXPECT_FALSE(by_elsewhere.ok()) << "only the kenzan rule knows 'by'";
 }
