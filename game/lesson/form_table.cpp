@@ -54,7 +54,7 @@ std::vector<FormTableRow> form_table(const LessonDef& l) {
         if (l.supporting.max_count > 0) row.length += fmt(", up to %u", l.supporting.max_count);
         if (hidden != l.rules.end() && hidden->supporting_only) {
             row.tilt = "45 deg or more";
-            row.leaning = "the front: they hide the kenzan (80 % of its width)";
+            row.leaning = "front, hiding 80 % of the kenzan";
         } else {
             row.tilt = "any";
             row.leaning = "any side";

@@ -1664,7 +1664,7 @@ TEST(FormTable, TheStartScreensTableListsTheJushiARuleScoresAndHikaesTwoRatios) 
     EXPECT_EQ(rows[3].stem, "Jushi (supporting)");
     EXPECT_EQ(rows[3].length, "shorter than Shin (heaven), up to 4");
     EXPECT_EQ(rows[3].tilt, "45 deg or more");
-    EXPECT_EQ(rows[3].leaning, "the front: they hide the kenzan (80 % of its width)");
+    EXPECT_EQ(rows[3].leaning, "front, hiding 80 % of the kenzan");
     const auto shoka = form_table(lesson("ikenobo_shoka_shofutai"));
     EXPECT_EQ(shoka.size(), 3u) << "no supporting stems in a shoka";
     EXPECT_EQ(form_table(lesson("ohara_rising_form")).back().stem, "Fillers (chukan-shi)");
