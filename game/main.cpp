@@ -13,6 +13,7 @@
 #include "game/cli/devices_command.hpp"
 #include "game/cli/experiment_command.hpp"
 #include "game/cli/history_command.hpp"
+#include "game/cli/report_command.hpp"
 #include "game/cli/lesson_command.hpp"
 #include "game/cli/predict_command.hpp"
 #include "game/cli/render_command.hpp"
@@ -69,6 +70,7 @@ int main(int argc, char** argv) {
     ikebana::game::add_render_command(app, exit_code);
     ikebana::game::add_lesson_command(app, exit_code);
     ikebana::game::add_history_command(app, exit_code);
+    ikebana::game::add_report_command(app, exit_code);
     ikebana::game::add_replay_command(app, exit_code);
     try {
         app.parse(argc, argv);

@@ -148,6 +148,10 @@ SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float lef
     if (model.score) {
         ImGui::Separator();
         ImGui::Text("Score: %.0f / 100", *model.score);
+        ImGui::SameLine();
+        // What a teacher hands back: the arrangement beside the form's model, each bar and tip, the trend.
+        act.report = tracked_button(buttons_, "Report (PNG, PDF)", "report");
+        if (!model.report_note.empty()) ImGui::TextDisabled("%s", model.report_note.c_str());
         for (const auto& s : model.stems) {
             ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(s.colour.r, s.colour.g, s.colour.b, 1.0f));
             ImGui::TextUnformatted(s.role.c_str());

@@ -44,6 +44,7 @@ struct SessionPanelModel {
         std::vector<Bar> bars;
     };
     std::optional<double> score;
+    std::string report_note;          // where the last report went, or why it did not
     std::vector<StemResult> stems;
     std::vector<std::string> rules; // each form rule, met or with what to do
     std::vector<std::string> details; // the full heads-up text: time, flowers, hands
@@ -52,6 +53,7 @@ struct SessionPanelModel {
 
 struct SessionPanelActions {
     bool finish = false, ghosts = false, restart = false, back = false;
+    bool report = false; // after Enter: the session's report (PNG and PDF) for the trainee
     glm::dvec2 tilt_steps{0.0}; // the tilt buttons pressed: x right, y away (as Ctrl+arrows)
 };
 

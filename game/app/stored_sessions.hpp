@@ -40,6 +40,8 @@ public:
     Opened open(bool lessons_ahead, const LessonDef* lesson);
     [[nodiscard]] ProgressDb* db() noexcept { return progress_ ? &*progress_ : nullptr; }
     [[nodiscard]] const std::string& trainee() const noexcept { return session_.trainee; }
+    // The session as its last Enter stored it (its result empty before the first).
+    [[nodiscard]] const SessionRecord& session() const noexcept { return session_; }
     // The name chosen on the start screen, remembered for the next time (not for a demonstration).
     void set_trainee(const std::string& name);
     // A setting kept in the database from one run to the next (the display chosen), and keeping one;

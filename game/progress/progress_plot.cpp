@@ -6,6 +6,7 @@
 #include <ctime>
 #include <map>
 
+#include <cairo-pdf.h>
 #include <cairo-svg.h>
 #include <cairo.h>
 #include <fontconfig/fontconfig.h>
@@ -31,14 +32,7 @@ std::string criterion_label(const Criterion& c) {
     return c.stem + " " + (it == names.end() ? c.name : it->second);
 }
 
-void text_at(cairo_t* cr, double x, double y, const std::string& s, double size, double align = 0.0, bool bold = false) {
-    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
-    cairo_set_font_size(cr, size);
-    cairo_text_extents_t e;
-    cairo_text_extents(cr, s.c_str(), &e);
-    cairo_move_to(cr, x - align * e.x_advance, y);
-    cairo_show_text(cr, s.c_str());
-}
+void text_at(cairo_t* cr, double x, double y, const std::string& s, double size, double align = 0.0, bool bold = false) { page_text(cr, x, y, s, size, bold, align); }
 
 std::string date_of(std::int64_t unix_s, const char* format) {
     const std::time_t t = static_cast<std::time_t>(unix_s);
@@ -220,19 +214,37 @@ Result<std::string> render_progress_plot(const std::vector<SessionRecord>& sessi
         of[s.lesson].push_back(&s);
     }
     const double height_px = title_px + panel_px * static_cast<double>(std::max<std::size_t>(1, lessons.size()));
+    return draw_cairo_page(format, width_px, height_px, 1.0, [&](cairo_t* cr) {
+        cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
+        cairo_paint(cr);
+        cairo_set_source_rgb(cr, 0.05, 0.05, 0.05);
+        text_at(cr, left_px, 34.0, title, 20.0, 0.0, true);
+        if (lessons.empty()) {
+            cairo_set_source_rgb(cr, 0.4, 0.4, 0.4);
+            text_at(cr, 0.5 * width_px, title_px + 0.5 * panel_px, "no sessions yet", 16.0, 0.5);
+        }
+        for (std::size_t i = 0; i < lessons.size(); ++i) draw_panel(cr, title_px + panel_px * static_cast<double>(i), lessons[i], of[lessons[i]]);
+    });
+}
+
+double page_text(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold, double align) {
+    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, size);
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, s.c_str(), &e);
+    cairo_move_to(cr, x - align * e.x_advance, y);
+    cairo_show_text(cr, s.c_str());
+    return e.x_advance;
+}
+
+Result<std::string> draw_cairo_page(PlotFormat format, double width, double height, double scale, const CairoDraw& draw) {
     std::string bytes;
-    cairo_surface_t* surface = format == PlotFormat::svg ? cairo_svg_surface_create_for_stream(append, &bytes, width_px, height_px)
-                                                         : cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(width_px), static_cast<int>(height_px));
+    cairo_surface_t* surface = format == PlotFormat::svg   ? cairo_svg_surface_create_for_stream(append, &bytes, width * scale, height * scale)
+                               : format == PlotFormat::pdf ? cairo_pdf_surface_create_for_stream(append, &bytes, width * scale, height * scale)
+                                                           : cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(width), static_cast<int>(height));
     cairo_t* cr = cairo_create(surface);
-    cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
-    cairo_paint(cr);
-    cairo_set_source_rgb(cr, 0.05, 0.05, 0.05);
-    text_at(cr, left_px, 34.0, title, 20.0, 0.0, true);
-    if (lessons.empty()) {
-        cairo_set_source_rgb(cr, 0.4, 0.4, 0.4);
-        text_at(cr, 0.5 * width_px, title_px + 0.5 * panel_px, "no sessions yet", 16.0, 0.5);
-    }
-    for (std::size_t i = 0; i < lessons.size(); ++i) draw_panel(cr, title_px + panel_px * static_cast<double>(i), lessons[i], of[lessons[i]]);
+    if (format != PlotFormat::png) cairo_scale(cr, scale, scale);
+    draw(cr);
     const cairo_status_t drawn = cairo_status(cr);
     cairo_destroy(cr);
     cairo_status_t written = CAIRO_STATUS_SUCCESS;
@@ -241,12 +253,12 @@ Result<std::string> render_progress_plot(const std::vector<SessionRecord>& sessi
     const cairo_status_t finished = cairo_surface_status(surface);
     cairo_surface_destroy(surface);
     // Cairo keeps the fonts it looked up, and fontconfig its configuration, for the process's life:
-    // given back here (the next plot looks them up again), so that LeakSanitizer sees no leak of ours
-    // among theirs. Nothing else in the app uses cairo or fontconfig.
+    // given back here (the next page looks them up again), so that LeakSanitizer sees no leak of ours
+    // among theirs. The plots and the session reports are cairo's and fontconfig's only users.
     cairo_debug_reset_static_data();
     FcFini();
     for (const auto status : {drawn, written, finished}) {
-        if (status != CAIRO_STATUS_SUCCESS) return make_error(ErrorCode::io_error, std::string("the plot could not be drawn: ") + cairo_status_to_string(status));
+        if (status != CAIRO_STATUS_SUCCESS) return make_error(ErrorCode::io_error, std::string("the page could not be drawn: ") + cairo_status_to_string(status));
     }
     return bytes;
 }

@@ -85,3 +85,19 @@ expect_refusal("the window's session on record" "ikebana lesson demo: --record r
                ${IKEBANA} lesson demo sogetsu_basic_upright --window --record ${out}/never)
 expect_refusal("a demonstration of free practice" "ikebana lesson demo: free_practice copies its scene's sample; it has no form to demonstrate"
                ${IKEBANA} lesson demo free_practice)
+
+# A session's report (issue 41): the demonstration recorded and stored, then its page as PNG and PDF.
+expect_success("a demonstration recorded and stored" "stored as session 1 in ${out}/report.sqlite"
+               ${IKEBANA} lesson demo ohara_rising_form --record ${out}/ohara_recording --db ${out}/report.sqlite)
+expect_success("its report" "wrote ${out}/ohara_report/report.png and ${out}/ohara_report/report.pdf"
+               ${IKEBANA} report ${out}/ohara_recording --out ${out}/ohara_report --db ${out}/report.sqlite)
+foreach(page report.png report.pdf)
+  if(NOT EXISTS ${out}/ohara_report/${page})
+    message(FATAL_ERROR "the report's ${page} was not written")
+  endif()
+endforeach()
+expect_refusal("a report of a folder that is not a recording" "ikebana report: ${out}/ohara_report: not a session's recording (no session.json in it)"
+               ${IKEBANA} report ${out}/ohara_report --out ${out}/never_report --db ${out}/report.sqlite)
+if(EXISTS ${out}/never_report)
+  message(FATAL_ERROR "a refused report made its folder")
+endif()
