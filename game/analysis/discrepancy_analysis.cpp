@@ -251,14 +251,31 @@ void drop_untestable(AnalysisInput& in) {
     }
 }
 
-// A random sample of whole flowers holding at least `target` rows (every row when there are fewer),
-// in the file's order; `flowers` receives how many flowers it holds.
+// A random sample of whole flowers of about `target` rows (whole flowers: a few more; every row when
+// there are fewer), in the file's order; `flowers` receives how many flowers it holds. The flowers
+// holding each numeric column's lowest and highest value come first: a shape's origin and scale are
+// taken from its column's range in the sample, and a row below it on every row made a log or a
+// negative power infinite there.
 std::vector<std::size_t> flower_sample(const AnalysisInput& in, std::size_t target, std::uint64_t seed, std::size_t& flowers) {
     const discrepancy::Groups groups = discrepancy::make_groups(in.flower, false);
-    std::vector<std::size_t> order(groups.rows.size());
-    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::vector<bool> taken(groups.rows.size(), false);
+    std::vector<std::size_t> order;
+    for (const auto& column : in.covariates.columns) {
+        if (!column.numeric || column.values.empty()) continue;
+        const auto [lo, hi] = std::minmax_element(column.values.begin(), column.values.end());
+        for (const auto at : {lo, hi}) {
+            const std::size_t g = groups.of_row[static_cast<std::size_t>(at - column.values.begin())];
+            if (!taken[g]) order.push_back(g);
+            taken[g] = true;
+        }
+    }
+    std::vector<std::size_t> rest;
+    for (std::size_t g = 0; g < groups.rows.size(); ++g) {
+        if (!taken[g]) rest.push_back(g);
+    }
     std::mt19937_64 rng(seed ^ 0x5A4D'504CULL);
-    std::shuffle(order.begin(), order.end(), rng);
+    std::shuffle(rest.begin(), rest.end(), rng);
+    order.insert(order.end(), rest.begin(), rest.end());
     std::vector<std::size_t> rows;
     flowers = 0;
     for (std::size_t g : order) {
@@ -323,9 +340,12 @@ Result<AnalysisResult> run_sampled(AnalysisInput& full, const AnalysisOptions& o
     std::size_t flowers = 0;
     const std::vector<std::size_t> rows = flower_sample(full, target, options.seed, flowers);
     AnalysisInput sample = input_rows(full, rows);
+    std::vector<std::string> untestable;
     for (std::size_t c = sample.covariates.columns.size(); c-- > 0;) {
         const auto& column = sample.covariates.columns[c];
         if (!column.numeric || !all_shapes_of(column).empty()) continue;
+        // (Its extremes are in the sample, so this is a column with no step threshold there: said below.)
+        untestable.push_back(column.name);
         full.covariates.constant.push_back(column.name);
         full.covariates.columns.erase(full.covariates.columns.begin() + static_cast<std::ptrdiff_t>(c));
         sample.covariates.columns.erase(sample.covariates.columns.begin() + static_cast<std::ptrdiff_t>(c));
@@ -372,10 +392,11 @@ Result<AnalysisResult> run_sampled(AnalysisInput& full, const AnalysisOptions& o
     checked.flowers = flowers;
     char line[400];
     std::snprintf(line, sizeof line,
-                  "the search for causes ran on a random %zu of %zu flowers (%zu of %zu rows, at most %zu: --search-rows); the model, its intervals and its "
+                  "the search for causes ran on a random %zu of %zu flowers (%zu of %zu rows, about %zu: --search-rows); the model, its intervals and its "
                   "cross-validated gain are fitted on every row",
                   flowers, every.n_flowers, rows.size(), full.measured_gf.size(), options.search_rows);
     log.insert(log.begin(), line);
+    for (const auto& name : untestable) log.insert(log.begin() + 1, "'" + name + "' has no shape to test in the sample (no threshold with rows on both sides): not tested");
     AnalysisResult result = result_of(every, std::move(fit), std::move(diagnostics), std::move(log));
     result.sample = std::move(checked);
     return result;
@@ -395,6 +416,11 @@ Result<AnalysisResult> analyse_rows(const AnalysisInput& input, const AnalysisOp
     const std::size_t target = every_row_bytes < options.memory_budget_bytes
                                    ? std::min(options.search_rows, (options.memory_budget_bytes - every_row_bytes) / per_row)
                                    : 0;
+    if (sample && every_row_bytes >= options.memory_budget_bytes) {
+        return make_error(ErrorCode::invalid_argument, std::to_string(n) + " rows need " + std::to_string(every_row_bytes >> 10) +
+                                                           " KiB for the fit on every row alone, more than the " + std::to_string(options.memory_budget_bytes >> 10) +
+                                                           " KiB budget: raise --memory-mb or split the file by flower");
+    }
     if ((!sample && bytes > options.memory_budget_bytes) || (sample && target < std::min<std::size_t>(1000, options.search_rows))) {
         return make_error(ErrorCode::invalid_argument,
                           "the covariates would need " + std::to_string(bytes >> 10) + " KiB of working memory, more than the " +

@@ -60,7 +60,7 @@ struct AnalysisOptions {
     // that would need more is refused naming its widest column, instead of swapping.
     std::size_t memory_budget_bytes = std::size_t{1} << 30;
     // Long data: the search for causes (tests, forms, selection, interactions) runs on a random sample
-    // of whole flowers of at most this many rows (fewer when the budget needs it), the final fit, its
+    // of whole flowers of about this many rows (fewer when the budget needs it), the final fit, its
     // intervals and its cross-validated gain on every row; 0: every row, within the budget. On this
     // machine 60,000 rows of 7 numeric columns take 14 s to search (docs/benchmarks.md).
     std::size_t search_rows = 60000;

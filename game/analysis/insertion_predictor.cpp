@@ -67,8 +67,14 @@ InsertionConditions InsertionPredictor::conditions_of(const MeasuredData& data, 
 const std::set<std::string>* InsertionPredictor::covariates_used(const std::string& species, Error* error) {
     auto it = covariates_used_.find(species);
     if (it == covariates_used_.end()) {
+        // A species that does not load is read once: conditions_of asks for every row first.
+        if (const auto failed = failed_species_.find(species); failed != failed_species_.end()) {
+            if (error) *error = failed->second;
+            return nullptr;
+        }
         auto def = load_species(species);
         if (!def) {
+            failed_species_.emplace(species, def.error());
             if (error) *error = def.error();
             return nullptr;
         }

@@ -107,6 +107,7 @@ private:
     std::deque<std::string> profile_order_; // oldest first
     std::map<std::string, InsertionPrediction> cache_;
     std::map<std::string, std::set<std::string>> covariates_used_; // by species: what its terms read
+    std::map<std::string, Error> failed_species_;                  // by species: why it does not load
 };
 
 } // namespace ikebana::game

@@ -390,6 +390,7 @@ int TraineeSession::build_world() {
     kenzan_at_ = kenzan_origin(*world_);
     flow_.emplace(lesson_ ? &*lesson_ : nullptr, footprint_, scene_->sample, kenzan_at_, world_->main.resource<components::Scenery>()->list, world_->species);
     stored_.begin(*world_, lesson_ ? &*lesson_ : nullptr);
+    report_note_.clear(); // a new session: the last one's report is not this one's
     return 0;
 }
 
@@ -397,11 +398,14 @@ int TraineeSession::build_world() {
 // PDF beside its recording (or under the progress database's folder when it has none). About 50 ms of
 // the frame's lane, once per press.
 void TraineeSession::write_report() {
-    const SessionRecord& session = stored_.session();
+    SessionRecord session = stored_.session();
+    // The last Enter's result, kept by the lesson's flow whether or not a database took it.
+    if (flow_ && flow_->last_score()) session.result = *flow_->last_score();
     if (session.result.lesson.empty()) {
         report_note_ = "score it first (Enter)";
         return;
     }
+    if (session.lesson.empty()) session.lesson = session.result.lesson;
     auto report = session_report_for(session, stored_.db());
     if (!report) {
         report_note_ = "no report: " + report.error().message;

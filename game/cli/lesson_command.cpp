@@ -176,6 +176,7 @@ struct DemoArgs {
     std::vector<std::string> tilts; // role=degrees
     std::string db;                 // the progress database (empty: the default one)
     bool no_history = false;
+    bool main_stems_only = false;
 };
 
 // A demonstration stopped by a signal (Ctrl-C, a timeout) says which step it was at and how long it
@@ -252,6 +253,7 @@ int demo_lesson(const DemoArgs& args) {
             return 2;
         }
     }
+    options.main_stems_only = args.main_stems_only;
     for (const auto& t : args.tilts) {
         const auto eq = t.find('=');
         const auto role = t.substr(0, eq);
@@ -374,6 +376,7 @@ void add_lesson_command(CLI::App& app, int& exit_code) {
     demo->add_option("--xdotool", demo_args->xdotool, "With --mouse: also write the session as an xdotool script, to replay against the window (ikebana --lesson LESSON)");
     demo->add_flag("--window", demo_args->window, "In the trainee window, worked from outside through the X pointer and keys (needs a display and xdotool); its result is the window's");
     demo->add_option("--record", demo_args->record, "Put the session on record in this folder (device samples, cuts, score, state hash), for `lesson replay`");
+    demo->add_flag("--main-stems-only", demo_args->main_stems_only, "Place the main stems alone, no supporting stems (a shorter demonstration; the kenzan rule then fails)");
     demo->add_option("--tilt", demo_args->tilts, "ROLE=DEGREES: hold that role at another tilt (how a mistake scores); repeatable");
     demo->add_option("--db", demo_args->db, "The progress database the demonstration is stored in (default: $XDG_DATA_HOME/ikebana/progress.sqlite)");
     demo->add_flag("--no-history", demo_args->no_history, "Do not store the demonstration in the progress database");

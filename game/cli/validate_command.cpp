@@ -221,7 +221,12 @@ int run_validate(Args& args) {
     std::vector<std::string> species_written;
     for (const auto& c : v.by_species) {
         if (c.extended_species_json.empty() || args.write_species.empty()) continue;
-        species_written.push_back(species_output_path(args.write_species, c.species));
+        std::string path = species_output_path(args.write_species, c.species);
+        // Two ids that give one file name ("a b" and "a_b") are told apart by a number.
+        for (int k = 2; std::find(species_written.begin(), species_written.end(), path) != species_written.end(); ++k) {
+            path = species_output_path(args.write_species, c.species + "-" + std::to_string(k));
+        }
+        species_written.push_back(path);
         if (auto w = outputs.add(species_written.back(), c.extended_species_json); !w) {
             std::cerr << "ikebana validate: " << w.error().message << "\n";
             return 1;

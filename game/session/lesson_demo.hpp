@@ -44,6 +44,9 @@ struct DemoOptions {
     std::string xdotool_script;
     // A role held at another tilt than the form's (degrees): how a trainee's mistake scores.
     std::map<std::string, double> tilt_deg;
+    // The main stems alone, no supporting stems: a shorter run (the window's, in real time, took more
+    // than 10 minutes beside CI with Sogetsu's two jushi); the kenzan rule then fails.
+    bool main_stems_only = false;
     // In the window: the progress database the window stores its session in, as a demonstration
     // (empty: it stores nothing).
     std::string window_progress_db;

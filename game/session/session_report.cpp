@@ -240,7 +240,7 @@ void draw_trend(cairo_t* cr, double x0, double y0, double w, double h, const Ses
     cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
     text_at(cr, x0, y0 + 14.0, "the trend in this lesson", 12.0, true);
     if (!r.in_database) {
-        wrapped(cr, x0, y0 + 34.0, "not in the progress database (replayed from its recording): no trend", 11.0, w);
+        wrapped(cr, x0, y0 + 34.0, "not in the progress database: no trend", 11.0, w);
         return;
     }
     const auto& t = r.trend;
@@ -275,7 +275,8 @@ void draw_trend(cairo_t* cr, double x0, double y0, double w, double h, const Ses
             char label[64];
             std::snprintf(label, sizeof label, "%.0f", t[i].result.score);
             text_at(cr, x_of(i), y_of(t[i].result.score) - 9.0, label, 10.0, here, 0.5);
-            text_at(cr, x_of(i), bottom + 16.0, date_of(t[i].started_unix_s).substr(5, 11), 8.5, false, 0.5);
+            const std::string when = date_of(t[i].started_unix_s);
+            if (when.size() >= 16) text_at(cr, x_of(i), bottom + 16.0, when.substr(5, 11), 8.5, false, 0.5);
         }
     }
 }

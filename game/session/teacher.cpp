@@ -633,6 +633,7 @@ void teach(const LessonDef& lesson, const Arrangement& model, Classroom& room, T
     std::vector<SeenFlower> materials;
     for (std::size_t i = 0; i < room.flower_count(); ++i) materials.push_back(room.flower(i));
     for (const auto& target : model.stems) {
+        if (options.main_stems_only && target.role == "supporting") continue;
         // The shortest unused material of the species that is long enough.
         std::optional<std::size_t> pick;
         for (std::size_t i = 0; i < materials.size(); ++i) {

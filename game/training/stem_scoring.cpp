@@ -93,6 +93,9 @@ void score_length(const std::string& who, const ArrangementStem& s, double ratio
 void score_tilt(const std::string& who, const ArrangementStem& s, const MainStemDef& m, Criterion& tilt) {
     const double t = std::round(s.tilt_rad / deg);
     tilt.measured = t;
+    // The form's numbers as the tip writes them: degrees to radians and back must not cost the edge.
+    tilt.target = std::round(tilt.target * 1e6) / 1e6;
+    tilt.tolerance = std::round(tilt.tolerance * 1e6) / 1e6;
     tilt.points = band_points(t - tilt.target, tilt.tolerance, tilt.max_points);
     const std::string lean = m.azimuth_rad ? " toward the " + direction_words(m.azimuth_rad->target) : "";
     if (std::abs(t - tilt.target) <= tilt.tolerance) {
@@ -117,6 +120,8 @@ void score_azimuth(const std::string& who, const ArrangementStem& s, Criterion& 
                           azimuth.target, azimuth.tolerance);
         return;
     }
+    azimuth.target = std::round(azimuth.target * 1e6) / 1e6;
+    azimuth.tolerance = std::round(azimuth.tolerance * 1e6) / 1e6;
     const double a = std::round(wrap_deg(s.azimuth_rad / deg));
     const double err = wrap_deg(a - azimuth.target);
     azimuth.measured = wrap_deg(a);
