@@ -11,6 +11,7 @@
 #include <cairo.h>
 #include <fontconfig/fontconfig.h>
 
+#include "game/lesson/lesson.hpp"
 #include "game/lesson/role_colours.hpp"
 #include "engine/assets/files.hpp"
 
@@ -43,7 +44,7 @@ std::string date_of(std::int64_t unix_s, const char* format) {
     return text;
 }
 
-void draw_panel(cairo_t* cr, double top, const std::string& lesson, const std::vector<const SessionRecord*>& sessions) {
+void draw_panel(cairo_t* cr, double top, const std::string& who_and_lesson, const std::vector<const SessionRecord*>& sessions) {
     const double x0 = left_px, x1 = width_px - legend_px;
     const double y0 = top + panel_top_px, y1 = top + panel_px - panel_bottom_px;
     const std::size_t n = sessions.size();
@@ -52,7 +53,7 @@ void draw_panel(cairo_t* cr, double top, const std::string& lesson, const std::v
 
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
     char heading[200];
-    std::snprintf(heading, sizeof heading, "%s: %zu session%s, last %.0f / 100", lesson.c_str(), n, n == 1 ? "" : "s", sessions.back()->result.score);
+    std::snprintf(heading, sizeof heading, "%s: %zu session%s, last %.0f / 100", who_and_lesson.c_str(), n, n == 1 ? "" : "s", sessions.back()->result.score);
     text_at(cr, x0, top + 22.0, heading, 15.0, 0.0, true);
 
     // Axes and grid: every 25 points, and the 90 that every band earns, dashed.
@@ -177,6 +178,13 @@ void draw_panel(cairo_t* cr, double top, const std::string& lesson, const std::v
             cairo_arc(cr, x, y, 5.0, 0.0, 2.0 * M_PI);
             cairo_fill(cr);
         }
+        // Each point its score (its date is under the axis), while they fit.
+        if (n <= 20) {
+            cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+            char score[16];
+            std::snprintf(score, sizeof score, "%.0f", sessions[i]->result.score);
+            text_at(cr, x, y - 10.0, score, 11.0, 0.5, true);
+        }
     }
     // The markers' legend, under the criteria's.
     const double ly = y1 - 20.0;
@@ -197,6 +205,26 @@ cairo_status_t append(void* closure, const unsigned char* data, unsigned int len
 
 } // namespace
 
+std::vector<PlotPanel> plot_panels(const std::vector<SessionRecord>& sessions) {
+    std::vector<PlotPanel> panels;
+    std::map<std::pair<std::string, std::string>, std::size_t> at;
+    std::map<std::string, std::string> titles; // by lesson id: "School: Title", or the id when it does not load
+    for (const auto& s : sessions) {
+        const std::string who = s.kind == "demonstration" ? "demonstrations" : (s.trainee.empty() ? "(no name)" : s.trainee);
+        const auto [it, added] = at.emplace(std::pair{who, s.lesson}, panels.size());
+        if (added) {
+            auto title = titles.find(s.lesson);
+            if (title == titles.end()) {
+                const auto lesson = load_lesson(s.lesson);
+                title = titles.emplace(s.lesson, lesson ? lesson->school + ": " + lesson->title : s.lesson).first;
+            }
+            panels.push_back({who + ": " + title->second, {}});
+        }
+        panels[it->second].sessions.push_back(&s);
+    }
+    return panels;
+}
+
 Result<PlotFormat> plot_format_of(const std::filesystem::path& path) {
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -206,24 +234,18 @@ Result<PlotFormat> plot_format_of(const std::filesystem::path& path) {
 }
 
 Result<std::string> render_progress_plot(const std::vector<SessionRecord>& sessions, const std::string& title, PlotFormat format) {
-    // Lessons in the order they were first practised.
-    std::vector<std::string> lessons;
-    std::map<std::string, std::vector<const SessionRecord*>> of;
-    for (const auto& s : sessions) {
-        if (!of.count(s.lesson)) lessons.push_back(s.lesson);
-        of[s.lesson].push_back(&s);
-    }
-    const double height_px = title_px + panel_px * static_cast<double>(std::max<std::size_t>(1, lessons.size()));
+    const std::vector<PlotPanel> panels = plot_panels(sessions);
+    const double height_px = title_px + panel_px * static_cast<double>(std::max<std::size_t>(1, panels.size()));
     return draw_cairo_page(format, width_px, height_px, 1.0, [&](cairo_t* cr) {
         cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);
         cairo_paint(cr);
         cairo_set_source_rgb(cr, 0.05, 0.05, 0.05);
         text_at(cr, left_px, 34.0, title, 20.0, 0.0, true);
-        if (lessons.empty()) {
+        if (panels.empty()) {
             cairo_set_source_rgb(cr, 0.4, 0.4, 0.4);
             text_at(cr, 0.5 * width_px, title_px + 0.5 * panel_px, "no sessions yet", 16.0, 0.5);
         }
-        for (std::size_t i = 0; i < lessons.size(); ++i) draw_panel(cr, title_px + panel_px * static_cast<double>(i), lessons[i], of[lessons[i]]);
+        for (std::size_t i = 0; i < panels.size(); ++i) draw_panel(cr, title_px + panel_px * static_cast<double>(i), panels[i].heading, panels[i].sessions);
     });
 }
 

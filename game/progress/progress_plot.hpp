@@ -25,6 +25,16 @@ Result<std::string> draw_cairo_page(PlotFormat format, double width, double heig
 // Text at (x, y) on such a page in the sans-serif face, `align` 0 left, 0.5 centred, 1 right; its width.
 double page_text(::_cairo* cr, double x, double y, const std::string& s, double size, bool bold = false, double align = 0.0);
 
+// A panel of the plot: one trainee's sessions of one lesson, oldest first; the teachers'
+// demonstrations of a lesson in a panel of their own (issue 41: with no --trainee, everyone's sessions
+// and the demonstrations were joined on one line). Headed by who and the lesson's title.
+struct PlotPanel {
+    std::string heading; // "Aiko: Sogetsu: Basic Upright Style (moribana)", "demonstrations: ..."
+    std::vector<const SessionRecord*> sessions;
+};
+// In the order each (who, lesson) was first practised.
+std::vector<PlotPanel> plot_panels(const std::vector<SessionRecord>& sessions);
+
 // The format a file name asks for (".png" or ".svg", any case); an error naming the file otherwise.
 Result<PlotFormat> plot_format_of(const std::filesystem::path& path);
 // The image's bytes.

@@ -656,3 +656,29 @@ TEST(StoredSessions, ASessionScoredWhileTheDatabaseIsBusyIsKeptAndStoredLater) {
     EXPECT_DOUBLE_EQ(all->front().result.score, 77.0);
     EXPECT_EQ(all->front().trainee, "mika");
 }
+
+// Issue 41: `history --plot` with no trainee joined everyone's sessions and the demonstrations on one
+// line. A panel per trainee and lesson, the demonstrations in their own, headed by the lesson's title.
+TEST(ProgressPlot, EachTraineeAndTheDemonstrationsHaveTheirOwnPanelHeadedByTheLessonsTitle) {
+    std::vector<SessionRecord> sessions(5);
+    const char* who[] = {"Aiko", "Ben", "teacher", "Aiko", "Aiko"};
+    const char* lesson[] = {"sogetsu_basic_upright", "sogetsu_basic_upright", "sogetsu_basic_upright", "sogetsu_basic_upright", "ohara_rising_form"};
+    for (std::size_t i = 0; i < sessions.size(); ++i) {
+        sessions[i].trainee = who[i];
+        sessions[i].lesson = lesson[i];
+        sessions[i].kind = i == 2 ? "demonstration" : "practice";
+        sessions[i].started_unix_s = 1'790'000'000 + static_cast<std::int64_t>(i) * 3600;
+        sessions[i].result.score = 50.0 + static_cast<double>(i);
+    }
+    const auto panels = plot_panels(sessions);
+    ASSERT_EQ(panels.size(), 4u);
+    EXPECT_EQ(panels[0].heading, "Aiko: Sogetsu: Basic Upright Style (moribana)");
+    ASSERT_EQ(panels[0].sessions.size(), 2u);
+    EXPECT_DOUBLE_EQ(panels[0].sessions[1]->result.score, 53.0);
+    EXPECT_EQ(panels[1].heading, "Ben: Sogetsu: Basic Upright Style (moribana)");
+    EXPECT_EQ(panels[2].heading, "demonstrations: Sogetsu: Basic Upright Style (moribana)");
+    EXPECT_EQ(panels[3].heading, "Aiko: Ohara: Rising Form (moribana)");
+    auto png = render_progress_plot(sessions, "Ikebana progress: everyone", PlotFormat::png);
+    ASSERT_TRUE(png.ok()) << png.error().message;
+    EXPECT_EQ(png->substr(1, 3), "PNG");
+}
