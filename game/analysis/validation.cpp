@@ -202,8 +202,12 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
     const std::string temporary = std::string(scratch) + ".json";
     std::filesystem::rename(scratch, temporary);
     if (auto w = assets::write_text_file(temporary, v.extended_species_json); !w) return std::move(w).error();
+    // Each row's conditions once: counted here, simulated below when there are few enough.
+    std::vector<InsertionConditions> extended_rows;
+    extended_rows.reserve(n_rows);
+    for (std::size_t i = 0; i < n_rows; ++i) extended_rows.push_back(predictor.conditions_of(v.data, i, temporary, outcomes));
     std::set<std::string> distinct;
-    for (std::size_t i = 0; i < n_rows; ++i) distinct.insert(predictor.key(predictor.conditions_of(v.data, i, temporary, outcomes)));
+    for (const auto& c : extended_rows) distinct.insert(predictor.key(c));
     if (distinct.size() > options.resimulate_limit) {
         v.resimulation_note = std::to_string(distinct.size()) + " distinct conditions for the extended species (limit " +
                               std::to_string(options.resimulate_limit) + "): not re-simulated here; `ikebana predict --species EXT.json` does it";
@@ -214,8 +218,6 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
         std::vector<bool> aside(v.data.trials.size(), false);
         for (const auto& r : v.analysis.suspected) aside[r.row] = true;
         std::size_t used = 0;
-        std::vector<InsertionConditions> extended_rows;
-        for (std::size_t i = 0; i < n_rows; ++i) extended_rows.push_back(predictor.conditions_of(v.data, i, temporary, outcomes));
         const auto extended_order = predictor.simulation_order(extended_rows);
         v.simulated_extended_gf.assign(n_rows, 0.0);
         for (std::size_t n = 0; n < n_rows; ++n) {

@@ -38,9 +38,6 @@ std::string date_of(std::int64_t unix_s) {
 
 void colour(cairo_t* cr, const glm::vec3& c) { cairo_set_source_rgb(cr, c.r, c.g, c.b); }
 
-double text_at(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold = false, double align = 0.0) {
-    return page_text(cr, x, y, s, size, bold, align);
-}
 
 // Words laid into lines no wider than `width`; the y below the last.
 double wrapped(cairo_t* cr, double x, double y, const std::string& s, double size, double width) {
@@ -147,7 +144,7 @@ void draw_view(cairo_t* cr, View v, const SessionReport& r) {
     cairo_rectangle(cr, v.x0, v.y0, v.w, v.h);
     cairo_fill(cr);
     cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
-    text_at(cr, v.x0 + 8.0, v.y0 + 16.0, v.front ? "from the front" : "from above (you: below)", 12.0, true);
+    page_text(cr, v.x0 + 8.0, v.y0 + 16.0, v.front ? "from the front" : "from above (you: below)", 12.0, true);
     // The container and the kenzan.
     cairo_set_source_rgb(cr, 0.55, 0.5, 0.45);
     cairo_set_line_width(cr, 2.0);
@@ -199,11 +196,11 @@ void draw_criteria(cairo_t* cr, double x, double y, double w, const SessionRepor
             stem = c.stem;
             colour(cr, stem_colour(r.lesson, stem));
             y += 6.0;
-            text_at(cr, x, y + 12.0, stem, 13.0, true);
+            page_text(cr, x, y + 12.0, stem, 13.0, true);
             y += 18.0;
         }
         cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-        text_at(cr, x, y + 10.0, criterion_words(c), 11.0);
+        page_text(cr, x, y + 10.0, criterion_words(c), 11.0);
         const double bar_x = x + 70.0, bar_w = 120.0;
         const double share = c.max_points > 0.0 ? std::clamp(c.points / c.max_points, 0.0, 1.0) : 0.0;
         cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
@@ -217,7 +214,7 @@ void draw_criteria(cairo_t* cr, double x, double y, double w, const SessionRepor
         cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
         char points[32];
         std::snprintf(points, sizeof points, "%.1f / %.0f", c.points, c.max_points);
-        text_at(cr, bar_x + bar_w + 6.0, y + 10.0, points, 10.0);
+        page_text(cr, bar_x + bar_w + 6.0, y + 10.0, points, 10.0);
         y += 15.0;
         if (share < 0.999) {
             cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
@@ -228,7 +225,7 @@ void draw_criteria(cairo_t* cr, double x, double y, double w, const SessionRepor
     for (const auto& rule : f.rules) {
         if (rule.ok) cairo_set_source_rgb(cr, 0.2, 0.55, 0.3);
         else cairo_set_source_rgb(cr, 0.8, 0.2, 0.15);
-        text_at(cr, x, y + 10.0, rule.ok ? "met" : "not met", 10.0, true);
+        page_text(cr, x, y + 10.0, rule.ok ? "met" : "not met", 10.0, true);
         cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
         y = wrapped(cr, x + 52.0, y + 10.0, rule.tip, 9.5, w - 52.0) - 8.0;
         y += 6.0;
@@ -238,7 +235,7 @@ void draw_criteria(cairo_t* cr, double x, double y, double w, const SessionRepor
 // Score by session, this one ringed, each point its date and score.
 void draw_trend(cairo_t* cr, double x0, double y0, double w, double h, const SessionReport& r) {
     cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
-    text_at(cr, x0, y0 + 14.0, "the trend in this lesson", 12.0, true);
+    page_text(cr, x0, y0 + 14.0, "the trend in this lesson", 12.0, true);
     if (!r.in_database) {
         wrapped(cr, x0, y0 + 34.0, "not in the progress database: no trend", 11.0, w);
         return;
@@ -253,7 +250,7 @@ void draw_trend(cairo_t* cr, double x0, double y0, double w, double h, const Ses
         cairo_line_to(cr, right, y);
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0.5, 0.5, 0.5);
-        text_at(cr, left - 6.0, y + 4.0, std::to_string(static_cast<int>(s)), 9.0, false, 1.0);
+        page_text(cr, left - 6.0, y + 4.0, std::to_string(static_cast<int>(s)), 9.0, false, 1.0);
         cairo_set_source_rgb(cr, 0.85, 0.85, 0.85);
     }
     const auto x_of = [&](std::size_t i) { return t.size() == 1 ? 0.5 * (left + right) : left + (right - left) * static_cast<double>(i) / static_cast<double>(t.size() - 1); };
@@ -274,9 +271,9 @@ void draw_trend(cairo_t* cr, double x0, double y0, double w, double h, const Ses
             cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
             char label[64];
             std::snprintf(label, sizeof label, "%.0f", t[i].result.score);
-            text_at(cr, x_of(i), y_of(t[i].result.score) - 9.0, label, 10.0, here, 0.5);
+            page_text(cr, x_of(i), y_of(t[i].result.score) - 9.0, label, 10.0, here, 0.5);
             const std::string when = date_of(t[i].started_unix_s);
-            if (when.size() >= 16) text_at(cr, x_of(i), bottom + 16.0, when.substr(5, 11), 8.5, false, 0.5);
+            if (when.size() >= 16) page_text(cr, x_of(i), bottom + 16.0, when.substr(5, 11), 8.5, false, 0.5);
         }
     }
 }
@@ -286,19 +283,19 @@ void draw_page(cairo_t* cr, const SessionReport& r) {
     cairo_paint(cr);
     const SessionRecord& s = r.session;
     cairo_set_source_rgb(cr, 0.05, 0.05, 0.05);
-    text_at(cr, 30.0, 40.0, r.lesson.school + ": " + r.lesson.title, 20.0, true);
+    page_text(cr, 30.0, 40.0, r.lesson.school + ": " + r.lesson.title, 20.0, true);
     std::string who = (s.trainee.empty() ? "a trainee" : s.trainee) + (s.kind == "demonstration" ? " (a demonstration)" : "");
     if (const std::string when = date_of(s.started_unix_s); !when.empty()) who += ", " + when + " UTC";
     cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
-    text_at(cr, 30.0, 62.0, who, 12.0);
+    page_text(cr, 30.0, 62.0, who, 12.0);
     char score[32];
     std::snprintf(score, sizeof score, "%.0f / 100", s.result.score);
     cairo_set_source_rgb(cr, 0.05, 0.05, 0.05);
-    text_at(cr, page_w - 30.0, 46.0, score, 28.0, true, 1.0);
+    page_text(cr, page_w - 30.0, 46.0, score, 28.0, true, 1.0);
     draw_view(cr, View{30.0, 80.0, 340.0, 400.0, true}, r);
     draw_view(cr, View{380.0, 80.0, 340.0, 400.0, false}, r);
     cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
-    text_at(cr, 30.0, 498.0, "solid: the arrangement as scored (dotted: fallen); dashed: the form's model; grey: supporting stems", 10.0);
+    page_text(cr, 30.0, 498.0, "solid: the arrangement as scored (dotted: fallen); dashed: the form's model; grey: supporting stems", 10.0);
     draw_trend(cr, 30.0, 510.0, 690.0, 270.0, r);
     draw_criteria(cr, 740.0, 80.0, 360.0, r);
 }
