@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "engine/core/hash.hpp"
+#include "engine/core/result.hpp"
 #include "engine/core/type_name.hpp"
 #include "engine/ecs/command_buffer.hpp"
 #include "engine/ecs/entity.hpp"
@@ -51,6 +52,45 @@ struct AccessMask {
 class UndeclaredAccess : public std::logic_error {
 public:
     using std::logic_error::logic_error;
+};
+
+// How a resource takes back a saved value (Registry::restore): by default a copy. A resource that
+// wires a lane to something outside the registry (a Port, the devices a session opened) overloads
+// this, found by argument-dependent lookup, to keep its wiring and take back only its state.
+template <typename T>
+void restore_resource(T& into, const T& saved) {
+    into = saved;
+}
+
+class Registry;
+
+// A registry's whole state kept aside: its entities, every component and every resource (a replay's
+// snapshots, to go back to a moment without playing the recording again from its start). Made by
+// Registry::save, put back by Registry::restore, as often as wanted.
+class SavedRegistry {
+public:
+    SavedRegistry() = default;
+    SavedRegistry(SavedRegistry&&) noexcept = default;
+    SavedRegistry& operator=(SavedRegistry&&) noexcept = default;
+    [[nodiscard]] std::size_t entity_slots() const noexcept { return slots_.size(); }
+
+private:
+    friend class Registry;
+    struct Slot {
+        std::uint32_t generation;
+        bool alive;
+    };
+    struct Resource {
+        std::type_index type{typeid(void)};
+        std::shared_ptr<void> value;
+        std::string_view name;
+        std::shared_ptr<void> (*copy)(const void*) = nullptr;
+        void (*restore)(void* into, const void* saved) = nullptr;
+    };
+    std::vector<Slot> slots_;
+    std::vector<std::uint32_t> free_;
+    std::vector<std::unique_ptr<SparseSet>> pools_; // by component id, as the registry's
+    std::vector<Resource> resources_;
 };
 
 template <typename... T>
@@ -204,9 +244,17 @@ public:
     T& set_resource(Args&&... args) {
         check_access<T>();
         auto& slot = resources_[std::type_index(typeid(T))];
-        if constexpr (std::is_aggregate_v<T>) slot = std::make_shared<T>(T{std::forward<Args>(args)...});
-        else slot = std::make_shared<T>(std::forward<Args>(args)...);
-        return *std::static_pointer_cast<T>(slot);
+        if constexpr (std::is_aggregate_v<T>) slot.value = std::make_shared<T>(T{std::forward<Args>(args)...});
+        else slot.value = std::make_shared<T>(std::forward<Args>(args)...);
+        slot.name = type_name<T>();
+        if constexpr (std::is_copy_constructible_v<T>) {
+            slot.copy = [](const void* from) -> std::shared_ptr<void> { return std::make_shared<T>(*static_cast<const T*>(from)); };
+            slot.restore = [](void* into, const void* saved) { restore_resource(*static_cast<T*>(into), *static_cast<const T*>(saved)); };
+        } else {
+            slot.copy = nullptr;
+            slot.restore = nullptr;
+        }
+        return *std::static_pointer_cast<T>(slot.value);
     }
     // resource<const T>() reads, resource<T>() may write (and is checked so).
     template <typename T>
@@ -214,7 +262,54 @@ public:
     [[nodiscard]] T* resource() {
         check_access<T>();
         auto it = resources_.find(std::type_index(typeid(T)));
-        return it == resources_.end() ? nullptr : static_cast<T*>(it->second.get());
+        return it == resources_.end() ? nullptr : static_cast<T*>(it->second.value.get());
+    }
+
+    // --- saved state --------------------------------------------------------------------------------
+    // Outside any system. A component or resource that cannot be copied is named in the error (and
+    // nothing is saved).
+    [[nodiscard]] Result<SavedRegistry> save() const {
+        if (iteration_depth_ > 0) return make_error(ErrorCode::invalid_argument, "save: during view iteration");
+        SavedRegistry saved;
+        saved.slots_.reserve(slots_.size());
+        for (const Slot& s : slots_) saved.slots_.push_back({s.generation, s.alive});
+        saved.free_ = free_;
+        saved.pools_.resize(pools_.size());
+        for (std::size_t id = 0; id < pools_.size(); ++id) {
+            if (!pools_[id]) continue;
+            saved.pools_[id] = pools_[id]->clone();
+            if (!saved.pools_[id]) return make_error(ErrorCode::invalid_argument, "save: component '" + std::string(pools_[id]->component_name()) + "' cannot be copied");
+        }
+        for (const auto& [type, slot] : resources_) {
+            if (!slot.copy) return make_error(ErrorCode::invalid_argument, "save: resource '" + std::string(slot.name) + "' cannot be copied");
+            saved.resources_.push_back({type, slot.copy(slot.value.get()), slot.name, slot.copy, slot.restore});
+        }
+        return saved;
+    }
+    // Back to `saved`, a save of this registry or of one built the same way (another world of the same
+    // scene): entities and components as they were, each saved resource given back its value through
+    // restore_resource (a Port keeps its target). Storages and resources stay where they are, so what
+    // holds a reference to one still does; a resource made after the save is left as it is.
+    void restore(const SavedRegistry& saved) {
+        guard_structural("restore");
+        slots_.clear();
+        for (const auto& s : saved.slots_) slots_.push_back(Slot{s.generation, s.alive});
+        free_ = saved.free_;
+        if (pools_.size() < saved.pools_.size()) pools_.resize(saved.pools_.size());
+        for (std::size_t id = 0; id < pools_.size(); ++id) {
+            const SparseSet* from = id < saved.pools_.size() ? saved.pools_[id].get() : nullptr;
+            if (from && pools_[id]) pools_[id]->assign(*from);
+            else if (from) pools_[id] = from->clone();
+            else if (pools_[id]) pools_[id]->clear();
+        }
+        for (const auto& r : saved.resources_) {
+            auto it = resources_.find(r.type);
+            if (it == resources_.end()) { // made by a system after this registry's start (a scratch resource)
+                resources_[r.type] = ResourceSlot{r.copy(r.value.get()), r.name, r.copy, r.restore};
+                continue;
+            }
+            it->second.restore(it->second.value.get(), r.value.get());
+        }
     }
 
     // --- state hash ---------------------------------------------------------------------------------
@@ -318,7 +413,13 @@ private:
     std::vector<Slot> slots_;
     std::vector<std::uint32_t> free_;
     std::vector<std::unique_ptr<SparseSet>> pools_;
-    std::unordered_map<std::type_index, std::shared_ptr<void>> resources_;
+    struct ResourceSlot {
+        std::shared_ptr<void> value;
+        std::string_view name;
+        std::shared_ptr<void> (*copy)(const void*) = nullptr; // null: not copyable (save refuses)
+        void (*restore)(void* into, const void* saved) = nullptr;
+    };
+    std::unordered_map<std::type_index, ResourceSlot> resources_;
     CommandBuffer commands_;
     int iteration_depth_ = 0;
     const AccessMask* access_ = nullptr;

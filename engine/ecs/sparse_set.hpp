@@ -4,6 +4,7 @@
 // docs/ecs.md gives the benchmark that chose this over archetypes for our workload.
 #include <cassert>
 #include <cstdint>
+#include <memory>
 #include <string_view>
 #include <type_traits>
 #include <utility>
@@ -20,6 +21,14 @@ public:
     static constexpr std::uint32_t absent = ~0u;
 
     virtual ~SparseSet() = default;
+
+protected:
+    // Copied only as a whole storage (clone, assign), never sliced.
+    SparseSet() = default;
+    SparseSet(const SparseSet&) = default;
+    SparseSet& operator=(const SparseSet&) = default;
+
+public:
 
     [[nodiscard]] bool contains(Entity e) const noexcept {
         return e.index < sparse_.size() && sparse_[e.index] != absent && dense_[sparse_[e.index]] == e;
@@ -41,8 +50,21 @@ public:
         return true;
     }
 
+    // Every entity out.
+    void clear() {
+        sparse_.clear();
+        dense_.clear();
+        clear_payload();
+    }
+
     virtual void hash_component(StateHasher& hasher, Entity e) const = 0;
     [[nodiscard]] virtual std::string_view component_name() const noexcept = 0;
+    // A copy of this storage, entities and components (a saved registry's); null when the component
+    // cannot be copied.
+    [[nodiscard]] virtual std::unique_ptr<SparseSet> clone() const = 0;
+    // Becomes a copy of `other`, a storage of the same component (restoring a saved registry): the
+    // storage object stays where it is.
+    virtual void assign(const SparseSet& other) = 0;
 
 protected:
     std::uint32_t insert_index(Entity e) {
@@ -53,6 +75,7 @@ protected:
         return sparse_[e.index];
     }
     virtual void swap_and_pop_payload(std::uint32_t pos) = 0;
+    virtual void clear_payload() = 0;
 
 private:
     std::vector<std::uint32_t> sparse_;
@@ -85,12 +108,20 @@ public:
 
     void hash_component(StateHasher& hasher, Entity e) const override { hash_value(hasher, get(e)); }
     [[nodiscard]] std::string_view component_name() const noexcept override { return type_name<T>(); }
+    [[nodiscard]] std::unique_ptr<SparseSet> clone() const override {
+        if constexpr (std::is_copy_constructible_v<T> && std::is_copy_assignable_v<T>) return std::make_unique<Storage>(*this);
+        else return nullptr;
+    }
+    void assign(const SparseSet& other) override {
+        if constexpr (std::is_copy_assignable_v<T>) *this = static_cast<const Storage&>(other);
+    }
 
 private:
     void swap_and_pop_payload(std::uint32_t pos) override {
         if (pos + 1 != payload_.size()) payload_[pos] = std::move(payload_.back());
         payload_.pop_back();
     }
+    void clear_payload() override { payload_.clear(); }
 
     std::vector<T> payload_;
 };
@@ -113,9 +144,12 @@ public:
 
     void hash_component(StateHasher& hasher, Entity) const override { hasher.scalar(std::uint8_t{1}); }
     [[nodiscard]] std::string_view component_name() const noexcept override { return type_name<T>(); }
+    [[nodiscard]] std::unique_ptr<SparseSet> clone() const override { return std::make_unique<Storage>(*this); }
+    void assign(const SparseSet& other) override { *this = static_cast<const Storage&>(other); }
 
 private:
     void swap_and_pop_payload(std::uint32_t) override {}
+    void clear_payload() override {}
     static inline T instance_{};
 };
 

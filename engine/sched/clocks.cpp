@@ -96,6 +96,24 @@ void DeterministicClock::run_until(std::int64_t t_us) {
     now_us_ = t_us;
 }
 
+DeterministicClock::Moment DeterministicClock::moment() const {
+    Moment m;
+    m.now_us = now_us_;
+    for (const auto& s : schedule_.systems()) m.firings.emplace_back(s.firing, s.next_due_us);
+    return m;
+}
+
+bool DeterministicClock::resume_from(const Moment& m) {
+    auto& systems = schedule_.systems();
+    if (m.firings.size() != systems.size()) return false;
+    for (std::size_t i = 0; i < systems.size(); ++i) {
+        systems[i].firing = m.firings[i].first;
+        systems[i].next_due_us = m.firings[i].second;
+    }
+    now_us_ = m.now_us;
+    return true;
+}
+
 void DeterministicClock::skip_lane(std::size_t lane, std::int64_t until_us) {
     for (auto& s : schedule_.systems()) {
         if (s.lane == lane) s.skip_until(until_us);

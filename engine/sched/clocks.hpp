@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "engine/sched/schedule.hpp"
@@ -27,6 +28,16 @@ public:
     void run_until(std::int64_t t_us);
     void run_for_us(std::int64_t duration_us) { run_until(now_us_ + duration_us); }
     [[nodiscard]] std::int64_t now_us() const noexcept { return now_us_; }
+    // Where the timeline stands: the clock and each system's next firing (with the lanes' registries
+    // saved beside it, a moment to come back to; a replay's snapshots).
+    struct Moment {
+        std::int64_t now_us = 0;
+        std::vector<std::pair<std::uint64_t, std::int64_t>> firings; // per system in order: index, due time
+    };
+    [[nodiscard]] Moment moment() const;
+    // Back (or on) to `m`, taken from this schedule or one built the same way; false (nothing changed)
+    // when its systems are not as many as this schedule's.
+    bool resume_from(const Moment& m);
     // Drops one lane's firings due before `until_us` without running them, as the real-time clock's
     // catch-up clamp did (a recording of a real-time session says when): the replay then skips too.
     void skip_lane(std::size_t lane, std::int64_t until_us);

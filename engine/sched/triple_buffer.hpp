@@ -30,6 +30,15 @@ public:
     }
     [[nodiscard]] const T& read_buffer() const noexcept { return slots_[front_]; }
 
+    // Becomes a copy of `other`, its three snapshots and which is whose (a replay's saved moment).
+    // Only while neither side runs: the one thread that drives a deterministic clock.
+    void copy_from(const TripleBuffer& other) {
+        slots_ = other.slots_;
+        back_ = other.back_;
+        front_ = other.front_;
+        middle_.store(other.middle_.load(std::memory_order_relaxed), std::memory_order_relaxed);
+    }
+
 private:
     static constexpr std::uint8_t index_mask = 0x3;
     static constexpr std::uint8_t fresh_bit = 0x4;

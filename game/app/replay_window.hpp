@@ -3,8 +3,8 @@
 // themselves): play and pause (Space), speed, a timeline to scrub to any moment with the cuts, tilts
 // and insertions marked on it (each a button that jumps there), and the camera free (arrows or a
 // right-drag), whatever way the trainee looked. It plays on the deterministic clock, as `ikebana
-// replay --json` does, so what is shown is what the headless replay checks; going back plays the
-// recording again from its start up to there.
+// replay --json` does, so what is shown is what the headless replay checks; a jump, back or
+// forth, starts from the moment kept before it (game/session/seekable_playback.hpp).
 #include <cstdint>
 #include <string>
 

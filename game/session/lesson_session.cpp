@@ -298,6 +298,55 @@ Result<std::unique_ptr<SessionPlayback>> SessionPlayback::open(const std::filesy
 
 SessionPlayback::~SessionPlayback() = default;
 
+struct PlaybackSnapshot {
+    std::string recording; // session.json's path: a snapshot goes back only into its own recording
+    ecs::SavedRegistry sim, main;
+    sched::DeterministicClock::Moment moment;
+    sched::TripleBuffer<components::FrameSnapshot> frames;
+    double yaw_rad = 0.0, logged_yaw_rad = 0.0;
+    std::size_t next_command = 0;
+};
+
+Result<std::shared_ptr<const PlaybackSnapshot>> SessionPlayback::snapshot() const {
+    const std::int64_t now = clock_->now_us();
+    for (std::size_t i = next_; i > 0 && commands_[i - 1].at_us >= now; --i) {
+        if (commands_[i - 1].what == SessionCommand::What::cut)
+            return make_error(ErrorCode::invalid_argument, session_file_.string() + ": a cut given at " + std::to_string(now) + " us waits for its tick");
+    }
+    auto s = std::make_shared<PlaybackSnapshot>();
+    s->recording = session_file_.string();
+    auto sim = world_->sim.save();
+    if (!sim) return std::move(sim).error();
+    auto main = world_->main.save();
+    if (!main) return std::move(main).error();
+    s->sim = std::move(sim).value();
+    s->main = std::move(main).value();
+    s->moment = clock_->moment();
+    s->frames.copy_from(world_->channel.buffer);
+    s->yaw_rad = world_->view.yaw_rad.load();
+    s->logged_yaw_rad = world_->view.logged_yaw_rad;
+    s->next_command = next_;
+    return std::shared_ptr<const PlaybackSnapshot>(std::move(s));
+}
+
+Result<void> SessionPlayback::restore(const PlaybackSnapshot& s) {
+    if (s.recording != session_file_.string())
+        return make_error(ErrorCode::invalid_argument, session_file_.string() + ": a moment of another recording (" + s.recording + ")");
+    if (!clock_->resume_from(s.moment)) return make_error(ErrorCode::invalid_argument, session_file_.string() + ": a moment of another schedule");
+    world_->sim.restore(s.sim);
+    world_->main.restore(s.main);
+    world_->channel.buffer.copy_from(s.frames);
+    // The writer's note of which flower's parts each slot holds was about the slots it wrote itself.
+    world_->channel.writer = {};
+    if (auto* received = world_->main.resource<systems::ReceivedFrames>(); received && received->current) received->current = &world_->channel.buffer.read_buffer();
+    world_->view.yaw_rad.store(s.yaw_rad);
+    world_->view.logged_yaw_rad = s.logged_yaw_rad;
+    systems::TraineeCommand waiting;
+    while (world_->trainee.pop(waiting)) {} // a cut given here and not yet taken belongs to the moment left
+    next_ = s.next_command;
+    return {};
+}
+
 std::int64_t SessionPlayback::now_us() const { return clock_->now_us(); }
 
 void SessionPlayback::run_until(std::int64_t t_us) {

@@ -117,6 +117,11 @@ struct SessionCommand {
 Result<SessionInfo> parse_session(std::string_view text, const std::string& label);
 Result<std::vector<SessionCommand>> parse_session_commands(std::string_view text, const std::string& label);
 
+// A moment of a playback kept aside (SessionPlayback::snapshot): the world's two registries, the
+// timeline, what stands in the channels between the lanes and how far the recording's commands have
+// been given. Taken from one playback, it can be put back into any playback of the same recording.
+struct PlaybackSnapshot;
+
 // A recording set up to play: the lesson's world with the recorded hands, and what the simulation
 // took from outside (cuts, the camera's turns, the clock's skips) given at the ticks it took them as
 // the clock moves on. Never backwards: to go back, open it again (the window's scrubbing does).
@@ -134,6 +139,13 @@ public:
     [[nodiscard]] Result<FormScore> score(const components::FrameSnapshot& frame) const;
     // The simulation's state hash (a window session's) or the whole world's (a headless one's).
     [[nodiscard]] std::uint64_t state_hash() const;
+    // This moment, to come back to (the window's scrubbing: any point in a second or two, where playing
+    // the recording again from its start took minutes). Refused at a tick a cut was given at and the
+    // simulation has not yet taken: the next tick's moment will do.
+    [[nodiscard]] Result<std::shared_ptr<const PlaybackSnapshot>> snapshot() const;
+    // Back (or on) to `s`, taken from this playback or another of the same recording; refused, with
+    // nothing changed, for another recording's.
+    Result<void> restore(const PlaybackSnapshot& s);
 
     [[nodiscard]] World& world() { return *world_; }
     [[nodiscard]] const SessionInfo& info() const { return info_; }

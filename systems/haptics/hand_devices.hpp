@@ -55,6 +55,10 @@ private:
     std::array<devices::ForceWatchdog*, 2> watchdog_{nullptr, nullptr};
 };
 
+// A restored sim registry keeps the devices, recorders and watchdogs attached to it (ecs::Registry::
+// restore): a replay's saved moment may come from another playback of the same recording.
+inline void restore_resource(HandDevices&, const HandDevices&) noexcept {}
+
 // What each hand's device link is doing and how many force writes failed, for the HUD and the figures
 // (a sim-lane resource). Written by hand_input and the force systems. Not simulation state, so kept
 // out of the components and the state hash: a replay's devices never fall silent, and it must still

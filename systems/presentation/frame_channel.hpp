@@ -43,4 +43,13 @@ struct ReceivedFrames {
     std::function<void(const std::string&)> announce;
 };
 
+// Restored (ecs::Registry::restore), the counts and the hands as they were; `current` stays in this
+// world's own channel and `announce` stays this app's. Whoever restores the channel points `current`
+// at its read buffer again.
+inline void restore_resource(ReceivedFrames& into, const ReceivedFrames& saved) {
+    into.frames = saved.frames;
+    into.fresh = saved.fresh;
+    for (int h = 0; h < 2; ++h) into.previous_hands[h] = saved.previous_hands[h];
+}
+
 } // namespace ikebana::systems

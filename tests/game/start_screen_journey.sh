@@ -73,6 +73,19 @@ wait_for '"label":"result:sogetsu_basic_upright: last '
 # The session just finished, watched again from the start screen, and back.
 click "replay:sogetsu_basic_upright"; presses=$((presses + 1))
 wait_for '"screen":"replay"'
+wait_for '"name":"replay"'
+# The replay's column is beside the scene, in each eye's half: no panel covers an eye's view.
+python3 - "$state" <<'PY' || fail "the replay's panel covers the scene"
+import json, sys
+layout = json.load(open(sys.argv[1]))["layout"]
+def overlap(a, b):
+    ax, ay, aw, ah = a["rect_px"]
+    bx, by, bw, bh = b["rect_px"]
+    return min(ax + aw, bx + bw) - max(ax, bx) > 0.5 and min(ay + ah, by + bh) - max(ay, by) > 0.5
+bad = [(p["name"], v["name"], v["eye"]) for p in layout["panels"] for v in layout["views"] + layout["scene"] if overlap(p, v)]
+if not layout["views"] or bad:
+    sys.exit("covered: %s (views: %d)" % (bad, len(layout["views"])))
+PY
 click "speed:x8"; presses=$((presses + 1))
 wait_for '"results":1'
 click "back"; presses=$((presses + 1))
