@@ -110,23 +110,6 @@ void Player::timeline_bar(float width) {
     draw->AddTriangleFilled(ImVec2(now_x - 5.0f, at.y), ImVec2(now_x + 5.0f, at.y), ImVec2(now_x, at.y + 7.0f), IM_COL32(255, 255, 255, 255));
 }
 
-// Buttons side by side while they fit the column's width, then on the next row.
-class ButtonRow {
-public:
-    explicit ButtonRow(float width) : right_(ImGui::GetCursorScreenPos().x + width) {}
-    // Before each button but the first: on this row if `label` fits, else the next.
-    void place(const char* label) {
-        const ImGuiStyle& style = ImGui::GetStyle();
-        const float w = ImGui::CalcTextSize(label).x + 2.0f * style.FramePadding.x;
-        if (any_ && ImGui::GetItemRectMax().x + style.ItemSpacing.x + w <= right_) ImGui::SameLine();
-        any_ = true;
-    }
-
-private:
-    float right_;
-    bool any_ = false;
-};
-
 // The column right of the scene (render::ScreenLayout keeps it free of the 3D view, as the lesson's
 // panel does): nothing of the arrangement or the table is covered. Top down: what is played and where,
 // the controls, the timeline and its marks, the score, then what the heads-up text says.

@@ -112,6 +112,61 @@ bool replayable(const SessionRecord& s) {
     return !s.recording.empty() && std::filesystem::is_regular_file(std::filesystem::path(s.recording) / "session.json", ec);
 }
 
+// A lesson's scores over its sessions, oldest left: each a point (a demonstration's hollow) labelled
+// with its score above and its day below, as many labels as fit (the last always), the 50 and 100
+// lines behind, the full date, kind and score when the pointer is over a point. The last
+// `most_shown` sessions (the caption says how many there are).
+constexpr std::size_t most_shown = 20;
+void trend(const std::vector<const SessionRecord*>& sessions, float width) {
+    const float plot_h = 64.0f, label_h = ImGui::GetTextLineHeight();
+    const float height = label_h + plot_h + label_h + 6.0f;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    const ImVec2 at = ImGui::GetCursorScreenPos();
+    ImGui::Dummy(ImVec2(width, height));
+    const float axis = at.x + 30.0f, left = axis + 14.0f, right = at.x + width - 16.0f;
+    const float top = at.y + label_h + 2.0f, bottom = top + plot_h;
+    const TrendLayout layout = trend_layout(sessions, right - left, 46.0f);
+    const auto floor_score = static_cast<float>(layout.floor_score);
+    const ImU32 guide = IM_COL32(150, 150, 150, 90), text = ImGui::GetColorU32(ImGuiCol_TextDisabled);
+    for (const float level : {floor_score, 0.5f * (floor_score + 100.0f), 100.0f}) {
+        const float y = bottom - plot_h * (level - floor_score) / (100.0f - floor_score);
+        draw->AddLine(ImVec2(axis, y), ImVec2(right, y), guide);
+        char tick[8];
+        std::snprintf(tick, sizeof tick, "%.0f", static_cast<double>(level));
+        draw->AddText(ImVec2(axis - 4.0f - ImGui::CalcTextSize(tick).x, y - 0.5f * label_h), text, tick);
+    }
+    const auto at_point = [&](const TrendPoint& p) { return ImVec2(left + p.x, bottom - plot_h * p.y); };
+    const ImU32 ink = ImGui::GetColorU32(ImGuiCol_PlotLines);
+    for (std::size_t i = 1; i < layout.points.size(); ++i) draw->AddLine(at_point(layout.points[i - 1]), at_point(layout.points[i]), ink, 1.5f);
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    const SessionRecord* hovered = nullptr;
+    for (std::size_t k = 0; k < layout.points.size(); ++k) {
+        const TrendPoint& tp = layout.points[k];
+        const ImVec2 p = at_point(tp);
+        if (tp.demonstration) draw->AddCircle(p, 4.0f, ink, 12, 1.5f);
+        else draw->AddCircleFilled(p, 4.0f, ink);
+        if (std::abs(mouse.x - p.x) < 6.0f && std::abs(mouse.y - p.y) < 6.0f) hovered = sessions[k];
+        if (!tp.labelled) continue;
+        const float sw = ImGui::CalcTextSize(tp.score.c_str()).x;
+        draw->AddText(ImVec2(p.x - 0.5f * sw, p.y - label_h - 2.0f), ImGui::GetColorU32(ImGuiCol_Text), tp.score.c_str());
+        const float dw = ImGui::CalcTextSize(tp.day.c_str()).x;
+        draw->AddText(ImVec2(std::clamp(p.x - 0.5f * dw, axis, right + 16.0f - dw), bottom + 3.0f), text, tp.day.c_str());
+    }
+    if (hovered) {
+        ImGui::BeginTooltip();
+        ImGui::Text("%s UTC: %.1f / 100 (%s)", iso_utc(hovered->started_unix_s).substr(0, 16).c_str(), hovered->result.score, hovered->kind.c_str());
+        ImGui::EndTooltip();
+    }
+}
+
+// The lesson's name as the lessons list gives it ("Sogetsu: Basic Upright Style"), else its id.
+std::string lesson_name(const StartScreenModel& model, const std::string& id) {
+    for (const auto& l : model.lessons) {
+        if (l.id == id) return l.school + ": " + l.title;
+    }
+    return id;
+}
+
 // Returns the recording to replay when its button is pressed.
 std::optional<std::string> last_results(const StartScreenModel& model, std::vector<UiButton>& items) {
     std::optional<std::string> replay;
@@ -119,39 +174,47 @@ std::optional<std::string> last_results(const StartScreenModel& model, std::vect
         ImGui::TextDisabled("No results yet: a lesson's Enter scores it and keeps the score here.");
         return replay;
     }
-    // Each lesson's scores in order, as a small plot, with the last and the best.
+    // Each lesson's sessions in order: a caption with the last and the best, the last recorded one to
+    // watch again, and the trend.
     std::vector<std::string> order;
-    std::map<std::string, std::vector<float>> scores;
+    std::map<std::string, std::vector<const SessionRecord*>> by_lesson;
     std::map<std::string, const SessionRecord*> last_recorded;
     for (const auto& s : model.recent) {
-        if (!scores.count(s.lesson)) order.push_back(s.lesson);
-        scores[s.lesson].push_back(static_cast<float>(s.result.score));
+        if (!by_lesson.count(s.lesson)) order.push_back(s.lesson);
+        by_lesson[s.lesson].push_back(&s);
         if (replayable(s)) last_recorded[s.lesson] = &s;
     }
+    const float width = ImGui::GetContentRegionAvail().x;
     for (const auto& lesson : order) {
-        const auto& v = scores[lesson];
-        const float best = *std::max_element(v.begin(), v.end());
-        char caption[200];
-        std::snprintf(caption, sizeof caption, "%s: last %.0f, best %.0f (%zu session%s)", lesson.c_str(), v.back(), best, v.size(), v.size() == 1 ? "" : "s");
-        ImGui::TextUnformatted(caption);
+        const auto& all = by_lesson[lesson];
+        double best = 0.0;
+        for (const auto* s : all) best = std::max(best, s->result.score);
+        ImGui::Spacing();
+        ImGui::TextUnformatted(lesson_name(model, lesson).c_str());
+        const bool demonstrated = std::any_of(all.begin(), all.end(), [](const SessionRecord* s) { return s->kind == "demonstration"; });
+        char caption[160];
+        std::snprintf(caption, sizeof caption, "last %.0f, best %.0f (%zu session%s%s%s)", all.back()->result.score, best, all.size(), all.size() == 1 ? "" : "s",
+                      all.size() > most_shown ? ("; the last " + std::to_string(most_shown) + " drawn").c_str() : "", demonstrated ? "; hollow: a demonstration" : "");
+        ImGui::TextDisabled("%s", caption);
         const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
-        items.push_back({std::string("result:") + caption, {a.x, a.y}, {b.x, b.y}});
-        // The last recorded session, to watch again (from the start screen, as a teacher reviews it).
+        items.push_back({"result:" + lesson + ": " + caption, {a.x, a.y}, {b.x, b.y}});
+        // The last recorded session, to watch again (from the start screen, as a teacher reviews it):
+        // beside the caption when it fits, else under it.
         if (const auto it = last_recorded.find(lesson); it != last_recorded.end()) {
-            ImGui::SameLine();
-            char label[96];
             std::string when = iso_utc(it->second->started_unix_s).substr(5, 11); // "11-25T09:47"
             when[5] = ' ';
+            char label[96];
             std::snprintf(label, sizeof label, "Replay (%.0f, %s UTC)##%s", it->second->result.score, when.c_str(), lesson.c_str());
+            const float button_w = ImGui::CalcTextSize(label, nullptr, true).x + 2.0f * ImGui::GetStyle().FramePadding.x;
+            const float after = b.x + ImGui::GetStyle().ItemSpacing.x - ImGui::GetWindowPos().x + button_w;
+            if (after <= ImGui::GetWindowContentRegionMax().x) ImGui::SameLine();
             if (tracked_button(items, label, "replay:" + lesson)) replay = it->second->recording;
         }
-        // The trend, once there is one (0 to 100).
-        if (v.size() >= 2)
-            ImGui::PlotLines(("##" + lesson).c_str(), v.data(), static_cast<int>(v.size()), 0, nullptr, 0.0f, 100.0f,
-                             ImVec2(ImGui::GetContentRegionAvail().x, 36.0f));
+        const std::vector<const SessionRecord*> shown(all.end() - static_cast<std::ptrdiff_t>(std::min(all.size(), most_shown)), all.end());
+        trend(shown, std::min(width, 720.0f));
     }
     const auto& last = model.recent.back();
-    ImGui::TextDisabled("last: %s %s, %.0f / 100 (%s)", last.lesson.c_str(), iso_utc(last.started_unix_s).substr(0, 10).c_str(), last.result.score,
+    ImGui::TextDisabled("last: %s %s, %.0f / 100 (%s)", lesson_name(model, last.lesson).c_str(), iso_utc(last.started_unix_s).substr(0, 10).c_str(), last.result.score,
                         last.kind.c_str());
     return replay;
 }
@@ -165,6 +228,39 @@ bool tracked_button(std::vector<UiButton>& buttons, const std::string& label, co
     return pressed;
 }
 
+ButtonRow::ButtonRow(float width) : right_(ImGui::GetCursorScreenPos().x + width) {}
+
+void ButtonRow::place(const char* label, float extra_px) {
+    const ImGuiStyle& style = ImGui::GetStyle();
+    const float w = ImGui::CalcTextSize(label, nullptr, true).x + 2.0f * style.FramePadding.x + extra_px;
+    if (any_ && ImGui::GetItemRectMax().x + style.ItemSpacing.x + w <= right_) ImGui::SameLine();
+    any_ = true;
+}
+
+TrendLayout trend_layout(const std::vector<const SessionRecord*>& sessions, float width, float label_px) {
+    TrendLayout out;
+    double lowest = 100.0;
+    for (const auto* s : sessions) lowest = std::min(lowest, s->result.score);
+    out.floor_score = std::clamp(std::floor(lowest / 10.0) * 10.0 - 10.0, 0.0, 50.0);
+    const std::size_t n = sessions.size();
+    float next_label_x = 1e30f;
+    out.points.resize(n);
+    // Labels from the last back, each at least label_px from the one to its right.
+    for (std::size_t k = n; k-- > 0;) {
+        TrendPoint& p = out.points[k];
+        p.x = n == 1 ? 0.5f * width : width * static_cast<float>(k) / static_cast<float>(n - 1);
+        p.y = static_cast<float>((std::clamp(sessions[k]->result.score, 0.0, 100.0) - out.floor_score) / (100.0 - out.floor_score));
+        p.demonstration = sessions[k]->kind == "demonstration";
+        char score[8];
+        std::snprintf(score, sizeof score, "%.0f", sessions[k]->result.score);
+        p.score = score;
+        p.day = iso_utc(sessions[k]->started_unix_s).substr(5, 5);
+        p.labelled = next_label_x - p.x >= label_px;
+        if (p.labelled) next_label_x = p.x;
+    }
+    return out;
+}
+
 namespace {
 // How the scene is shown: a flat screen by default (the whole width for one view), or the stereo
 // display the trainee has. Remembered by the app; --stereo fixes it.
@@ -174,10 +270,12 @@ void display_choice(StartScreenModel& model, std::vector<UiButton>& buttons) {
         const char* label;
     };
     static constexpr Option options[] = {{"mono", "Flat screen"}, {"sbs", "3D display, side by side"}, {"anaglyph", "Red-cyan glasses"}, {"rows", "3D display, rows"}};
+    ButtonRow row(ImGui::GetContentRegionAvail().x);
+    row.place("Display:");
     ImGui::TextUnformatted("Display:");
     if (model.display_fixed) ImGui::BeginDisabled();
     for (const auto& o : options) {
-        ImGui::SameLine();
+        row.place(o.label, ImGui::GetFrameHeight()); // and its circle
         if (ImGui::RadioButton(o.label, model.display == o.mode)) model.display = o.mode;
         const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
         buttons.push_back({std::string("display:") + o.mode, {a.x, a.y}, {b.x, b.y}});

@@ -26,6 +26,36 @@ struct UiButton {
 // side), for scripts that work the window: inside a UI frame.
 bool tracked_button(std::vector<UiButton>& buttons, const std::string& label, const std::string& name, float width = 0.0f, float height = 0.0f);
 
+// Items side by side while they fit `width` (from where the first is drawn), then on the next row:
+// call place(label) before each; inside a UI frame.
+class ButtonRow {
+public:
+    explicit ButtonRow(float width);
+    // Before a button (or radio button, or text) with this label: on this row if it fits, else the next.
+    void place(const char* label, float extra_px = 0.0f);
+
+private:
+    float right_;
+    bool any_ = false;
+};
+
+// A lesson's scores as the start screen draws them (pure, for tests): each session a point, x across
+// [0, width], y from 0 (the axis' floor) to 1 (100); which points carry their score and day (as many
+// as fit, at least `label_px` apart, the last always); the floor: 100 down to the ten below the lowest
+// score, at most to 0, at least to 50, so that scores between 70 and 100 do not lie flat along the top.
+struct TrendPoint {
+    float x = 0.0f, y = 0.0f;
+    bool labelled = false;
+    bool demonstration = false; // drawn hollow
+    std::string score;          // "87"
+    std::string day;            // "11-25"
+};
+struct TrendLayout {
+    double floor_score = 50.0;
+    std::vector<TrendPoint> points;
+};
+[[nodiscard]] TrendLayout trend_layout(const std::vector<const SessionRecord*>& sessions, float width, float label_px);
+
 struct StartScreenModel {
     std::vector<LessonDef> lessons;
     std::array<std::string, 2> hands;  // what each hand is: a device's name, or the mouse

@@ -70,6 +70,16 @@ wait_for '"results":1'
 click "back"; presses=$((presses + 1))
 wait_for '"screen":"start"'
 wait_for '"label":"result:sogetsu_basic_upright: last '
+wait_for '"label":"replay:sogetsu_basic_upright"'
+# Side by side, each eye's half holds the whole start screen: no button runs past its edge.
+python3 - "$state" <<'PY' || fail "a start screen button runs past the eye's half"
+import json, sys
+s = json.load(open(sys.argv[1]))
+half = s["window_px"][0] / 2
+bad = [b["label"] for b in s["buttons"] if b["max_px"][0] > half + 0.5]
+if bad:
+    sys.exit("past %.0f px: %s" % (half, bad))
+PY
 # The session just finished, watched again from the start screen, and back.
 click "replay:sogetsu_basic_upright"; presses=$((presses + 1))
 wait_for '"screen":"replay"'
