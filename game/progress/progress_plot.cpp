@@ -183,7 +183,9 @@ void draw_panel(cairo_t* cr, double top, const std::string& who_and_lesson, cons
             cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
             char score[16];
             std::snprintf(score, sizeof score, "%.0f", sessions[i]->result.score);
-            text_at(cr, x, y - 10.0, score, 11.0, 0.5, true);
+            // Under a point near the top (above it, it would run into the panel's heading).
+            const bool high = sessions[i]->result.score > 92.0;
+            text_at(cr, x, high ? y + 20.0 : y - 10.0, score, 11.0, 0.5, true);
         }
     }
     // The markers' legend, under the criteria's.
