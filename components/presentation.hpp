@@ -20,6 +20,9 @@ struct HudInfo {
     std::vector<std::string> result;
     std::vector<std::string> lesson; // the lesson's keys and what the held stem is doing against its role
 };
+// The heads-up text is what the app showing the world says (a replay's heading, its devices): a world
+// put back to a saved moment (ecs::Registry::restore) keeps it.
+inline void restore_resource(HudInfo&, HudInfo&&) noexcept {}
 
 // Drawn every frame beside the world, fixed for the session: the scene's sample arrangement.
 struct Scenery {

@@ -20,6 +20,6 @@ private:
 // A restored registry keeps its own ports (registry.hpp's restore_resource): a saved one may come
 // from another world, and its target is that world's.
 template <typename T>
-void restore_resource(Port<T>&, const Port<T>&) noexcept {}
+void restore_resource(Port<T>&, Port<T>&&) noexcept {}
 
 } // namespace ikebana::ecs

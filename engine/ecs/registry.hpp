@@ -54,12 +54,13 @@ public:
     using std::logic_error::logic_error;
 };
 
-// How a resource takes back a saved value (Registry::restore): by default a copy. A resource that
-// wires a lane to something outside the registry (a Port, the devices a session opened) overloads
-// this, found by argument-dependent lookup, to keep its wiring and take back only its state.
+// How a resource takes back a saved value (Registry::restore), from a fresh copy of it: by default
+// the whole value. A resource that wires a lane to something outside the registry (a Port, the
+// devices a session opened) overloads this, found by argument-dependent lookup, to keep its wiring
+// and take only its state (or nothing).
 template <typename T>
-void restore_resource(T& into, const T& saved) {
-    into = saved;
+void restore_resource(T& into, T&& saved) noexcept {
+    into = std::move(saved);
 }
 
 class Registry;
@@ -85,7 +86,7 @@ private:
         std::shared_ptr<void> value;
         std::string_view name;
         std::shared_ptr<void> (*copy)(const void*) = nullptr;
-        void (*restore)(void* into, const void* saved) = nullptr;
+        void (*restore)(void* into, void* fresh) = nullptr;
     };
     std::vector<Slot> slots_;
     std::vector<std::uint32_t> free_;
@@ -102,7 +103,33 @@ template <typename Get, typename Excluded>
 class View;
 
 class Registry {
+    struct ResourceSlot {
+        std::shared_ptr<void> value;
+        std::string_view name;
+        std::shared_ptr<void> (*copy)(const void*) = nullptr; // null: not copyable (save refuses)
+        void (*restore)(void* into, void* fresh) = nullptr;
+    };
+    using Slot = SavedRegistry::Slot;
+
 public:
+    // A restore made ready (stage_restore: every copy it needs, taken aside) and not yet put in
+    // (commit_restore, which cannot fail): several registries are restored all or none.
+    class StagedRestore {
+    public:
+        StagedRestore(StagedRestore&&) noexcept = default;
+
+    private:
+        friend class Registry;
+        StagedRestore() = default;
+        const SavedRegistry* from = nullptr;
+        std::vector<Slot> slots;
+        std::vector<std::uint32_t> free;
+        std::vector<std::unique_ptr<SparseSet>> pools;
+        std::vector<std::shared_ptr<void>> values; // fresh copies of the saved resources, in their order
+        std::vector<std::type_index> extra;        // resources made after the save: they go
+        std::unordered_map<std::type_index, ResourceSlot> missing; // saved ones this registry lacks, ready to go in
+    };
+
     Registry() : commands_(*this) {}
     Registry(const Registry&) = delete;
     Registry& operator=(const Registry&) = delete;
@@ -249,7 +276,7 @@ public:
         slot.name = type_name<T>();
         if constexpr (std::is_copy_constructible_v<T>) {
             slot.copy = [](const void* from) -> std::shared_ptr<void> { return std::make_shared<T>(*static_cast<const T*>(from)); };
-            slot.restore = [](void* into, const void* saved) { restore_resource(*static_cast<T*>(into), *static_cast<const T*>(saved)); };
+            slot.restore = [](void* into, void* fresh) { restore_resource(*static_cast<T*>(into), std::move(*static_cast<T*>(fresh))); };
         } else {
             slot.copy = nullptr;
             slot.restore = nullptr;
@@ -271,8 +298,7 @@ public:
     [[nodiscard]] Result<SavedRegistry> save() const {
         if (iteration_depth_ > 0) return make_error(ErrorCode::invalid_argument, "save: during view iteration");
         SavedRegistry saved;
-        saved.slots_.reserve(slots_.size());
-        for (const Slot& s : slots_) saved.slots_.push_back({s.generation, s.alive});
+        saved.slots_ = slots_;
         saved.free_ = free_;
         saved.pools_.resize(pools_.size());
         for (std::size_t id = 0; id < pools_.size(); ++id) {
@@ -287,29 +313,52 @@ public:
         return saved;
     }
     // Back to `saved`, a save of this registry or of one built the same way (another world of the same
-    // scene): entities and components as they were, each saved resource given back its value through
-    // restore_resource (a Port keeps its target). Storages and resources stay where they are, so what
-    // holds a reference to one still does; a resource made after the save is left as it is.
-    void restore(const SavedRegistry& saved) {
+    // scene): entities and components as they were; each saved resource given back its value through
+    // restore_resource (a Port keeps its target); a resource made since the save (a system's scratch,
+    // made at its first firing) goes, so that the registry is the saved one's to the byte. Storages and
+    // kept resources stay where they are: what holds a reference to one still does. All or nothing:
+    // an allocation that fails leaves the registry as it was.
+    void restore(const SavedRegistry& saved) { commit_restore(stage_restore(saved)); }
+    // The two halves of restore: every copy made aside (may throw; changes nothing but the room kept
+    // for resources), then put in (cannot fail).
+    [[nodiscard]] StagedRestore stage_restore(const SavedRegistry& saved) {
         guard_structural("restore");
-        slots_.clear();
-        for (const auto& s : saved.slots_) slots_.push_back(Slot{s.generation, s.alive});
-        free_ = saved.free_;
-        if (pools_.size() < saved.pools_.size()) pools_.resize(saved.pools_.size());
-        for (std::size_t id = 0; id < pools_.size(); ++id) {
-            const SparseSet* from = id < saved.pools_.size() ? saved.pools_[id].get() : nullptr;
-            if (from && pools_[id]) pools_[id]->assign(*from);
-            else if (from) pools_[id] = from->clone();
-            else if (pools_[id]) pools_[id]->clear();
+        StagedRestore staged;
+        staged.from = &saved;
+        staged.slots = saved.slots_;
+        staged.free = saved.free_;
+        staged.pools.resize(saved.pools_.size());
+        for (std::size_t id = 0; id < saved.pools_.size(); ++id) {
+            if (saved.pools_[id]) staged.pools[id] = saved.pools_[id]->clone();
         }
         for (const auto& r : saved.resources_) {
-            auto it = resources_.find(r.type);
-            if (it == resources_.end()) { // made by a system after this registry's start (a scratch resource)
-                resources_[r.type] = ResourceSlot{r.copy(r.value.get()), r.name, r.copy, r.restore};
-                continue;
-            }
-            it->second.restore(it->second.value.get(), r.value.get());
+            staged.values.push_back(r.copy(r.value.get()));
+            if (!resources_.count(r.type)) staged.missing.emplace(r.type, ResourceSlot{staged.values.back(), r.name, r.copy, r.restore});
         }
+        for (const auto& [type, slot] : resources_) {
+            if (std::none_of(saved.resources_.begin(), saved.resources_.end(), [&](const auto& r) { return r.type == type; })) staged.extra.push_back(type);
+        }
+        if (pools_.size() < staged.pools.size()) pools_.resize(staged.pools.size());
+        resources_.reserve(resources_.size() + staged.missing.size()); // the commit then never rehashes
+        return staged;
+    }
+    void commit_restore(StagedRestore&& staged) noexcept {
+        const SavedRegistry& saved = *staged.from;
+        slots_.swap(staged.slots);
+        free_.swap(staged.free);
+        for (std::size_t id = 0; id < pools_.size(); ++id) {
+            SparseSet* from = id < staged.pools.size() ? staged.pools[id].get() : nullptr;
+            if (from && pools_[id]) pools_[id]->swap_contents(*from);
+            else if (from) pools_[id] = std::move(staged.pools[id]);
+            else if (pools_[id]) pools_[id]->clear();
+        }
+        for (const auto& type : staged.extra) resources_.erase(type);
+        for (std::size_t i = 0; i < saved.resources_.size(); ++i) {
+            auto it = resources_.find(saved.resources_[i].type);
+            if (it != resources_.end()) it->second.restore(it->second.value.get(), staged.values[i].get());
+        }
+        // Made by a system after this registry's start: the copy is it (nodes made in stage_restore).
+        while (!staged.missing.empty()) resources_.insert(staged.missing.extract(staged.missing.begin()));
     }
 
     // --- state hash ---------------------------------------------------------------------------------
@@ -369,11 +418,6 @@ private:
     friend class View;
     friend class CommandBuffer; // checks a queued emplace or remove against the system queuing it
 
-    struct Slot {
-        std::uint32_t generation;
-        bool alive;
-    };
-
     template <typename T>
     [[nodiscard]] Storage<T>* find_storage() const noexcept {
         const auto id = detail::component_id<T>();
@@ -413,12 +457,6 @@ private:
     std::vector<Slot> slots_;
     std::vector<std::uint32_t> free_;
     std::vector<std::unique_ptr<SparseSet>> pools_;
-    struct ResourceSlot {
-        std::shared_ptr<void> value;
-        std::string_view name;
-        std::shared_ptr<void> (*copy)(const void*) = nullptr; // null: not copyable (save refuses)
-        void (*restore)(void* into, const void* saved) = nullptr;
-    };
     std::unordered_map<std::type_index, ResourceSlot> resources_;
     CommandBuffer commands_;
     int iteration_depth_ = 0;

@@ -62,9 +62,13 @@ public:
     // A copy of this storage, entities and components (a saved registry's); null when the component
     // cannot be copied.
     [[nodiscard]] virtual std::unique_ptr<SparseSet> clone() const = 0;
-    // Becomes a copy of `other`, a storage of the same component (restoring a saved registry): the
-    // storage object stays where it is.
-    virtual void assign(const SparseSet& other) = 0;
+    // Exchanges contents with `other`, a storage of the same component (restoring a saved registry:
+    // the storage object stays where it is, and nothing can fail half-way).
+    void swap_contents(SparseSet& other) noexcept {
+        sparse_.swap(other.sparse_);
+        dense_.swap(other.dense_);
+        swap_payload(other);
+    }
 
 protected:
     std::uint32_t insert_index(Entity e) {
@@ -76,6 +80,7 @@ protected:
     }
     virtual void swap_and_pop_payload(std::uint32_t pos) = 0;
     virtual void clear_payload() = 0;
+    virtual void swap_payload(SparseSet& other) noexcept = 0;
 
 private:
     std::vector<std::uint32_t> sparse_;
@@ -112,9 +117,6 @@ public:
         if constexpr (std::is_copy_constructible_v<T> && std::is_copy_assignable_v<T>) return std::make_unique<Storage>(*this);
         else return nullptr;
     }
-    void assign(const SparseSet& other) override {
-        if constexpr (std::is_copy_assignable_v<T>) *this = static_cast<const Storage&>(other);
-    }
 
 private:
     void swap_and_pop_payload(std::uint32_t pos) override {
@@ -122,6 +124,7 @@ private:
         payload_.pop_back();
     }
     void clear_payload() override { payload_.clear(); }
+    void swap_payload(SparseSet& other) noexcept override { payload_.swap(static_cast<Storage&>(other).payload_); }
 
     std::vector<T> payload_;
 };
@@ -145,11 +148,11 @@ public:
     void hash_component(StateHasher& hasher, Entity) const override { hasher.scalar(std::uint8_t{1}); }
     [[nodiscard]] std::string_view component_name() const noexcept override { return type_name<T>(); }
     [[nodiscard]] std::unique_ptr<SparseSet> clone() const override { return std::make_unique<Storage>(*this); }
-    void assign(const SparseSet& other) override { *this = static_cast<const Storage&>(other); }
 
 private:
     void swap_and_pop_payload(std::uint32_t) override {}
     void clear_payload() override {}
+    void swap_payload(SparseSet&) noexcept override {}
     static inline T instance_{};
 };
 

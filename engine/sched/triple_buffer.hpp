@@ -30,13 +30,18 @@ public:
     }
     [[nodiscard]] const T& read_buffer() const noexcept { return slots_[front_]; }
 
-    // Becomes a copy of `other`, its three snapshots and which is whose (a replay's saved moment).
-    // Only while neither side runs: the one thread that drives a deterministic clock.
-    void copy_from(const TripleBuffer& other) {
-        slots_ = other.slots_;
-        back_ = other.back_;
-        front_ = other.front_;
-        middle_.store(other.middle_.load(std::memory_order_relaxed), std::memory_order_relaxed);
+    // Its three snapshots and which is whose, copied aside (a replay's saved moment), and taken in
+    // (which cannot fail). Only while neither side runs: the one thread that drives a deterministic clock.
+    struct Copy {
+        std::array<T, 3> slots;
+        std::uint8_t back = 0, front = 1, middle = 2;
+    };
+    [[nodiscard]] Copy copy() const { return Copy{slots_, back_, front_, middle_.load(std::memory_order_relaxed)}; }
+    void take(Copy&& c) noexcept {
+        slots_.swap(c.slots);
+        back_ = c.back;
+        front_ = c.front;
+        middle_.store(c.middle, std::memory_order_relaxed);
     }
 
 private:

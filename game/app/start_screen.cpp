@@ -150,7 +150,7 @@ void trend(const std::vector<const SessionRecord*>& sessions, float width) {
         const float sw = ImGui::CalcTextSize(tp.score.c_str()).x;
         draw->AddText(ImVec2(p.x - 0.5f * sw, p.y - label_h - 2.0f), ImGui::GetColorU32(ImGuiCol_Text), tp.score.c_str());
         const float dw = ImGui::CalcTextSize(tp.day.c_str()).x;
-        draw->AddText(ImVec2(std::clamp(p.x - 0.5f * dw, axis, right + 16.0f - dw), bottom + 3.0f), text, tp.day.c_str());
+        draw->AddText(ImVec2(std::max(axis, std::min(p.x - 0.5f * dw, right + 16.0f - dw)), bottom + 3.0f), text, tp.day.c_str());
     }
     if (hovered) {
         ImGui::BeginTooltip();

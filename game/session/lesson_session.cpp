@@ -302,7 +302,8 @@ struct PlaybackSnapshot {
     std::string recording; // session.json's path: a snapshot goes back only into its own recording
     ecs::SavedRegistry sim, main;
     sched::DeterministicClock::Moment moment;
-    sched::TripleBuffer<components::FrameSnapshot> frames;
+    sched::TripleBuffer<components::FrameSnapshot>::Copy frames;
+    bool received = false; // the main lane had received a frame (ReceivedFrames::current was set)
     double yaw_rad = 0.0, logged_yaw_rad = 0.0;
     std::size_t next_command = 0;
 };
@@ -322,7 +323,9 @@ Result<std::shared_ptr<const PlaybackSnapshot>> SessionPlayback::snapshot() cons
     s->sim = std::move(sim).value();
     s->main = std::move(main).value();
     s->moment = clock_->moment();
-    s->frames.copy_from(world_->channel.buffer);
+    s->frames = world_->channel.buffer.copy();
+    const auto* received = world_->main.resource<const systems::ReceivedFrames>();
+    s->received = received && received->current;
     s->yaw_rad = world_->view.yaw_rad.load();
     s->logged_yaw_rad = world_->view.logged_yaw_rad;
     s->next_command = next_;
@@ -332,13 +335,20 @@ Result<std::shared_ptr<const PlaybackSnapshot>> SessionPlayback::snapshot() cons
 Result<void> SessionPlayback::restore(const PlaybackSnapshot& s) {
     if (s.recording != session_file_.string())
         return make_error(ErrorCode::invalid_argument, session_file_.string() + ": a moment of another recording (" + s.recording + ")");
-    if (!clock_->resume_from(s.moment)) return make_error(ErrorCode::invalid_argument, session_file_.string() + ": a moment of another schedule");
-    world_->sim.restore(s.sim);
-    world_->main.restore(s.main);
-    world_->channel.buffer.copy_from(s.frames);
+    if (s.moment.firings.size() != world_->schedule.systems().size())
+        return make_error(ErrorCode::invalid_argument, session_file_.string() + ": a moment of another schedule");
+    // Every copy first (an allocation that fails changes nothing), then put in all at once.
+    auto sim = world_->sim.stage_restore(s.sim);
+    auto main = world_->main.stage_restore(s.main);
+    auto frames = s.frames;
+    world_->sim.commit_restore(std::move(sim));
+    world_->main.commit_restore(std::move(main));
+    world_->channel.buffer.take(std::move(frames));
+    (void)clock_->resume_from(s.moment);
     // The writer's note of which flower's parts each slot holds was about the slots it wrote itself.
-    world_->channel.writer = {};
-    if (auto* received = world_->main.resource<systems::ReceivedFrames>(); received && received->current) received->current = &world_->channel.buffer.read_buffer();
+    world_->channel.writer.slots.clear();
+    world_->channel.writer.parts_in_slot.clear();
+    if (auto* received = world_->main.resource<systems::ReceivedFrames>()) received->current = s.received ? &world_->channel.buffer.read_buffer() : nullptr;
     world_->view.yaw_rad.store(s.yaw_rad);
     world_->view.logged_yaw_rad = s.logged_yaw_rad;
     systems::TraineeCommand waiting;

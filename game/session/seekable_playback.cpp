@@ -7,11 +7,6 @@
 
 namespace ikebana::game {
 
-namespace {
-// The reader looks for insertions between pieces this long (as `session_timeline` does).
-constexpr std::int64_t read_piece_us = 100'000;
-} // namespace
-
 Result<std::unique_ptr<SeekablePlayback>> SeekablePlayback::open(const std::filesystem::path& folder, std::size_t max_moments) {
     auto s = std::unique_ptr<SeekablePlayback>(new SeekablePlayback());
     s->max_moments_ = std::max<std::size_t>(2, max_moments);

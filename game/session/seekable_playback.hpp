@@ -23,8 +23,12 @@ public:
     // playing at most to reach any point from the moment before it. At 0.7 MB a moment (Sogetsu's
     // scene), a 10-minute session keeps about 80 MB.
     static constexpr std::int64_t moment_every_us = 5'000'000;
-    // Past `max_moments`, every other one is dropped (and moments are kept twice as far apart): a
-    // long session costs at most this many moments' memory.
+    // The reader looks for insertions (and may keep a moment) after each piece this long (as
+    // `session_timeline` does): moments lie between the spacing and the spacing and a piece apart, and
+    // a jump plays at most that.
+    static constexpr std::int64_t read_piece_us = 100'000;
+    // Past `max_moments`, every other one is dropped (and moments are kept twice as far apart, give or
+    // take the pieces they were kept at): a long session costs at most this many moments' memory.
     static constexpr std::size_t default_max_moments = 240;
 
     static Result<std::unique_ptr<SeekablePlayback>> open(const std::filesystem::path& folder, std::size_t max_moments = default_max_moments);

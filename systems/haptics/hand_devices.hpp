@@ -57,7 +57,7 @@ private:
 
 // A restored sim registry keeps the devices, recorders and watchdogs attached to it (ecs::Registry::
 // restore): a replay's saved moment may come from another playback of the same recording.
-inline void restore_resource(HandDevices&, const HandDevices&) noexcept {}
+inline void restore_resource(HandDevices&, HandDevices&&) noexcept {}
 
 // What each hand's device link is doing and how many force writes failed, for the HUD and the figures
 // (a sim-lane resource). Written by hand_input and the force systems. Not simulation state, so kept

@@ -46,10 +46,10 @@ struct ReceivedFrames {
 // Restored (ecs::Registry::restore), the counts and the hands as they were; `current` stays in this
 // world's own channel and `announce` stays this app's. Whoever restores the channel points `current`
 // at its read buffer again.
-inline void restore_resource(ReceivedFrames& into, const ReceivedFrames& saved) {
+inline void restore_resource(ReceivedFrames& into, ReceivedFrames&& saved) noexcept {
     into.frames = saved.frames;
     into.fresh = saved.fresh;
-    for (int h = 0; h < 2; ++h) into.previous_hands[h] = saved.previous_hands[h];
+    for (int h = 0; h < 2; ++h) into.previous_hands[h] = std::move(saved.previous_hands[h]);
 }
 
 } // namespace ikebana::systems

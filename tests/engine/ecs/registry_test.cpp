@@ -139,6 +139,9 @@ namespace {
 struct Counter {
     int ticks = 0;
 };
+struct Scratch { // what a system makes at its first firing
+    int made = 1;
+};
 struct Unmovable {
     Unmovable() = default;
     Unmovable(const Unmovable&) = delete;
@@ -147,7 +150,8 @@ struct Unmovable {
 } // namespace
 
 // A replay's snapshot: entities, components and resources go back to what was saved, in the registry
-// saved or in another built the same way; a port keeps the target of the registry it is in.
+// saved or in another built the same way (a resource made since goes; one it lacks is made); a port
+// keeps the target of the registry it is in.
 TEST(Registry, ASavedRegistryComesBackAsItWasAndAPortKeepsItsOwnTarget) {
     int here = 0, there = 0;
     Registry r;
@@ -168,8 +172,10 @@ TEST(Registry, ASavedRegistryComesBackAsItWasAndAPortKeepsItsOwnTarget) {
     r.destroy(b);
     const Entity c = r.create();
     r.emplace<Velocity>(c, glm::dvec3{5, 5, 5});
+    r.set_resource<Scratch>();
     ASSERT_NE(r.state_hash(), hash);
     r.restore(*saved);
+    EXPECT_EQ(r.resource<Scratch>(), nullptr) << "made after the save, it goes";
     EXPECT_EQ(r.state_hash(), hash);
     EXPECT_EQ(r.get<Position>(a).value.x, 1.0);
     EXPECT_TRUE(r.all_of<Frozen>(a));
@@ -181,9 +187,9 @@ TEST(Registry, ASavedRegistryComesBackAsItWasAndAPortKeepsItsOwnTarget) {
 
     // Into another registry built the same way: its own port stays its own.
     Registry other;
-    other.set_resource<Counter>();
     other.set_resource<Port<int>>(there);
     other.restore(*saved);
+    ASSERT_NE(other.resource<Counter>(), nullptr) << "a saved resource it lacked is made";
     EXPECT_EQ(other.state_hash(), hash);
     EXPECT_EQ(other.resource<Counter>()->ticks, 3);
     EXPECT_EQ(&other.resource<Port<int>>()->use(), &there);
