@@ -335,7 +335,8 @@ public:
             staged.values.push_back(r.copy(r.value.get()));
             if (!resources_.count(r.type)) staged.missing.emplace(r.type, ResourceSlot{staged.values.back(), r.name, r.copy, r.restore});
         }
-        for (const auto& [type, slot] : resources_) {
+        for (const auto& entry : resources_) { // (not a structured binding: clang 14 cannot capture one in a lambda)
+            const std::type_index type = entry.first;
             if (std::none_of(saved.resources_.begin(), saved.resources_.end(), [&](const auto& r) { return r.type == type; })) staged.extra.push_back(type);
         }
         if (pools_.size() < staged.pools.size()) pools_.resize(staged.pools.size());

@@ -15,7 +15,6 @@
 namespace ikebana::game {
 namespace {
 
-constexpr double deg = 3.14159265358979323846 / 180.0;
 
 // The role's colour (game/lesson/role_colours.hpp), as the HUD, the rods and the history draw it.
 ImU32 role_colour_u32(std::size_t role) {
