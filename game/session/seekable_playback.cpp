@@ -53,6 +53,17 @@ void SeekablePlayback::take_score(SessionPlayback& p) {
     if (auto s = p.score(**frame); s) replayed_score_ = std::move(s).value();
 }
 
+// Either playback, on to `to` (stopping short at the scored moment, to score there), keeping a moment
+// at the end if one is due; the simulated time it ran.
+std::int64_t SeekablePlayback::play_piece(SessionPlayback& p, std::int64_t to) {
+    const std::int64_t from = p.now_us(), scored = p.info().scored_us;
+    if (from < scored && scored < to) to = scored;
+    p.run_until(to);
+    take_score(p);
+    keep_moment(p);
+    return to - from;
+}
+
 void SeekablePlayback::step(std::int64_t budget_us) {
     std::int64_t left = budget_us;
     const std::int64_t now = shown_->now_us();
@@ -65,17 +76,12 @@ void SeekablePlayback::step(std::int64_t budget_us) {
             if (target_us_ < now || m.at_us > now) (void)shown_->restore(*m.snapshot);
         }
     }
-    const std::int64_t scored = shown_->info().scored_us;
     while (left > 0 && shown_->now_us() < target_us_) {
         const std::int64_t from = shown_->now_us();
-        // To the next moment's place (or the scored moment), to keep one there on the way.
-        std::int64_t to = std::min({target_us_, from + left, (from / spacing_us_ + 1) * spacing_us_});
-        if (from < scored && scored < to) to = scored;
-        shown_->run_until(to);
-        shown_simulated_us_ += to - from;
-        left -= to - from;
-        take_score(*shown_);
-        keep_moment(*shown_);
+        // To the next moment's place, to keep one there on the way.
+        const std::int64_t ran = play_piece(*shown_, std::min({target_us_, from + left, (from / spacing_us_ + 1) * spacing_us_}));
+        shown_simulated_us_ += ran;
+        left -= ran;
     }
     if (left > 0) read_ahead(left);
 }
@@ -84,16 +90,10 @@ void SeekablePlayback::read_ahead(std::int64_t budget_us) {
     if (!reader_) return;
     const std::int64_t end = end_us();
     const std::int64_t until = std::min(end, reader_->now_us() + budget_us);
-    const std::int64_t scored = reader_->info().scored_us;
     std::vector<TimelineMark> seen;
     while (reader_->now_us() < until) {
-        const std::int64_t from = reader_->now_us();
-        std::int64_t to = std::min(until, from + read_piece_us);
-        if (from < scored && scored < to) to = scored;
-        reader_->run_until(to);
+        play_piece(*reader_, std::min(until, reader_->now_us() + read_piece_us));
         insertions_.watch(reader_->world().main.resource<const systems::ReceivedFrames>()->latest(), seen);
-        take_score(*reader_);
-        keep_moment(*reader_);
     }
     for (auto& m : seen) {
         const auto at = std::upper_bound(marks_.begin(), marks_.end(), m.at_us, [](std::int64_t t, const TimelineMark& k) { return t < k.at_us; });

@@ -62,6 +62,7 @@ private:
     void keep_moment(const SessionPlayback& playback);
     void read_ahead(std::int64_t budget_us);
     void take_score(SessionPlayback& playback);
+    std::int64_t play_piece(SessionPlayback& playback, std::int64_t to_us);
 
     std::unique_ptr<SessionPlayback> shown_;
     std::unique_ptr<SessionPlayback> reader_; // null once it has read to the end
