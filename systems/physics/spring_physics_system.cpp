@@ -32,6 +32,13 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
             stems_.push_back({&points, &rest, &springs, clamp, frame, &loads, parts, held, true});
         });
     if (scratches_.size() < stems_.size()) scratches_.resize(stems_.size());
+    // Where each lies across a container's rim, from where it is at the tick's start.
+    if (supports_.size() < stems_.size()) supports_.resize(stems_.size());
+    const auto* container = registry.single<const components::Container>();
+    for (std::size_t k = 0; k < stems_.size(); ++k) {
+        supports_[k].clear();
+        if (container) rim_supports(*container, stems_[k].points->position_m, 0.5 * stems_[k].rest->diameter_m, supports_[k]);
+    }
     // The tick in rounds, one a part (tick_parts: one at the paper's rate); a round's stems are solved four
     // to a register (step_stems: each stem's results are what stepping it alone gives, whatever shares it).
     order_.resize(stems_.size());
@@ -51,7 +58,7 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
             if (stem.parts <= round || !stem.finite) continue;
             auto& scratch = scratches_[k];
             scratch.want_end_force = stem.held && round + 1 == stem.parts; // only a held stem's last part is felt
-            batch_.push_back({stem.points, stem.rest, stem.springs, stem.clamp, &scratch, ctx.dt_s / static_cast<double>(stem.parts), stem.frame});
+            batch_.push_back({stem.points, stem.rest, stem.springs, stem.clamp, &scratch, ctx.dt_s / static_cast<double>(stem.parts), stem.frame, supports_[k]});
             batch_stem_.push_back(k);
         }
         batch_ok_.assign(batch_.size(), 0);
@@ -99,6 +106,12 @@ glm::dvec3 ground_wall(const void* context, glm::dvec3 x, double radius_m) {
     return g->container ? wall_push_m(*g->container, x, radius_m) : glm::dvec3{0.0};
 }
 
+void ground_rim(const void* context, const std::vector<glm::dvec3>& x, double radius_m, std::vector<physics::SegmentSupport>& out) {
+    const auto* g = static_cast<const Ground*>(context);
+    out.clear();
+    if (g->container) rim_supports(*g->container, x, radius_m, out);
+}
+
 } // namespace
 
 void SpringPhysicsSystem::step_trees(sched::SystemContext& ctx, glm::dvec3 gravity) {
@@ -109,6 +122,7 @@ void SpringPhysicsSystem::step_trees(sched::SystemContext& ctx, glm::dvec3 gravi
     physics::TreeSupport support;
     support.floor_m = ground.table || ground.container || ground.kenzan ? &ground_floor : nullptr;
     support.wall_push_m = ground.container ? &ground_wall : nullptr;
+    support.rim_m = ground.container ? &ground_rim : nullptr;
     support.context = &ground;
     support.gravity_m_s2 = std::abs(gravity.z) > 0.0 ? std::abs(gravity.z) : support.gravity_m_s2;
     if (ground.table) support.friction = ground.table->friction;

@@ -44,6 +44,7 @@ private:
     // the one at its place in the view.
     std::vector<Stem> stems_;
     std::vector<physics::StemSolverScratch> scratches_;
+    std::vector<std::vector<physics::SegmentSupport>> supports_; // what each lies across this tick (a rim)
     std::vector<std::size_t> order_;
     std::vector<physics::StemStep> batch_;
     std::vector<std::size_t> batch_stem_;

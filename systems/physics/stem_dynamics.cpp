@@ -336,7 +336,8 @@ struct SystemAt {
 };
 
 void assemble_step(const StemPoints& points, const StemRestShape& rest, const StemSprings& springs, const StemClamp* clamp,
-                   const StemFrame* frame, glm::dvec3 gravity, double dt, StemSolverScratch& scratch, const SystemAt& a) {
+                   const StemFrame* frame, glm::dvec3 gravity, double dt, StemSolverScratch& scratch, const SystemAt& a,
+                   std::span<const SegmentSupport> supports) {
     const auto& v = points.velocity_m_s;
     const std::size_t count = points.position_m.size();
     const std::size_t n = 3 * count;
@@ -430,6 +431,22 @@ void assemble_step(const StemPoints& points, const StemRestShape& rest, const St
     for (std::size_t p = 0; p < count; ++p) {
         const glm::dvec3 momentum = points.mass_kg[p] * v[p] + dt * f[p];
         for (std::size_t r = 0; r < 3; ++r) a.b(3 * p + r) = momentum[static_cast<glm::length_t>(r)];
+    }
+    // What it lies across: the spring k on the supported point's height g below top (g > 0), with damping
+    // c, implicit: (h^2 k + h c) w w^T on the two ends' z (w = (1 - t, t)) and h k g w on their right-hand
+    // side. Row 3p + 2 holds p's z on its diagonal (entry `bandwidth`) and p-1's z three columns left.
+    for (const SegmentSupport& support : supports) {
+        const std::size_t lower = support.segment;
+        if (lower + 1 >= count) continue;
+        const double wa = 1.0 - support.t, wb = support.t;
+        const double below = std::min(support.top_m - (wa * points.position_m[lower].z + wb * points.position_m[lower + 1].z), segment_support_exit_m_s * dt);
+        if (below <= 0.0) continue;
+        const double s = dt * dt * segment_support_n_per_m + dt * segment_support_n_s_per_m;
+        a.row(3 * lower + 2)[bandwidth * a.lanes] += s * wa * wa;
+        a.row(3 * lower + 5)[bandwidth * a.lanes] += s * wb * wb;
+        a.row(3 * lower + 5)[(bandwidth - 3) * a.lanes] += s * wa * wb;
+        a.b(3 * lower + 2) += dt * segment_support_n_per_m * below * wa;
+        a.b(3 * lower + 5) += dt * segment_support_n_per_m * below * wb;
     }
     // A fixed point keeps v' = 0 in the solve; a held one moving with the hand (the grab sets its
     // velocity) still drags its neighbours: its column's A v goes to the right-hand side first
@@ -587,12 +604,12 @@ void ldlt_solve_lanes(double* a, double* b, double* inverse, std::size_t n, bool
 } // namespace
 
 bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings& springs, const StemClamp* clamp,
-               glm::dvec3 gravity, double dt, StemSolverScratch& scratch, const StemFrame* frame) {
+               glm::dvec3 gravity, double dt, StemSolverScratch& scratch, const StemFrame* frame, std::span<const SegmentSupport> supports) {
     const std::size_t n = 3 * points.position_m.size();
     size_band(scratch.band, n);
     size_vector(scratch.rhs, n, 0.0);
     const SystemAt own{scratch.band.data(), scratch.rhs.data(), 1};
-    assemble_step(points, rest, springs, clamp, frame, gravity, dt, scratch, own);
+    assemble_step(points, rest, springs, clamp, frame, gravity, dt, scratch, own, supports);
     if (!ldlt_solve(Band{scratch.band.data(), n}, scratch.rhs.data() + pad, scratch.inverse_diagonal)) return false;
     return finish_step(points, clamp, dt, scratch, own);
 }
@@ -602,7 +619,7 @@ void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, LaneScratch
         const std::size_t group = std::min(lanes, stems.size() - first);
         if (group == 1) { // nothing to share a register with
             const auto& s = stems[first];
-            ok[first] = step_stem(*s.points, *s.rest, *s.springs, s.clamp, gravity, s.dt_s, *s.scratch, s.frame) ? 1 : 0;
+            ok[first] = step_stem(*s.points, *s.rest, *s.springs, s.clamp, gravity, s.dt_s, *s.scratch, s.frame, s.supports) ? 1 : 0;
             continue;
         }
         std::size_t n = 0;
@@ -634,7 +651,7 @@ void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, LaneScratch
         }
         for (std::size_t l = 0; l < group; ++l) {
             const auto& s = stems[first + l];
-            assemble_step(*s.points, *s.rest, *s.springs, s.clamp, s.frame, gravity, s.dt_s, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes});
+            assemble_step(*s.points, *s.rest, *s.springs, s.clamp, s.frame, gravity, s.dt_s, *s.scratch, SystemAt{a.data() + l, b.data() + l, lanes}, s.supports);
         }
         bool lane_ok[lanes] = {true, true, true, true};
         ldlt_solve_lanes(a.data(), b.data(), inverse.data(), n, lane_ok);

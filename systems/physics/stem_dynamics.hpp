@@ -84,11 +84,28 @@ inline constexpr double max_part_s = 1e-3;
 inline constexpr std::size_t max_substeps = 8;
 [[nodiscard]] std::size_t tick_parts(double dt);
 
+// A segment lying across something that holds it up (a container's rim): the height of the point on it,
+// (1 - t) z_a + t z_b of its ends a = segment and b = segment + 1, is kept at least top_m by a stiff
+// damped spring taken into the implicit solve, as a tree's floors are (stem_tree.hpp: TreeSupport). Put
+// back by a position correction after the step instead, the two ends fought the segment's axial spring
+// (1.2 MN/m for a chrysanthemum): a stem let go across a suiban's rim gained joules and tore out.
+struct SegmentSupport {
+    std::uint32_t segment; // its lower point's index
+    double t;              // where along it the support is, 0 at its lower point
+    double top_m;          // the lowest that point may be
+};
+inline constexpr double segment_support_n_per_m = 2.0e4;   // a 20 g flower on a rim sinks 10 um
+inline constexpr double segment_support_n_s_per_m = 2.0;
+// A stem found far below its support (carried through a wall by a hand) is raised over ticks, at most
+// about this fast: the spring would fling it out in one (a branch laid 40 mm under a rim flew 25 cm).
+inline constexpr double segment_support_exit_m_s = 0.1;
+
 // Advances one stem by dt. Pinned points and a clamped P0 stay where they are. Returns false (and
 // leaves the stem at rest where it was) if the step produced a non-finite value.
 bool step_stem(components::StemPoints& points, const components::StemRestShape& rest,
                const components::StemSprings& springs, const components::StemClamp* clamp, glm::dvec3 gravity,
-               double dt, StemSolverScratch& scratch, const components::StemFrame* frame = nullptr);
+               double dt, StemSolverScratch& scratch, const components::StemFrame* frame = nullptr,
+               std::span<const SegmentSupport> supports = {});
 
 // One stem for step_stems: its parts, its own working memory, and its step (stems of different steps
 // share the lanes: a stiff stem's first part is solved beside the others' whole tick).
@@ -100,6 +117,7 @@ struct StemStep {
     StemSolverScratch* scratch;
     double dt_s;
     const components::StemFrame* frame = nullptr; // the rest bends' directions (may be null)
+    std::span<const SegmentSupport> supports{};   // what it lies across (a rim)
 };
 
 // The solves of four stems side by side (see step_stems), kept per group of four from call to call:

@@ -183,6 +183,7 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
     s.fixed.assign(n, 0);
     s.resting.assign(n, 0);
     s.wall_normal.assign(n, glm::dvec3{0.0});
+    s.on_rim.assign(n, 0);
     s.fixed_velocity.assign(n, glm::dvec3{0.0});
     s.force.resize(chains.size());
     s.segments.resize(chains.size());
@@ -267,6 +268,31 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
     }
     // What it rests on: a point below its floor (the shared point once, as its parent's) is pushed up by
     // a stiff damped spring, implicit: h^2 k + h c on its vertical diagonal, h k (floor - z) its impulse.
+    // What it lies across (a rim): the spring on the supported point's height, on both ends' z and
+    // their coupling (stem_dynamics' assemble_step; b's parent in the numbering is a).
+    if (support && support->rim_m) {
+        const double w = dt * dt * support->stiffness_n_per_m + dt * support->damping_n_s_per_m;
+        for (std::size_t c = 0; c < chains.size(); ++c) {
+            const auto& x = chains[c].points->position_m;
+            support->rim_m(support->context, x, 0.5 * chains[c].rest->diameter_m, s.rim);
+            for (const SegmentSupport& on : s.rim) {
+                if (on.segment + 1 >= x.size()) continue;
+                const std::uint32_t a = s.node_of[c][on.segment], b = s.node_of[c][on.segment + 1];
+                if (s.parent_node[b] != static_cast<std::int32_t>(a)) continue;
+                s.on_rim[a] = s.on_rim[b] = 1;
+                const double wa = 1.0 - on.t, wb = on.t;
+                // Raised at most exit_speed a step (the floors' rule below): found deep under the rim, it
+                // would be flung.
+                const double below = std::min(on.top_m - (wa * x[on.segment].z + wb * x[on.segment + 1].z), support->exit_speed_m_s * dt);
+                if (below <= 0.0) continue;
+                s.diagonal[a][5] += w * wa * wa;
+                s.diagonal[b][5] += w * wb * wb;
+                s.to_parent[b][8] += w * wa * wb;
+                s.rhs[a].z += dt * support->stiffness_n_per_m * below * wa;
+                s.rhs[b].z += dt * support->stiffness_n_per_m * below * wb;
+            }
+        }
+    }
     if (support && support->floor_m) {
         for (std::size_t c = 0; c < chains.size(); ++c) {
             const auto& points = *chains[c].points;
@@ -280,7 +306,7 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
                     end_drop = length > 0.0 ? radius * std::sqrt(std::max(0.0, 1.0 - axis.z * axis.z / (length * length))) : radius;
                 }
                 const std::uint32_t q = s.node_of[c][j];
-                if (support->wall_push_m) {
+                if (support->wall_push_m && !s.on_rim[q]) {
                     const glm::dvec3 push = support->wall_push_m(support->context, x, radius);
                     const double depth = glm::length(push);
                     if (depth > 0.0) {

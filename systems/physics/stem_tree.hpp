@@ -40,6 +40,10 @@ struct TreeSupport {
     double (*floor_m)(const void* context, glm::dvec2 xy, double radius_m, double end_drop_m) = nullptr;
     // How far a point must move to leave a wall (a container's), zero if it is in none.
     glm::dvec3 (*wall_push_m)(const void* context, glm::dvec3 x, double radius_m) = nullptr;
+    // Where a chain of this radius crosses a wall below its rim: the segments that lie on the rim
+    // (SegmentSupport; rim_supports in table_support_system.hpp). Their two points are held up there,
+    // not pushed out of the wall one to each side.
+    void (*rim_m)(const void* context, const std::vector<glm::dvec3>& x, double radius_m, std::vector<SegmentSupport>& out) = nullptr;
     const void* context = nullptr;
     double stiffness_n_per_m = 2.0e4; // a 20 g branch on two points sinks 5 um; two hands pressing 20 N, 1 mm
     double damping_n_s_per_m = 2.0;
@@ -68,6 +72,8 @@ struct TreeScratch {
     std::vector<glm::dvec3> held_position; // held points' positions while the end forces are taken a step on
     std::vector<std::uint8_t> resting; // on its floor this step
     std::vector<glm::dvec3> wall_normal; // out of the wall it is in this step (zero: none)
+    std::vector<std::uint8_t> on_rim;     // lying on a rim this step (not pushed out of its wall)
+    std::vector<SegmentSupport> rim;      // one chain's rim crossings, while they are taken in
     std::vector<std::vector<glm::dvec3>> force;        // per chain, at the step's start
     std::vector<std::vector<StemSegment>> segments;    // per chain
     std::vector<std::vector<glm::dvec3>> load;         // per chain: the body's own force on each point (see step_tree)

@@ -63,6 +63,25 @@ glm::dvec2 out_of_wall(const Container& c, glm::dvec3& x, double radius_m) {
 }
 } // namespace
 
+void rim_supports(const Container& c, const std::vector<glm::dvec3>& x, double radius_m, std::vector<physics::SegmentSupport>& out) {
+    out.clear();
+    if (!c.round || x.size() < 2) return;
+    const double mid = c.half_extent_m.x + 0.5 * c.wall_m;
+    const double top = c.rim_z_m + radius_m;
+    for (std::size_t i = 1; i < x.size(); ++i) {
+        // A radius of slack above the top: a segment resting there is on the rim, not in the wall.
+        if (x[i - 1].z >= top + radius_m && x[i].z >= top + radius_m) continue;
+        const double ra = glm::length(glm::dvec2{x[i - 1].x, x[i - 1].y} - c.centre_m);
+        const double rb = glm::length(glm::dvec2{x[i].x, x[i].y} - c.centre_m);
+        if ((ra - mid) * (rb - mid) >= 0.0) continue; // both ends on one side of the wall
+        const double t = (mid - ra) / (rb - ra);
+        const double crossing_z = x[i - 1].z + t * (x[i].z - x[i - 1].z);
+        // Well above the rim it does not touch; below the container's foot it is not in the wall.
+        if (crossing_z >= top + radius_m || crossing_z < c.base_z_m) continue;
+        out.push_back({static_cast<std::uint32_t>(i - 1), t, top});
+    }
+}
+
 glm::dvec3 wall_push_m(const Container& container, glm::dvec3 x, double radius_m) {
     const glm::dvec3 was = x;
     (void)out_of_wall(container, x, radius_m);
@@ -103,13 +122,22 @@ void TableSupportSystem::operator()(sched::SystemContext& ctx) {
         const double radius = 0.5 * rest.diameter_m;
         const auto* clamp = reg.try_get<const StemClamp>(e);
         const bool in_tree = reg.all_of<StemFork>(e) || reg.all_of<Twigs>(e);
+        // A stem that crosses the wall below the rim lies on the rim (the physics step holds it up there):
+        // the points either side are not pushed apart sideways, one in and one out, which stretched the
+        // segment between them across the wall.
+        on_rim_.assign(points.position_m.size(), 0);
+        if (container && !in_tree) {
+            rim_supports(*container, points.position_m, radius, supports_);
+            for (const auto& support : supports_) on_rim_[support.segment] = on_rim_[support.segment + 1] = 1;
+        }
         for (std::size_t i = 0; i < points.position_m.size(); ++i) {
             if (points.position_m[i].z >= highest + radius) continue;
             if (points.pinned[i] != 0 || (i == 0 && clamp && clamp->engaged)) continue;
             auto& x = points.position_m[i];
             auto& v = points.velocity_m_s[i];
             if (!std::isfinite(x.x + x.y + x.z)) continue; // the physics' own guard deals with it
-            if (container && !in_tree) { // a tree's walls are in its solve too
+            const bool resting_on_rim = i < on_rim_.size() && on_rim_[i] != 0;
+            if (container && !in_tree && !resting_on_rim) { // a tree's walls are in its solve too
                 const glm::dvec2 n = out_of_wall(*container, x, radius);
                 const double into = v.x * n.x + v.y * n.y;
                 if (into < 0.0) {

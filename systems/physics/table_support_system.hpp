@@ -12,11 +12,13 @@
 // systems'; the plate under them is here: a stem pushed through the pins stops on it.)
 #include <optional>
 #include <string_view>
+#include <vector>
 
 #include "components/kenzan.hpp"
 #include "components/physics.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/system.hpp"
+#include "systems/physics/stem_dynamics.hpp"
 
 namespace ikebana::systems {
 
@@ -30,10 +32,21 @@ struct TableSupportSystem {
     using writes = sched::Components<components::StemPoints>;
 
     void operator()(sched::SystemContext& ctx);
+
+private:
+    // Kept from tick to tick, not to allocate: the stem in hand's rim crossings and its points on them.
+    std::vector<physics::SegmentSupport> supports_;
+    std::vector<std::uint8_t> on_rim_;
 };
 
 // How far a point of a stem of `radius_m` at `x` must move to be out of the container's wall (zero if
 // it is not in it): to the side it is on.
+// Where a stem crosses a round container's wall below its rim (one point inside the wall's middle, the
+// next outside): the segments that lie on the rim, each held up to a radius above it in the physics
+// step (physics::SegmentSupport). Replaces `out`'s contents.
+void rim_supports(const components::Container& container, const std::vector<glm::dvec3>& x, double radius_m,
+                  std::vector<physics::SegmentSupport>& out);
+
 glm::dvec3 wall_push_m(const components::Container& container, glm::dvec3 x, double radius_m);
 
 // The floor under (x, y) for a point of a stem of `radius_m`: the table, or the container's floor, or

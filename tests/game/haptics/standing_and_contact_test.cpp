@@ -38,6 +38,16 @@ std::unique_ptr<World> make(const SceneDef& scene) { return test::world_of(scene
 const std::vector<glm::dvec3>& points(World& w, std::size_t flower = 0) { return w.sim.get<StemPoints>(w.flowers[flower].entity).position_m; }
 
 double tilt_of(const std::vector<glm::dvec3>& x) { return std::acos(glm::normalize(x.back() - x.front()).z); }
+
+// Sogetsu's: round, 240 mm across, 50 mm deep, 40 mm of water.
+ContainerDef suiban_240() {
+    ContainerDef suiban;
+    suiban.shape = ContainerShape::round;
+    suiban.width_m = suiban.front_to_back_m = 0.24;
+    suiban.depth_m = 0.05;
+    suiban.water_depth_m = 0.04;
+    return suiban;
+}
 } // namespace
 
 TEST(Standing, AStemThatSinksOverIsFellInTheHudAndTheSummaryNeverStands) {
@@ -142,12 +152,7 @@ TEST(Contact, AContainerHoldsAStemOnItsFloorAndInsideItsWall) {
     scene.flowers[0].base_m = {-0.06, -0.05, 0.06}; // in front of the kenzan, not over it
     scene.flowers[0].direction = {1, 0, 0};
     scene.flowers[0].length_m = 0.16; // shorter than the suiban is wide
-    ContainerDef box;
-    box.shape = ContainerShape::round;
-    box.width_m = box.front_to_back_m = 0.24;
-    box.depth_m = 0.05;
-    box.water_depth_m = 0.04;
-    scene.container = box;
+    scene.container = suiban_240();
     scene.kenzan_position_m = {0.05, 0.05, 0.006 + 0.008};
     auto w = make(scene);
     sched::DeterministicClock clock(w->schedule);
@@ -215,6 +220,97 @@ TEST(Standing, AStemPushedInNearlyFlatHasFallenFromTheStart) {
     clock.run_for_us(2'000);
     EXPECT_TRUE(grip.fallen);
     EXPECT_EQ(grip.fall_reason, FallReason::lies_flat) << "never 'stands, holding 1.4x' for a stem lying flat";
+}
+
+TEST(Contact, AStemLetGoAcrossTheWallBelowTheRimLiesOnTheRimAndStands) {
+    // Sogetsu's hikae leans 75 degrees: from a kenzan in a 50 mm suiban its line meets the wall below
+    // the rim. It lies on the rim. (Pushed apart sideways instead, one point in and the next out, the
+    // segment between them was stretched across the wall, the stem gained tens of joules and tore out.)
+    SceneDef scene = test::kenzan_bench();
+    const double tilt = 75.0 * deg;
+    scene.flowers.push_back({"chrysanthemum", Placement::inserted, {0.0, 0.0, 0.010}, {std::sin(tilt), 0.0, std::cos(tilt)}, 0.013});
+    scene.flowers[0].length_m = 0.258;
+    scene.container = suiban_240();
+    scene.kenzan_position_m = {0.0, 0.0, 0.006 + 0.008};
+    auto w = make(scene);
+    const auto& c = *w->sim.single<Container>();
+    const auto& rest = w->sim.get<StemRestShape>(w->flowers[0].entity);
+    const double radius = 0.5 * rest.diameter_m;
+    {
+        const auto& x = points(*w);
+        bool crosses_below_rim = false;
+        for (std::size_t i = 1; i < x.size(); ++i) {
+            const double mid = c.half_extent_m.x + 0.5 * c.wall_m;
+            if ((glm::length(glm::dvec2(x[i - 1]) - c.centre_m) - mid) * (glm::length(glm::dvec2(x[i]) - c.centre_m) - mid) < 0.0)
+                crosses_below_rim = 0.5 * (x[i - 1].z + x[i].z) < c.rim_z_m;
+        }
+        ASSERT_TRUE(crosses_below_rim) << "the scene puts the stem through the wall, as a hand that held it there would";
+    }
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(3'000'000);
+    const auto& grip = w->sim.get<KenzanGrip>(w->flowers[0].entity);
+    EXPECT_FALSE(grip.fallen) << components::fall_words(grip.fall_reason);
+    const auto& x = points(*w);
+    for (std::size_t i = 1; i < x.size(); ++i) {
+        EXPECT_LT(glm::length(x[i] - x[i - 1]), 1.05 * rest.segment_length_m[i - 1]) << "segment " << i << " is not stretched across the wall";
+    }
+    for (const auto& p : x) {
+        const double r = glm::length(glm::dvec2(p) - c.centre_m);
+        const bool in_wall = r > c.half_extent_m.x - radius + 1e-4 && r < c.half_extent_m.x + c.wall_m + radius - 1e-4;
+        EXPECT_FALSE(in_wall && p.z < c.rim_z_m + radius - 1e-3) << "a point at r " << r << " z " << p.z << " is inside the wall";
+    }
+    EXPECT_GT(tilt_of(x) / deg, 65.0) << "the rim holds it up near where it was set, in the form's band";
+    EXPECT_LT(tilt_of(x) / deg, 85.0);
+}
+
+TEST(Contact, ABranchWithTwigsLaidThroughTheWallRisesOntoTheRim) {
+    // A branch with twigs is solved as one body (stem_tree), its rim in the same solve.
+    SceneDef scene = test::kenzan_bench();
+    scene.flowers.push_back({"cherry_branch", Placement::lying, {0.02, 0.0, 0.045}, {1.0, 0.0, 0.0}, 0.0});
+    scene.flowers[0].length_m = 0.2; // from inside the suiban out over its wall, 11 mm below the rim
+    scene.container = suiban_240();
+    scene.container_centre_m = {0.0, 0.0};
+    scene.kenzan_position_m = {-0.06, 0.0, 0.006 + 0.008};
+    auto w = make(scene);
+    ASSERT_TRUE(w->sim.all_of<Twigs>(w->flowers[0].entity)) << "the cherry branch has twigs";
+    const auto& c = *w->sim.single<Container>();
+    const auto& rest = w->sim.get<StemRestShape>(w->flowers[0].entity);
+    const double radius = 0.5 * rest.diameter_m;
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(2'000'000);
+    const auto& x = points(*w);
+    bool over = false;
+    for (std::size_t i = 1; i < x.size(); ++i) {
+        EXPECT_LT(glm::length(x[i] - x[i - 1]), 1.05 * rest.segment_length_m[i - 1]) << "segment " << i;
+        const double mid = c.half_extent_m.x + 0.5 * c.wall_m;
+        const double ra = glm::length(glm::dvec2(x[i - 1]) - c.centre_m), rb = glm::length(glm::dvec2(x[i]) - c.centre_m);
+        if ((ra - mid) * (rb - mid) < 0.0) {
+            over = true;
+            const double t = (mid - ra) / (rb - ra);
+            EXPECT_GT(x[i - 1].z + t * (x[i].z - x[i - 1].z), c.rim_z_m + radius - 0.001) << "it crosses the wall on the rim, not through it";
+        }
+    }
+    EXPECT_TRUE(over) << "it still lies across the wall: from " << x.front().x << "," << x.front().y << "," << x.front().z << " to " << x.back().x << "," << x.back().y << "," << x.back().z;
+}
+
+TEST(Contact, AStemLiesOnTheRimWhereItCrossesTheWallBelowItAndNowhereElse) {
+    const Container c{true, {0.0, 0.0}, {0.12, 0.12}, 0.006, 0.056, 0.006, 0.046, 0.0};
+    const double radius = 0.0035;
+    std::vector<systems::physics::SegmentSupport> on;
+    // From inside the wall's middle (r 0.117) to outside it (0.129), 10 mm below the rim; then on out.
+    systems::rim_supports(c, {{0.05, 0.0, 0.03}, {0.117, 0.0, 0.045}, {0.129, 0.0, 0.047}, {0.2, 0.0, 0.06}}, radius, on);
+    ASSERT_EQ(on.size(), 1u);
+    EXPECT_EQ(on[0].segment, 1u);
+    EXPECT_NEAR(on[0].t, (0.123 - 0.117) / (0.129 - 0.117), 1e-12);
+    EXPECT_DOUBLE_EQ(on[0].top_m, c.rim_z_m + radius);
+    // Over the rim with room to spare, inside it, or out under a rimless side: nothing.
+    systems::rim_supports(c, {{0.117, 0.0, 0.07}, {0.129, 0.0, 0.072}}, radius, on);
+    EXPECT_TRUE(on.empty());
+    systems::rim_supports(c, {{0.05, 0.0, 0.02}, {0.11, 0.0, 0.03}}, radius, on);
+    EXPECT_TRUE(on.empty());
+    // A stem that goes out over the rim and back in lies on it twice.
+    systems::rim_supports(c, {{0.11, 0.0, 0.05}, {0.135, 0.0, 0.05}, {0.11, 0.01, 0.05}}, radius, on);
+    EXPECT_EQ(on.size(), 2u);
 }
 
 TEST(Standing, AFlowerWhoseStemSagsUnderItsHeadHasNotTipped) {
