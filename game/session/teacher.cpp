@@ -9,6 +9,8 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "engine/devices/device_angles.hpp"
+#include "game/world/lesson_scene.hpp"
+#include "game/world/world.hpp"
 
 namespace ikebana::game {
 
@@ -41,8 +43,38 @@ glm::dvec3 nearest_angles(glm::dvec3 angles, glm::dvec3 from) {
 // The device's turn for its angles (systems::device_turn at an unturned camera: z, then y, then x).
 glm::dquat turn_of(glm::dvec3 angles) { return devices::turn_of_angles(angles); }
 
-// From this tilt on, a stem is set at its band's upper edge (see teach).
+// From this tilt on, a stem is set a little higher than its form (see teach).
 constexpr double low_stem_rad = 60.0 * pi / 180.0;
+// How much higher than its form a low stem is set (it sank 1-2 degrees once let go: a 258 mm
+// chrysanthemum held at 60 settled at 62), and how far below the angle at which it would lie on the rim.
+constexpr double low_stem_sink_rad = 3.0 * pi / 180.0;
+constexpr double rim_margin_rad = 1.0 * pi / 180.0;
+
+// The largest tilt at which a straight stem from `bottom` leaning toward `azimuth` passes over the
+// container's wall, a radius and 2 mm above its rim where it crosses the wall's middle; none if it ends
+// before the wall (`reach_m`: its length from the bottom) or the container is a vase (the stems rise
+// from its mouth).
+std::optional<double> rim_tilt_rad(const components::Container& c, glm::dvec3 bottom, double azimuth_rad, double reach_m, double radius_m) {
+    if (c.floor_z_m > c.base_z_m + c.wall_m + 1e-6) return std::nullopt; // a vase
+    const glm::dvec3 way = lesson_direction(0.5 * pi, azimuth_rad);
+    const glm::dvec2 u{way.x, way.y};
+    const glm::dvec2 b = glm::dvec2(bottom) - c.centre_m;
+    double to_wall = 1e9;
+    if (c.round) {
+        const double r = c.half_extent_m.x + 0.5 * c.wall_m;
+        const double along = glm::dot(b, u);
+        to_wall = -along + std::sqrt(std::max(0.0, along * along - (glm::dot(b, b) - r * r)));
+    } else {
+        for (int axis = 0; axis < 2; ++axis) {
+            const double half = c.half_extent_m[axis] + 0.5 * c.wall_m;
+            if (std::abs(u[axis]) > 1e-9) to_wall = std::min(to_wall, (std::copysign(half, u[axis]) - b[axis]) / u[axis]);
+        }
+    }
+    const double rise = c.rim_z_m + radius_m + 0.002 - bottom.z;
+    if (to_wall >= reach_m || rise <= 0.0) return std::nullopt;
+    return std::atan2(to_wall, rise);
+}
+
 // A shoka's stems rise from the water as one line and then part (lessons with one_line_at_water):
 // each is bent first, lying on the table (the bending system's two-hand bend, Eq. 4-5, over its span
 // L), and goes in nearly upright, its part below the bend leaning rise_tilt_rad its way and the stem
@@ -111,6 +143,15 @@ std::size_t first_bent_joint(const std::vector<glm::dvec3>& shape) {
         }
     }
     return first_bent;
+}
+
+// Where a stem's bottom goes for it to enter the pins' tops at `base` (where the form, and the score,
+// put a stem: lesson_scene measures from there), held along `want` with `in_pins` of it in the pins.
+// Set at the base itself, a stem at 70 degrees with 13 mm in the pins entered 36 mm further out, toward
+// the wall.
+glm::dvec2 bottom_for(glm::dvec2 base, glm::dvec3 want, double in_pins) {
+    if (want.z < 0.2) return base;
+    return base - glm::dvec2{want.x, want.y} * (in_pins / want.z);
 }
 
 class Teacher {
@@ -206,7 +247,7 @@ public:
         const Hold hold = hold_of(target, rise, bent_at);
         turn_to_role(flower, role, target, hold);
         const glm::dvec3 kenzan = room_.kenzan_origin_m();
-        carry_over(flower, role, kenzan + glm::dvec3(target.base_m, 0.0), in_pins);
+        carry_over(flower, role, kenzan + glm::dvec3(bottom_for(target.base_m, hold.want, in_pins), 0.0), in_pins);
         push_in(flower, role, kenzan, 0.5 * lying.diameter_m);
         let_go(role, hold.want);
         return stands(flower, role, kenzan);
@@ -629,6 +670,10 @@ void teach(const LessonDef& lesson, const Arrangement& model, Classroom& room, T
     Teacher teacher(room, hand, result, options, model.stems.size() * 6 + 1);
     teacher.wait(0.5); // the materials settle on the table
     const double in_pins = room.pin_height_m();
+    const glm::dvec3 kenzan = room.kenzan_origin_m();
+    // The container, as the lesson's scene puts it (the same in the window as headless).
+    std::optional<components::Container> container;
+    if (const auto scene = scene_for_lesson(lesson); scene && scene->container) container = container_of(*scene);
     std::vector<bool> used(room.flower_count(), false);
     std::vector<SeenFlower> materials;
     for (std::size_t i = 0; i < room.flower_count(); ++i) materials.push_back(room.flower(i));
@@ -646,19 +691,28 @@ void teach(const LessonDef& lesson, const Arrangement& model, Classroom& room, T
             continue;
         }
         used[*pick] = true;
-        // A low stem sinks once let go (its head's weight on a long lever; the hand opens at once and the
-        // stem whips down before it settles): a teacher sets it higher than the form's angle. Measured
-        // with the 258 mm chrysanthemum of Sogetsu's hikae (75 +-10 degrees): held at 75 it sank to
-        // 87-91 and lay flat; at 65, to 68 in one lesson and 87 in the other; at 60, to 63 in both.
+        // A low stem sinks a little once let go (its head's weight on a long lever): a teacher sets it a
+        // little higher than the form's angle, and never lower than the container's rim lets it lie
+        // (held lower, the hand bends it over the rim, and let go it springs up and loosens its pins).
         ArrangementStem aimed = target;
         const auto role = std::find_if(lesson.stems.begin(), lesson.stems.end(), [&](const MainStemDef& m) { return m.role == target.role; });
-        if (role != lesson.stems.end() && role->tilt_rad.target >= low_stem_rad) aimed.tilt_rad = role->tilt_rad.target - 1.5 * role->tilt_rad.tolerance;
+        if (role != lesson.stems.end() && role->tilt_rad.target >= low_stem_rad) aimed.tilt_rad = role->tilt_rad.target - low_stem_sink_rad;
+        const char* why_aimed = "a low stem sinks once let go";
+        if (container && target.path_m.size() != 2) {
+            const glm::dvec3 want = lesson_direction(aimed.tilt_rad, aimed.azimuth_rad);
+            const glm::dvec3 bottom = kenzan + glm::dvec3(bottom_for(target.base_m, want, in_pins), 0.0);
+            const auto lies = rim_tilt_rad(*container, bottom, target.azimuth_rad, target.length_m + in_pins, 0.5 * materials[*pick].diameter_m);
+            if (lies && *lies - rim_margin_rad < aimed.tilt_rad) {
+                aimed.tilt_rad = *lies - rim_margin_rad;
+                why_aimed = "the container's rim is in its way";
+            }
+        }
         const auto held_at = options.tilt_deg.find(target.role);
         if (held_at != options.tilt_deg.end()) aimed.tilt_rad = held_at->second * pi / 180;
         if (aimed.tilt_rad != target.tilt_rad) {
             char why[160];
             std::snprintf(why, sizeof why, "%s: %s: held at %.0f° for the form's %.0f°", target.role.c_str(),
-                          held_at != options.tilt_deg.end() ? "as asked" : "a low stem sinks once let go", aimed.tilt_rad * 180 / pi, target.tilt_rad * 180 / pi);
+                          held_at != options.tilt_deg.end() ? "as asked" : why_aimed, aimed.tilt_rad * 180 / pi, target.tilt_rad * 180 / pi);
             teacher.say(why);
         }
         // A stem that rises straight before it leans (a shoka's stems leave the water as one line) is

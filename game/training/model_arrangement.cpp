@@ -174,15 +174,32 @@ void hide_kenzan(const LessonDef& l, const KenzanFootprint& k, const RuleDef& hi
         s.tilt_rad = 55.0 * 3.14159265358979323846 / 180.0;
         s.azimuth_rad = 0.0;
         // Its head inside the container's wall: in Sogetsu's upright style the kenzan sits at the front,
-        // and an 86 mm jushi leaning forward met the wall at rim height and tore out of its pins.
+        // and a jushi leaning forward over the rim is pushed into the pins with its head on the rim, bent
+        // over it, and tears out when let go. The room is measured along its lean from its base (where it
+        // enters the pins' tops) to the wall less a margin: a round wall curves back toward the kenzan at
+        // its sides (measured straight to the front, the jushi at the left end crossed it).
         if (l.container.shape != ContainerShape::vase) {
             const glm::dvec2 base = a.kenzan_offset_m.value_or(l.kenzan_offset_m) + s.base_m;
             const glm::dvec3 way = lesson_direction(s.tilt_rad, s.azimuth_rad);
-            const double wall = 0.5 * (l.container.shape == ContainerShape::round ? l.container.width_m : l.container.front_to_back_m) - 0.02;
-            // How far forward the base may lean before the head meets the wall (the front, -y).
-            const double room_m = wall + base.y;
             const double reach = std::hypot(way.x, way.y);
-            if (reach > 1e-9 && s.length_m * reach > room_m) s.length_m = std::max(0.05, room_m / reach);
+            constexpr double margin_m = 0.008, shortest_m = 0.03;
+            if (reach > 1e-9) {
+                const glm::dvec2 u = glm::dvec2{way.x, way.y} / reach;
+                double room_m = 0.0;
+                if (l.container.shape == ContainerShape::round) {
+                    const double r = 0.5 * l.container.width_m - margin_m;
+                    const double along = glm::dot(base, u);
+                    room_m = -along + std::sqrt(std::max(0.0, along * along - (glm::dot(base, base) - r * r)));
+                } else {
+                    const glm::dvec2 half{0.5 * l.container.width_m - margin_m, 0.5 * l.container.front_to_back_m - margin_m};
+                    room_m = 1e9;
+                    for (int axis = 0; axis < 2; ++axis) {
+                        if (std::abs(u[axis]) > 1e-9) room_m = std::min(room_m, (std::copysign(half[axis], u[axis]) - base[axis]) / u[axis]);
+                    }
+                }
+                const double fits_m = room_m / reach;
+                if (s.length_m > fits_m) s.length_m = std::max(shortest_m, fits_m);
+            }
         }
         a.stems.push_back(std::move(s));
     }

@@ -317,6 +317,20 @@ ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPla
     return flower;
 }
 
+components::Container container_of(const SceneDef& scene) {
+    if (!scene.container) return {};
+    // On the table: a bottom and a wall 6 mm thick. A vase is filled up to near its mouth (a kubari,
+    // or sand): the kenzan stands there, its pins below the rim.
+    const ContainerDef& box = *scene.container;
+    const double wall = 0.006;
+    const double rim = scene.table_height_m + wall + box.depth_m;
+    const bool vase = box.shape == ContainerShape::vase;
+    const double floor = vase ? rim - 0.03 : scene.table_height_m + wall;
+    return components::Container{box.shape != ContainerShape::rectangular, scene.container_centre_m,
+                                 glm::dvec2{0.5 * box.width_m, 0.5 * box.front_to_back_m}, floor, rim, wall,
+                                 vase ? rim - 0.01 : floor + box.water_depth_m, scene.table_height_m};
+}
+
 Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldOptions& options) {
     std::unique_ptr<World> w(new World());
     // Rates: the paper's defaults, then the scene's, then the command line's.
@@ -391,17 +405,8 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     r.emplace<RandomStream>(world_entity, scene.seed * 0x9e3779b97f4a7c15ull + 1);
 
     if (scene.container) {
-        // On the table: a bottom and a wall 6 mm thick. A vase is filled up to near its mouth (a kubari,
-        // or sand): the kenzan stands there, its pins below the rim.
-        const ContainerDef& box = *scene.container;
-        const double wall = 0.006;
-        const double rim = scene.table_height_m + wall + box.depth_m;
-        const bool vase = box.shape == ContainerShape::vase;
-        const double floor = vase ? rim - 0.03 : scene.table_height_m + wall;
         const ecs::Entity container = r.create();
-        r.emplace<Container>(container, Container{box.shape != ContainerShape::rectangular, scene.container_centre_m,
-                                                  glm::dvec2{0.5 * box.width_m, 0.5 * box.front_to_back_m}, floor, rim, wall,
-                                                  vase ? rim - 0.01 : floor + box.water_depth_m, scene.table_height_m});
+        r.emplace<Container>(container, container_of(scene));
         r.emplace<PassiveCollider>(container);
     }
 

@@ -12,6 +12,7 @@
 
 #include "components/appearance.hpp"
 #include "components/insertion.hpp"
+#include "components/physics.hpp"
 #include "engine/devices/haptic_device.hpp"
 #include "engine/core/result.hpp"
 #include "engine/ecs/registry.hpp"
@@ -23,6 +24,10 @@
 #include "systems/presentation/frame_channel.hpp"
 
 namespace ikebana::game {
+
+// The scene's container as the World puts it on the table (6 mm wall and bottom; a vase filled up to
+// near its mouth), for whoever plans around it before the World exists (the teacher's demonstration).
+[[nodiscard]] components::Container container_of(const SceneDef& scene);
 
 struct WorldOptions {
     std::vector<std::string> rate_overrides; // "name=hz", applied after the scene's own rates

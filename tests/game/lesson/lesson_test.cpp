@@ -552,17 +552,17 @@ TEST(LessonDemo, TheOharaDemoStandsSubjectAndObjectThroughTheHandAndScoresThem) 
 }
 
 namespace {
-// Sogetsu's hikae, a 245 mm chrysanthemum held at 60 degrees, settles at 61-63 for the form's 75 +-10:
-// held steeper (65-70) the pins give way under 58-114 mN m while its weight pulls with 16-18 (issue
-// 41, open). With bands strict it keeps a little of its tilt's points; every other criterion is met.
-void expect_only_hikaes_tilt_short(const FormScore& score, const std::string& why) {
+// Every criterion of every main stem earns all its points. Sogetsu's hikae (a 245 mm chrysanthemum, 75
+// +-10) included: its line from a front-left kenzan meets the suiban's wall 42 mm up, so the teacher
+// holds it at 68, where it passes just over the rim, and it settles at about 70 (issue 41; before the
+// rim held stems up, held at 60 it settled at 62, and held over the rim it tore out).
+void expect_every_criterion_met(const FormScore& score, const std::string& why) {
     for (const auto& c : score.criteria) {
+        EXPECT_DOUBLE_EQ(c.points, c.max_points) << c.stem << " " << c.name << ": " << c.tip << "\n" << why;
         if (c.stem == "hikae" && c.name == "tilt_deg") {
             ASSERT_TRUE(c.measured.has_value()) << why;
-            EXPECT_GE(*c.measured, 58.0) << "it stands low, not flat\n" << why;
-            continue;
+            EXPECT_GE(*c.measured, 65.0) << "within the form's band\n" << why;
         }
-        EXPECT_DOUBLE_EQ(c.points, c.max_points) << c.stem << " " << c.name << ": " << c.tip << "\n" << why;
     }
 }
 } // namespace
@@ -576,9 +576,9 @@ TEST(LessonDemo, TheSogetsuBasicUprightDemoStandsItsStemsAndJushiAndHidesTheKenz
     std::string why;
     for (const auto& line : demo->score.lines()) why += line + "\n";
     EXPECT_EQ(standing, 5u) << "shin (a willow), soe (a cherry branch at 45 degrees), hikae (a chrysanthemum, low) and two jushi\n" << why;
-    expect_only_hikaes_tilt_short(demo->score, why);
+    expect_every_criterion_met(demo->score, why);
     for (const auto& r : demo->score.rules) EXPECT_TRUE(r.ok) << r.tip << "\n" << why;
-    EXPECT_GE(demo->score.score, 85.0) << why;
+    EXPECT_GE(demo->score.score, 99.5) << why;
 }
 
 // What the Ikenobo demonstrations show, whatever works the hands: soe and tai bent (shin not), no stem
@@ -711,7 +711,7 @@ TEST(LessonWithTheMouse, CtrlDragTiltsTheHeldStemUpright) {
 // The Sogetsu lesson through the mouse, as the window reads it: the same MouseKeyboardHands and the
 // same lesson keys (C cuts for the role, Enter scores), in whole pixels and wheel clicks, one motion
 // per reading. Not a device: the hand is wherever the mouse took it.
-TEST(LessonWithTheMouse, TheSogetsuBasicUprightLessonThroughTheMouseMeetsEveryBandButHikaesTilt) {
+TEST(LessonWithTheMouse, TheSogetsuBasicUprightLessonThroughTheMouseMeetsEveryBandAndRuleAsTheDevicesDo) {
     const LessonDef l = lesson("sogetsu_basic_upright");
     DemoOptions options;
     options.through_mouse = true;
@@ -724,8 +724,9 @@ TEST(LessonWithTheMouse, TheSogetsuBasicUprightLessonThroughTheMouseMeetsEveryBa
     EXPECT_EQ(steps.find("missed"), std::string::npos) << steps;
     std::string why;
     for (const auto& line : session->score.lines()) why += line + "\n";
-    expect_only_hikaes_tilt_short(session->score, why);
-    EXPECT_GE(session->score.score, 85.0) << why;
+    expect_every_criterion_met(session->score, why);
+    for (const auto& r : session->score.rules) EXPECT_TRUE(r.ok) << r.tip << "\n" << why;
+    EXPECT_GE(session->score.score, 99.5) << why;
 }
 
 // With a mouse the other hand is Tab away, and the button goes with the mouse as it is: the left hand
@@ -755,7 +756,7 @@ TEST(LessonWithTheMouse, ShinLeftAtFortyFiveLosesPointsOnShinsTiltWithATipNaming
             EXPECT_NE(c.tip.find("shin"), std::string::npos) << c.tip;
             ASSERT_TRUE(c.measured.has_value());
             EXPECT_NEAR(*c.measured, 45.0, 8.0);
-        } else if (c.name == "tilt_deg" && c.stem != "hikae") { // hikae: see expect_only_hikaes_tilt_short
+        } else if (c.name == "tilt_deg") {
             EXPECT_GE(c.points, 0.8 * c.max_points) << c.stem << ": only shin was held wrong; " << c.tip;
         }
     }
@@ -971,12 +972,12 @@ TEST(LessonSession, ADemonstrationOnRecordReplaysToTheSameScoreAndStateHash) {
     EXPECT_EQ(replayed->state_hash, demo->state_hash);
     EXPECT_TRUE(replayed->parted.empty());
     EXPECT_EQ(replayed->kind, "demonstration");
-    // Five cuts, one per role and one per supporting stem (the jushi that hide the kenzan), and the two
-    // prunings that strip hikae's low leaves, on record.
+    // Five cuts, one per role and one per supporting stem (the jushi that hide the kenzan), and the four
+    // prunings that strip hikae's low leaves (at 68 degrees its two lower pairs would be in the water), on record.
     const auto commands = assets::read_text_file(dir / "commands.csv");
     ASSERT_TRUE(commands.ok());
-    EXPECT_EQ(std::count(commands->begin(), commands->end(), '\n'), 7);
-    EXPECT_NE(demo->steps.end(), std::find_if(demo->steps.begin(), demo->steps.end(), [](const auto& s) { return s.what == "hikae: strip the 2 leaves that would stand in the water"; }));
+    EXPECT_EQ(std::count(commands->begin(), commands->end(), '\n'), 9);
+    EXPECT_NE(demo->steps.end(), std::find_if(demo->steps.begin(), demo->steps.end(), [](const auto& s) { return s.what == "hikae: strip the 4 leaves that would stand in the water"; }));
     // The review's timeline: the three cuts at the ticks they were taken, and each role's stem going
     // into the kenzan after its cut.
     const auto parsed = parse_session_commands(*commands, "commands.csv");
