@@ -39,8 +39,10 @@ wait_for() {
 click() {
   wait_for "\"label\":\"$1\""
   local box
-  box=$(grep -o "\"label\":\"$1\",\"max_px\":\[[0-9.]*,[0-9.]*\],\"min_px\":\[[0-9.]*,[0-9.]*\]" "$state" | head -1 | grep -o '[0-9.]\+' | tr '\n' ' ')
+  # The numbers after the label only: a label's own digits ("speed:x8") were read as the box's first.
+  box=$(grep -o "\"label\":\"$1\",\"max_px\":\[[0-9.]*,[0-9.]*\],\"min_px\":\[[0-9.]*,[0-9.]*\]" "$state" | head -1 | sed 's/.*"max_px"://' | grep -o '[0-9.]\+' | tr '\n' ' ')
   read -r x1 y1 x0 y0 <<<"$box"
+  [ -n "$y0" ] || fail "no box for the button $1 in the window's state"
   local x=$(( (${x0%.*} + ${x1%.*}) / 2 )) y=$(( (${y0%.*} + ${y1%.*}) / 2 ))
   xdotool mousemove "$x" "$y"
   sleep 0.3
