@@ -370,6 +370,19 @@ std::string region_words(KenzanRegion r) {
 
 std::string rule_name(RuleKind kind) { return rule_names.at(static_cast<std::size_t>(kind)); }
 
+double distance_to_wall_m(bool round, glm::dvec2 half_extent, glm::dvec2 from, glm::dvec2 way) {
+    if (round) {
+        const double r = half_extent.x;
+        const double along = glm::dot(from, way);
+        return -along + std::sqrt(std::max(0.0, along * along - (glm::dot(from, from) - r * r)));
+    }
+    double to_wall = 1e9;
+    for (int axis = 0; axis < 2; ++axis) {
+        if (std::abs(way[axis]) > 1e-9) to_wall = std::min(to_wall, (std::copysign(half_extent[axis], way[axis]) - from[axis]) / way[axis]);
+    }
+    return to_wall;
+}
+
 glm::dvec3 lesson_direction(double tilt_rad, double azimuth_rad) {
     // The viewer sits at -y looking toward +y: front is -y, the viewer's left is -x.
     return {-std::sin(tilt_rad) * std::sin(azimuth_rad), -std::sin(tilt_rad) * std::cos(azimuth_rad), std::cos(tilt_rad)};

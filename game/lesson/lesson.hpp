@@ -126,5 +126,8 @@ Result<std::vector<LessonDef>> load_shipped_lessons();
 [[nodiscard]] std::string rule_name(RuleKind kind);
 // The unit vector of a stem tilted `tilt_rad` from the vertical toward `azimuth_rad` (lesson convention).
 [[nodiscard]] glm::dvec3 lesson_direction(double tilt_rad, double azimuth_rad);
+// How far from `from` (a point inside a container, from its centre) along the level unit direction `way`
+// a wall is: a round one of radius half_extent.x, or a box's sides at +-half_extent.
+[[nodiscard]] double distance_to_wall_m(bool round, glm::dvec2 half_extent, glm::dvec2 from, glm::dvec2 way);
 
 } // namespace ikebana::game

@@ -59,17 +59,7 @@ std::optional<double> rim_tilt_rad(const components::Container& c, glm::dvec3 bo
     const glm::dvec3 way = lesson_direction(0.5 * pi, azimuth_rad);
     const glm::dvec2 u{way.x, way.y};
     const glm::dvec2 b = glm::dvec2(bottom) - c.centre_m;
-    double to_wall = 1e9;
-    if (c.round) {
-        const double r = c.half_extent_m.x + 0.5 * c.wall_m;
-        const double along = glm::dot(b, u);
-        to_wall = -along + std::sqrt(std::max(0.0, along * along - (glm::dot(b, b) - r * r)));
-    } else {
-        for (int axis = 0; axis < 2; ++axis) {
-            const double half = c.half_extent_m[axis] + 0.5 * c.wall_m;
-            if (std::abs(u[axis]) > 1e-9) to_wall = std::min(to_wall, (std::copysign(half, u[axis]) - b[axis]) / u[axis]);
-        }
-    }
+    const double to_wall = distance_to_wall_m(c.round, c.half_extent_m + glm::dvec2{0.5 * c.wall_m}, b, u);
     const double rise = c.rim_z_m + radius_m + 0.002 - bottom.z;
     if (to_wall >= reach_m || rise <= 0.0) return std::nullopt;
     return std::atan2(to_wall, rise);

@@ -185,18 +185,8 @@ void hide_kenzan(const LessonDef& l, const KenzanFootprint& k, const RuleDef& hi
             constexpr double margin_m = 0.008, shortest_m = 0.03;
             if (reach > 1e-9) {
                 const glm::dvec2 u = glm::dvec2{way.x, way.y} / reach;
-                double room_m = 0.0;
-                if (l.container.shape == ContainerShape::round) {
-                    const double r = 0.5 * l.container.width_m - margin_m;
-                    const double along = glm::dot(base, u);
-                    room_m = -along + std::sqrt(std::max(0.0, along * along - (glm::dot(base, base) - r * r)));
-                } else {
-                    const glm::dvec2 half{0.5 * l.container.width_m - margin_m, 0.5 * l.container.front_to_back_m - margin_m};
-                    room_m = 1e9;
-                    for (int axis = 0; axis < 2; ++axis) {
-                        if (std::abs(u[axis]) > 1e-9) room_m = std::min(room_m, (std::copysign(half[axis], u[axis]) - base[axis]) / u[axis]);
-                    }
-                }
+                const glm::dvec2 inside{0.5 * l.container.width_m - margin_m, 0.5 * l.container.front_to_back_m - margin_m};
+                const double room_m = distance_to_wall_m(l.container.shape == ContainerShape::round, inside, base, u);
                 const double fits_m = room_m / reach;
                 if (s.length_m > fits_m) s.length_m = std::max(shortest_m, fits_m);
             }
