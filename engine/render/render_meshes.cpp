@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "engine/render/builtin_meshes.hpp"
+#include "engine/render/mesh_lod.hpp"
 #include "engine/render/renderer_internal.hpp"
 #include "engine/render/stereo_renderer.hpp"
 
@@ -150,12 +151,9 @@ void StereoRenderer::destroy_mesh(Mesh& m) {
     m.materials = VK_NULL_HANDLE;
 }
 
-Result<StereoRenderer::Mesh> StereoRenderer::upload(const assets::MeshData& data) {
-    Mesh m;
-    auto fail = [&](Error e) {
-        destroy_mesh(m);
-        return e;
-    };
+// A mesh's vertices and indices into buffers of their own (on failure `m` keeps what was made, for
+// its caller to destroy).
+Result<void> StereoRenderer::upload_geometry(const assets::MeshData& data, Mesh& m) {
     std::vector<Vertex> vertices(data.positions.size());
     for (std::size_t i = 0; i < vertices.size(); ++i) {
         vertices[i] = {data.positions[i], i < data.normals.size() ? data.normals[i] : glm::vec3(0, 0, 1),
@@ -166,10 +164,20 @@ Result<StereoRenderer::Mesh> StereoRenderer::upload(const assets::MeshData& data
     m.vertices = *vb;
     if (!vertices.empty()) std::memcpy(m.vertices.mapped, vertices.data(), vertices.size() * sizeof(Vertex));
     auto ib = create_buffer(ctx_, std::max<VkDeviceSize>(1, data.indices.size() * sizeof(std::uint32_t)), VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
-    if (!ib) return fail(std::move(ib).error());
+    if (!ib) return std::move(ib).error();
     m.indices = *ib;
     if (!data.indices.empty()) std::memcpy(m.indices.mapped, data.indices.data(), data.indices.size() * sizeof(std::uint32_t));
     m.index_count = static_cast<std::uint32_t>(data.indices.size());
+    return Ok{};
+}
+
+Result<StereoRenderer::Mesh> StereoRenderer::upload(const assets::MeshData& data) {
+    Mesh m;
+    auto fail = [&](Error e) {
+        destroy_mesh(m);
+        return e;
+    };
+    if (auto geometry = upload_geometry(data, m); !geometry) return fail(std::move(geometry).error());
 
     // Pictures, then a set per material (its base colour and normal pictures, or the defaults').
     for (const auto& picture : data.images) {
@@ -234,6 +242,44 @@ Result<StereoRenderer::Mesh> StereoRenderer::upload(const assets::MeshData& data
     return m;
 }
 
+// A coarse copy's geometry with its fine mesh's parts (the same parts in the same order, as
+// clustered_mesh keeps them): its materials are the fine mesh's, not its own.
+Result<StereoRenderer::Mesh> StereoRenderer::upload_coarse(const assets::MeshData& coarse, const Mesh& fine) {
+    Mesh m;
+    if (auto geometry = upload_geometry(coarse, m); !geometry) {
+        destroy_mesh(m);
+        return std::move(geometry).error();
+    }
+    m.closed = fine.closed;
+    if (coarse.parts.empty() && fine.parts.size() == 1) {
+        m.parts = fine.parts;
+        m.parts[0].first_index = 0;
+        m.parts[0].index_count = m.index_count;
+    } else if (coarse.parts.size() == fine.parts.size()) {
+        m.parts = fine.parts;
+        for (std::size_t i = 0; i < m.parts.size(); ++i) {
+            m.parts[i].first_index = coarse.parts[i].first_index;
+            m.parts[i].index_count = coarse.parts[i].index_count;
+        }
+    } else {
+        destroy_mesh(m);
+        return make_error(ErrorCode::invalid_argument, "a coarse copy of " + coarse.name + " has other parts than its mesh");
+    }
+    return m;
+}
+
+// The mesh `name` (already in meshes_) gets a coarse copy when merging its vertices leaves at most 60 %
+// of its triangles; else, or when the copy cannot be made, it is always drawn as it is.
+void StereoRenderer::add_coarse_copy(const std::string& name, const assets::MeshData& data) {
+    if (options_.coarse_cells < 1) return;
+    const auto coarse = clustered_mesh(data, options_.coarse_cells);
+    if (coarse.indices.empty() || coarse.indices.size() * 5 > data.indices.size() * 3) return;
+    Mesh& fine = meshes_.at(name);
+    auto m = upload_coarse(coarse, fine);
+    if (!m) return;
+    fine.coarse = &(coarse_meshes_[name] = *m);
+}
+
 Result<void> StereoRenderer::prepare_builtin_meshes() {
     if (auto ok = prepare_default_material(); !ok) return ok;
     // A coarse cylinder for the hundreds of thin kenzan pins: vertex work is what lavapipe spends on.
@@ -246,6 +292,9 @@ Result<void> StereoRenderer::prepare_builtin_meshes() {
         meshes_[data.name == "placeholder" || data.name.empty() ? "placeholder" : data.name] = *m;
     }
     if (!meshes_.contains("placeholder")) meshes_["placeholder"] = meshes_.rbegin()->second;
+    // A stem segment is a cylinder stretched along its axis: merging its vertices on a grid would cut
+    // across it, so its coarse copy is the six-sided one.
+    meshes_.at("cylinder").coarse = &meshes_.at("cylinder_coarse");
     return Ok{};
 }
 
@@ -265,8 +314,11 @@ Result<StereoRenderer::Mesh*> StereoRenderer::mesh(const std::string& name) {
         warnings_.push_back("mesh " + name + ": " + m.error().message + "; drawing a placeholder");
         m = upload(assets::placeholder_mesh());
         if (!m) return std::move(m).error();
+        return &(meshes_[name] = *m);
     }
-    return &(meshes_[name] = *m);
+    meshes_[name] = *m;
+    add_coarse_copy(name, *data);
+    return &meshes_.at(name);
 }
 
 std::vector<std::string> StereoRenderer::take_warnings() { return std::exchange(warnings_, {}); }

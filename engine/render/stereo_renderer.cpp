@@ -2,8 +2,10 @@
 // offscreen, present() to a window. The passes are in render_passes.cpp, the pipelines in
 // render_pipelines.cpp, the meshes in render_meshes.cpp.
 #include "engine/render/stereo_renderer.hpp"
+#include "engine/render/mesh_lod.hpp"
 #include "engine/render/screen_layout.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -104,6 +106,7 @@ StereoRenderer::~StereoRenderer() {
     destroy_targets();
     destroy_image(ctx_, shadow_);
     for (auto& [name, m] : meshes_) destroy_mesh(m);
+    for (auto& [name, m] : coarse_meshes_) destroy_mesh(m);
     destroy_image(ctx_, white_texture_);
     destroy_image(ctx_, flat_normal_texture_);
     if (default_material_pool_) vkDestroyDescriptorPool(d, default_material_pool_, nullptr);
@@ -332,12 +335,33 @@ Result<StereoRenderer::Frame*> StereoRenderer::begin_frame(const DrawList& list,
     // Instances of every batch in one buffer, each batch drawn from its offset.
     std::vector<MeshInstance> instances;
     draws_.clear();
+    // Level of detail from the rig's centre: each batch's instances that are large on screen first, with
+    // their mesh, then the small ones with its coarse copy (the shadow map's texels, 0.8 mm, are about
+    // the eyes' pixels at arm's length, so the shadow pass takes the same split).
+    const double focal_px = static_cast<double>(options_.eye_height) / (2.0 * std::tan(0.5 * rig_in.vertical_fov_rad));
     for (const auto& batch : list.batches) {
         if (batch.instances.empty()) continue;
         auto m = mesh(batch.mesh);
         if (!m) return std::move(m).error();
-        draws_.push_back({*m, static_cast<std::uint32_t>(batch.instances.size()), batch.casts_shadow && !batch.translucent, batch.translucent});
+        const bool shadow = batch.casts_shadow && !batch.translucent;
+        const auto start = static_cast<std::ptrdiff_t>(instances.size());
         instances.insert(instances.end(), batch.instances.begin(), batch.instances.end());
+        auto small = instances.end();
+        if ((*m)->coarse && options_.coarse_below_px > 0.0) {
+            small = std::stable_partition(instances.begin() + start, instances.end(), [&](const MeshInstance& i) {
+                return screen_length_px(i.model, rig_in.position_m, focal_px) >= options_.coarse_below_px;
+            });
+        }
+        const auto large_count = static_cast<std::uint32_t>(small - (instances.begin() + start));
+        const auto small_count = static_cast<std::uint32_t>(instances.end() - small);
+        if (large_count > 0) draws_.push_back({*m, large_count, shadow, batch.translucent});
+        if (small_count > 0) draws_.push_back({(*m)->coarse, small_count, shadow, batch.translucent});
+    }
+    eye_triangles_ = shadow_triangles_ = 0;
+    for (const auto& d : draws_) {
+        const std::uint64_t triangles = std::uint64_t{d.mesh->index_count / 3} * d.instances;
+        eye_triangles_ += triangles;
+        if (d.casts_shadow) shadow_triangles_ += triangles;
     }
     const VkDeviceSize needed = std::max<VkDeviceSize>(1, instances.size()) * sizeof(MeshInstance);
     if (frame.instances.size < needed) {
@@ -387,6 +411,8 @@ Result<RenderedFrame> StereoRenderer::render(const DrawList& list, const StereoR
     IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
     RenderedFrame out;
     out.timing.record_ms = ms_since(started);
+    out.timing.eye_triangles = eye_triangles_;
+    out.timing.shadow_triangles = shadow_triangles_;
 
     const auto submitted = std::chrono::steady_clock::now();
     VkCommandBufferSubmitInfo cmd_info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO, nullptr, frame.cmd, 0};
@@ -474,6 +500,8 @@ Result<PresentedFrame> StereoRenderer::present(Swapchain& swapchain, const DrawL
     IKEBANA_VK(vkEndCommandBuffer(frame.cmd));
     IKEBANA_VK(vkResetFences(ctx_.device(), 1, &frame.fence));
     result.timing.record_ms = ms_since(started);
+    result.timing.eye_triangles = eye_triangles_;
+    result.timing.shadow_triangles = shadow_triangles_;
     VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO, nullptr, frame.image_available, 0,
                                VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, 0};
     VkSemaphoreSubmitInfo signal{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO, nullptr, render_finished_[index], 0,

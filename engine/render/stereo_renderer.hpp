@@ -65,6 +65,11 @@ struct RendererOptions {
     // Meshes the program makes rather than reads: asked first for every mesh name, a mesh for the names
     // it knows (a species' petal or leaf drawn without a file), nothing for a file's name. May be empty.
     std::function<std::optional<assets::MeshData>(const std::string&)> generated_mesh;
+    // Level of detail (mesh_lod.hpp): an instance shorter than this on screen is drawn with its mesh's
+    // coarse copy, merged on a grid of `coarse_cells` along the mesh's longest side (about 5 px a cell
+    // at the threshold). 0: every instance as modelled.
+    double coarse_below_px = 40.0;
+    int coarse_cells = 8;
 };
 
 struct FrameTiming {
@@ -77,6 +82,9 @@ struct FrameTiming {
     double scene_ms = 0.0;     // both eyes
     double composite_ms = 0.0; // composite and heads-up display
     double present_ms = 0.0;   // window: acquiring the image and queueing it for presentation (CPU)
+    // Triangles sent to one eye's pass and to the shadow pass, after level of detail: on lavapipe these,
+    // not the pixels, set the passes' time.
+    std::uint64_t eye_triangles = 0, shadow_triangles = 0;
 };
 
 struct PresentedFrame {
@@ -151,6 +159,9 @@ private:
         std::vector<Part> parts;
         std::vector<GpuImage> textures;                 // the mesh's own pictures
         VkDescriptorPool materials = VK_NULL_HANDLE;    // its parts' sets (none: the default material's)
+        // Drawn where an instance is small on screen (RendererOptions::coarse_below_px): its parts
+        // use this mesh's materials. None: always this one.
+        Mesh* coarse = nullptr;
     };
     struct Draw {
         Mesh* mesh;
@@ -209,6 +220,9 @@ private:
     Result<void> prepare_builtin_meshes();
     Result<Mesh*> mesh(const std::string& name);
     Result<Mesh> upload(const assets::MeshData& data);
+    Result<void> upload_geometry(const assets::MeshData& data, Mesh& m);
+    Result<Mesh> upload_coarse(const assets::MeshData& coarse, const Mesh& fine);
+    void add_coarse_copy(const std::string& name, const assets::MeshData& data);
     Result<GpuImage> upload_texture(const assets::DecodedImage& image);
     Result<void> prepare_default_material();
     Result<VkSampler> sampler_for(const assets::TextureSampling& sampling);
@@ -260,7 +274,9 @@ private:
     VkPipeline material_pipeline_ = VK_NULL_HANDLE, per_eye_material_pipeline_ = VK_NULL_HANDLE;
     VkPipeline masked_pipeline_ = VK_NULL_HANDLE, per_eye_masked_pipeline_ = VK_NULL_HANDLE;
     std::map<std::string, Mesh> meshes_;
+    std::map<std::string, Mesh> coarse_meshes_; // by their fine mesh's name; pointed to by Mesh::coarse
     std::vector<Draw> draws_;
+    std::uint64_t eye_triangles_ = 0, shadow_triangles_ = 0; // of the frame begun last
     std::map<VkFormat, VkPipeline> window_composite_;
     std::map<VkFormat, VkPipeline> overlay_pipelines_;
     VkPipelineLayout overlay_layout_ = VK_NULL_HANDLE;

@@ -3,7 +3,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <glm/gtc/constants.hpp>
 
@@ -368,4 +370,74 @@ TEST_F(StereoRendererTest, ABentInstanceIsDrawnCurled) {
     const double edge = 0.3 / glm::pi<double>();
     EXPECT_NEAR(ratio, (edge / (0.5 - edge)) / (0.15 / 0.5), 0.04) << "flat " << width_of(flat) << " px, bent " << width_of(bent) << " px";
     EXPECT_GT(share_of(bent, {1, 0, 0}, 0, 0, 100, 100), 0.05) << "still red at the top left";
+}
+
+namespace {
+
+// A flat disc of radius 0.5 (a polar grid, 8 rings of 32), facing +z: 496 triangles.
+assets::MeshData fine_disc() {
+    assets::MeshData m;
+    m.name = "disc";
+    const int rings = 8, around = 32;
+    for (int i = 0; i <= rings; ++i) {
+        for (int j = 0; j < around; ++j) {
+            const float r = 0.5f * static_cast<float>(i) / rings, a = 6.2831853f * static_cast<float>(j) / around;
+            m.positions.push_back({r * std::cos(a), r * std::sin(a), 0.0f});
+            m.normals.push_back({0, 0, 1});
+        }
+    }
+    const auto at = [](int i, int j) { return static_cast<std::uint32_t>(i * around + (j % around)); };
+    for (int i = 0; i < rings; ++i) {
+        for (int j = 0; j < around; ++j) {
+            if (i > 0) m.indices.insert(m.indices.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+            m.indices.insert(m.indices.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+        }
+    }
+    return m;
+}
+
+// How many pixels are not the background.
+std::size_t covered(const RgbaImage& img) {
+    const glm::vec3 background = DrawList{}.background * 255.0f;
+    std::size_t n = 0;
+    for (std::size_t k = 0; k + 3 < img.pixels.size(); k += 4) {
+        if (glm::distance(glm::vec3(img.pixels[k], img.pixels[k + 1], img.pixels[k + 2]), background) > 20.0f) ++n;
+    }
+    return n;
+}
+
+} // namespace
+
+// Level of detail: discs a few pixels across are drawn from the coarse copy (far fewer triangles) and
+// cover what the modelled mesh covers; one large disc is drawn as modelled.
+TEST_F(StereoRendererTest, SmallInstancesAreDrawnCoarseAndCoverWhatTheMeshCovers) {
+    const auto picture = [](double coarse_below_px, const std::vector<MeshInstance>& instances) {
+        auto options = sized(200, 200);
+        options.mode = StereoMode::mono;
+        options.generated_mesh = [](const std::string& name) { return name == "disc" ? std::optional(fine_disc()) : std::nullopt; };
+        options.coarse_below_px = coarse_below_px;
+        auto renderer = StereoRenderer::create(*shared_context(), options);
+        EXPECT_TRUE(renderer) << renderer.error().message;
+        DrawList list;
+        list.batch("disc").instances = instances;
+        auto frame = (*renderer)->render(list, facing_rig(), false);
+        EXPECT_TRUE(frame) << frame.error().message;
+        return std::move(frame).value();
+    };
+    // 5 x 5 discs 24 mm across at 0.5 m: about 13 px each at this eye's 274 px focal length.
+    std::vector<MeshInstance> small;
+    for (int i = 0; i < 5; ++i) {
+        for (int j = 0; j < 5; ++j) small.push_back(facing_quad(0.024f, {-0.12f + 0.06f * static_cast<float>(i), 0.0f, -0.12f + 0.06f * static_cast<float>(j)}));
+    }
+    const auto modelled = picture(0.0, small), coarse = picture(40.0, small);
+    const std::uint64_t per_disc = fine_disc().indices.size() / 3;
+    EXPECT_EQ(modelled.timing.eye_triangles, 25 * per_disc);
+    EXPECT_LT(coarse.timing.eye_triangles, modelled.timing.eye_triangles / 3) << coarse.timing.eye_triangles << " triangles";
+    EXPECT_EQ(coarse.timing.shadow_triangles, coarse.timing.eye_triangles) << "the shadow pass takes the same copies";
+    const double a = static_cast<double>(covered(modelled.composed)), b = static_cast<double>(covered(coarse.composed));
+    EXPECT_GT(a, 25 * 80.0) << "the discs are drawn";
+    EXPECT_NEAR(b / a, 1.0, 0.12) << a << " px modelled, " << b << " px coarse";
+    // One disc 0.3 m across (164 px): as modelled.
+    const auto large = picture(40.0, {facing_quad(0.3f)});
+    EXPECT_EQ(large.timing.eye_triangles, per_disc);
 }
