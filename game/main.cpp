@@ -40,6 +40,8 @@ int main(int argc, char** argv) {
     app.add_option("--msaa", app_options.msaa, "The app's anti-aliasing, samples a pixel: 1 (none), 2, 4, 8 (0: 4 on a graphics card, none on lavapipe)")
         ->capture_default_str()
         ->check(CLI::IsMember({0u, 1u, 2u, 4u, 8u}));
+    app.add_flag("--full-detail", app_options.full_detail,
+                 "Draw every mesh as modelled, even a petal a few pixels long (by default those get a coarse copy: on lavapipe a frame's cost is its triangles)");
     app.add_option("--width", app_options.width, "The app's window width")->capture_default_str()->check(CLI::Range(64u, 8192u));
     app.add_option("--height", app_options.height, "The app's window height")->capture_default_str()->check(CLI::Range(64u, 8192u));
     app.add_option("--frames", app_options.frames, "Stop the app after this many frames (0: when the window closes)")->capture_default_str();

@@ -305,7 +305,7 @@ int TraineeSession::open() {
         return 2;
     }
     mode_ = *render_mode;
-    auto stack = WindowStack::open(std::move(window).value(), {.width = o_.width, .height = o_.height, .mode = mode_, .validation = o_.validation, .need_ui = showing_start_, .msaa = o_.msaa});
+    auto stack = WindowStack::open(std::move(window).value(), {.width = o_.width, .height = o_.height, .mode = mode_, .validation = o_.validation, .need_ui = showing_start_, .msaa = o_.msaa, .full_detail = o_.full_detail});
     if (!stack) {
         std::cerr << "ikebana: " << stack.error().message << "\n";
         return 3;
@@ -612,7 +612,7 @@ void TraineeSession::draw(sched::SystemContext& main_lane) {
     auto frame = &**presented;
     if (!frame->presented) return;
     ++presented_;
-    timings_.add(frame->timing);
+    timings_.add(frame->timing, read_at_);
     if (frame->screenshot) last_shot_ = std::move(frame->screenshot);
     if (presented_ % 15 == 0) glfwSetWindowTitle(window_->glfw(), status_line(main_lane.registry.resource<const systems::ReceivedFrames>()->latest()).c_str());
     if (o_.frames > 0 && presented_ >= o_.frames) stop_.store(true);

@@ -26,6 +26,7 @@ struct TraineeAppOptions {
     std::vector<std::string> env;
     std::vector<std::string> rates; // "name=hz" over the scene's rates (render=60: frames at 60 Hz)
     std::uint32_t msaa = 0;     // anti-aliasing samples (0: automatic, window_stack.hpp)
+    bool full_detail = false;   // every mesh as modelled, however small on screen (no coarse copies)
     std::string stereo;         // empty: the scene's "display"
     std::uint32_t width = 1280; // the window
     std::uint32_t height = 720;

@@ -31,6 +31,7 @@ Result<std::unique_ptr<WindowStack>> WindowStack::open(std::unique_ptr<platform:
     vkGetPhysicalDeviceProperties(s->ctx_->physical_device(), &props);
     const bool cpu = props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; // lavapipe, SwiftShader: they rasterize on the CPU
     ro.msaa_samples = o.msaa != 0 ? o.msaa : (cpu ? 1u : 4u);
+    if (o.full_detail) ro.coarse_below_px = 0.0;
     // The eyes in the window's own format: side by side then reaches it as a plain copy.
     if (s->swapchain_->format() == VK_FORMAT_B8G8R8A8_UNORM || s->swapchain_->format() == VK_FORMAT_R8G8B8A8_UNORM) ro.colour_format = s->swapchain_->format();
     auto renderer = render::StereoRenderer::create(*s->ctx_, ro);

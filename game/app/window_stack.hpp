@@ -32,6 +32,8 @@ struct WindowStackOptions {
     // as lavapipe, where 4 samples take the eyes' pass from about 15 to 44 ms a frame at 1280x720 per
     // eye and the window would fall below 30 Hz: docs/benchmarks.md).
     std::uint32_t msaa = 0;
+    // Every mesh as modelled, however few pixels it covers (RendererOptions::coarse_below_px 0).
+    bool full_detail = false;
 };
 
 class WindowStack {

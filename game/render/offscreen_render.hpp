@@ -11,6 +11,7 @@ namespace ikebana::game {
 
 struct RenderOptions {
     std::string scene;
+    std::string lesson; // a lesson id or file instead of a scene: its table as a trainee first sees it
     std::uint32_t frames = 1;
     std::string stereo; // empty: the scene's "display"
     std::string out;
@@ -19,6 +20,7 @@ struct RenderOptions {
     double yaw_deg = 0.0;        // orbit the camera about the arrangement
     double pitch_deg = 0.0;
     std::uint32_t msaa = 4;      // samples a pixel (anti-aliasing); 1: none
+    bool full_detail = false;    // every mesh as modelled, however small on screen
     // The validation layer: on by request, and always in debug builds.
 #ifdef NDEBUG
     bool validation = false;
