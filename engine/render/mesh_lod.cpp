@@ -67,10 +67,14 @@ assets::MeshData clustered_mesh(const assets::MeshData& mesh, int cells) {
     using Key = std::tuple<std::size_t, int, int, int, int>; // part, cell x y z, normal's octant
     std::map<Key, std::uint32_t> merged_at;
     std::vector<Merged> merged;
-    std::vector<std::uint32_t> remap; // per part, old vertex -> merged one (UINT32_MAX: not yet)
+    // Per part, old vertex -> merged one (UINT32_MAX: not yet); only the entries a part set are reset
+    // for the next, so many parts of a large mesh cost their own vertices, not parts x vertices.
+    std::vector<std::uint32_t> remap(mesh.positions.size(), std::numeric_limits<std::uint32_t>::max());
+    std::vector<std::uint32_t> touched;
     for (std::size_t k = 0; k < parts.size(); ++k) {
         const auto& part = parts[k];
-        remap.assign(mesh.positions.size(), std::numeric_limits<std::uint32_t>::max());
+        for (const auto v : touched) remap[v] = std::numeric_limits<std::uint32_t>::max();
+        touched.clear();
         assets::MeshPart kept{static_cast<std::uint32_t>(out.indices.size()), 0, part.material};
         for (std::uint32_t t = 0; t + 2 < part.index_count; t += 3) {
             std::uint32_t tri[3];
@@ -98,6 +102,7 @@ assets::MeshData clustered_mesh(const assets::MeshData& mesh, int cells) {
                     if (has_tangent) m.tangent += glm::dvec4(glm::vec3(mesh.tangents[v]), m.count == 0 ? mesh.tangents[v].w : 0.0f);
                     m.count += 1;
                     remap[v] = it->second;
+                    touched.push_back(v);
                 }
                 tri[c] = remap[v];
             }
@@ -122,8 +127,19 @@ assets::MeshData clustered_mesh(const assets::MeshData& mesh, int cells) {
     return out;
 }
 
-double screen_length_px(const glm::mat4& model, const glm::dvec3& eye_m, double focal_px) {
-    const double longest = std::max({glm::length(glm::vec3(model[0])), glm::length(glm::vec3(model[1])), glm::length(glm::vec3(model[2]))});
+glm::vec3 mesh_span(const assets::MeshData& mesh) {
+    if (mesh.positions.empty()) return glm::vec3(0.0f);
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+    for (const auto& p : mesh.positions) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    return hi - lo;
+}
+
+double screen_length_px(const glm::mat4& model, const glm::vec3& span, const glm::dvec3& eye_m, double focal_px) {
+    const double longest = std::max({glm::length(glm::vec3(model[0])) * static_cast<double>(span.x), glm::length(glm::vec3(model[1])) * static_cast<double>(span.y),
+                                     glm::length(glm::vec3(model[2])) * static_cast<double>(span.z)});
     const double distance = glm::length(glm::dvec3(glm::vec3(model[3])) - eye_m);
     if (!(distance > 1e-6)) return std::numeric_limits<double>::infinity();
     return longest / distance * focal_px;

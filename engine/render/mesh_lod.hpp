@@ -20,10 +20,14 @@ namespace ikebana::render {
 // cylinder made a stem segment) needs a coarse copy of its own.
 assets::MeshData clustered_mesh(const assets::MeshData& mesh, int cells);
 
-// How long an instance looks on screen, in pixels: the longest of its model matrix's axes (the mesh's
-// unit, scaled) at its origin's distance from the eye, `focal_px` being the eye's focal length in
-// pixels (its image height over twice the tangent of half its vertical field of view). At the eye: as
-// large as can be (never the coarse copy).
-double screen_length_px(const glm::mat4& model, const glm::dvec3& eye_m, double focal_px);
+// The sides of a mesh's bounding box, in its own units (a head modelled in metres is 0.044 across; the
+// built-in cylinder, radius 1, is 2 x 2 x 1).
+glm::vec3 mesh_span(const assets::MeshData& mesh);
+
+// How long an instance looks on screen, in pixels: the longest side of its mesh's box (`span`) as its
+// model matrix scales each, at its origin's distance from the eye, `focal_px` being the eye's focal
+// length in pixels (its image height over twice the tangent of half its vertical field of view). At
+// the eye: as large as can be (never the coarse copy).
+double screen_length_px(const glm::mat4& model, const glm::vec3& span, const glm::dvec3& eye_m, double focal_px);
 
 } // namespace ikebana::render

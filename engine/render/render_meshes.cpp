@@ -168,6 +168,7 @@ Result<void> StereoRenderer::upload_geometry(const assets::MeshData& data, Mesh&
     m.indices = *ib;
     if (!data.indices.empty()) std::memcpy(m.indices.mapped, data.indices.data(), data.indices.size() * sizeof(std::uint32_t));
     m.index_count = static_cast<std::uint32_t>(data.indices.size());
+    m.span = mesh_span(data);
     return Ok{};
 }
 

@@ -349,7 +349,7 @@ Result<StereoRenderer::Frame*> StereoRenderer::begin_frame(const DrawList& list,
         auto small = instances.end();
         if ((*m)->coarse && options_.coarse_below_px > 0.0) {
             small = std::stable_partition(instances.begin() + start, instances.end(), [&](const MeshInstance& i) {
-                return screen_length_px(i.model, rig_in.position_m, focal_px) >= options_.coarse_below_px;
+                return screen_length_px(i.model, (*m)->span, rig_in.position_m, focal_px) >= options_.coarse_below_px;
             });
         }
         const auto large_count = static_cast<std::uint32_t>(small - (instances.begin() + start));

@@ -162,6 +162,8 @@ private:
         // Drawn where an instance is small on screen (RendererOptions::coarse_below_px): its parts
         // use this mesh's materials. None: always this one.
         Mesh* coarse = nullptr;
+        // Its bounding box's sides in its own units (mesh_span), for its instances' size on screen.
+        glm::vec3 span{1.0f};
     };
     struct Draw {
         Mesh* mesh;

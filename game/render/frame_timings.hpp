@@ -17,8 +17,8 @@ class FrameTimings {
 public:
     // A frame presented now, with its parts' timing, showing the input read at `input_read_at`.
     void add(const render::FrameTiming& timing, std::chrono::steady_clock::time_point input_read_at);
-    // "frame time, ms (p50 / p95): ..." and a newline; empty before three frames (the first includes
-    // start-up and is left out).
+    // "frame time, ms (p50 / p95): ..." and "triangles a frame ...", each a line; empty before three
+    // frames (the first includes start-up and is left out).
     [[nodiscard]] std::string line() const;
 
 private:

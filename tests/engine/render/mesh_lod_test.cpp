@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "engine/render/mesh_lod.hpp"
 
 using namespace ikebana;
@@ -11,8 +13,8 @@ using namespace ikebana::render;
 
 namespace {
 
-// A cupped petal one unit along +x, as the shipped petal is made: a 12 x 6 grid, 138 triangles (the
-// pointed base's collapse dropped), in two parts split at half its triangles with materials 0 and 1.
+// A cupped petal one unit along +x, as the shipped petal is made: a 12 x 6 grid, the triangles that
+// collapse at its pointed base dropped, in two parts split at half its triangles with materials 0 and 1.
 assets::MeshData cupped_petal() {
     assets::MeshData m;
     m.name = "petal";
@@ -30,8 +32,11 @@ assets::MeshData cupped_petal() {
     const auto at = [](int i, int j) { return static_cast<std::uint32_t>(i * (nv + 1) + j); };
     for (int i = 0; i < nu; ++i) {
         for (int j = 0; j < nv; ++j) {
-            if (i > 0) m.indices.insert(m.indices.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-            m.indices.insert(m.indices.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+            const std::uint32_t quad[2][3] = {{at(i, j), at(i + 1, j), at(i + 1, j + 1)}, {at(i, j), at(i + 1, j + 1), at(i, j + 1)}};
+            for (const auto& t : quad) {
+                const glm::vec3 n = glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+                if (glm::length(n) > 1e-12f) m.indices.insert(m.indices.end(), {t[0], t[1], t[2]});
+            }
         }
     }
     const auto half = static_cast<std::uint32_t>(m.indices.size() / 6 * 3);
@@ -58,7 +63,7 @@ glm::vec3 highest(const assets::MeshData& m) {
 
 TEST(MeshLod, APetalsCoarseCopyHasAFractionOfItsTrianglesAndTheSameReach) {
     const auto petal = cupped_petal();
-    ASSERT_EQ(triangles(petal), 138u);
+    ASSERT_EQ(triangles(petal), 138u) << "as assets/meshes/petal.gltf";
     const auto coarse = clustered_mesh(petal, 8);
     EXPECT_LT(triangles(coarse), triangles(petal) / 2) << triangles(coarse) << " triangles";
     EXPECT_GT(triangles(coarse), 10u) << "still a petal, not a sliver";
@@ -140,18 +145,34 @@ TEST(MeshLod, NoCellsOrNoVerticesGiveTheMeshBack) {
     EXPECT_TRUE(clustered_mesh(assets::MeshData{}, 8).indices.empty());
 }
 
-TEST(MeshLod, AnInstancesScreenLengthIsItsLongestAxisOverItsDistance) {
-    // A 16 mm petal 0.5 m from the eye, at a focal length of 986 px (720 px high, 0.7 rad): 31.6 px.
+TEST(MeshLod, AnInstancesScreenLengthIsItsMeshsLongestSideAsPlacedOverItsDistance) {
+    // A petal one unit long scaled to 16 mm, 0.5 m from the eye, at a focal length of 986 px (720 px
+    // high, 0.7 rad): 31.6 px.
+    const auto petal = cupped_petal();
+    const glm::vec3 petal_span = mesh_span(petal);
+    EXPECT_NEAR(petal_span.x, 1.0f, 1e-6f);
     glm::mat4 model(0.0f);
     model[0] = glm::vec4(0.016f, 0, 0, 0);
     model[1] = glm::vec4(0, 0.016f, 0, 0);
     model[2] = glm::vec4(0, 0, 0.016f, 0);
     model[3] = glm::vec4(0, 0.5f, 0, 1);
-    EXPECT_NEAR(screen_length_px(model, {0, 0, 0}, 986.0), 0.016 / 0.5 * 986.0, 0.01);
-    // A stem segment: its length, not its radius, is its longest axis.
+    EXPECT_NEAR(screen_length_px(model, petal_span, {0, 0, 0}, 986.0), 0.016 / 0.5 * 986.0, 0.01);
+    // A head modelled in metres (44 mm across) placed with unit axes: its own size, not a metre.
+    EXPECT_NEAR(screen_length_px(glm::translate(glm::mat4(1.0f), glm::vec3(0, 0.5f, 0)), {0.044f, 0.044f, 0.01f}, {0, 0, 0}, 986.0),
+                0.044 / 0.5 * 986.0, 0.01);
+    // A stem segment, the radius-1 cylinder (2 x 2 x 1) at 4 mm radius and 50 mm long: its length; a
+    // disc (the same cylinder, 60 mm radius, 5 mm thick): its diameter.
+    const glm::vec3 cylinder{2.0f, 2.0f, 1.0f};
+    model[0] = glm::vec4(0.004f, 0, 0, 0);
+    model[1] = glm::vec4(0, 0.004f, 0, 0);
     model[2] = glm::vec4(0, 0, 0.05f, 0);
-    EXPECT_NEAR(screen_length_px(model, {0, 0, 0}, 986.0), 0.05 / 0.5 * 986.0, 0.01);
+    EXPECT_NEAR(screen_length_px(model, cylinder, {0, 0, 0}, 986.0), 0.05 / 0.5 * 986.0, 0.01);
+    glm::mat4 disc = model;
+    disc[0] = glm::vec4(0.06f, 0, 0, 0);
+    disc[1] = glm::vec4(0, 0.06f, 0, 0);
+    disc[2] = glm::vec4(0, 0, 0.005f, 0);
+    EXPECT_NEAR(screen_length_px(disc, cylinder, {0, 0, 0}, 986.0), 0.12 / 0.5 * 986.0, 0.01);
     // Twice as far: half as long.
-    EXPECT_NEAR(screen_length_px(model, {0, -0.5, 0}, 986.0), 0.05 / 1.0 * 986.0, 0.01);
-    EXPECT_TRUE(std::isinf(screen_length_px(model, {0, 0.5, 0}, 986.0))) << "at the eye: never coarse";
+    EXPECT_NEAR(screen_length_px(model, cylinder, {0, -0.5, 0}, 986.0), 0.05 / 1.0 * 986.0, 0.01);
+    EXPECT_TRUE(std::isinf(screen_length_px(model, cylinder, {0, 0.5, 0}, 986.0))) << "at the eye: never coarse";
 }

@@ -374,7 +374,7 @@ TEST_F(StereoRendererTest, ABentInstanceIsDrawnCurled) {
 
 namespace {
 
-// A flat disc of radius 0.5 (a polar grid, 8 rings of 32), facing +z: 496 triangles.
+// A flat disc of radius 0.5 (a polar grid, 8 rings of 32), facing +z: 480 triangles.
 assets::MeshData fine_disc() {
     assets::MeshData m;
     m.name = "disc";
@@ -389,8 +389,8 @@ assets::MeshData fine_disc() {
     const auto at = [](int i, int j) { return static_cast<std::uint32_t>(i * around + (j % around)); };
     for (int i = 0; i < rings; ++i) {
         for (int j = 0; j < around; ++j) {
-            if (i > 0) m.indices.insert(m.indices.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-            m.indices.insert(m.indices.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+            m.indices.insert(m.indices.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+            if (i > 0) m.indices.insert(m.indices.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)}); // not at the centre's point
         }
     }
     return m;
@@ -437,7 +437,28 @@ TEST_F(StereoRendererTest, SmallInstancesAreDrawnCoarseAndCoverWhatTheMeshCovers
     const double a = static_cast<double>(covered(modelled.composed)), b = static_cast<double>(covered(coarse.composed));
     EXPECT_GT(a, 25 * 80.0) << "the discs are drawn";
     EXPECT_NEAR(b / a, 1.0, 0.12) << a << " px modelled, " << b << " px coarse";
+    EXPECT_EQ(per_disc, 480u);
     // One disc 0.3 m across (164 px): as modelled.
     const auto large = picture(40.0, {facing_quad(0.3f)});
     EXPECT_EQ(large.timing.eye_triangles, per_disc);
+    // Large and small in one batch, the large one listed between small ones: each is drawn where it is
+    // and in its own colour (the large ones go first in the instance buffer, the small after them).
+    std::vector<MeshInstance> mixed;
+    for (int i = 0; i < 5; ++i) {
+        auto disc = facing_quad(0.024f, {-0.12f + 0.06f * static_cast<float>(i), 0.0f, -0.12f});
+        disc.colour = {0, 1, 0, 1};
+        mixed.push_back(disc);
+        if (i == 2) {
+            auto big = facing_quad(0.12f, {0.0f, 0.0f, 0.06f});
+            big.colour = {1, 0, 0, 1};
+            mixed.push_back(big);
+        }
+    }
+    const auto both = picture(40.0, mixed);
+    EXPECT_EQ(both.timing.eye_triangles, per_disc + (coarse.timing.eye_triangles / 25) * 5) << "one as modelled, five coarse";
+    // The big red disc's middle (0.06 m up: 33 px above the centre) and the green row (0.12 m down).
+    EXPECT_GT(share_of(both.composed, {1, 0, 0}, 90, 57, 110, 77), 0.9);
+    EXPECT_LT(share_of(both.composed, {0, 1, 0}, 90, 57, 110, 77), 0.05);
+    EXPECT_GT(share_of(both.composed, {0, 1, 0}, 20, 160, 180, 172), 0.2);
+    EXPECT_LT(share_of(both.composed, {1, 0, 0}, 20, 160, 180, 172), 0.01);
 }
