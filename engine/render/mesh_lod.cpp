@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <tuple>
+#include <utility>
 
 namespace ikebana::render {
 
@@ -13,6 +14,16 @@ namespace {
 // Which way a normal faces, to within an octant: the two sides of a thin shape, or the faces at a hard
 // edge, are not merged into one vertex whose normal averages to nothing.
 int octant(const glm::vec3& n) { return (n.x < 0.0f ? 1 : 0) | (n.y < 0.0f ? 2 : 0) | (n.z < 0.0f ? 4 : 0); }
+
+// The corners of a mesh's bounding box (a mesh with positions).
+std::pair<glm::vec3, glm::vec3> bounds(const assets::MeshData& mesh) {
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+    for (const auto& p : mesh.positions) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    return {lo, hi};
+}
 
 struct Merged {
     glm::vec3 position{0.0f};
@@ -26,23 +37,15 @@ struct Merged {
 } // namespace
 
 assets::MeshData clustered_mesh(const assets::MeshData& mesh, int cells) {
+    if (mesh.positions.empty() || cells < 1) {
+        assets::MeshData same = mesh;
+        same.images.clear(); // the copy shares its mesh's pictures
+        return same;
+    }
     assets::MeshData out;
     out.name = mesh.name;
     out.materials = mesh.materials;
-    if (mesh.positions.empty() || cells < 1) {
-        out.positions = mesh.positions;
-        out.normals = mesh.normals;
-        out.uvs = mesh.uvs;
-        out.tangents = mesh.tangents;
-        out.indices = mesh.indices;
-        out.parts = mesh.parts;
-        return out;
-    }
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
-    for (const auto& p : mesh.positions) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
+    const auto [lo, hi] = bounds(mesh);
     const glm::vec3 span = hi - lo;
     const glm::vec3 middle = 0.5f * (lo + hi);
     const double longest = std::max({span.x, span.y, span.z});
@@ -129,11 +132,7 @@ assets::MeshData clustered_mesh(const assets::MeshData& mesh, int cells) {
 
 glm::vec3 mesh_span(const assets::MeshData& mesh) {
     if (mesh.positions.empty()) return glm::vec3(0.0f);
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
-    for (const auto& p : mesh.positions) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
+    const auto [lo, hi] = bounds(mesh);
     return hi - lo;
 }
 
