@@ -199,7 +199,9 @@ public:
     // One stem of the model: from the table, cut, (bent,) turned, into the kenzan at its place, let go.
     bool place(std::size_t flower, const std::string& role, const ArrangementStem& target, std::optional<Rise> rise = std::nullopt) {
         const double in_pins = room_.pin_height_m();
-        const double keep = target.length_m + in_pins;
+        // Leaning, more of it than the pins' height is below their tops (form_score.hpp); risen
+        // first, it goes in upright.
+        const double keep = target.length_m + (rise ? in_pins : in_pins_along_m(in_pins, target.tilt_rad));
         SeenFlower lying = room_.flower(flower);
         if (lying.points_m.size() < 2) {
             say(role + ": the " + target.species + " cannot be seen");
@@ -212,7 +214,7 @@ public:
             lying = room_.flower(flower);
         }
         if (!take(flower, role, target, lying, keep, rise)) return false;
-        if (lying.length_m - keep > 0.001) cut_to(flower, role, target, keep, in_pins);
+        if (lying.length_m - keep > 0.001) cut_to(flower, role, target, keep);
         strip_low_leaves(flower, role, std::cos(rise ? 0.0 : target.tilt_rad));
         // Where the bend's middle is from the bottom: where the hands bent it (or would have). It is bent
         // lying on the table, as on a workbench, and lifted bent: the bend keeps its side of the bark
@@ -479,10 +481,10 @@ private:
     }
 
     // Cut to `keep`: its length above the kenzan and what the pins hold.
-    void cut_to(std::size_t flower, const std::string& role, const ArrangementStem& target, double keep, double in_pins) {
+    void cut_to(std::size_t flower, const std::string& role, const ArrangementStem& target, double keep) {
         char what[256];
-        std::snprintf(what, sizeof what, "%s: cut it to %.0f mm (%.0f above the kenzan, %.0f in the pins)", role.c_str(), keep * 1e3, target.length_m * 1e3,
-                      in_pins * 1e3);
+        std::snprintf(what, sizeof what, "%s: cut it to %.0f mm (%.0f above the kenzan, %.0f in the pins)", role.c_str(), keep * 1e3,
+                      target.length_m * 1e3, (keep - target.length_m) * 1e3);
         say(what);
         hand_.cut(keep);
         wait(0.3);
@@ -673,6 +675,8 @@ void teach(const LessonDef& lesson, const Arrangement& model, Classroom& room, T
         std::optional<std::size_t> pick;
         for (std::size_t i = 0; i < materials.size(); ++i) {
             if (used[i] || materials[i].species != target.species) continue;
+            // (Long enough for its length above the pins and their height: a leaning one is then cut
+            // to less than it would want below their tops, or not at all, and stands a little short.)
             if (materials[i].length_m < target.length_m + in_pins) continue;
             if (!pick || materials[i].length_m < materials[*pick].length_m) pick = i;
         }

@@ -82,6 +82,13 @@ FormScore score_sample(const LessonDef& lesson, const Arrangement& arrangement, 
 // kenzan; in a vase, the mouth where the stems are held (the kenzan stands in for a kubari there).
 [[nodiscard]] double water_level_m(const LessonDef& lesson, const KenzanFootprint& kenzan);
 
+// How much of a straight stem's length lies below the pins' tops when its bottom is `depth_m` under
+// them and it leans `tilt_rad`: depth / cos(tilt). The scoring measures a stem from where its line
+// crosses the pins' tops, so a stem cut "pin height longer than its target" and leaned 70 degrees
+// came out 20-40 mm short (a first-time trainee's hikae: cut for 0.75 x soe, scored against 0.50).
+// Beyond 80 degrees it counts as at 80 (a stem lying in the pins is not a length anyone cuts for).
+[[nodiscard]] double in_pins_along_m(double depth_m, double tilt_rad);
+
 // Points for a measured error against a band: all of them within it; outside, outside_band_share of
 // them at its edge, falling linearly to none one band further (a band of 0 counts as the kenzan's
 // pitch, 4 units). A school's band is a rule, not a slope.

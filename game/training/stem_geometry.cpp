@@ -90,6 +90,11 @@ double water_level_m(const LessonDef& l, const KenzanFootprint& k) {
     return l.container.water_depth_m - k.plate_thickness_m;
 }
 
+double in_pins_along_m(double depth_m, double tilt_rad) {
+    constexpr double steepest_rad = 80.0 * 3.14159265358979323846 / 180.0;
+    return depth_m / std::cos(std::clamp(std::abs(tilt_rad), 0.0, steepest_rad));
+}
+
 double lean_above_rise_rad(const ArrangementStem& s) {
     if (s.path_m.size() != 2) return 0.0;
     return std::acos(std::clamp(glm::normalize(s.path_m[1] - s.path_m[0]).z, -1.0, 1.0));

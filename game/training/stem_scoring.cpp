@@ -74,7 +74,8 @@ void score_absent(const std::string& who, const ArrangementStem* s, StemCriteria
     }
 }
 
-void score_length(const std::string& who, const ArrangementStem& s, double ratio, const LengthBasis& base, Criterion& length) {
+void score_length(const std::string& who, const ArrangementStem& s, double ratio, const std::vector<double>& other_ratios, const LengthBasis& base,
+                  Criterion& length) {
     const double length_target_mm = std::round(length.target), length_band_mm = std::round(length.tolerance);
     // Judged on the whole millimetres and degrees the tips show: 47.4 degrees was "47°, within 35 ±12"
     // in words and lost points in the bar.
@@ -88,6 +89,15 @@ void score_length(const std::string& who, const ArrangementStem& s, double ratio
                                                      mm - length_target_mm - length_band_mm, mm - length_target_mm);
     else length.tip = fmt("%s: %.0f mm long, %s, %.0f mm below it: it is %.0f mm short; use a longer material, or cut less off", who.c_str(), mm, want.c_str(),
                           length_target_mm - length_band_mm - mm, length_target_mm - mm);
+    // A school that teaches more than one ratio: a stem out of every band hears of the others too (it
+    // was judged against the nearest; the trainee may have cut for another).
+    if (std::abs(mm - length_target_mm) <= length_band_mm) return;
+    for (const double other : other_ratios) {
+        const double other_mm = std::round(length.target / ratio * other);
+        const double off_mm = mm - other_mm;
+        length.tip += fmt("; the form also takes %.0f mm (%.2f × %s): %s", other_mm, other, base.words.c_str(),
+                          off_mm > 0.0 ? fmt("cut it %.0f mm shorter for that", off_mm).c_str() : fmt("for that it is %.0f mm short", -off_mm).c_str());
+    }
 }
 
 void score_tilt(const std::string& who, const ArrangementStem& s, const MainStemDef& m, Criterion& tilt) {
@@ -172,7 +182,10 @@ void score_stem(const LessonDef& l, std::size_t r, const ArrangementStem* s, con
     if (!s || !present) {
         score_absent(who, s, c);
     } else {
-        score_length(who, *s, ratio, base, c.length);
+        std::vector<double> others = m.length_also;
+        if (!others.empty()) others.push_back(m.length_ratio.target);
+        std::erase(others, ratio);
+        score_length(who, *s, ratio, others, base, c.length);
         score_tilt(who, *s, m, c.tilt);
         if (c.azimuth) score_azimuth(who, *s, *c.azimuth);
         score_region(who, *s, m, k, c.region);

@@ -254,6 +254,7 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
     }
     // The roles already played by standing stems, as the score assigns them.
     const auto placed = score_form(l, measure_arrangement(frame), footprint);
+    std::optional<Arrangement> model;
     std::vector<std::string> played;
     if (placed) {
         for (const auto& s : placed->arrangement.stems) {
@@ -286,7 +287,15 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
             follows = ratio;
         }
         const double target = base * m.length_ratio.target;
-        const double pins = frame.kenzan->pin_height_m();
+        // What the pins take of it: more than their height when it leans (the score measures from
+        // where its line crosses their tops), at the tilt the model stands it at (the rim may hold a
+        // low stem a little higher than the form's figure).
+        double lean_rad = m.tilt_rad.target;
+        if (!model) model = model_arrangement(l, footprint);
+        for (const auto& s : model->stems) {
+            if (s.role == m.role) lean_rad = s.path_m.size() == 2 ? 0.0 : s.tilt_rad;
+        }
+        const double pins = in_pins_along_m(frame.kenzan->pin_height_m(), lean_rad);
         advice.role = m.role;
         advice.keep_length_m = target + pins;
         advice.gauge = HeldStemAdvice::Gauge{tilt, azimuth, m.tilt_rad.target, m.tilt_rad.tolerance,
@@ -334,11 +343,11 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
     if (placed) {
         for (const auto& s : placed->arrangement.stems) supporting_placed += s.standing && s.role == "supporting" ? 1 : 0;
     }
-    const Arrangement model = model_arrangement(l, footprint);
+    if (!model) model = model_arrangement(l, footprint);
     std::size_t seen = 0;
-    for (const auto& s : model.stems) {
+    for (const auto& s : model->stems) {
         if (s.role != "supporting" || seen++ < supporting_placed) continue;
-        const double pins = frame.kenzan->pin_height_m();
+        const double pins = in_pins_along_m(frame.kenzan->pin_height_m(), s.tilt_rad);
         advice.role = "supporting";
         advice.keep_length_m = s.length_m + pins;
         if (length > advice.keep_length_m + 0.002) {

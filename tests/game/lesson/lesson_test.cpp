@@ -844,6 +844,41 @@ TEST(LessonControls, AStemHeldFarFromItsBottomEndIsToBeTakenAgainNearThatEnd) {
     EXPECT_NE(near_bottom.find("holding a cherry branch: 340 mm long"), std::string::npos) << near_bottom;
 }
 
+// A first-time trainee cut hikae with C "for 0.75 × soe", pushed it in leaning about 70 degrees and was
+// scored 42 mm short, against the other ratio: the pins take more of a leaning stem than their height.
+// Cut as C cuts it and stood at the model's tilt with its bottom a pin height deep, it measures its
+// role's length above the kenzan.
+TEST(LessonControls, AStemCutWithCForItsRoleMeasuresThatRolesLengthOnceItLeansInThePins) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    components::FrameSnapshot frame = holding_a_lying_cherry_branch();
+    frame.kenzan->pin.trunk_length_m = 0.011;
+    frame.kenzan->pin.tip_length_m = 0.002;
+    frame.flowers[0].species = "chrysanthemum";
+    frame.hands[1].position_m = frame.flowers[0].points_m[3];
+    const auto advice = advise_held_stem(l, footprint(l), frame, 1);
+    ASSERT_EQ(advice.role, "hikae");
+    const double target_m = nominal_length_m(l, 2);
+    const auto model = model_arrangement(l, footprint(l));
+    const auto hikae = std::find_if(model.stems.begin(), model.stems.end(), [](const ArrangementStem& s) { return s.role == "hikae"; });
+    ASSERT_NE(hikae, model.stems.end());
+    // The stem as it stands: straight, its bottom on the plate, a pin height under the pins' tops.
+    const double pins = frame.kenzan->pin_height_m();
+    const glm::dvec3 along = lesson_direction(hikae->tilt_rad, hikae->azimuth_rad);
+    const glm::dvec3 bottom = frame.kenzan->origin_m;
+    components::FrameSnapshot stood = frame;
+    stood.hands[1] = {};
+    stood.hands[1].held_flower = -1;
+    auto& f = stood.flowers[0];
+    f.in_kenzan = true;
+    f.points_m.clear();
+    for (int i = 0; i <= 20; ++i) f.points_m.push_back(bottom + along * (advice.keep_length_m * i / 20.0));
+    const auto measured = measure_arrangement(stood);
+    ASSERT_EQ(measured.stems.size(), 1u);
+    EXPECT_NEAR(measured.stems[0].length_m, target_m, 0.002) << "cut to " << advice.keep_length_m << " m with " << pins << " m of pins, leaning "
+                                                              << hikae->tilt_rad * 180 / 3.14159265358979323846 << " deg";
+    EXPECT_GT(advice.keep_length_m - target_m, 2.0 * pins) << "at hikae's 75 degrees the pins take more than twice their height of it";
+}
+
 // In a shoka the stems rise from the water as one line: the HUD tells a trainee holding soe's cherry
 // branch to bend it first, where and about how far, and how with a mouse; Sogetsu's forms want no bend.
 TEST(LessonControls, AShokaRoleThatLeansAwayFromTheLineIsToBeBentWithBothHandsFirst) {
@@ -1631,6 +1666,20 @@ TEST(FormScore, HikaeAtHalfOfSoeAPublishedAlternativeKeepsItsLengthPoints) {
     stem_with_role(a, "hikae")->length_m = 0.62 * soe;
     const auto between = score_form(l, a, footprint(l));
     EXPECT_LT(criterion(*between, "hikae", "length_mm")->points, 0.3 * length->max_points + 1e-9);
+    // Outside both, the tip names both: a trainee who cut for 3/4 and is judged against 1/2 learns
+    // what 3/4 wanted too (it said only "cut it 40 mm shorter").
+    const std::string tip = criterion(*between, "hikae", "length_mm")->tip;
+    const double nearest = std::round(soe * 1e3 * 0.5), other = std::round(soe * 1e3 * 0.75), at = std::round(0.62 * soe * 1e3);
+    const auto fmt = [](const char* f, double v) {
+        char text[120];
+        std::snprintf(text, sizeof text, f, v);
+        return std::string(text);
+    };
+    EXPECT_NE(tip.find(fmt("wants %.0f mm", nearest)), std::string::npos) << tip;
+    EXPECT_NE(tip.find(fmt("; the form also takes %.0f mm (0.75 × soe, ", other)), std::string::npos) << tip;
+    EXPECT_NE(tip.find(fmt("for that it is %.0f mm short", other - at)), std::string::npos) << tip;
+    // Within a band, no other ratio is spoken of.
+    EXPECT_EQ(length->tip.find("also takes"), std::string::npos) << length->tip;
 }
 
 // What a tip says and what the bar gives agree: the shoka's tai at 47.4 degrees was "47°, 0° outside"
