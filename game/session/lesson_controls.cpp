@@ -226,6 +226,9 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     if (ghosts_) {
         std::string legend = "  targets (G):";
         for (std::size_t i = 0; i < lesson_.stems.size(); ++i) legend += " " + lesson_.stems[i].role + " " + ghost_colour_name(i);
+        const auto model = model_arrangement(lesson_, footprint_);
+        if (std::any_of(model.stems.begin(), model.stems.end(), [](const ArrangementStem& s) { return s.role == "supporting"; }))
+            legend += ", supporting (jushi) " + ghost_colour_name(lesson_.stems.size());
         lines_.push_back(legend);
         lines_.push_back("  the model stands behind the container, right; each stem named");
     }

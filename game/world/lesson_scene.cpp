@@ -155,6 +155,23 @@ namespace ikebana::game {
 namespace {
 // Held further than this from its bottom end (and than a third of its length), a stem is taken again.
 constexpr double far_from_end_m = 0.1;
+// The gauge's band for a supporting stem, round the model's lean (no school scores a jushi's angle).
+constexpr double jushi_guide_tilt_rad = 15.0 * 3.14159265358979323846 / 180.0;
+constexpr double jushi_guide_azimuth_rad = 30.0 * 3.14159265358979323846 / 180.0;
+
+// Where on the kenzan, as the tail of "lower it into ...": a role placed anywhere read "into anywhere on
+// the kenzan of the kenzan".
+std::string on_kenzan_words(KenzanRegion r) { return r == KenzanRegion::any ? "the kenzan" : region_words(r) + " of the kenzan"; }
+
+// The part of the kenzan a point of its face (from its centre, x right, y away) is in: thirds each way.
+KenzanRegion region_of(glm::dvec2 at, glm::dvec2 size) {
+    const int col = at.x < -size.x / 6.0 ? 0 : at.x > size.x / 6.0 ? 2 : 1;
+    const int row = at.y < -size.y / 6.0 ? 0 : at.y > size.y / 6.0 ? 2 : 1;
+    constexpr KenzanRegion table[3][3] = {{KenzanRegion::front_left, KenzanRegion::front, KenzanRegion::front_right},
+                                          {KenzanRegion::left, KenzanRegion::centre, KenzanRegion::right},
+                                          {KenzanRegion::back_left, KenzanRegion::back, KenzanRegion::back_right}};
+    return table[row][col];
+}
 } // namespace
 
 namespace {
@@ -308,16 +325,16 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
             std::snprintf(text, sizeof text, "press C to cut it for %s (to %.0f mm)", m.role.c_str(), advice.keep_length_m * 1e3);
             advice.next_step = text;
         } else {
-            std::snprintf(text, sizeof text, "tilt it %.0f°%s (Ctrl+drag), then lower it into %s of the kenzan", m.tilt_rad.target * deg, lean.c_str(),
-                          region_words(m.region).c_str());
+            std::snprintf(text, sizeof text, "tilt it %.0f°%s (Ctrl+drag), then lower it into %s", m.tilt_rad.target * deg, lean.c_str(),
+                          on_kenzan_words(m.region).c_str());
             advice.next_step = text;
         }
         if (length > advice.keep_length_m + 0.002) {
             std::snprintf(text, sizeof text, "for %s: C cuts it to %.0f mm (%.0f above the kenzan%s; %.0f in the pins); then Ctrl+drag to tilt it %.0f°%s",
                           m.role.c_str(), advice.keep_length_m * 1e3, target * 1e3, follows.c_str(), pins * 1e3, m.tilt_rad.target * deg, lean.c_str());
         } else {
-            std::snprintf(text, sizeof text, "for %s (%.0f mm above the kenzan%s): tilt it %.0f° ±%.0f°%s (Ctrl+drag), put it in %s of the kenzan", m.role.c_str(),
-                          target * 1e3, follows.c_str(), m.tilt_rad.target * deg, m.tilt_rad.tolerance * deg, lean.c_str(), region_words(m.region).c_str());
+            std::snprintf(text, sizeof text, "for %s (%.0f mm above the kenzan%s): tilt it %.0f° ±%.0f°%s (Ctrl+drag), put it in %s", m.role.c_str(),
+                          target * 1e3, follows.c_str(), m.tilt_rad.target * deg, m.tilt_rad.tolerance * deg, lean.c_str(), on_kenzan_words(m.region).c_str());
         }
         advice.lines.emplace_back(text);
         if (const auto leaves = low_leaves_line(l, footprint, f, length, advice.keep_length_m, m.tilt_rad.target); !leaves.empty()) advice.lines.push_back(leaves);
@@ -350,12 +367,27 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
         const double pins = in_pins_along_m(frame.kenzan->pin_height_m(), s.tilt_rad);
         advice.role = "supporting";
         advice.keep_length_m = s.length_m + pins;
+        // The next step and the gauge as for a main role (a first-time trainee holding a fourth
+        // chrysanthemum read jushi instructions above "no role is left for this stem"). The form
+        // scores no jushi's angle: the band is the model's, a guide (+-15°, +-30°).
+        const std::string place = on_kenzan_words(region_of(s.base_m, footprint.size_m));
+        if (held_far) {
+            advice.next_step = "let go (release the button) and take it again near its bottom end";
+        } else if (length > advice.keep_length_m + 0.002) {
+            std::snprintf(text, sizeof text, "press C to cut it as a supporting stem (jushi, to %.0f mm)", advice.keep_length_m * 1e3);
+            advice.next_step = text;
+        } else {
+            std::snprintf(text, sizeof text, "tilt it %.0f° toward the %s (Ctrl+drag), then lower it into %s", s.tilt_rad * deg,
+                          direction_words(s.azimuth_rad).c_str(), place.c_str());
+            advice.next_step = text;
+        }
+        advice.gauge = HeldStemAdvice::Gauge{tilt, azimuth, s.tilt_rad, jushi_guide_tilt_rad, s.azimuth_rad, jushi_guide_azimuth_rad, l.stems.size()};
         if (length > advice.keep_length_m + 0.002) {
             std::snprintf(text, sizeof text, "as a supporting stem (jushi): C cuts it to %.0f mm (%.0f above the kenzan); then Ctrl+drag to tilt it %.0f° toward the %s",
                           advice.keep_length_m * 1e3, s.length_m * 1e3, s.tilt_rad * deg, direction_words(s.azimuth_rad).c_str());
         } else {
-            std::snprintf(text, sizeof text, "as a supporting stem (jushi, %.0f mm above the kenzan): tilt it %.0f° toward the %s, low in front of the kenzan",
-                          s.length_m * 1e3, s.tilt_rad * deg, direction_words(s.azimuth_rad).c_str());
+            std::snprintf(text, sizeof text, "as a supporting stem (jushi, %.0f mm above the kenzan): tilt it %.0f° toward the %s, low, in %s",
+                          s.length_m * 1e3, s.tilt_rad * deg, direction_words(s.azimuth_rad).c_str(), place.c_str());
         }
         advice.lines.emplace_back(text);
         if (const auto leaves = low_leaves_line(l, footprint, f, length, advice.keep_length_m, s.tilt_rad); !leaves.empty()) advice.lines.push_back(leaves);
@@ -388,8 +420,9 @@ void add_form_ghosts(render::DrawList& list, const LessonDef& l, const KenzanFoo
     auto& rods = list.batch("cylinder", true).instances;
     auto& tips = list.batch("cube", true).instances;
     for (const auto& s : model.stems) {
+        // Supporting stems too, in the colour after the main roles' (the score's to-do asks for them).
         const auto it = std::find_if(l.stems.begin(), l.stems.end(), [&](const MainStemDef& m) { return m.role == s.role; });
-        if (it == l.stems.end()) continue;
+        if (it == l.stems.end() && s.role != "supporting") continue;
         const auto& colour = role_colour(static_cast<std::size_t>(it - l.stems.begin()));
         std::vector<glm::dvec3> line{origin + glm::dvec3(s.base_m, 0.0)};
         if (s.path_m.empty()) line.push_back(line.front() + lesson_direction(s.tilt_rad, s.azimuth_rad) * s.length_m);

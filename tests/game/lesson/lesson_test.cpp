@@ -879,6 +879,39 @@ TEST(LessonControls, AStemCutWithCForItsRoleMeasuresThatRolesLengthOnceItLeansIn
     EXPECT_GT(advice.keep_length_m - target_m, 2.0 * pins) << "at hikae's 75 degrees the pins take more than twice their height of it";
 }
 
+// A first-time trainee holding a fourth chrysanthemum read jushi instructions in the panel and "no role
+// is left for this stem: let go of it away from the kenzan" as the next step, and never placed a jushi
+// the score asked for. With soe standing, a second cherry branch is heading for a supporting stem: the
+// next step says what to do with it, and the gauge shows the model jushi's lean.
+TEST(LessonControls, AStemHeadingForASupportingRoleIsToldItsNextStepAndShownItsLean) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    components::FrameSnapshot frame = holding_a_lying_cherry_branch();
+    frame.hands[1].position_m = frame.flowers[0].points_m[3];
+    const auto model = model_arrangement(l, footprint(l));
+    const auto soe = std::find_if(model.stems.begin(), model.stems.end(), [](const ArrangementStem& s) { return s.role == "soe"; });
+    ASSERT_NE(soe, model.stems.end());
+    components::FlowerStatus standing{};
+    standing.species = "cherry_branch";
+    standing.in_kenzan = true;
+    const glm::dvec3 base = frame.kenzan->origin_m + glm::dvec3(soe->base_m, 0.0);
+    for (int i = 0; i <= 10; ++i) standing.points_m.push_back(base + lesson_direction(soe->tilt_rad, soe->azimuth_rad) * (soe->length_m * i / 10.0));
+    frame.flowers.push_back(standing);
+    const auto advice = advise_held_stem(l, footprint(l), frame, 1);
+    ASSERT_EQ(advice.role, "supporting");
+    EXPECT_EQ(advice.next_step.rfind("press C to cut it as a supporting stem (jushi, to ", 0), 0u) << advice.next_step;
+    ASSERT_TRUE(advice.gauge.has_value());
+    EXPECT_EQ(advice.gauge->role, l.stems.size()) << "drawn in the colour after the main roles'";
+    EXPECT_GT(advice.gauge->tilt_tolerance_rad, 0.0);
+    // Cut, it is told where to lean it and where on the kenzan it goes, in words.
+    auto& held = frame.flowers[0].points_m;
+    const glm::dvec3 from = held.front();
+    for (std::size_t i = 0; i < held.size(); ++i) held[i] = from + (held[i] - from) * (advice.keep_length_m * 0.99 / 0.34);
+    const auto cut = advise_held_stem(l, footprint(l), frame, 1);
+    EXPECT_EQ(cut.next_step.rfind("tilt it ", 0), 0u) << cut.next_step;
+    EXPECT_NE(cut.next_step.find(" of the kenzan"), std::string::npos) << cut.next_step;
+    EXPECT_EQ(cut.next_step.find("mm"), std::string::npos) << "no coordinates: " << cut.next_step;
+}
+
 // In a shoka the stems rise from the water as one line: the HUD tells a trainee holding soe's cherry
 // branch to bend it first, where and about how far, and how with a mouse; Sogetsu's forms want no bend.
 TEST(LessonControls, AShokaRoleThatLeansAwayFromTheLineIsToBeBentWithBothHandsFirst) {
