@@ -190,7 +190,8 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     } else if (form && h.holding) {
         // Where it would go in, if that is wrong: said before anything else.
         if (const auto mark = systems::entry_mark(latest, hand); mark && !mark->good() && advice.keep_length_m > 0.0)
-            next_step_ = std::string("move it over the kenzan: the red ring shows it would ") + (mark->meets_wall ? "meet the container's wall" : "miss the pins");
+            next_step_ = mark->meets_wall ? "lean it less, or move it toward the container's middle: the red ring shows it would stand through the container's wall"
+                                          : "move it over the kenzan: the red ring shows it would miss the pins";
         if (next_step_.empty()) next_step_ = "no role is left for this stem: let go of it (release the button) away from the kenzan";
     } else if (form) {
         next_step_ = reach_words(latest, hand);

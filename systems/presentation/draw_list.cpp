@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "components/hand.hpp"
 #include "systems/physics/part_attachment.hpp"
@@ -187,10 +188,12 @@ render::DrawList build_draw_list(const FrameSnapshot& frame) {
                 list.batch("cylinder").instances.push_back(
                     {segment(mark->at_m + glm::dvec3{r * std::cos(a0), r * std::sin(a0), 0.0}, mark->at_m + glm::dvec3{r * std::cos(a1), r * std::sin(a1), 0.0}, 0.0015), ring});
             }
-            // And the line it would go down, thin, from its end.
+            // And the way its end would go down, thin, plumb to the pin tips.
             const auto held = frame.hands[h].held_flower;
-            if (held >= 0 && static_cast<std::size_t>(held) < frame.flowers.size() && !frame.flowers[static_cast<std::size_t>(held)].points_m.empty())
-                list.batch("cylinder").instances.push_back({segment(frame.flowers[static_cast<std::size_t>(held)].points_m.front(), mark->at_m, 0.0008), ring * 0.8f});
+            if (held >= 0 && static_cast<std::size_t>(held) < frame.flowers.size() && !frame.flowers[static_cast<std::size_t>(held)].points_m.empty()) {
+                const glm::dvec3 end = frame.flowers[static_cast<std::size_t>(held)].points_m.front();
+                list.batch("cylinder").instances.push_back({segment(end, {end.x, end.y, mark->at_m.z}, 0.0008), ring * 0.8f});
+            }
         }
         // What a press would take now: the whole stem, yellow, and brighter where the hand would hold it.
         if (const auto reach = stem_in_reach(frame, h)) {
@@ -231,30 +234,42 @@ std::optional<EntryMark> entry_mark(const FrameSnapshot& frame, std::size_t h) {
     const auto& hand = frame.hands[h];
     if (!hand.holding || hand.held_flower < 0 || static_cast<std::size_t>(hand.held_flower) >= frame.flowers.size()) return std::nullopt;
     const auto& flower = frame.flowers[static_cast<std::size_t>(hand.held_flower)];
-    if (flower.in_kenzan || flower.points_m.size() < 2) return std::nullopt;
-    const glm::dvec3 end = flower.points_m.front();
-    const glm::dvec3 down = glm::normalize(end - flower.points_m[1]); // from the next point to the end
+    const auto& x = flower.points_m;
+    if (flower.in_kenzan || x.size() < 2) return std::nullopt;
+    const glm::dvec3 end = x.front();
+    // Its lower part's direction, up toward the tip (two segments: a curved stem's end segment alone
+    // swung the mark about).
+    const glm::dvec3 up = glm::normalize(x[std::min<std::size_t>(2, x.size() - 1)] - end);
     const auto& k = *frame.kenzan;
     const double tips_z = k.origin_m.z + k.pin_height_m();
-    // Only for a stem that could go in along its line (within 60° of upright, its end over the pins'
-    // height): for a stem held nearly flat the point was far off, with a line to it across the room.
-    if (down.z > -0.5 || end.z < tips_z) return std::nullopt;
+    // The hand lowers its end (nearly) straight down, whatever its lean, and pushes it in to the
+    // plate: the stem then comes out of the pins depth x tan(tilt) further along its lean, where the
+    // score measures its place. (Along its line, the first mark slid 36 mm under a hikae as it went
+    // down, and past 60 degrees it showed none.) Nothing below the tips, or held flatter than 80°.
+    if (end.z < tips_z || up.z < std::cos(80.0 * std::numbers::pi / 180.0)) return std::nullopt;
+    const glm::dvec3 bottom{end.x, end.y, k.origin_m.z};
     EntryMark mark;
-    mark.at_m = end + down * ((tips_z - end.z) / down.z);
+    mark.at_m = bottom + up * ((tips_z - bottom.z) / up.z);
     const glm::dvec3 lo = k.pin_base(0, 0), hi = k.pin_base(k.columns - 1, k.rows - 1);
     const double edge = 0.5 * k.pitch_m;
-    mark.on_pins = mark.at_m.x >= lo.x - edge && mark.at_m.x <= hi.x + edge && mark.at_m.y >= lo.y - edge && mark.at_m.y <= hi.y + edge;
-    if (frame.container) {
-        // Below the rim the way down must stay inside the wall (and the mark inside the container).
+    mark.on_pins = bottom.x >= lo.x - edge && bottom.x <= hi.x + edge && bottom.y >= lo.y - edge && bottom.y <= hi.y + edge;
+    if (frame.container && mark.on_pins) {
+        // Standing there at this lean, its line must stay inside the wall up to the rim (a trainee's soe
+        // stood with its lower part through the suiban's wall).
         const auto& c = *frame.container;
-        const auto inside = [&](glm::dvec3 p) {
-            const glm::dvec2 d = glm::dvec2(p) - c.centre_m;
-            return c.round ? glm::length(d) < c.half_extent_m.x : std::abs(d.x) < c.half_extent_m.x && std::abs(d.y) < c.half_extent_m.y;
-        };
-        // The wall is met where the way down goes from outside to inside (or back) below the rim; a way
-        // down wholly outside misses the pins, on the table.
-        const glm::dvec3 from = end.z > c.rim_z_m ? end + down * ((c.rim_z_m - end.z) / down.z) : end;
-        mark.meets_wall = inside(from) != inside(mark.at_m);
+        const glm::dvec2 from = glm::dvec2(bottom) - c.centre_m, along{up.x, up.y};
+        const double rise = (c.rim_z_m - bottom.z) / up.z; // along the stem to the rim's height
+        double to_wall = std::numeric_limits<double>::infinity();
+        if (c.round) {
+            // |from + along s| = r, the positive root.
+            const double a = glm::dot(along, along), b = 2.0 * glm::dot(from, along), q = glm::dot(from, from) - c.half_extent_m.x * c.half_extent_m.x;
+            if (a > 1e-12) to_wall = (-b + std::sqrt(std::max(0.0, b * b - 4.0 * a * q))) / (2.0 * a);
+        } else {
+            for (int i = 0; i < 2; ++i) {
+                if (std::abs(along[i]) > 1e-12) to_wall = std::min(to_wall, (std::copysign(c.half_extent_m[i], along[i]) - from[i]) / along[i]);
+            }
+        }
+        mark.meets_wall = to_wall < rise;
     }
     return mark;
 }

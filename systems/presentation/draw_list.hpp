@@ -4,8 +4,8 @@
 // mass points (a cylinder per segment), petals, leaves and heads placed on their stem points, and the
 // two hand cubes.
 // A hand that holds nothing shows the whole stem a press would take, in yellow; a hand that holds a
-// stem shows where its lower end would enter if lowered along its line (a ring on the pin tips' plane:
-// green on the pins, red where it would miss them or meet the container's wall).
+// stem shows where it would come out of the pins if lowered straight down (a ring on the pin tips'
+// plane: green on the pins, red where it would miss them or lean into the container's wall).
 #include <cstddef>
 #include <optional>
 
@@ -24,12 +24,13 @@ struct StemInReach {
 };
 [[nodiscard]] std::optional<StemInReach> stem_in_reach(const components::FrameSnapshot& frame, std::size_t hand);
 
-// Where the stem this hand holds would enter if lowered along its line: on the pin tips' plane. Nothing
-// without a kenzan, or while its line does not go down.
+// Where the stem this hand holds would come out of the pins if its end were lowered straight down and
+// pushed in to the plate at its lean: on the pin tips' plane (where the score measures its place).
+// Nothing without a kenzan, while its end is below the pin tips, or held flatter than 80 degrees.
 struct EntryMark {
     glm::dvec3 at_m{0.0};
-    bool on_pins = false;       // inside the pin field
-    bool meets_wall = false;    // its way down from the stem's end crosses the container's wall
+    bool on_pins = false;       // its end would go into the pin field
+    bool meets_wall = false;    // standing so, its line would cross the container's wall below the rim
     [[nodiscard]] bool good() const noexcept { return on_pins && !meets_wall; }
 };
 [[nodiscard]] std::optional<EntryMark> entry_mark(const components::FrameSnapshot& frame, std::size_t hand);

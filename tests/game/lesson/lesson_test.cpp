@@ -719,7 +719,7 @@ TEST(LessonWithTheMouse, TheSogetsuBasicUprightLessonThroughTheMouseMeetsEveryBa
     ASSERT_TRUE(session.ok()) << session.error().message;
     std::string steps;
     for (const auto& s : session->steps) steps += s.what + "\n";
-    for (const char* cut : {"shin: cut it to 448 mm", "soe: cut it to 339 mm", "hikae: cut it to 258 mm"}) EXPECT_NE(steps.find(cut), std::string::npos) << cut;
+    for (const char* cut : {"shin: cut it to 448 mm", "soe: cut it to 345 mm", "hikae: cut it to 295 mm"}) EXPECT_NE(steps.find(cut), std::string::npos) << cut;
     EXPECT_EQ(steps.find("it was cut to"), std::string::npos) << "C cut each to what its role wants:\n" << steps;
     EXPECT_EQ(steps.find("missed"), std::string::npos) << steps;
     std::string why;
@@ -1040,12 +1040,12 @@ TEST(LessonSession, ADemonstrationOnRecordReplaysToTheSameScoreAndStateHash) {
     EXPECT_EQ(replayed->state_hash, demo->state_hash);
     EXPECT_TRUE(replayed->parted.empty());
     EXPECT_EQ(replayed->kind, "demonstration");
-    // Five cuts, one per role and one per supporting stem (the jushi that hide the kenzan), and the four
-    // prunings that strip hikae's low leaves (at 68 degrees its two lower pairs would be in the water), on record.
+    // Five cuts, one per role and one per supporting stem (the jushi that hide the kenzan), and the two
+    // prunings that strip hikae's low leaves (at 68 degrees its lowest pair would be in the water), on record.
     const auto commands = assets::read_text_file(dir / "commands.csv");
     ASSERT_TRUE(commands.ok());
-    EXPECT_EQ(std::count(commands->begin(), commands->end(), '\n'), 9);
-    EXPECT_NE(demo->steps.end(), std::find_if(demo->steps.begin(), demo->steps.end(), [](const auto& s) { return s.what == "hikae: strip the 4 leaves that would stand in the water"; }));
+    EXPECT_EQ(std::count(commands->begin(), commands->end(), '\n'), 7);
+    EXPECT_NE(demo->steps.end(), std::find_if(demo->steps.begin(), demo->steps.end(), [](const auto& s) { return s.what == "hikae: strip the 2 leaves that would stand in the water"; }));
     // The review's timeline: the three cuts at the ticks they were taken, and each role's stem going
     // into the kenzan after its cut.
     const auto parsed = parse_session_commands(*commands, "commands.csv");
@@ -1575,23 +1575,40 @@ TEST(Reach, AHeldStemsEntryIsMarkedRedWhenItWouldMissThePinsOrMeetTheWall) {
     ASSERT_TRUE(beside.has_value());
     EXPECT_FALSE(beside->on_pins);
     EXPECT_NE(t.next_step().find("the red ring shows it would miss the pins"), std::string::npos) << t.next_step();
-    // From outside the rim, slanting in toward the kenzan: through the wall.
+    // Its end outside the rim, slanting in toward the kenzan: lowered, its end lands on the table.
     const auto& c = *t.frame.container;
     const double outside_x = c.centre_m.x + c.half_extent_m.x + 0.02;
-    ASSERT_TRUE(hold_over(outside_x, k.origin_m.y, 0.0).has_value());
-    for (std::size_t i = 0; i < x.size(); ++i) x[i] = {outside_x + 0.06 * static_cast<double>(i), k.origin_m.y, c.rim_z_m + 0.01 + 0.04 * static_cast<double>(i)};
-    x.front() = {outside_x, k.origin_m.y, c.rim_z_m + 0.01};
-    const auto through = systems::entry_mark(t.frame, 1);
-    ASSERT_TRUE(through.has_value());
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = {outside_x - 0.06 * static_cast<double>(i), k.origin_m.y, c.rim_z_m + 0.01 + 0.04 * static_cast<double>(i)};
+    const auto outside = systems::entry_mark(t.frame, 1);
+    ASSERT_TRUE(outside.has_value());
+    EXPECT_FALSE(outside->on_pins);
+    // Its end over the pins' edge nearest the wall, leaning steeply toward the wall: it would stand
+    // through the wall (a trainee's soe did), red, and said so.
+    const glm::dvec3 edge_pin = k.pin_base(0, 0); // the front left pin
+    const glm::dvec2 out_dir = glm::normalize(glm::dvec2(edge_pin) - c.centre_m);
+    const auto lean_toward = [&](glm::dvec2 dir, double tilt_rad) {
+        const glm::dvec3 u{dir.x * std::sin(tilt_rad), dir.y * std::sin(tilt_rad), std::cos(tilt_rad)};
+        for (std::size_t i = 0; i < x.size(); ++i) x[i] = glm::dvec3(edge_pin.x, edge_pin.y, tips + 0.03) + u * (0.04 * static_cast<double>(i));
+        return systems::entry_mark(t.frame, 1);
+    };
+    const auto through = lean_toward(out_dir, 70.0 * M_PI / 180.0);
+    ASSERT_TRUE(through.has_value()) << "a low stem has a ring too (past 60 degrees it had none)";
+    EXPECT_TRUE(through->on_pins);
     EXPECT_TRUE(through->meets_wall);
-    EXPECT_NE(t.next_step().find("meet the container's wall"), std::string::npos) << t.next_step();
+    EXPECT_NEAR(glm::dot(glm::dvec2(through->at_m - edge_pin), out_dir), k.pin_height_m() * std::tan(70.0 * M_PI / 180.0), 1e-6)
+        << "the ring where it comes out of the pins, along its lean";
+    EXPECT_NE(t.next_step().find("the red ring shows it would stand through the container's wall"), std::string::npos) << t.next_step();
+    // The same place leaning the other way, toward the middle: good.
+    const auto inward = lean_toward(-out_dir, 70.0 * M_PI / 180.0);
+    ASSERT_TRUE(inward.has_value());
+    EXPECT_TRUE(inward->good());
     // Wholly outside the container, its way down ends on the table: it misses the pins, no wall.
     for (std::size_t i = 0; i < x.size(); ++i) x[i] = {outside_x + 0.03, k.origin_m.y, c.rim_z_m + 0.01 + 0.04 * static_cast<double>(i)};
     const auto beside_it = systems::entry_mark(t.frame, 1);
     ASSERT_TRUE(beside_it.has_value());
     EXPECT_FALSE(beside_it->meets_wall);
     EXPECT_FALSE(beside_it->on_pins);
-    // Held nearly flat, it would not go in along its line: no ring far off.
+    // Held nearly flat (83 degrees), no ring far off.
     for (std::size_t i = 0; i < x.size(); ++i) x[i] = {k.origin_m.x + 0.04 * static_cast<double>(i), k.origin_m.y, tips + 0.05 + 0.005 * static_cast<double>(i)};
     EXPECT_FALSE(systems::entry_mark(t.frame, 1).has_value());
 }
