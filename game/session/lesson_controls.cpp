@@ -161,6 +161,54 @@ std::string LessonControls::reach_words(const components::FrameSnapshot& latest,
     return words;
 }
 
+namespace {
+// A stem's lean from the vertical, bottom to tip.
+double chord_tilt_rad(const components::FlowerStatus& f) {
+    if (f.points_m.size() < 2) return 0.0;
+    const glm::dvec3 chord = f.points_m.back() - f.points_m.front();
+    const double c = glm::length(chord);
+    return c > 0.0 ? std::acos(std::clamp(chord.z / c, -1.0, 1.0)) : 0.0;
+}
+// Sunk further than this past its lean when let go, a stem is said to have sunk.
+constexpr double sank_beyond_rad = 6.0 * 3.14159265358979323846 / 180.0;
+} // namespace
+
+void LessonControls::watch_sinking(const components::FrameSnapshot& latest, const components::HandStatus& h, const std::string& role) {
+    constexpr double deg = 180.0 / 3.14159265358979323846;
+    const auto flower_at = [&](std::int32_t i) -> const components::FlowerStatus* {
+        return i >= 0 && static_cast<std::size_t>(i) < latest.flowers.size() ? &latest.flowers[static_cast<std::size_t>(i)] : nullptr;
+    };
+    if (h.holding) {
+        if (const auto* f = flower_at(h.held_flower)) held_ = {h.held_flower, role, chord_tilt_rad(*f), 0};
+        let_go_ = {};
+        sank_.clear();
+        return;
+    }
+    if (held_.flower >= 0) {
+        // Just let go: watched for about three seconds of readings, if it stays in the pins.
+        if (const auto* f = flower_at(held_.flower); f && f->in_kenzan) {
+            let_go_ = held_;
+            let_go_.readings_left = 90;
+        }
+        held_ = {};
+    }
+    if (let_go_.readings_left <= 0) return;
+    --let_go_.readings_left;
+    const auto* f = flower_at(let_go_.flower);
+    if (!f || !f->in_kenzan || f->fallen) {
+        let_go_ = {};
+        return;
+    }
+    const double now = chord_tilt_rad(*f);
+    if (now - let_go_.tilt_rad <= sank_beyond_rad) return;
+    char text[260];
+    const std::string who = let_go_.role.empty() ? "the " + species_words(f->species) : let_go_.role;
+    std::snprintf(text, sizeof text,
+                  "%s sank from %.0f° to %.0f° once let go (%.0f mm deep in the pins): take it again and push it deeper, or set it %.0f° steeper than you want it",
+                  who.c_str(), let_go_.tilt_rad * deg, now * deg, f->depth_m * 1e3, (now - let_go_.tilt_rad) * deg);
+    sank_ = text;
+}
+
 LessonControls::Effects LessonControls::update(const platform::PointerState& in, std::uint8_t hand, const components::FrameSnapshot& latest,
                                                systems::TraineeChannel& trainee) {
     Effects effects;
@@ -180,6 +228,7 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     next_step_ = form ? advice.next_step : "copy the sample arrangement, then Score (Enter)";
     const auto& h = latest.hands[hand & 1u];
     if (h.holding) scored_ = false;
+    watch_sinking(latest, h, advice.role);
     const bool held_in_pins = h.holding && h.held_flower >= 0 && static_cast<std::size_t>(h.held_flower) < latest.flowers.size() &&
                               latest.flowers[static_cast<std::size_t>(h.held_flower)].in_kenzan;
     if (form && held_in_pins) {
@@ -195,6 +244,7 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
         if (next_step_.empty()) next_step_ = "no role is left for this stem: let go of it (release the button) away from the kenzan";
     } else if (form) {
         next_step_ = reach_words(latest, hand);
+        if (!sank_.empty()) next_step_ = sank_;
     }
     if (in.letter(cut_letter) && !cut_was_down_ && advice.keep_length_m > 0.0 && trainee.push({systems::TraineeCommand::Kind::cut, hand, advice.keep_length_m})) {
         effects.cut_for = advice.role;
@@ -234,6 +284,10 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
         lines_.push_back("  the model stands behind the container, right; each stem named");
     }
     effects.restart = in.letter(reset_letter) && !reset_was_down_;
+    if (effects.restart) {
+        let_go_ = {};
+        sank_.clear();
+    }
     reset_was_down_ = in.letter(reset_letter);
     if (in.finish_key && !enter_was_down_ && form) {
         effects.score = score_form(lesson_, measure_arrangement(latest), footprint_);

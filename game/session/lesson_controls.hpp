@@ -85,10 +85,23 @@ private:
     std::vector<std::string> lines_;
     std::string next_step_;
     bool scored_ = false; // Enter was pressed and no stem has been taken since
+    // Follows the held stem, and one just let go in the pins (held_, let_go_, sank_).
+    void watch_sinking(const components::FrameSnapshot& latest, const components::HandStatus& hand, const std::string& role);
     // What a press of this hand would do now, in words.
     [[nodiscard]] std::string reach_words(const components::FrameSnapshot& latest, std::uint8_t hand) const;
     std::vector<std::string> advice_;
     std::optional<HeldStemAdvice::Gauge> gauge_;
+    // The stem the hand last held, and how it leaned then: let go in the pins, it is watched for a few
+    // seconds, and if it sinks well past that the next step says so (a trainee's shin, let go at 15°
+    // in its band, was scored at 30° with no word).
+    struct Watched {
+        std::int32_t flower = -1;
+        std::string role;
+        double tilt_rad = 0.0;
+        int readings_left = 0;
+    };
+    Watched held_, let_go_;
+    std::string sank_;
 };
 
 // Each role's target as the form gives it, for the legend beside the G rods: "630 mm above the kenzan,

@@ -89,6 +89,10 @@ FormScore score_sample(const LessonDef& lesson, const Arrangement& arrangement, 
 // Beyond 80 degrees it counts as at 80 (a stem lying in the pins is not a length anyone cuts for).
 [[nodiscard]] double in_pins_along_m(double depth_m, double tilt_rad);
 
+// How far a point of the kenzan's face (from its centre) is outside a region of it, metres (0: in it),
+// as the score judges a stem's place.
+[[nodiscard]] double outside_place_m(glm::dvec2 at_m, KenzanRegion region, const KenzanFootprint& kenzan);
+
 // Points for a measured error against a band: all of them within it; outside, outside_band_share of
 // them at its edge, falling linearly to none one band further (a band of 0 counts as the kenzan's
 // pitch, 4 units). A school's band is a rule, not a slope.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "game/training/form_score.hpp"
 
@@ -41,9 +42,13 @@ std::optional<glm::dvec2> at_height(const std::vector<glm::dvec3>& p, double z) 
 double outside_region(glm::dvec2 b, KenzanRegion r, glm::dvec2 size) {
     const glm::dvec2 h = 0.5 * size;
     // Each region as a box in the face; "front" is toward the viewer (-y). Halves overlap by a pin pitch
-    // around the middle lines, so a stem on the line counts for both sides.
+    // around the middle lines, so a stem on the line counts for both sides. Outward a region has no
+    // edge: a stem leaning out of its part crosses the pins' tops beyond the kenzan (a hikae at 70
+    // degrees, 36 mm out) with its bottom in the pins, and "enters the front right; the form puts it in
+    // the front right: move its base 17 mm toward the front right" helped nobody.
     const double m = 0.004;
-    double x0 = -h.x, x1 = h.x, y0 = -h.y, y1 = h.y;
+    constexpr double far = std::numeric_limits<double>::infinity();
+    double x0 = -far, x1 = far, y0 = -far, y1 = far;
     switch (r) {
     case KenzanRegion::any: break;
     case KenzanRegion::centre: x0 = -h.x / 2, x1 = h.x / 2, y0 = -h.y / 2, y1 = h.y / 2; break;
@@ -89,6 +94,8 @@ double water_level_m(const LessonDef& l, const KenzanFootprint& k) {
     if (l.container.shape == ContainerShape::vase) return 0.0;
     return l.container.water_depth_m - k.plate_thickness_m;
 }
+
+double outside_place_m(glm::dvec2 at_m, KenzanRegion region, const KenzanFootprint& kenzan) { return training::outside_region(at_m, region, kenzan.size_m); }
 
 double in_pins_along_m(double depth_m, double tilt_rad) {
     constexpr double steepest_rad = 80.0 * 3.14159265358979323846 / 180.0;

@@ -328,6 +328,18 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
             std::snprintf(text, sizeof text, "tilt it %.0f°%s (Ctrl+drag), then lower it into %s", m.tilt_rad.target * deg, lean.c_str(),
                           on_kenzan_words(m.region).c_str());
             advice.next_step = text;
+            // Its tilt in the band, and the ring on the pins but outside the role's place: said while
+            // it can still be moved (a trainee's stems all lost their place points with no word).
+            const bool tilt_ok = std::abs(tilt - m.tilt_rad.target) <= m.tilt_rad.tolerance;
+            if (const auto mark = systems::entry_mark(frame, hand); tilt_ok && mark && mark->good() && m.region != KenzanRegion::any) {
+                const glm::dvec2 at = glm::dvec2(mark->at_m) - glm::dvec2(frame.kenzan->origin_m);
+                if (outside_place_m(at, m.region, footprint) > 0.002) {
+                    std::snprintf(text, sizeof text, "move it toward %s of the kenzan: the ring is in %s, %s goes in %s",
+                                  region_words(m.region).c_str(), region_words(region_of(at, footprint.size_m)).c_str(), m.role.c_str(),
+                                  region_words(m.region).c_str());
+                    advice.next_step = text;
+                }
+            }
         }
         if (length > advice.keep_length_m + 0.002) {
             std::snprintf(text, sizeof text, "for %s: C cuts it to %.0f mm (%.0f above the kenzan%s; %.0f in the pins); then Ctrl+drag to tilt it %.0f°%s",

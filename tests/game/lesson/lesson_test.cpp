@@ -1613,6 +1613,68 @@ TEST(Reach, AHeldStemsEntryIsMarkedRedWhenItWouldMissThePinsOrMeetTheWall) {
     EXPECT_FALSE(systems::entry_mark(t.frame, 1).has_value());
 }
 
+// A trainee's stems all lost their place points with no word while placing them: held at its role's
+// tilt with the ring on the pins but outside the role's part of the kenzan, the next step says where to
+// move it, in words; over its part, it says to lower it.
+TEST(Reach, AHeldStemOverTheWrongPartOfTheKenzanIsToldWhereItsRoleGoes) {
+    LessonTable t;
+    auto& hand = t.frame.hands[1];
+    hand.holding = true;
+    hand.held_flower = static_cast<std::int32_t>(t.willow);
+    auto& x = t.frame.flowers[t.willow].points_m;
+    const auto& k = *t.frame.kenzan;
+    const double tips = k.origin_m.z + k.pin_height_m();
+    const double length = 0.440; // cut for shin already
+    const auto over = [&](double px, double py) {
+        // 15° toward the left front (lesson azimuth 45°: -x, -y), its end 30 mm over the pin tips.
+        const double t15 = 15.0 * M_PI / 180.0;
+        const glm::dvec3 u{-std::sin(t15) * M_SQRT1_2, -std::sin(t15) * M_SQRT1_2, std::cos(t15)};
+        for (std::size_t i = 0; i < x.size(); ++i) x[i] = glm::dvec3(px, py, tips + 0.03) + u * (length * static_cast<double>(i) / static_cast<double>(x.size() - 1));
+        hand.position_m = x[2];
+        return t.next_step();
+    };
+    EXPECT_EQ(over(k.origin_m.x + 0.025, k.origin_m.y - 0.025), "move it toward the back left of the kenzan: the ring is in the front right, shin goes in the back left");
+    EXPECT_EQ(over(k.origin_m.x - 0.02, k.origin_m.y + 0.025).rfind("tilt it 15° toward the left front (Ctrl+drag), then lower it into the back left of the kenzan", 0), 0u)
+        << over(k.origin_m.x - 0.02, k.origin_m.y + 0.025);
+}
+
+// A trainee's shin, let go at 15° (in its band), sank to 30° and was scored there with no word: a stem
+// let go in the pins that sinks more than a few degrees past its lean is named in the next step, with
+// how deep it is and what to do; one that stays is not, nor is one still held.
+TEST(Reach, AStemThatSinksOnceLetGoIsSaidToHaveSunk) {
+    LessonTable t;
+    LessonControls controls(t.l, footprint(t.l));
+    systems::TraineeChannel channel;
+    auto& hand = t.frame.hands[1];
+    auto& f = t.frame.flowers[t.willow];
+    const auto& k = *t.frame.kenzan;
+    const auto lean = [&](double tilt_deg) {
+        const glm::dvec3 u{-std::sin(tilt_deg * M_PI / 180.0), 0.0, std::cos(tilt_deg * M_PI / 180.0)};
+        for (std::size_t i = 0; i < f.points_m.size(); ++i) f.points_m[i] = k.origin_m + u * (0.04 * static_cast<double>(i));
+    };
+    f.in_kenzan = true;
+    f.depth_m = 0.004;
+    lean(15.0);
+    hand.holding = true;
+    hand.held_flower = static_cast<std::int32_t>(t.willow);
+    (void)controls.update(platform::PointerState{}, 1, t.frame, channel);
+    EXPECT_NE(controls.next_step().find("it is in the pins"), std::string::npos) << controls.next_step();
+    hand.holding = false;
+    hand.held_flower = -1;
+    lean(18.0); // settles a little: not said
+    (void)controls.update(platform::PointerState{}, 1, t.frame, channel);
+    EXPECT_EQ(controls.next_step().find("sank"), std::string::npos) << controls.next_step();
+    lean(30.0);
+    (void)controls.update(platform::PointerState{}, 1, t.frame, channel);
+    EXPECT_EQ(controls.next_step(),
+              "shin sank from 15° to 30° once let go (4 mm deep in the pins): take it again and push it deeper, or set it 15° steeper than you want it");
+    // Taken again, the word goes.
+    hand.holding = true;
+    hand.held_flower = static_cast<std::int32_t>(t.willow);
+    (void)controls.update(platform::PointerState{}, 1, t.frame, channel);
+    EXPECT_EQ(controls.next_step().find("sank"), std::string::npos) << controls.next_step();
+}
+
 // The result in the panel (issue 37: numbers and coordinates a beginner cannot act on): per stem a bar
 // for each criterion, full where it is within its band; where it lost points, the tip in plain
 // directions without coordinates, and the stem's heading in its role's colour.
@@ -1697,6 +1759,28 @@ TEST(FormScore, InSogetsuTheMainStemsDoNotHideTheKenzanTheJushiDo) {
     ASSERT_NE(hidden, nullptr);
     EXPECT_FALSE(hidden->ok);
     EXPECT_EQ(hidden->tip.rfind("the kenzan still shows from the front: the supporting stems hide 0 % of its width", 0), 0u) << hidden->tip;
+}
+
+// A stem leaning out of its part of the kenzan crosses the pins' tops beyond the kenzan's edge (a hikae
+// at 70 degrees, 36 mm out): it is in its part, not "17 mm outside the front right; move it toward the
+// front right". Inward, past the middle line, it is outside.
+TEST(FormScore, AStemLeaningOutOfItsPartPastTheKenzansEdgeIsInItsPart) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    Arrangement a = model_arrangement(l, footprint(l));
+    ArrangementStem* hikae = stem_with_role(a, "hikae");
+    const glm::dvec2 half = 0.5 * footprint(l).size_m;
+    hikae->base_m = {half.x + 0.017, -half.y - 0.017};
+    const auto beyond = score_form(l, a, footprint(l));
+    ASSERT_TRUE(beyond.ok());
+    const Criterion* place = criterion(*beyond, "hikae", "region_mm");
+    ASSERT_NE(place, nullptr);
+    EXPECT_DOUBLE_EQ(place->points, place->max_points) << place->tip;
+    EXPECT_EQ(place->tip.find("move"), std::string::npos) << place->tip;
+    hikae->base_m = {-0.015, -0.02};
+    const auto inward = score_form(l, a, footprint(l));
+    EXPECT_LT(criterion(*inward, "hikae", "region_mm")->points, criterion(*inward, "hikae", "region_mm")->max_points);
+    EXPECT_NE(criterion(*inward, "hikae", "region_mm")->tip.find("move its base 11 mm toward the front right"), std::string::npos)
+        << criterion(*inward, "hikae", "region_mm")->tip;
 }
 
 // Sogetsu teaches hikae at 3/4 of soe, and at 1/2: a hikae at half of soe keeps its length points
