@@ -181,7 +181,11 @@ Verdict supporting_count(const RuleContext& c) {
     const bool ok = n <= supporting.max_count && too_long.empty();
     if (n > supporting.max_count) return {ok, fmt("%zu supporting stems; the form allows %u: take some out", n, supporting.max_count)};
     if (!too_long.empty()) return {ok, too_long};
-    if (n == 0) return {ok, "no supporting stems"};
+    // Said as room left, not as approval: "ok: no supporting stems" stood beside the kenzan rule's
+    // to-do asking for some.
+    if (n == 0)
+        return {ok, fmt("no supporting stems yet: up to %u may stand, each shorter than %s", supporting.max_count,
+                        supporting.shorter_than_role ? c.l.stems[*supporting.shorter_than_role].role.c_str() : "the main stems")};
     return {ok, fmt("%zu supporting stem(s), each shorter than the main stem it supports", n)};
 }
 
