@@ -93,9 +93,10 @@ SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float lef
     ImGui::SetNextWindowPos(ImVec2(left_px, 0.0f), ImGuiCond_Always);
     ImGui::SetNextWindowSize(ImVec2(width_px, io.DisplaySize.y), ImGuiCond_Always);
     ImGui::SetNextWindowBgAlpha(1.0f);
-    // A scroll bar when the result runs past the bottom.
+    // The title, the next step and the buttons stay put; what is below them scrolls (a trainee scrolled
+    // the Next line out of view).
     ImGui::Begin("session", nullptr, ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
-                                         ImGuiWindowFlags_NoSavedSettings);
+                                         ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextUnformatted(model.title.c_str());
     if (!model.trainee.empty()) ImGui::TextDisabled("%s", model.trainee.c_str());
@@ -118,6 +119,16 @@ SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float lef
     act.restart = tracked_button(buttons_, "Start over (R)", "restart", half);
     ImGui::SameLine();
     act.back = tracked_button(buttons_, "Lessons (Esc)", "back", half);
+    ImGui::BeginChild("below", ImVec2(0.0f, 0.0f), false);
+    ImGui::PushTextWrapPos(0.0f);
+    {
+        // The wheel over it scrolls it, even with the left button held down for a stem (Dear ImGui
+        // hovers no window while a press that began outside it lasts, so its own wheel did nothing).
+        const ImVec2 at = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+        const bool over = io.MousePos.x >= at.x && io.MousePos.x < at.x + size.x && io.MousePos.y >= at.y && io.MousePos.y < at.y + size.y;
+        if (over && io.MouseWheel != 0.0f && !ImGui::IsWindowHovered())
+            ImGui::SetScrollY(std::clamp(ImGui::GetScrollY() - io.MouseWheel * 3.0f * ImGui::GetTextLineHeightWithSpacing(), 0.0f, ImGui::GetScrollMaxY()));
+    }
     if (!model.held.empty()) {
         ImGui::Separator();
         for (const auto& line : model.held) ImGui::TextUnformatted(line.c_str());
@@ -180,6 +191,8 @@ SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float lef
     if (ImGui::CollapsingHeader("Details")) {
         for (const auto& line : model.details) ImGui::TextUnformatted(line.c_str());
     }
+    ImGui::PopTextWrapPos();
+    ImGui::EndChild();
     ImGui::PopTextWrapPos();
     const ImVec2 at = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
     panels_.push_back({"session", {at.x, at.y}, {size.x, size.y}});
