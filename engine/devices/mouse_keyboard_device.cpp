@@ -94,12 +94,19 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
         }
     }
     yaw_seen_rad_ = now.view_yaw_rad;
+    // A turn of the active hand: about its grip, or about where the window says its stem is held fast
+    // (the hand goes round that point as the stem turns).
+    const auto turn_by = [&](const glm::dquat& by) {
+        turn_[active] = glm::normalize(by * turn_[active]);
+        if (now.turn_about) position_[active] = glm::clamp(now.turn_about_m + by * (position_[active] - now.turn_about_m), config_.reach_min_m, config_.reach_max_m);
+    };
     // Ctrl+arrows lean the held stem a step, in or out of a drag.
     const glm::dvec2 steps = started_ ? now.tilt_presses - last_.tilt_presses : glm::dvec2{0.0};
-    if (steps != glm::dvec2{0.0}) turn_[active] = glm::normalize(drag_turn(config_, {0.0, 0.0}, 0.0, steps) * turn_[active]);
+    if (steps != glm::dvec2{0.0}) turn_by(drag_turn(config_, {0.0, 0.0}, 0.0, steps));
     if (started_ && !now.orbit_button && now.tilt_modifier) {
-        // Ctrl: the hand stays, the held stem turns about the grip, as the viewer sees it.
-        turn_[active] = glm::normalize(drag_turn(config_, moved, wheel, {0.0, 0.0}) * turn_[active]);
+        // Ctrl: the held stem turns, as the viewer sees it; the hand stays (or goes round the point
+        // its stem is held at).
+        if (moved != glm::dvec2{0.0} || wheel != 0.0) turn_by(drag_turn(config_, moved, wheel, {0.0, 0.0}));
     } else if (started_ && !now.orbit_button && now.ray.valid) {
         // The cursor went into the other eye's image, or runs along the hand's plane: the hand stays (the
         // window puts the cursor back on it).

@@ -44,6 +44,11 @@ struct PointerState {
     // stem lying on the table far from its bottom end takes it by that end (the hand goes there).
     std::uint32_t hand_moves = 0;
     glm::dvec3 hand_to_m{0.0};
+    // Where the active hand's held stem is held fast (device space), when it is (turn_about set): a
+    // tilt then turns it about there, the hand going round that point, not about the grip (turned
+    // about the grip, a stem in a kenzan's pins was levered out of them by Ctrl+arrows).
+    bool turn_about = false;
+    glm::dvec3 turn_about_m{0.0};
     bool finish_key = false;    // Enter
     bool quit_key = false;      // Escape
     // Ctrl held: what the game makes of mouse motion then is its own (a lesson tilts the held stem).

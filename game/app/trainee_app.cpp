@@ -519,6 +519,22 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         // Over the panel the cursor is the trainee's to click with, not the hand's.
         if (!over_panel) aim_.aim(in, view, hands, [&](glm::dvec2 px) { window_pointer_->put_cursor(px); });
     }
+    // A held stem in the pins turns about its bottom, where the pins hold it (device space: the world
+    // turned back by the camera's yaw), not about the hand's grip.
+    {
+        const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
+        const auto& h = latest.hands[aim_.active_hand() & 1u];
+        in.turn_about = false;
+        if (h.holding && h.held_flower >= 0 && static_cast<std::size_t>(h.held_flower) < latest.flowers.size()) {
+            const auto& f = latest.flowers[static_cast<std::size_t>(h.held_flower)];
+            if (f.in_kenzan && !f.points_m.empty()) {
+                const glm::dvec3 b = f.points_m.front();
+                const double c = std::cos(-camera_.yaw_rad()), s = std::sin(-camera_.yaw_rad());
+                in.turn_about = true;
+                in.turn_about_m = {c * b.x - s * b.y, s * b.x + c * b.y, b.z};
+            }
+        }
+    }
     // Over the panel the hands keep the last reading (they neither move nor take what is under them),
     // but a Tab pressed there still switches them.
     if (!over_panel) {
@@ -541,6 +557,8 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         hands_reading_.switch_hand = in.switch_hand;
         hands_reading_.view_yaw_rad = in.view_yaw_rad;
         hands_reading_.tilt_presses = in.tilt_presses;
+        hands_reading_.turn_about = in.turn_about; // the panel's lean buttons turn it as Ctrl+arrows do
+        hands_reading_.turn_about_m = in.turn_about_m;
         hands_reading_.ray_before = hands_reading_.ray;
         hands_reading_.warped_from_px = glm::dvec2{-1.0};
     }

@@ -220,6 +220,35 @@ TEST(MouseKeyboard, CtrlArrowsLeanTheStemFiveDegreesAPress) {
     EXPECT_NEAR(turn_between(start, *right->poll(2000)).first, 0.0, 1e-6);
 }
 
+// A first-time trainee's Ctrl+arrows lifted soe back out of the kenzan's pins: turned about the grip,
+// the stem's bottom swung out. Where the window says the held stem is held fast, a lean turns it about
+// there: the hand goes round that point by the same turn, and the point stays where it is.
+TEST(MouseKeyboard, AStemHeldFastTurnsAboutWhereItIsHeldAndTheHandGoesRoundIt) {
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto right = hands.hand(1);
+    const auto start = *right->poll(0);
+    const glm::dvec3 bottom = start.position - glm::dvec3{0.0, 0.0, 0.06}; // 60 mm below the grip
+    pointer.state.turn_about = true;
+    pointer.state.turn_about_m = bottom;
+    pointer.state.tilt_presses = {3.0, 0.0}; // three Ctrl+Right: 15 degrees
+    const auto leaned = *right->poll(1000);
+    EXPECT_NEAR(turn_between(start, leaned).first, 15.0 * deg, 1e-9) << "the same turn as about the grip";
+    EXPECT_NEAR(glm::length(leaned.position - bottom), 0.06, 1e-9) << "the hand went round the point";
+    EXPECT_NEAR(leaned.position.x - bottom.x, 0.06 * std::sin(15.0 * deg), 1e-9) << "its top to the right, as the stem leans";
+    // A Ctrl+drag too.
+    pointer.state.tilt_modifier = true;
+    pointer.state.cursor_px.x -= 40; // 10 degrees back to the left
+    const auto dragged = *right->poll(2000);
+    EXPECT_NEAR(glm::length(dragged.position - bottom), 0.06, 1e-9);
+    EXPECT_NEAR(dragged.position.x - bottom.x, 0.06 * std::sin(5.0 * deg), 1e-9);
+    // Held by nothing, it turns about the grip: the hand stays.
+    pointer.state.tilt_modifier = false;
+    pointer.state.turn_about = false;
+    pointer.state.tilt_presses = {4.0, 0.0};
+    EXPECT_NEAR(glm::length(right->poll(3000)->position - dragged.position), 0.0, 1e-12);
+}
+
 TEST(MouseKeyboard, TurningTheCameraLeavesTheHandsWhereTheyAreInTheRoomTurnedAsTheyWere) {
     // The trainee saw a held stem go from "49 deg left front" to "57 deg left back" as the camera turned.
     FakePointer pointer;
