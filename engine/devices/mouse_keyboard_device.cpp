@@ -31,6 +31,21 @@ private:
 };
 } // namespace
 
+glm::dquat MouseKeyboardHands::lean_turn(const Config& config, glm::dvec3 along, glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 steps) {
+    const glm::dquat round = glm::angleAxis(wheel_clicks * config.turn_per_scroll_rad, glm::dvec3{0, 0, 1});
+    const double length = glm::length(along);
+    if (!(length > 1e-9)) return round * drag_turn(config, moved_px, 0.0, steps);
+    const glm::dvec3 d = along / length;
+    // The tip's way asked for, in radians: x right, y away (a drag down, toward the viewer).
+    const glm::dvec3 asked{moved_px.x * config.tilt_per_px_rad + steps.x * config.tilt_step_rad,
+                           -moved_px.y * config.tilt_per_px_rad + steps.y * config.tilt_step_rad, 0.0};
+    // Only what moves the tip across the stem turns it: a stem lying to the right, dragged right, stays.
+    const glm::dvec3 across = asked - glm::dot(asked, d) * d;
+    const double angle = glm::length(across);
+    if (angle < 1e-12) return round;
+    return round * glm::angleAxis(angle, glm::normalize(glm::cross(d, across)));
+}
+
 glm::dquat MouseKeyboardHands::drag_turn(const Config& config, glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 steps) {
     // Right: the top to the right, about the axis away from the viewer. Up (a negative y in pixels, or
     // an Up arrow): the top away from the viewer, about the axis to the right, negatively.
@@ -100,12 +115,18 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
         turn_[active] = glm::normalize(by * turn_[active]);
         if (now.turn_about) position_[active] = glm::clamp(now.turn_about_m + by * (position_[active] - now.turn_about_m), config_.reach_min_m, config_.reach_max_m);
     };
+    // A lean asked for by arrow steps (Ctrl+arrows, the panel's buttons): about fixed axes as the viewer
+    // sees them, or, knowing which way the held stem points, its tip moved the way asked (lean_turn).
+    const auto lean = [&](glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 arrow_steps) {
+        return now.lean_along ? lean_turn(config_, now.lean_along_dir, moved_px, wheel_clicks, arrow_steps) : drag_turn(config_, moved_px, wheel_clicks, arrow_steps);
+    };
     // Ctrl+arrows lean the held stem a step, in or out of a drag.
     const glm::dvec2 steps = started_ ? now.tilt_presses - last_.tilt_presses : glm::dvec2{0.0};
-    if (steps != glm::dvec2{0.0}) turn_by(drag_turn(config_, {0.0, 0.0}, 0.0, steps));
+    if (steps != glm::dvec2{0.0}) turn_by(lean({0.0, 0.0}, 0.0, steps));
     if (started_ && !now.orbit_button && now.tilt_modifier) {
         // Ctrl: the held stem turns, as the viewer sees it; the hand stays (or goes round the point
         // its stem is held at).
+        // (About fixed axes: a script works the window's Ctrl+drag by tilt_gesture's exact angles.)
         if (moved != glm::dvec2{0.0} || wheel != 0.0) turn_by(drag_turn(config_, moved, wheel, {0.0, 0.0}));
     } else if (started_ && !now.orbit_button && now.ray.valid) {
         // The cursor went into the other eye's image, or runs along the hand's plane: the hand stays (the

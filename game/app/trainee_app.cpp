@@ -525,13 +525,19 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
         const auto& h = latest.hands[aim_.active_hand() & 1u];
         in.turn_about = false;
+        in.lean_along = false;
         if (h.holding && h.held_flower >= 0 && static_cast<std::size_t>(h.held_flower) < latest.flowers.size()) {
             const auto& f = latest.flowers[static_cast<std::size_t>(h.held_flower)];
+            const double c = std::cos(-camera_.yaw_rad()), s = std::sin(-camera_.yaw_rad());
+            const auto to_device = [&](glm::dvec3 p) { return glm::dvec3{c * p.x - s * p.y, s * p.x + c * p.y, p.z}; };
             if (f.in_kenzan && !f.points_m.empty()) {
-                const glm::dvec3 b = f.points_m.front();
-                const double c = std::cos(-camera_.yaw_rad()), s = std::sin(-camera_.yaw_rad());
                 in.turn_about = true;
-                in.turn_about_m = {c * b.x - s * b.y, s * b.x + c * b.y, b.z};
+                in.turn_about_m = to_device(f.points_m.front());
+            }
+            // And which way it points, so that a lean moves its tip the way the drag goes.
+            if (f.points_m.size() >= 2 && glm::length(f.points_m.back() - f.points_m.front()) > 1e-6) {
+                in.lean_along = true;
+                in.lean_along_dir = to_device(glm::normalize(f.points_m.back() - f.points_m.front()));
             }
         }
     }
@@ -559,6 +565,8 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         hands_reading_.tilt_presses = in.tilt_presses;
         hands_reading_.turn_about = in.turn_about; // the panel's lean buttons turn it as Ctrl+arrows do
         hands_reading_.turn_about_m = in.turn_about_m;
+        hands_reading_.lean_along = in.lean_along;
+        hands_reading_.lean_along_dir = in.lean_along_dir;
         hands_reading_.ray_before = hands_reading_.ray;
         hands_reading_.warped_from_px = glm::dvec2{-1.0};
     }

@@ -249,6 +249,39 @@ TEST(MouseKeyboard, AStemHeldFastTurnsAboutWhereItIsHeldAndTheHandGoesRoundIt) {
     EXPECT_NEAR(glm::length(right->poll(3000)->position - dragged.position), 0.0, 1e-12);
 }
 
+// A first-time trainee found that dragging toward the viewer barely leant a stem lying flat: turned
+// about the screen's horizontal axis, a stem pointing right only rolls. Knowing which way the stem
+// points, a lean moves its tip the way asked: toward the viewer for "near", by the same 5 degrees; an
+// upright stem leans as before; a stem pointing right, asked to go right, stays.
+TEST(MouseKeyboard, KnowingWhichWayTheStemPointsALeanMovesItsTipTheWayAsked) {
+    const MouseKeyboardHands::Config config;
+    const auto tip_after = [&](glm::dvec3 along, glm::dvec2 steps, glm::dvec2 moved_px = {0.0, 0.0}) {
+        return MouseKeyboardHands::lean_turn(config, along, moved_px, 0.0, steps) * along;
+    };
+    const glm::dvec3 right{1.0, 0.0, 0.0}, up{0.0, 0.0, 1.0};
+    const glm::dvec3 near = tip_after(right, {0.0, -1.0}); // one "near" step
+    EXPECT_NEAR(near.y, -std::sin(5.0 * deg), 1e-12) << "its tip toward the viewer";
+    EXPECT_NEAR(near.z, 0.0, 1e-12) << "still lying flat";
+    const glm::dvec3 dragged = tip_after(right, {0.0, 0.0}, {0.0, 40.0}); // 40 px down: 10 degrees toward the viewer
+    EXPECT_NEAR(dragged.y, -std::sin(10.0 * deg), 1e-12);
+    EXPECT_NEAR(glm::length(tip_after(right, {2.0, 0.0}) - right), 0.0, 1e-12) << "already pointing right";
+    // Upright, the same as about the fixed axes.
+    for (const glm::dvec2 steps : {glm::dvec2{1.0, 0.0}, glm::dvec2{0.0, -1.0}, glm::dvec2{-2.0, 1.0}}) {
+        const glm::dvec3 fixed = MouseKeyboardHands::drag_turn(config, {0.0, 0.0}, 0.0, steps) * up;
+        EXPECT_NEAR(glm::length(tip_after(up, steps) - fixed), 0.0, 1e-3) << steps.x << ", " << steps.y;
+    }
+    // Through the hands' readings: the window says which way the held stem points.
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto hand = hands.hand(1);
+    const auto start = *hand->poll(0);
+    pointer.state.lean_along = true;
+    pointer.state.lean_along_dir = right;
+    pointer.state.tilt_presses = {0.0, -2.0};
+    const auto leaned = *hand->poll(1000);
+    EXPECT_NEAR(turn_between(start, leaned).first, 10.0 * deg, 1e-9);
+}
+
 TEST(MouseKeyboard, TurningTheCameraLeavesTheHandsWhereTheyAreInTheRoomTurnedAsTheyWere) {
     // The trainee saw a held stem go from "49 deg left front" to "57 deg left back" as the camera turned.
     FakePointer pointer;
