@@ -32,18 +32,20 @@ private:
 } // namespace
 
 glm::dquat MouseKeyboardHands::lean_turn(const Config& config, glm::dvec3 along, glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 steps) {
+    // Sideways, as drag_turn: about the axis away from the viewer, the stem turns in the picture like a
+    // clock's hand whichever way it points.
+    const glm::dquat sideways = glm::angleAxis(moved_px.x * config.tilt_per_px_rad + steps.x * config.tilt_step_rad, glm::dvec3{0, 1, 0});
     const glm::dquat round = glm::angleAxis(wheel_clicks * config.turn_per_scroll_rad, glm::dvec3{0, 0, 1});
     const double length = glm::length(along);
-    if (!(length > 1e-9)) return round * drag_turn(config, moved_px, 0.0, steps);
-    const glm::dvec3 d = along / length;
-    // The tip's way asked for, in radians: x right, y away (a drag down, toward the viewer).
-    const glm::dvec3 asked{moved_px.x * config.tilt_per_px_rad + steps.x * config.tilt_step_rad,
-                           -moved_px.y * config.tilt_per_px_rad + steps.y * config.tilt_step_rad, 0.0};
-    // Only what moves the tip across the stem turns it: a stem lying to the right, dragged right, stays.
+    if (!(length > 1e-9)) return round * drag_turn(config, {0.0, moved_px.y}, 0.0, {0.0, steps.y}) * sideways;
+    // Away or toward the viewer: the tip goes that way by the degrees asked, as far as that way runs
+    // across the stem (about the screen's horizontal axis, a stem lying to the right only rolled).
+    const glm::dvec3 d = sideways * (along / length);
+    const glm::dvec3 asked{0.0, -moved_px.y * config.tilt_per_px_rad + steps.y * config.tilt_step_rad, 0.0};
     const glm::dvec3 across = asked - glm::dot(asked, d) * d;
     const double angle = glm::length(across);
-    if (angle < 1e-12) return round;
-    return round * glm::angleAxis(angle, glm::normalize(glm::cross(d, across)));
+    if (angle < 1e-12) return round * sideways;
+    return round * glm::angleAxis(angle, glm::normalize(glm::cross(d, across))) * sideways;
 }
 
 glm::dquat MouseKeyboardHands::drag_turn(const Config& config, glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 steps) {

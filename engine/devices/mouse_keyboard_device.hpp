@@ -42,9 +42,10 @@ public:
     // positive), then the wheel's clicks and the arrows' steps (x right, y up = away). Rotations about
     // one axis add up however a motion is split into readings.
     [[nodiscard]] static glm::dquat drag_turn(const Config& config, glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 steps);
-    // The same knowing which way the held stem points (`along`, bottom to tip): its tip goes the way
-    // asked (right, away) by as many degrees, as far as that way runs across the stem (a stem lying
-    // to the right, dragged toward the viewer, swings its tip toward the viewer; dragged right, stays).
+    // The same knowing which way the held stem points (`along`, bottom to tip): sideways as above (it
+    // turns in the picture like a clock's hand), and away or toward the viewer its tip goes that way
+    // by as many degrees, as far as that way runs across the stem (a stem lying to the right, leant
+    // toward the viewer, swings its tip toward the viewer; about the fixed axis it only rolled).
     [[nodiscard]] static glm::dquat lean_turn(const Config& config, glm::dvec3 along, glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 steps);
     // The Ctrl gestures that take a hand from one turn to another (DeviceSample::rotation's angles):
     // a sideways drag, then an up-down one, then wheel clicks (Euler angles about y, x, z: a small turn
