@@ -202,6 +202,10 @@ private:
     platform::PointerSource* pointer_ = nullptr;
     platform::SharedPointerSource shared_pointer_; // GLFW is read here, the hands read it there
     platform::PointerState hands_reading_;         // what the hands were last given
+    // The hand held a stem when the cursor went over the panel, and the button went up there (its lean
+    // buttons were clicked): it keeps holding back in the scene until the next press there ends (it
+    // let go of the stem as the cursor came back, and the panel's lean buttons were no use).
+    bool held_over_panel_ = false;
     std::unique_ptr<devices::MouseKeyboardHands> mouse_;
     std::unique_ptr<World> world_;
 
@@ -548,6 +552,8 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         // there with the press (a device's hand cannot be moved; the panel says to take it there).
         const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
         const std::uint8_t active = aim_.active_hand();
+        if (held_over_panel_ && in.grab_button) held_over_panel_ = false; // a press back in the scene: its release lets go
+        if (held_over_panel_) in.grab_button = true;
         const bool press = in.grab_button && !hands_reading_.grab_button;
         in.hand_moves = hands_reading_.hand_moves;
         in.hand_to_m = hands_reading_.hand_to_m;
@@ -560,6 +566,7 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         }
         hands_reading_ = in;
     } else {
+        if (hands_reading_.grab_button && !in.grab_button) held_over_panel_ = true;
         hands_reading_.switch_hand = in.switch_hand;
         hands_reading_.view_yaw_rad = in.view_yaw_rad;
         hands_reading_.tilt_presses = in.tilt_presses;

@@ -237,7 +237,7 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
                               latest.flowers[static_cast<std::size_t>(h.held_flower)].in_kenzan;
     if (form && held_in_pins) {
         char text[160];
-        std::snprintf(text, sizeof text, "it is in the pins, %.0f mm deep: release the button to let go of it",
+        std::snprintf(text, sizeof text, "it is in the pins, %.0f mm deep: release the button to let go of it (click, if the button is up)",
                       latest.flowers[static_cast<std::size_t>(h.held_flower)].depth_m * 1e3);
         next_step_ = text;
     } else if (form && h.holding) {

@@ -1723,7 +1723,7 @@ TEST(Reach, TheNextStepSaysWhenAStemIsInThePinsAndWhatToDoAfterTheScore) {
     hand.held_flower = static_cast<std::int32_t>(t.willow);
     t.frame.flowers[t.willow].in_kenzan = true;
     t.frame.flowers[t.willow].depth_m = 0.012;
-    EXPECT_EQ(t.next_step(), "it is in the pins, 12 mm deep: release the button to let go of it");
+    EXPECT_EQ(t.next_step(), "it is in the pins, 12 mm deep: release the button to let go of it (click, if the button is up)");
     hand.holding = false;
     hand.held_flower = -1;
     hand.position_m = {0.0, 0.3, 0.4};
