@@ -1,6 +1,8 @@
 #include "systems/haptics/hand_input_system.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 #include <cstdio>
 
 #include "engine/ecs/registry.hpp"
@@ -10,6 +12,25 @@ namespace ikebana::systems {
 using namespace components;
 
 namespace {
+// Which side of a container's wall a point is on (the wall's middle), and whether it is low enough
+// (below the rim, with a stem's radius of slack) for the wall to be in its way.
+bool inside_wall(const Container& c, const glm::dvec3& p) {
+    const glm::dvec2 d = glm::dvec2(p) - c.centre_m;
+    if (c.round) return glm::length(d) < c.half_extent_m.x + 0.5 * c.wall_m;
+    return std::abs(d.x) < c.half_extent_m.x + 0.5 * c.wall_m && std::abs(d.y) < c.half_extent_m.y + 0.5 * c.wall_m;
+}
+// Whether moving a held stem by `by` would take one of its points through the container's wall below
+// the rim (a trainee's willow went into the kenzan straight through the suiban's front wall, and a
+// chrysanthemum ended up under it: the hand's grip moves the stem whatever is in the way).
+bool through_wall(const Container& c, const std::vector<glm::dvec3>& x, double radius_m, const glm::dvec3& by) {
+    for (const auto& p : x) {
+        const glm::dvec3 q = p + by;
+        if (std::min(p.z, q.z) >= c.rim_z_m + radius_m || std::max(p.z, q.z) < c.base_z_m) continue;
+        if (inside_wall(c, p) != inside_wall(c, q)) return true;
+    }
+    return false;
+}
+
 // Within the plate's outline (a pitch beyond the outer pins, as the cube's own stop above).
 bool on_kenzan_plate(const Kenzan& k, const glm::dvec3& p) {
     const glm::dvec3 lo = k.pin_base(0, 0) - glm::dvec3{k.pitch_m};
@@ -24,6 +45,7 @@ void HandInputSystem::operator()(sched::SystemContext& ctx) {
     if (!devices) return;
     const auto* table = r.resource<const Table>();
     const Kenzan* kenzan = r.single<const Kenzan>();
+    const Container* container = r.single<const Container>();
     r.view<const HandCube, const WorkspaceMapping, HandInput, HandProxy, Collider>().each(
         [&](ecs::Entity e, const HandCube& cube, const WorkspaceMapping& map, HandInput& input, HandProxy& proxy, Collider& collider) {
             devices::HapticDevice* device = devices->device(cube.hand);
@@ -96,6 +118,20 @@ void HandInputSystem::operator()(sched::SystemContext& ctx) {
                     double floor = table ? table->height_m : -1e9;
                     if (kenzan && on_kenzan_plate(*kenzan, end)) floor = std::max(floor, kenzan->origin_m.z);
                     if (end.z - end_drop <= floor + end_on_floor_m) at.z = proxy.position_m.z;
+                }
+            }
+            // Nor through the container's wall: a held stem that would cross it below the rim stays on its
+            // side (up and down it may still go, so it can be lifted over the rim). The gap to the device
+            // is felt as the wall pushing back.
+            if (const auto* grip = r.try_get<const HandGrip>(e); grip && !grip->held.is_null() && container) {
+                const auto* stem = r.try_get<const StemPoints>(grip->held);
+                const auto* rest = r.try_get<const StemRestShape>(grip->held);
+                if (stem && rest) {
+                    const double radius = 0.5 * rest->diameter_m;
+                    if (through_wall(*container, stem->position_m, radius, at - proxy.position_m)) {
+                        const glm::dvec3 up_down{proxy.position_m.x, proxy.position_m.y, at.z};
+                        at = through_wall(*container, stem->position_m, radius, up_down - proxy.position_m) ? proxy.position_m : up_down;
+                    }
                 }
             }
             // No faster than a hand: the proxy closes a bigger jump over several ticks.

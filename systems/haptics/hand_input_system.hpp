@@ -33,7 +33,7 @@ struct HandInputSystem {
     static constexpr std::string_view phase = "input";
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::WorkspaceMapping, components::HandCube, components::HandGrip,
-                                    components::Kenzan, components::Table, components::StemPoints, components::StemRestShape>;
+                                    components::Kenzan, components::Table, components::Container, components::StemPoints, components::StemRestShape>;
     // HandDevices: polling a device and recording its samples are writes (hand_devices.hpp).
     using writes = sched::Components<HandDevices, components::HandInput, components::HandProxy, components::Collider, HandLinks>;
 

@@ -170,6 +170,62 @@ TEST(Contact, AContainerHoldsAStemOnItsFloorAndInsideItsWall) {
     EXPECT_DOUBLE_EQ(systems::support_floor_m(&table, &c, nullptr, {0.3, 0.0}, radius, std::nullopt), radius);
 }
 
+// A first-time trainee's willow went into the kenzan straight through the suiban's front wall (the hand
+// pulled it along low, in depth), and a chrysanthemum ended up under the suiban: the grip moved the stem
+// whatever was in the way. Held low outside the container and pulled toward the kenzan, a stem stops at
+// the wall (the proxy stays; the gap to the device is the wall pushing back); lifted over the rim, it
+// goes on.
+TEST(Contact, AHeldStemIsStoppedByTheContainersWallAndGoesOverTheRim) {
+    SceneDef scene = scene_with("chrysanthemum", 0);
+    scene.flowers[0].placement = Placement::lying;
+    scene.flowers[0].base_m = {-0.10, -0.14, 0.0}; // on the table in front of the suiban
+    scene.flowers[0].direction = {1, 0, 0};
+    scene.flowers[0].length_m = 0.2;
+    scene.container = suiban_240();
+    scene.kenzan_position_m = {0.05, 0.05, 0.006 + 0.008};
+    auto w = make(scene);
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(500'000);
+    const auto& c = *w->sim.single<Container>();
+    const glm::dvec3 grip = points(*w)[3];
+    std::ostringstream csv;
+    csv << "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n";
+    const auto key = [&](double t, glm::dvec3 p, int b) { csv << t << "," << p.x << "," << p.y << "," << p.z << ",0,0,0," << b << "\n"; };
+    key(0.5, grip, 0);
+    key(0.6, grip, 1);
+    key(1.0, grip + glm::dvec3{0.0, 0.0, 0.02}, 1);              // lifted 20 mm: below the rim
+    key(2.5, glm::dvec3{grip.x, 0.05, grip.z + 0.02}, 1);        // pulled toward the kenzan, low
+    key(3.0, glm::dvec3{grip.x, 0.05, grip.z + 0.02}, 1);
+    auto keys = devices::parse_trajectory(csv.str(), "through the wall");
+    ASSERT_TRUE(keys);
+    w->attach_device(1, std::make_unique<devices::ScriptedDevice>(std::move(keys).value(), devices::ScriptedDevice::Mode::interpolate));
+    const auto inside = [&](const glm::dvec3& p) { return glm::length(glm::dvec2(p) - c.centre_m) < c.half_extent_m.x + 0.5 * c.wall_m; };
+    for (int step = 0; step < 30; ++step) {
+        clock.run_for_us(100'000);
+        for (const auto& p : points(*w)) ASSERT_FALSE(inside(p) && p.z < c.rim_z_m) << "a point went through the wall at step " << step;
+    }
+    const auto held = test::hand_view(*w, 1);
+    ASSERT_FALSE(held.held.is_null()) << "still held";
+    EXPECT_GT(glm::length(held.device_m - held.proxy_m), 0.05) << "the wall holds the hand back from the device";
+    // Lifted over the rim, it goes on in.
+    std::ostringstream over;
+    over << "time_s,x_m,y_m,z_m,rx_rad,ry_rad,rz_rad,buttons\n";
+    const double t0 = 3.0;
+    const glm::dvec3 at = held.proxy_m;
+    over << t0 << "," << at.x << "," << at.y << "," << at.z << ",0,0,0,1\n";
+    over << t0 + 0.8 << "," << at.x << "," << at.y << "," << c.rim_z_m + 0.08 << ",0,0,0,1\n";
+    over << t0 + 2.0 << "," << at.x << "," << 0.05 << "," << c.rim_z_m + 0.08 << ",0,0,0,1\n";
+    over << t0 + 2.5 << "," << at.x << "," << 0.05 << "," << c.rim_z_m + 0.08 << ",0,0,0,1\n";
+    auto over_keys = devices::parse_trajectory(over.str(), "over the rim");
+    ASSERT_TRUE(over_keys);
+    w->attach_device(1, std::make_unique<devices::ScriptedDevice>(std::move(over_keys).value(), devices::ScriptedDevice::Mode::interpolate));
+    clock.run_for_us(3'000'000);
+    const auto lifted = test::hand_view(*w, 1);
+    ASSERT_FALSE(lifted.held.is_null());
+    EXPECT_LT(glm::length(lifted.device_m - lifted.proxy_m), 0.01) << "over the rim nothing holds it back";
+    EXPECT_TRUE(inside(points(*w)[3])) << "the grip's point is over the container";
+}
+
 TEST(OneHand, ATurnedDeviceTiltsTheHeldStemAboutTheGrip) {
     auto w = make(scene_with("sunflower", 0));
     sched::DeterministicClock clock(w->schedule);
