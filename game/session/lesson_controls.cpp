@@ -246,6 +246,13 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
             next_step_ = mark->meets_wall ? "lean it less, or move it toward the container's middle: the red ring shows it would stand through the container's wall"
                                           : "move it over the kenzan: the red ring shows it would miss the pins";
         if (next_step_.empty()) next_step_ = "no role is left for this stem: let go of it (release the button) away from the kenzan";
+        // The hand held back from where the mouse puts it, sideways: only the container's wall does
+        // that (the table and the kenzan's plate stop it going down).
+        const auto* held = h.held_flower >= 0 && static_cast<std::size_t>(h.held_flower) < latest.flowers.size() ? &latest.flowers[static_cast<std::size_t>(h.held_flower)] : nullptr;
+        const bool low = held && latest.container &&
+                         std::any_of(held->points_m.begin(), held->points_m.end(), [&](const glm::dvec3& p) { return p.z < latest.container->rim_z_m; });
+        if (low && glm::length(glm::dvec2(h.device_m - h.position_m)) > 0.015)
+            next_step_ = "the container's wall is in the way: lift it over the rim (move the mouse up), then move it in";
     } else if (form) {
         next_step_ = reach_words(latest, hand);
         if (!sank_.empty()) next_step_ = sank_;

@@ -1638,6 +1638,20 @@ TEST(Reach, AHeldStemOverTheWrongPartOfTheKenzanIsToldWhereItsRoleGoes) {
         << over(k.origin_m.x - 0.02, k.origin_m.y + 0.025);
 }
 
+// Held low against the container's wall, the hand stops while the mouse goes on: the next step says
+// what stops it and what to do, not to move it over the kenzan.
+TEST(Reach, AHeldStemHeldBackByTheWallIsToldToGoOverTheRim) {
+    LessonTable t;
+    auto& hand = t.frame.hands[1];
+    hand.holding = true;
+    hand.held_flower = static_cast<std::int32_t>(t.willow);
+    hand.position_m = t.frame.flowers[t.willow].points_m[3];
+    hand.device_m = hand.position_m + glm::dvec3{0.0, 0.06, 0.0};
+    EXPECT_EQ(t.next_step(), "the container's wall is in the way: lift it over the rim (move the mouse up), then move it in");
+    hand.device_m = hand.position_m + glm::dvec3{0.0, 0.0, -0.06}; // held up by the table: not the wall
+    EXPECT_EQ(t.next_step().find("wall"), std::string::npos) << t.next_step();
+}
+
 // A trainee's shin, let go at 15° (in its band), sank to 30° and was scored there with no word: a stem
 // let go in the pins that sinks more than a few degrees past its lean is named in the next step, with
 // how deep it is and what to do; one that stays is not, nor is one still held.
