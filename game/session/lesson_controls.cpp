@@ -243,8 +243,13 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     } else if (form && h.holding) {
         // Where it would go in, if that is wrong: said before anything else.
         if (const auto mark = systems::entry_mark(latest, hand); mark && !mark->good() && advice.keep_length_m > 0.0)
-            next_step_ = mark->meets_wall ? "lean it less, or move it toward the container's middle: the red ring shows it would stand through the container's wall"
-                                          : "move it over the kenzan: the red ring shows it would miss the pins";
+        {
+            char text[200];
+            std::snprintf(text, sizeof text,
+                          "lean it at most %.0f° here (it would go through the container's wall, or rest on its rim), or move it toward the container's middle",
+                          std::floor(mark->rim_tilt_rad * 180.0 / 3.14159265358979323846));
+            next_step_ = mark->meets_wall ? std::string(text) : "move it over the kenzan: the red ring shows it would miss the pins";
+        }
         if (next_step_.empty()) next_step_ = "no role is left for this stem: let go of it (release the button) away from the kenzan";
         // The hand held back from where the mouse puts it, sideways: only the container's wall does
         // that (the table and the kenzan's plate stop it going down).

@@ -270,6 +270,8 @@ std::optional<EntryMark> entry_mark(const FrameSnapshot& frame, std::size_t h) {
             }
         }
         mark.meets_wall = to_wall < rise;
+        // The steepest lean this way that clears the rim (the stem rests on the rim leant further).
+        if (mark.meets_wall) mark.rim_tilt_rad = std::atan2(to_wall * glm::length(along), c.rim_z_m - bottom.z);
     }
     return mark;
 }

@@ -31,6 +31,7 @@ struct EntryMark {
     glm::dvec3 at_m{0.0};
     bool on_pins = false;       // its end would go into the pin field
     bool meets_wall = false;    // standing so, its line would cross the container's wall below the rim
+    double rim_tilt_rad = 0.0;  // then: the furthest from vertical it may lean this way and clear the rim
     [[nodiscard]] bool good() const noexcept { return on_pins && !meets_wall; }
 };
 [[nodiscard]] std::optional<EntryMark> entry_mark(const components::FrameSnapshot& frame, std::size_t hand);

@@ -1597,7 +1597,15 @@ TEST(Reach, AHeldStemsEntryIsMarkedRedWhenItWouldMissThePinsOrMeetTheWall) {
     EXPECT_TRUE(through->meets_wall);
     EXPECT_NEAR(glm::dot(glm::dvec2(through->at_m - edge_pin), out_dir), k.pin_height_m() * std::tan(70.0 * M_PI / 180.0), 1e-6)
         << "the ring where it comes out of the pins, along its lean";
-    EXPECT_NE(t.next_step().find("the red ring shows it would stand through the container's wall"), std::string::npos) << t.next_step();
+    EXPECT_GT(through->rim_tilt_rad, 0.0);
+    EXPECT_LT(through->rim_tilt_rad, 70.0 * M_PI / 180.0);
+    const double rim_deg = std::floor(through->rim_tilt_rad * 180.0 / M_PI);
+    EXPECT_EQ(t.next_step().rfind("lean it at most " + std::to_string(static_cast<int>(rim_deg)) + "° here (it would go through the container's wall, or rest on its rim)", 0), 0u)
+        << t.next_step();
+    // Leant that far, it clears the rim: the ring is green.
+    const auto at_rim = lean_toward(out_dir, through->rim_tilt_rad - 0.01);
+    ASSERT_TRUE(at_rim.has_value());
+    EXPECT_FALSE(at_rim->meets_wall);
     // The same place leaning the other way, toward the middle: good.
     const auto inward = lean_toward(-out_dir, 70.0 * M_PI / 180.0);
     ASSERT_TRUE(inward.has_value());
