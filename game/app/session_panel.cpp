@@ -128,6 +128,10 @@ SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float lef
         const bool over = io.MousePos.x >= at.x && io.MousePos.x < at.x + size.x && io.MousePos.y >= at.y && io.MousePos.y < at.y + size.y;
         if (over && io.MouseWheel != 0.0f && !ImGui::IsWindowHovered())
             ImGui::SetScrollY(std::clamp(ImGui::GetScrollY() - io.MouseWheel * 3.0f * ImGui::GetTextLineHeightWithSpacing(), 0.0f, ImGui::GetScrollMaxY()));
+        // A stem just taken: its lines and gauge come first, in view (the result, scrolled down, had
+        // hidden them above).
+        if (model.holding && !was_holding_) ImGui::SetScrollY(0.0f);
+        was_holding_ = model.holding;
     }
     if (!model.held.empty()) {
         ImGui::Separator();

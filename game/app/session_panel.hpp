@@ -72,6 +72,7 @@ public:
     [[nodiscard]] const std::vector<PanelRect>& panels() const { return panels_; }
 
 private:
+    bool was_holding_ = false;
     std::vector<UiButton> buttons_;
     std::vector<PanelRect> panels_;
 };

@@ -262,9 +262,34 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
         next_step_ = reach_words(latest, hand);
         if (!sank_.empty()) next_step_ = sank_;
     }
-    if (in.letter(cut_letter) && !cut_was_down_ && advice.keep_length_m > 0.0 && trainee.push({systems::TraineeCommand::Kind::cut, hand, advice.keep_length_m})) {
+    // Where along the held stem the hand holds it, from its bottom end: a cut below the hand keeps the
+    // part in the hand. Cut above it, the hand held the piece that came off, and the flower hung 120 mm
+    // from the cube (a trainee took a chrysanthemum by its bottom end and cut it for a 59 mm jushi).
+    double grip_from_bottom_m = 0.0, held_length_m = 0.0;
+    if (h.holding && h.held_flower >= 0 && static_cast<std::size_t>(h.held_flower) < latest.flowers.size()) {
+        const auto& x = latest.flowers[static_cast<std::size_t>(h.held_flower)].points_m;
+        std::size_t nearest = 0;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            if (glm::length(x[i] - h.position_m) < glm::length(x[nearest] - h.position_m)) nearest = i;
+            if (i > 0) held_length_m += glm::length(x[i] - x[i - 1]);
+            if (i > 0 && i <= nearest) grip_from_bottom_m = held_length_m;
+        }
+    }
+    const bool grip_cut_away = advice.keep_length_m > 0.0 && held_length_m - advice.keep_length_m > grip_from_bottom_m - 0.01;
+    if (in.letter(cut_letter) && !cut_was_down_ && grip_cut_away) cut_refused_for_ = 60; // about two seconds of readings
+    if (in.letter(cut_letter) && !cut_was_down_ && advice.keep_length_m > 0.0 && !grip_cut_away &&
+        trainee.push({systems::TraineeCommand::Kind::cut, hand, advice.keep_length_m})) {
         effects.cut_for = advice.role;
         effects.cut_to_m = advice.keep_length_m;
+    }
+    if (cut_refused_for_ > 0 && h.holding) {
+        --cut_refused_for_;
+        char text[200];
+        std::snprintf(text, sizeof text, "C would cut off the part in your hand: let go, and take it again above its lowest %.0f mm (nearer the flower)",
+                      (held_length_m - advice.keep_length_m) * 1e3);
+        next_step_ = text;
+    } else if (!h.holding) {
+        cut_refused_for_ = 0;
     }
     cut_was_down_ = in.letter(cut_letter);
     // What P would take, beside the next step (the panel shows that line; the yellow mark is for stems).
@@ -309,7 +334,9 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
         effects.score = score_form(lesson_, measure_arrangement(latest), footprint_);
         scored_ = true;
     }
-    if (form && scored_ && !h.holding) next_step_ = "scored: the bars below show each stem; change what you like, or R to start over, Esc for the lessons";
+    // (Over a stem, what a press would take is said instead.)
+    if (form && scored_ && !h.holding && !systems::stem_in_reach(latest, hand))
+        next_step_ = "scored: the bars below show each stem; change what you like, or R to start over, Esc for the lessons";
     enter_was_down_ = in.finish_key;
     return effects;
 }

@@ -101,6 +101,7 @@ private:
         int readings_left = 0;
     };
     Watched held_, let_go_;
+    int cut_refused_for_ = 0; // readings left to say why C cut nothing (the hand held what it would cut off)
     std::string sank_;
 };
 

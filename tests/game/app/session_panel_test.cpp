@@ -75,4 +75,13 @@ TEST(SessionPanel, TheNextStepStaysInViewAndTheWheelScrollsWhatIsBelowItEvenWith
     for (int i = 0; i < 3; ++i) ui.frame(panel, model, ImVec2(300.0f, 300.0f), true, 3.0f);
     ui.frame(panel, model, ImVec2(300.0f, 300.0f), true, 0.0f);
     EXPECT_DOUBLE_EQ(top_of(panel, "report"), scrolled);
+    // Let go, and a stem taken again: what is said of it comes back into view (scrolled down, the
+    // result had hidden the held stem's lines and its lean buttons above).
+    model.holding = false;
+    ui.frame(panel, model, ImVec2(1000.0f, 500.0f), false, 0.0f);
+    model.holding = true;
+    ui.frame(panel, model, ImVec2(300.0f, 300.0f), true, 0.0f);
+    ui.frame(panel, model, ImVec2(300.0f, 300.0f), true, 0.0f);
+    EXPECT_GT(top_of(panel, "tilt:left"), top_of(panel, "finish")) << "the lean buttons below the fixed ones, in view";
+    EXPECT_GT(top_of(panel, "report"), scrolled) << "scrolled back to the top";
 }

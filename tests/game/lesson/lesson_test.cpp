@@ -879,14 +879,10 @@ TEST(LessonControls, AStemCutWithCForItsRoleMeasuresThatRolesLengthOnceItLeansIn
     EXPECT_GT(advice.keep_length_m - target_m, 2.0 * pins) << "at hikae's 75 degrees the pins take more than twice their height of it";
 }
 
-// A first-time trainee holding a fourth chrysanthemum read jushi instructions in the panel and "no role
-// is left for this stem: let go of it away from the kenzan" as the next step, and never placed a jushi
-// the score asked for. With soe standing, a second cherry branch is heading for a supporting stem: the
-// next step says what to do with it, and the gauge shows the model jushi's lean.
-TEST(LessonControls, AStemHeadingForASupportingRoleIsToldItsNextStepAndShownItsLean) {
-    const LessonDef l = lesson("sogetsu_basic_upright");
-    components::FrameSnapshot frame = holding_a_lying_cherry_branch();
-    frame.hands[1].position_m = frame.flowers[0].points_m[3];
+namespace {
+// A second cherry branch standing in the kenzan where the model puts soe (so a held one is heading for
+// a supporting stem).
+void stand_cherry_as_soe(components::FrameSnapshot& frame, const LessonDef& l) {
     const auto model = model_arrangement(l, footprint(l));
     const auto soe = std::find_if(model.stems.begin(), model.stems.end(), [](const ArrangementStem& s) { return s.role == "soe"; });
     ASSERT_NE(soe, model.stems.end());
@@ -896,6 +892,18 @@ TEST(LessonControls, AStemHeadingForASupportingRoleIsToldItsNextStepAndShownItsL
     const glm::dvec3 base = frame.kenzan->origin_m + glm::dvec3(soe->base_m, 0.0);
     for (int i = 0; i <= 10; ++i) standing.points_m.push_back(base + lesson_direction(soe->tilt_rad, soe->azimuth_rad) * (soe->length_m * i / 10.0));
     frame.flowers.push_back(standing);
+}
+} // namespace
+
+// A first-time trainee holding a fourth chrysanthemum read jushi instructions in the panel and "no role
+// is left for this stem: let go of it away from the kenzan" as the next step, and never placed a jushi
+// the score asked for. With soe standing, a second cherry branch is heading for a supporting stem: the
+// next step says what to do with it, and the gauge shows the model jushi's lean.
+TEST(LessonControls, AStemHeadingForASupportingRoleIsToldItsNextStepAndShownItsLean) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    components::FrameSnapshot frame = holding_a_lying_cherry_branch();
+    frame.hands[1].position_m = frame.flowers[0].points_m[3];
+    stand_cherry_as_soe(frame, l);
     const auto advice = advise_held_stem(l, footprint(l), frame, 1);
     ASSERT_EQ(advice.role, "supporting");
     EXPECT_EQ(advice.next_step.rfind("press C to cut it as a supporting stem (jushi, to ", 0), 0u) << advice.next_step;
@@ -910,6 +918,32 @@ TEST(LessonControls, AStemHeadingForASupportingRoleIsToldItsNextStepAndShownItsL
     EXPECT_EQ(cut.next_step.rfind("tilt it ", 0), 0u) << cut.next_step;
     EXPECT_NE(cut.next_step.find(" of the kenzan"), std::string::npos) << cut.next_step;
     EXPECT_EQ(cut.next_step.find("mm"), std::string::npos) << "no coordinates: " << cut.next_step;
+}
+
+// Taken by its bottom end and cut with C for a short jushi, the hand held the piece that came off and
+// the flower hung 120 mm from the cube: C cuts nothing then and says to take it nearer the flower; held
+// above the cut, C cuts.
+TEST(LessonControls, CCutsNothingWhenTheHandHoldsThePartItWouldCutOff) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    components::FrameSnapshot frame = holding_a_lying_cherry_branch();
+    stand_cherry_as_soe(frame, l);
+    frame.hands[1].position_m = frame.flowers[0].points_m[3]; // 51 mm from its bottom end
+    LessonControls controls(l, footprint(l));
+    systems::TraineeChannel channel;
+    platform::PointerState in;
+    in.set_letter('C', true);
+    const auto near_bottom = controls.update(in, 1, frame, channel);
+    EXPECT_TRUE(near_bottom.cut_for.empty());
+    systems::TraineeCommand command;
+    EXPECT_FALSE(channel.pop(command)) << "nothing cut";
+    EXPECT_EQ(controls.next_step().rfind("C would cut off the part in your hand: let go, and take it again above its lowest ", 0), 0u) << controls.next_step();
+    in.set_letter('C', false);
+    (void)controls.update(in, 1, frame, channel);
+    frame.hands[1].position_m = frame.flowers[0].points_m[19]; // near its top, above the cut
+    in.set_letter('C', true);
+    const auto near_top = controls.update(in, 1, frame, channel);
+    EXPECT_EQ(near_top.cut_for, "supporting");
+    EXPECT_TRUE(channel.pop(command)) << "cut";
 }
 
 // In a shoka the stems rise from the water as one line: the HUD tells a trainee holding soe's cherry
