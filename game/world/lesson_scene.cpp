@@ -210,6 +210,10 @@ std::string role_heading_for(const LessonDef& l, const KenzanFootprint& footprin
         if (!m.species.empty() && std::find(m.species.begin(), m.species.end(), species) == m.species.end()) continue;
         return m.role;
     }
+    // No main role left for it: a supporting stem, where the form has them (as advise_held_stem says
+    // once it is held; the press was named "no role of the form is left for it").
+    const Arrangement model = model_arrangement(l, footprint);
+    if (std::any_of(model.stems.begin(), model.stems.end(), [](const ArrangementStem& s) { return s.role == "supporting"; })) return "a supporting stem (jushi)";
     return "";
 }
 

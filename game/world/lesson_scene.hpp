@@ -50,8 +50,9 @@ struct HeldStemAdvice {
 };
 HeldStemAdvice advise_held_stem(const LessonDef& lesson, const KenzanFootprint& kenzan, const components::FrameSnapshot& frame, std::size_t hand);
 
-// The role a stem of this species would be heading for now (as advise_held_stem picks it; empty: none
-// is left for it).
+// The role a stem of this species would be heading for now (as advise_held_stem picks it): a main
+// role's name, "a supporting stem (jushi)" where the form has them and no main role is left for it,
+// or empty: none.
 [[nodiscard]] std::string role_heading_for(const LessonDef& lesson, const KenzanFootprint& kenzan, const components::FrameSnapshot& frame,
                                            const std::string& species);
 

@@ -918,6 +918,14 @@ TEST(LessonControls, AStemHeadingForASupportingRoleIsToldItsNextStepAndShownItsL
     EXPECT_EQ(cut.next_step.rfind("tilt it ", 0), 0u) << cut.next_step;
     EXPECT_NE(cut.next_step.find(" of the kenzan"), std::string::npos) << cut.next_step;
     EXPECT_EQ(cut.next_step.find("mm"), std::string::npos) << "no coordinates: " << cut.next_step;
+    // Before it is taken, a press on it is named for that role (it read "no role of the form is left").
+    frame.hands[1].holding = false;
+    frame.hands[1].held_flower = -1;
+    frame.hands[1].position_m = frame.flowers[0].points_m[3];
+    LessonControls controls(l, footprint(l));
+    systems::TraineeChannel channel;
+    (void)controls.update(platform::PointerState{}, 1, frame, channel);
+    EXPECT_NE(controls.next_step().find("hold the left button to take the cherry branch for a supporting stem (jushi)"), std::string::npos) << controls.next_step();
 }
 
 // Taken by its bottom end and cut with C for a short jushi, the hand held the piece that came off and
