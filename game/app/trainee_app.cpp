@@ -558,7 +558,9 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         in.hand_moves = hands_reading_.hand_moves;
         in.hand_to_m = hands_reading_.hand_to_m;
         if (press && pointer_ == window_pointer_ && device_names_[active] == "mouse and keyboard") {
-            if (const auto grip = bottom_grip_for(latest, active)) {
+            const LessonControls* controls = flow_ ? flow_->controls() : nullptr;
+            const double along = controls ? controls->grip_along_m(latest, active) : 0.06;
+            if (const auto grip = bottom_grip_for(latest, active, along)) {
                 const double c = std::cos(-camera_.yaw_rad()), s = std::sin(-camera_.yaw_rad());
                 in.hand_to_m = {c * grip->x - s * grip->y, s * grip->x + c * grip->y, grip->z}; // device space: the world turned back by the camera's yaw
                 in.hand_moves += 1;

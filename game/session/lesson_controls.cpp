@@ -160,7 +160,12 @@ std::string LessonControls::reach_words(const components::FrameSnapshot& latest,
     const auto& f = latest.flowers[reach->flower];
     const std::string role = role_heading_for(lesson_, footprint_, latest, f.species);
     std::string words = before + "hold the left button to take the " + species_words(f.species) + (role.empty() ? " (no role of the form is left for it)" : " for " + role);
-    if (bottom_grip_for(latest, hand)) words += ": the hand takes it by its bottom end";
+    if (const double along = grip_along_m(latest, hand); bottom_grip_for(latest, hand, along))
+    {
+        char text[120];
+        std::snprintf(text, sizeof text, ": the hand takes it %.0f mm up from its bottom end, above what C cuts off", along * 1e3);
+        words += along > 0.1 ? std::string(text) : std::string(": the hand takes it by its bottom end");
+    }
     else if (f.in_kenzan) words += ": it comes out of the pins";
     return words;
 }

@@ -70,6 +70,10 @@ public:
     [[nodiscard]] const std::string& next_step() const noexcept { return next_step_; }
     [[nodiscard]] const std::vector<std::string>& advice() const noexcept { return advice_; }
     [[nodiscard]] const std::optional<HeldStemAdvice::Gauge>& gauge() const noexcept { return gauge_; }
+    // Where up from its end a press of this hand should take the stem in reach (grip_along_m).
+    [[nodiscard]] double grip_along_m(const components::FrameSnapshot& latest, std::uint8_t hand) const {
+        return game::grip_along_m(lesson_, footprint_, latest, hand);
+    }
 
 private:
     const LessonDef& lesson_;

@@ -185,7 +185,7 @@ double stem_length(const std::vector<glm::dvec3>& x) { return x.empty() ? 0.0 : 
 bool far_from_bottom(const std::vector<glm::dvec3>& x, std::size_t i) { return along_to(x, i) > std::max(far_from_end_m, 0.35 * stem_length(x)); }
 } // namespace
 
-std::optional<glm::dvec3> bottom_grip_for(const components::FrameSnapshot& frame, std::size_t hand) {
+std::optional<glm::dvec3> bottom_grip_for(const components::FrameSnapshot& frame, std::size_t hand, double along_m) {
     const auto reach = systems::stem_in_reach(frame, hand);
     if (!reach) return std::nullopt;
     const auto& f = frame.flowers[reach->flower];
@@ -194,9 +194,22 @@ std::optional<glm::dvec3> bottom_grip_for(const components::FrameSnapshot& frame
     // 30 mm up was cut away with the 42 mm a chrysanthemum lost for hikae, and the hand held nothing).
     std::size_t best = 0;
     for (std::size_t i = 1; i < f.points_m.size(); ++i) {
-        if (std::abs(along_to(f.points_m, i) - 0.06) < std::abs(along_to(f.points_m, best) - 0.06)) best = i;
+        if (std::abs(along_to(f.points_m, i) - along_m) < std::abs(along_to(f.points_m, best) - along_m)) best = i;
     }
     return f.points_m[best];
+}
+
+double grip_along_m(const LessonDef& l, const KenzanFootprint& footprint, const components::FrameSnapshot& frame, std::size_t hand) {
+    constexpr double near_end_m = 0.06;
+    const auto reach = hand < 2 ? systems::stem_in_reach(frame, hand) : std::nullopt;
+    if (!reach || l.scoring != "form") return near_end_m;
+    // What C would keep of it once held (the same advice the panel gives then).
+    components::FrameSnapshot held = frame;
+    held.hands[hand].holding = true;
+    held.hands[hand].held_flower = static_cast<std::int32_t>(reach->flower);
+    const auto advice = advise_held_stem(l, footprint, held, hand);
+    const double cut_m = stem_length(frame.flowers[reach->flower].points_m) - advice.keep_length_m;
+    return advice.keep_length_m > 0.0 && cut_m > 0.0 ? std::max(near_end_m, cut_m + 0.03) : near_end_m;
 }
 
 std::string role_heading_for(const LessonDef& l, const KenzanFootprint& footprint, const components::FrameSnapshot& frame, const std::string& species) {

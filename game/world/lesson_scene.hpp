@@ -59,7 +59,13 @@ HeldStemAdvice advise_held_stem(const LessonDef& lesson, const KenzanFootprint& 
 // A press of this hand on a stem lying out of the kenzan, far from its bottom end (where it could not be
 // pushed into the pins from): the point near that end where the hand takes it instead (the mouse's hand
 // goes there). Nothing when the press would take it near its end already, or takes nothing.
-[[nodiscard]] std::optional<glm::dvec3> bottom_grip_for(const components::FrameSnapshot& frame, std::size_t hand);
+// `along_m`: how far up from its end (60 mm by default, grip_along_m for a lesson's role).
+[[nodiscard]] std::optional<glm::dvec3> bottom_grip_for(const components::FrameSnapshot& frame, std::size_t hand, double along_m = 0.06);
+
+// Where up from its end a press should take the stem this hand would take, for a lesson: 60 mm, or
+// 30 mm above what C would cut off for the role it is heading for (taken by its end and cut for a
+// 59 mm jushi, the hand held the piece that came off).
+[[nodiscard]] double grip_along_m(const LessonDef& lesson, const KenzanFootprint& kenzan, const components::FrameSnapshot& frame, std::size_t hand);
 
 } // namespace ikebana::game
 

@@ -926,6 +926,21 @@ TEST(LessonControls, AStemHeadingForASupportingRoleIsToldItsNextStepAndShownItsL
     systems::TraineeChannel channel;
     (void)controls.update(platform::PointerState{}, 1, frame, channel);
     EXPECT_NE(controls.next_step().find("hold the left button to take the cherry branch for a supporting stem (jushi)"), std::string::npos) << controls.next_step();
+    // Uncut, a press takes it above what C will cut off for it (by its end, it held the piece that came
+    // off); cut already, near its end.
+    EXPECT_DOUBLE_EQ(grip_along_m(l, footprint(l), frame, 1), 0.06);
+    components::FrameSnapshot uncut = holding_a_lying_cherry_branch();
+    stand_cherry_as_soe(uncut, l);
+    uncut.hands[1].holding = false;
+    uncut.hands[1].held_flower = -1;
+    uncut.hands[1].position_m = uncut.flowers[0].points_m[15];
+    const double along = grip_along_m(l, footprint(l), uncut, 1);
+    EXPECT_NEAR(along, 0.34 - advice.keep_length_m + 0.03, 0.002);
+    const auto grip = bottom_grip_for(uncut, 1, along);
+    ASSERT_TRUE(grip.has_value());
+    EXPECT_NEAR(grip->x - uncut.flowers[0].points_m.front().x, along, 0.017) << "the stem point nearest that far up";
+    (void)controls.update(platform::PointerState{}, 1, uncut, channel);
+    EXPECT_NE(controls.next_step().find(" mm up from its bottom end, above what C cuts off"), std::string::npos) << controls.next_step();
 }
 
 // Taken by its bottom end and cut with C for a short jushi, the hand held the piece that came off and
