@@ -534,6 +534,38 @@ TEST(ProgressDb, TwoStationsStartedAtOnceOnANewFileBothStoreEverySession) {
     }
 }
 
+// Killed while it made the tables of a new file (before the write-ahead log is on), a writer leaves a
+// hot journal. Read through a read-only connection, the file was "damaged (attempt to write a readonly
+// database)" (the kill test, once, killed 30 ms in); opened now, the half-made file is put back as it
+// was (empty) and made anew.
+TEST(ProgressDb, AWriterKilledWhileMakingANewFileLeavesOneThatOpens) {
+    const auto path = fresh_dir() / "progress.sqlite";
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        sqlite3* raw = nullptr;
+        if (sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) _exit(3);
+        // A tiny cache: the transaction's pages go to the file before its commit.
+        if (sqlite3_exec(raw, "PRAGMA cache_size = 1; BEGIN; CREATE TABLE scratch(x); WITH RECURSIVE n(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM n WHERE i < 20000) "
+                              "INSERT INTO scratch SELECT randomblob(200) FROM n;",
+                         nullptr, nullptr, nullptr) != SQLITE_OK)
+            _exit(4);
+        raise(SIGKILL); // before COMMIT
+        _exit(5);
+    }
+    int status = 0;
+    waitpid(child, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "exit " << WEXITSTATUS(status);
+    ASSERT_TRUE(std::filesystem::exists(path.string() + "-journal")) << "a hot journal left behind";
+    auto db = ProgressDb::open(path);
+    ASSERT_TRUE(db) << db.error().message;
+    auto all = db->sessions();
+    ASSERT_TRUE(all) << all.error().message;
+    EXPECT_TRUE(all->empty());
+    auto first = session("sogetsu_basic_upright", "mika", 70.0, 1);
+    EXPECT_TRUE(db->save(first));
+}
+
 // The app killed mid-session twenty times, at moments spread over its saves: after each kill the
 // database opens whole (integrity_check, in open) and every session the killed writer had been told
 // was stored is there, whole.
