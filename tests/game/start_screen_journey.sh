@@ -27,7 +27,7 @@ trap 'kill $app 2>/dev/null || true' EXIT
 
 # Waits until the state file holds the text (the window has drawn what is looked for).
 wait_for() {
-  for _ in $(seq 1 600); do
+  for _ in $(seq 1 1200); do # 2 minutes: under a loaded machine (CI beside another Xvfb session) going back to the start screen took over 60 s once
     if [ -f "$state" ] && grep -q -- "$1" "$state"; then return 0; fi
     kill -0 $app 2>/dev/null || fail "the app ended while waiting for $1"
     sleep 0.1
