@@ -48,6 +48,18 @@ ContainerDef suiban_240() {
     suiban.water_depth_m = 0.04;
     return suiban;
 }
+// A chrysanthemum lying along x at `base` (stem `length_m` long), beside the lesson's suiban with the
+// kenzan in it.
+SceneDef chrysanthemum_lying_by_suiban(glm::dvec3 base, double length_m) {
+    SceneDef scene = scene_with("chrysanthemum", 0);
+    scene.flowers[0].placement = Placement::lying;
+    scene.flowers[0].base_m = base;
+    scene.flowers[0].direction = {1, 0, 0};
+    scene.flowers[0].length_m = length_m;
+    scene.container = suiban_240();
+    scene.kenzan_position_m = {0.05, 0.05, 0.006 + 0.008};
+    return scene;
+}
 } // namespace
 
 TEST(Standing, AStemThatSinksOverIsFellInTheHudAndTheSummaryNeverStands) {
@@ -147,14 +159,8 @@ TEST(Contact, AStemPushedThroughThePinsStopsOnTheKenzansPlate) {
 }
 
 TEST(Contact, AContainerHoldsAStemOnItsFloorAndInsideItsWall) {
-    SceneDef scene = scene_with("chrysanthemum", 0);
-    scene.flowers[0].placement = Placement::lying;
-    scene.flowers[0].base_m = {-0.06, -0.05, 0.06}; // in front of the kenzan, not over it
-    scene.flowers[0].direction = {1, 0, 0};
-    scene.flowers[0].length_m = 0.16; // shorter than the suiban is wide
-    scene.container = suiban_240();
-    scene.kenzan_position_m = {0.05, 0.05, 0.006 + 0.008};
-    auto w = make(scene);
+    // In front of the kenzan, not over it; shorter than the suiban is wide.
+    auto w = make(chrysanthemum_lying_by_suiban({-0.06, -0.05, 0.06}, 0.16));
     sched::DeterministicClock clock(w->schedule);
     clock.run_for_us(3'000'000);
     const auto& c = *w->sim.single<Container>();
@@ -176,14 +182,7 @@ TEST(Contact, AContainerHoldsAStemOnItsFloorAndInsideItsWall) {
 // the wall (the proxy stays; the gap to the device is the wall pushing back); lifted over the rim, it
 // goes on.
 TEST(Contact, AHeldStemIsStoppedByTheContainersWallAndGoesOverTheRim) {
-    SceneDef scene = scene_with("chrysanthemum", 0);
-    scene.flowers[0].placement = Placement::lying;
-    scene.flowers[0].base_m = {-0.10, -0.14, 0.0}; // on the table in front of the suiban
-    scene.flowers[0].direction = {1, 0, 0};
-    scene.flowers[0].length_m = 0.2;
-    scene.container = suiban_240();
-    scene.kenzan_position_m = {0.05, 0.05, 0.006 + 0.008};
-    auto w = make(scene);
+    auto w = make(chrysanthemum_lying_by_suiban({-0.10, -0.14, 0.0}, 0.2)); // on the table in front of the suiban
     sched::DeterministicClock clock(w->schedule);
     clock.run_for_us(500'000);
     const auto& c = *w->sim.single<Container>();
