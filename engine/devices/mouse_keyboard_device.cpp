@@ -31,21 +31,51 @@ private:
 };
 } // namespace
 
+namespace {
+// The most a lean may reach from the vertical: past it, a stem pointing straight down has no "more".
+constexpr double most_lean_rad = 175.0 * 3.14159265358979323846 / 180.0;
+
+// A direction's lean as the trainee reads it on the gauge: its tilt from the vertical, as a length,
+// toward where its tip points (x right, y away from the viewer). Round the vertical the map keeps
+// tilts exact, so a step toward where a stem already leans adds exactly that step to its tilt.
+glm::dvec2 lean_of(const glm::dvec3& d) {
+    const double across = std::hypot(d.x, d.y);
+    const double tilt = std::atan2(across, d.z);
+    if (across > 1e-12) return tilt / across * glm::dvec2{d.x, d.y};
+    return d.z > 0.0 ? glm::dvec2{0.0} : glm::dvec2{tilt, 0.0}; // straight down: any way round is as good
+}
+glm::dvec3 direction_of(const glm::dvec2& lean) {
+    const double tilt = glm::length(lean);
+    if (tilt < 1e-12) return {0.0, 0.0, 1.0};
+    const double s = std::sin(tilt) / tilt;
+    return {s * lean.x, s * lean.y, std::cos(tilt)};
+}
+// The turn that takes one direction to another the shortest way (no spin about either).
+glm::dquat shortest_turn(const glm::dvec3& from, const glm::dvec3& to) {
+    const glm::dvec3 axis = glm::cross(from, to);
+    const double sine = glm::length(axis);
+    if (sine < 1e-12) return glm::dquat{1.0, 0.0, 0.0, 0.0}; // the same way (half-turns are capped out by most_lean_rad)
+    return glm::angleAxis(std::atan2(sine, glm::dot(from, to)), axis / sine);
+}
+} // namespace
+
 glm::dquat MouseKeyboardHands::lean_turn(const Config& config, glm::dvec3 along, glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 steps) {
-    // Sideways, as drag_turn: about the axis away from the viewer, the stem turns in the picture like a
-    // clock's hand whichever way it points.
-    const glm::dquat sideways = glm::angleAxis(moved_px.x * config.tilt_per_px_rad + steps.x * config.tilt_step_rad, glm::dvec3{0, 1, 0});
-    const glm::dquat round = glm::angleAxis(wheel_clicks * config.turn_per_scroll_rad, glm::dvec3{0, 0, 1});
     const double length = glm::length(along);
-    if (!(length > 1e-9)) return round * drag_turn(config, {0.0, moved_px.y}, 0.0, {0.0, steps.y}) * sideways;
-    // Away or toward the viewer: the tip goes that way by the degrees asked, as far as that way runs
-    // across the stem (about the screen's horizontal axis, a stem lying to the right only rolled).
-    const glm::dvec3 d = sideways * (along / length);
-    const glm::dvec3 asked{0.0, -moved_px.y * config.tilt_per_px_rad + steps.y * config.tilt_step_rad, 0.0};
-    const glm::dvec3 across = asked - glm::dot(asked, d) * d;
-    const double angle = glm::length(across);
-    if (angle < 1e-12) return round * sideways;
-    return round * glm::angleAxis(angle, glm::normalize(glm::cross(d, across))) * sideways;
+    if (!(length > 1e-9)) return drag_turn(config, moved_px, wheel_clicks, steps);
+    const glm::dquat round = glm::angleAxis(wheel_clicks * config.turn_per_scroll_rad, glm::dvec3{0, 0, 1});
+    // The tip goes the way asked as the viewer sees it (right, or away: a drag up, an Up arrow), by the
+    // degrees asked on the gauge, whichever way the stem points now: its lean moves that much.
+    const glm::dvec3 d = along / length;
+    const glm::dvec2 asked{moved_px.x * config.tilt_per_px_rad + steps.x * config.tilt_step_rad, -moved_px.y * config.tilt_per_px_rad + steps.y * config.tilt_step_rad};
+    glm::dvec2 to = lean_of(d) + asked;
+    if (glm::length(to) > most_lean_rad) to *= most_lean_rad / glm::length(to);
+    return round * shortest_turn(d, direction_of(to));
+}
+
+glm::dquat MouseKeyboardHands::twist_turn(const Config& config, glm::dvec3 along, double moved_px) {
+    const double length = glm::length(along);
+    if (!(length > 1e-9)) return glm::dquat{1.0, 0.0, 0.0, 0.0};
+    return glm::angleAxis(moved_px * config.tilt_per_px_rad, along / length);
 }
 
 glm::dquat MouseKeyboardHands::drag_turn(const Config& config, glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 steps) {
@@ -57,14 +87,33 @@ glm::dquat MouseKeyboardHands::drag_turn(const Config& config, glm::dvec2 moved_
     return round * away * sideways;
 }
 
-MouseKeyboardHands::TiltGesture MouseKeyboardHands::tilt_gesture(const Config& config, glm::dvec3 from_angles, glm::dvec3 to_angles) {
+MouseKeyboardHands::TiltGesture MouseKeyboardHands::tilt_gesture(const Config& config, glm::dvec3 from_angles, glm::dvec3 to_angles,
+                                                                 std::optional<glm::dvec3> along) {
     const glm::dquat from = turn_of_angles(from_angles);
+    const glm::dquat to = turn_of_angles(to_angles);
+    TiltGesture g;
+    if (along && glm::length(*along) > 1e-9) {
+        // Holding a stem: the drag that takes its tip where the turn puts it (as lean_turn leans it), and
+        // before it the twist about its own axis that leaves it turned as asked about that axis too (a
+        // twist leaves the stem pointing where it pointed, so the drag is worked out from there).
+        g.held = true;
+        const glm::dvec3 d0 = glm::normalize(*along);
+        const glm::dquat whole = glm::normalize(to * glm::conjugate(from));
+        const glm::dvec2 asked = lean_of(whole * d0) - lean_of(d0);
+        g.right_px = static_cast<int>(std::lround(asked.x / config.tilt_per_px_rad));
+        g.down_px = static_cast<int>(std::lround(-asked.y / config.tilt_per_px_rad));
+        const glm::dquat lean = lean_turn(config, d0, {g.right_px, g.down_px}, 0.0, {});
+        const glm::dquat rest = glm::normalize(glm::conjugate(lean) * whole); // about d0, but for the pixels' rounding
+        const double twist = 2.0 * std::atan2(glm::dot(glm::dvec3{rest.x, rest.y, rest.z}, d0), rest.w);
+        g.twist_px = static_cast<int>(std::lround(std::remainder(twist, 2.0 * 3.14159265358979323846) / config.tilt_per_px_rad));
+        g.reached = angles_of_turn(lean * twist_turn(config, d0, g.twist_px) * from);
+        return g;
+    }
     // The turn to make, as drag_turn composes it: Rz(round) Rx(away) Ry(sideways).
-    const glm::dmat3 m = glm::mat3_cast(glm::normalize(turn_of_angles(to_angles) * glm::conjugate(from))); // m[column][row]
+    const glm::dmat3 m = glm::mat3_cast(glm::normalize(to * glm::conjugate(from))); // m[column][row]
     const double away = std::asin(std::clamp(m[1][2], -1.0, 1.0));
     const double sideways = std::atan2(-m[0][2], m[2][2]);
     const double round = std::atan2(-m[1][0], m[1][1]);
-    TiltGesture g;
     g.right_px = static_cast<int>(std::lround(sideways / config.tilt_per_px_rad));
     g.down_px = static_cast<int>(std::lround(away / config.tilt_per_px_rad));
     g.clicks = static_cast<int>(std::lround(round / config.turn_per_scroll_rad));
@@ -117,8 +166,9 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
         turn_[active] = glm::normalize(by * turn_[active]);
         if (now.turn_about) position_[active] = glm::clamp(now.turn_about_m + by * (position_[active] - now.turn_about_m), config_.reach_min_m, config_.reach_max_m);
     };
-    // A lean asked for by arrow steps (Ctrl+arrows, the panel's buttons): about fixed axes as the viewer
-    // sees them, or, knowing which way the held stem points, its tip moved the way asked (lean_turn).
+    // A lean asked for (Ctrl+drag, Ctrl+arrows, the panel's buttons): knowing which way the held stem
+    // points, its tip moved the way asked (lean_turn); holding nothing, about fixed axes as the viewer
+    // sees them.
     const auto lean = [&](glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 arrow_steps) {
         return now.lean_along ? lean_turn(config_, now.lean_along_dir, moved_px, wheel_clicks, arrow_steps) : drag_turn(config_, moved_px, wheel_clicks, arrow_steps);
     };
@@ -128,8 +178,13 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
     if (started_ && !now.orbit_button && now.tilt_modifier) {
         // Ctrl: the held stem turns, as the viewer sees it; the hand stays (or goes round the point
         // its stem is held at).
-        // (About fixed axes: a script works the window's Ctrl+drag by tilt_gesture's exact angles.)
-        if (moved != glm::dvec2{0.0} || wheel != 0.0) turn_by(drag_turn(config_, moved, wheel, {0.0, 0.0}));
+        // With Shift too, a held stem twists about its own axis as a drag goes sideways (turned between
+        // the fingers: where a bend or a branch faces), pointing where it pointed.
+        if (now.depth_modifier && now.lean_along) {
+            if (moved.x != 0.0) turn_by(twist_turn(config_, now.lean_along_dir, moved.x));
+        } else if (moved != glm::dvec2{0.0} || wheel != 0.0) {
+            turn_by(lean(moved, wheel, {0.0, 0.0}));
+        }
     } else if (started_ && !now.orbit_button && now.ray.valid) {
         // The cursor went into the other eye's image, or runs along the hand's plane: the hand stays (the
         // window puts the cursor back on it).

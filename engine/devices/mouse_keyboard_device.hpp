@@ -9,13 +9,16 @@
 // width and height span the Config's workspace.
 // With Ctrl held the hand stays and the held stem turns, in the directions the viewer sees: a drag
 // right leans its top right, up leans it away from the viewer, the same degrees a pixel whichever way
-// it already leans; Ctrl+arrows lean it a step at a time; Ctrl+wheel swings its lean round the
-// vertical. When the camera turns (PointerState::view_yaw_rad) the hands stay where they are in the
-// room and keep their turn there: turning the camera never moves what a hand holds.
+// it already leans (PointerState::lean_along: the window says which way the held stem points);
+// Ctrl+arrows lean it a 5-degree step at a time; Ctrl+wheel swings its lean round the vertical;
+// Ctrl+Shift+drag sideways twists it about its own axis.
+// When the camera turns (PointerState::view_yaw_rad) the hands stay where they are in the room and
+// keep their turn there: turning the camera never moves what a hand holds.
 // No force output: the window shows what a force device would make felt.
 #include <array>
 #include <atomic>
 #include <memory>
+#include <optional>
 
 #include <glm/gtc/quaternion.hpp>
 
@@ -42,20 +45,33 @@ public:
     // positive), then the wheel's clicks and the arrows' steps (x right, y up = away). Rotations about
     // one axis add up however a motion is split into readings.
     [[nodiscard]] static glm::dquat drag_turn(const Config& config, glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 steps);
-    // The same knowing which way the held stem points (`along`, bottom to tip): sideways as above (it
-    // turns in the picture like a clock's hand), and away or toward the viewer its tip goes that way
-    // by as many degrees, as far as that way runs across the stem (a stem lying to the right, leant
-    // toward the viewer, swings its tip toward the viewer; about the fixed axis it only rolled).
+    // The same knowing which way the held stem points (`along`, bottom to tip): its tip goes the way
+    // asked as the viewer sees it (right; away from the viewer for a drag up or an Up arrow) by the
+    // degrees asked on the gauge, whichever way it points now (its lean, tilt toward where it points,
+    // moves by that much: a step toward where it already leans adds the step to its tilt), the
+    // shortest way (no spin about the stem); the wheel's clicks then swing it round the vertical.
+    // Upright, the same as drag_turn. A stem lying to the right leans its tip toward the viewer when
+    // asked, where about the fixed axis it only rolled.
     [[nodiscard]] static glm::dquat lean_turn(const Config& config, glm::dvec3 along, glm::dvec2 moved_px, double wheel_clicks, glm::dvec2 steps);
-    // The Ctrl gestures that take a hand from one turn to another (DeviceSample::rotation's angles):
-    // a sideways drag, then an up-down one, then wheel clicks (Euler angles about y, x, z: a small turn
-    // is small steps, never a swing out and back), in whole pixels and clicks, each in readings of its
-    // own; and the angles they reach (within half a click about the vertical).
+    // Ctrl+Shift+drag sideways, holding a stem that points `along`: it twists about its own axis,
+    // right turning its front to the right seen from its tip's side (about +along), the same degrees a
+    // pixel as a lean.
+    [[nodiscard]] static glm::dquat twist_turn(const Config& config, glm::dvec3 along, double moved_px);
+    // The Ctrl gestures that take a hand from one turn to another (DeviceSample::rotation's angles),
+    // in whole pixels and clicks, and the angles they reach. Holding nothing (`along` empty): a
+    // sideways drag, then an up-down one, then wheel clicks, each in a reading of its own (Euler angles
+    // about y, x, z: a small turn is small steps, never a swing out and back); reached within half a
+    // click about the vertical. Holding a stem that points `along` (device space, at `from`): a
+    // Ctrl+Shift drag of twist_px (twist_turn), then one Ctrl drag of right_px and down_px in one
+    // reading (lean_turn), no clicks: reached within the pixels' rounding.
     struct TiltGesture {
         int right_px = 0, down_px = 0, clicks = 0;
+        bool held = false; // holding: twist_px first, then right_px and down_px in one drag
+        int twist_px = 0;
         glm::dvec3 reached{0.0};
     };
-    [[nodiscard]] static TiltGesture tilt_gesture(const Config& config, glm::dvec3 from_angles, glm::dvec3 to_angles);
+    [[nodiscard]] static TiltGesture tilt_gesture(const Config& config, glm::dvec3 from_angles, glm::dvec3 to_angles,
+                                                  std::optional<glm::dvec3> along = std::nullopt);
     explicit MouseKeyboardHands(platform::PointerSource& source) : MouseKeyboardHands(source, Config{}) {}
     MouseKeyboardHands(platform::PointerSource& source, Config config);
 

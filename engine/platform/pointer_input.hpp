@@ -50,9 +50,9 @@ struct PointerState {
     bool turn_about = false;
     glm::dvec3 turn_about_m{0.0};
     // Which way the active hand's held stem points, bottom to tip (device space, unit), when it holds
-    // one (lean_along set): a lean step (Ctrl+arrows, the panel's buttons) then moves its tip the way
-    // the arrow goes, as seen, whatever way it points (turned about fixed axes, a stem lying flat to the
-    // right only rolled when leant toward the viewer). Ctrl+drag keeps the fixed axes.
+    // one (lean_along set): a lean (Ctrl+drag, Ctrl+arrows, the panel's buttons) then moves its tip the
+    // way the drag or arrow goes, as seen, by the same degrees whatever way it points (turned about
+    // fixed axes, a stem lying flat to the right only rolled when leant toward the viewer).
     bool lean_along = false;
     glm::dvec3 lean_along_dir{0.0, 0.0, 1.0};
     bool finish_key = false;    // Enter

@@ -24,6 +24,7 @@
 #include "engine/platform/pointer_input.hpp"
 #include "game/render/pointer_aim.hpp"
 #include "game/app/replay_window.hpp"
+#include "game/app/panel_pointer.hpp"
 #include "game/app/session_panel.hpp"
 #include "game/lesson/role_colours.hpp"
 #include "engine/render/screen_layout.hpp"
@@ -201,11 +202,7 @@ private:
     std::atomic<bool> back_{false}; // Esc or the panel's button in a lesson: back to the start screen
     platform::PointerSource* pointer_ = nullptr;
     platform::SharedPointerSource shared_pointer_; // GLFW is read here, the hands read it there
-    platform::PointerState hands_reading_;         // what the hands were last given
-    // The hand held a stem when the cursor went over the panel, and the button went up there (its lean
-    // buttons were clicked): it keeps holding back in the scene until the next press there ends (it
-    // let go of the stem as the cursor came back, and the panel's lean buttons were no use).
-    bool held_over_panel_ = false;
+    PanelPointer hands_; // what the hands were last given, the cursor over the panel or in the scene
     std::unique_ptr<devices::MouseKeyboardHands> mouse_;
     std::unique_ptr<World> world_;
 
@@ -455,9 +452,11 @@ SessionPanelModel TraineeSession::panel_model(sched::SystemContext& main_lane) c
     m.details = systems::hud_lines(latest, plain);
     m.controls = {"Move the mouse: the hand (the cube) goes where the cursor points, at its depth",
                   "Hold the left button: take the stem under the cube (it shows yellow); release: let go",
-                  "Wheel, or Shift+move up and down: the hand further away or nearer",
-                  "Ctrl+drag: tilt the held stem as you see it: right leans it right, up leans it away from you",
+                  "Wheel: the hand further away or nearer along your line of sight (away also takes it lower)",
+                  "Shift+move up and down: the hand further away or nearer at the same height",
+                  "Ctrl+drag: lean the held stem as you see it: right leans it right, up leans it away from you, a degree for 4 pixels on its gauge",
                   "Ctrl+arrow keys, or the Tilt buttons: lean it 5° that way",
+                  "Ctrl+Shift+drag sideways: twist the held stem about itself (where a bend or a branch faces)",
                   "Ctrl+wheel: swing its lean round the vertical",
                   "C: cut the held stem to its role's length",
                   "P: prune at the cube: the twig it touches off at its fork, or the leaf or blossom it touches stripped",
@@ -523,28 +522,9 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         // Over the panel the cursor is the trainee's to click with, not the hand's.
         if (!over_panel) aim_.aim(in, view, hands, [&](glm::dvec2 px) { window_pointer_->put_cursor(px); });
     }
-    // A held stem in the pins turns about its bottom, where the pins hold it (device space: the world
-    // turned back by the camera's yaw), not about the hand's grip.
-    {
-        const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
-        const auto& h = latest.hands[aim_.active_hand() & 1u];
-        in.turn_about = false;
-        in.lean_along = false;
-        if (h.holding && h.held_flower >= 0 && static_cast<std::size_t>(h.held_flower) < latest.flowers.size()) {
-            const auto& f = latest.flowers[static_cast<std::size_t>(h.held_flower)];
-            const double c = std::cos(-camera_.yaw_rad()), s = std::sin(-camera_.yaw_rad());
-            const auto to_device = [&](glm::dvec3 p) { return glm::dvec3{c * p.x - s * p.y, s * p.x + c * p.y, p.z}; };
-            if (f.in_kenzan && !f.points_m.empty()) {
-                in.turn_about = true;
-                in.turn_about_m = to_device(f.points_m.front());
-            }
-            // And which way it points, so that a lean moves its tip the way the drag goes.
-            if (f.points_m.size() >= 2 && glm::length(f.points_m.back() - f.points_m.front()) > 1e-6) {
-                in.lean_along = true;
-                in.lean_along_dir = to_device(glm::normalize(f.points_m.back() - f.points_m.front()));
-            }
-        }
-    }
+    // A held stem in the pins turns about its bottom, where the pins hold it, not about the hand's
+    // grip; and a lean moves its tip the way asked, knowing which way it points.
+    tell_held_stem(in, main_lane.registry.resource<const systems::ReceivedFrames>()->latest(), aim_.active_hand(), camera_.yaw_rad());
     // Over the panel the hands keep the last reading (they neither move nor take what is under them),
     // but a Tab pressed there still switches them.
     if (!over_panel) {
@@ -552,11 +532,10 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         // there with the press (a device's hand cannot be moved; the panel says to take it there).
         const auto& latest = main_lane.registry.resource<const systems::ReceivedFrames>()->latest();
         const std::uint8_t active = aim_.active_hand();
-        if (held_over_panel_ && in.grab_button) held_over_panel_ = false; // a press back in the scene: its release lets go
-        if (held_over_panel_) in.grab_button = true;
-        const bool press = in.grab_button && !hands_reading_.grab_button;
-        in.hand_moves = hands_reading_.hand_moves;
-        in.hand_to_m = hands_reading_.hand_to_m;
+        hands_.in_scene(in);
+        const bool press = hands_.pressed(in);
+        in.hand_moves = hands_.last().hand_moves;
+        in.hand_to_m = hands_.last().hand_to_m;
         if (press && pointer_ == window_pointer_ && device_names_[active] == "mouse and keyboard") {
             const LessonControls* controls = flow_ ? flow_->controls() : nullptr;
             const double along = controls ? controls->grip_along_m(latest, active) : 0.06;
@@ -566,20 +545,11 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
                 in.hand_moves += 1;
             }
         }
-        hands_reading_ = in;
+        hands_.give(in);
     } else {
-        if (hands_reading_.grab_button && !in.grab_button) held_over_panel_ = true;
-        hands_reading_.switch_hand = in.switch_hand;
-        hands_reading_.view_yaw_rad = in.view_yaw_rad;
-        hands_reading_.tilt_presses = in.tilt_presses;
-        hands_reading_.turn_about = in.turn_about; // the panel's lean buttons turn it as Ctrl+arrows do
-        hands_reading_.turn_about_m = in.turn_about_m;
-        hands_reading_.lean_along = in.lean_along;
-        hands_reading_.lean_along_dir = in.lean_along_dir;
-        hands_reading_.ray_before = hands_reading_.ray;
-        hands_reading_.warped_from_px = glm::dvec2{-1.0};
+        hands_.over_panel(in);
     }
-    shared_pointer_.store(hands_reading_);
+    shared_pointer_.store(hands_.last());
     keys_ = in;
     keys_.finish_key = keys_.finish_key || act.finish;
     if (act.ghosts) keys_.set_letter(ghost_letter, true);
@@ -799,8 +769,8 @@ int TraineeSession::run_once() {
     // Presses made while the world was (re)built are dropped here rather than taken by this reading,
     // which no lesson key sees.
     if (pointer_ == window_pointer_) window_pointer_->forget_taps();
-    hands_reading_ = pointer_->read();
-    shared_pointer_.store(hands_reading_);
+    hands_.start(pointer_->read());
+    shared_pointer_.store(hands_.last());
     {
         const HandForceWatchdogs watchdogs(w);
         sched::RealtimeConfig config{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 20, .on_skip = {}};

@@ -17,6 +17,22 @@ glm::dvec3 turned(const glm::dvec3& v, double yaw) {
 }
 } // namespace
 
+void tell_held_stem(platform::PointerState& in, const components::FrameSnapshot& frame, std::uint8_t hand, double view_yaw_rad) {
+    in.turn_about = false;
+    in.lean_along = false;
+    const auto& h = frame.hands[hand & 1u];
+    if (!h.holding || h.held_flower < 0 || static_cast<std::size_t>(h.held_flower) >= frame.flowers.size()) return;
+    const auto& f = frame.flowers[static_cast<std::size_t>(h.held_flower)];
+    if (f.in_kenzan && !f.points_m.empty()) {
+        in.turn_about = true;
+        in.turn_about_m = turned(f.points_m.front(), -view_yaw_rad);
+    }
+    if (f.points_m.size() >= 2 && glm::length(f.points_m.back() - f.points_m.front()) > 1e-6) {
+        in.lean_along = true;
+        in.lean_along_dir = turned(glm::normalize(f.points_m.back() - f.points_m.front()), -view_yaw_rad);
+    }
+}
+
 EyeSpot eye_spot(const render::ScreenLayout& layout, glm::dvec2 cursor_px) {
     return {layout.eye_at(cursor_px), layout.scene_uv(cursor_px)};
 }

@@ -13,6 +13,7 @@
 
 #include <glm/glm.hpp>
 
+#include "components/snapshot.hpp"
 #include "engine/platform/pointer_input.hpp"
 #include "engine/render/screen_layout.hpp"
 #include "engine/render/stereo_camera.hpp"
@@ -44,6 +45,12 @@ struct EyeSpot {
 [[nodiscard]] std::optional<glm::dvec2> drawn_px(const PointerView& view, glm::dvec2 window_px, int eye, const glm::dvec3& world_m);
 // Window pixels per metre sideways and up at a world point, as an eye shows it.
 [[nodiscard]] std::optional<glm::dvec2> px_per_m_at(const PointerView& view, glm::dvec2 window_px, int eye, const glm::dvec3& world_m);
+
+// What the mouse's hands need to know of the stem the active hand holds, from the newest frame: where
+// it is held fast when it stands in the pins (PointerState::turn_about: a lean turns it about its
+// bottom there) and which way it points (lean_along: a lean moves its tip the way asked), in device
+// space (the world turned back by the camera's yaw). Both cleared when it holds nothing.
+void tell_held_stem(platform::PointerState& in, const components::FrameSnapshot& frame, std::uint8_t hand, double view_yaw_rad);
 
 class PointerAim {
 public:

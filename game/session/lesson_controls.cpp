@@ -226,7 +226,7 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
         for (auto& line : hud_lines_of(text)) lines_.push_back(std::move(line));
     };
     say(lesson_.school + ": " + lesson_.title);
-    say(std::string("Mouse: ") + (hand ? "right" : "left") + " hand (Tab: other). Left button: hold. Shift or wheel: depth. Ctrl+drag: tilt. "
+    say(std::string("Mouse: ") + (hand ? "right" : "left") + " hand (Tab: other). Left button: hold. Shift or wheel: depth. Ctrl+drag: tilt. Ctrl+Shift+drag: twist. "
                                                          "C: cut for its role. P: prune at the cube. G: targets. R: start again. Enter: score.");
     const bool form = lesson_.scoring == "form";
     HeldStemAdvice advice;

@@ -14,6 +14,7 @@
 #include "components/kenzan.hpp"
 #include "components/stem.hpp"
 #include "engine/assets/files.hpp"
+#include "engine/devices/device_angles.hpp"
 #include "engine/devices/mouse_keyboard_device.hpp"
 #include "engine/ecs/hierarchy.hpp"
 #include "engine/sched/clocks.hpp"
@@ -85,7 +86,7 @@ struct ScriptedPointer final : platform::PointerSource {
 };
 
 // The mouse session as an xdotool script, to replay against the window under X: motion gathered
-// into seconds (plain, then with Shift, then with Ctrl, each modifier held over whole frames so
+// into seconds (plain, then with Shift, then with Ctrl and Shift, then with Ctrl, each modifier held over whole frames so
 // that the window reads it with its motion), buttons and keys in order, and sleeps that keep the
 // script's time with the simulation's.
 class XdoScript {
@@ -97,11 +98,11 @@ public:
     }
     [[nodiscard]] bool on() const { return !path_.empty(); }
     void motion(glm::dvec2 px, bool shift, bool ctrl, double now_s) {
-        if (plain_ == glm::dvec2{0.0} && shift_ == glm::dvec2{0.0} && ctrl_ == glm::dvec2{0.0}) {
+        if (plain_ == glm::dvec2{0.0} && shift_ == glm::dvec2{0.0} && ctrl_ == glm::dvec2{0.0} && twist_ == glm::dvec2{0.0}) {
             catch_up(now_s);
             gathering_from_s_ = now_s;
         }
-        (ctrl ? ctrl_ : shift ? shift_ : plain_) += px;
+        (ctrl && shift ? twist_ : ctrl ? ctrl_ : shift ? shift_ : plain_) += px;
         if (now_s - gathering_from_s_ >= 1.0) flush();
     }
     void event(const std::string& command, double now_s) {
@@ -113,8 +114,9 @@ public:
         if (!on()) return;
         moves(plain_, "");
         moves(shift_, "shift");
+        moves(twist_, "ctrl+shift");
         moves(ctrl_, "ctrl");
-        plain_ = shift_ = ctrl_ = glm::dvec2{0.0};
+        plain_ = shift_ = ctrl_ = twist_ = glm::dvec2{0.0};
     }
     // Sleeps until the script's time is the simulation's (the motions themselves take time too).
     void catch_up(double now_s) {
@@ -153,7 +155,7 @@ private:
         script_s_ += seconds;
     }
     std::string path_, text_;
-    glm::dvec2 plain_{0.0}, shift_{0.0}, ctrl_{0.0};
+    glm::dvec2 plain_{0.0}, shift_{0.0}, ctrl_{0.0}, twist_{0.0};
     double gathering_from_s_ = 0.0, script_s_ = 0.0;
 };
 
@@ -198,16 +200,29 @@ public:
         const glm::dvec3 d2 = position_m - position();
         motion({0.0, std::round(-d2.y * px_per_m.y)}, true, false);
     }
-    // Ctrl+drag sideways, then up or down, then the wheel: each a turn about one axis, so however the
-    // window splits them into readings they add up to the turn asked for.
+    // Holding nothing: Ctrl+drag sideways, then up or down, then the wheel, each a turn about one
+    // axis, so however the window splits them into readings they add up to the turn asked for.
+    // Holding a stem: Ctrl+Shift+drag to twist it about its own axis, then one Ctrl+drag that takes
+    // its tip where the turn puts it, as the window leans a held stem (lean_turn).
     void turn(glm::dvec3 angles_rad) override {
-        auto& s = pointer_.state;
-        const auto g = devices::MouseKeyboardHands::tilt_gesture(config_, angles(), angles_rad);
+        aim();
+        const auto& s = pointer_.state;
+        const auto g = devices::MouseKeyboardHands::tilt_gesture(config_, angles(), angles_rad,
+                                                                 s.lean_along ? std::optional<glm::dvec3>(s.lean_along_dir) : std::nullopt);
+        if (g.held) {
+            if (g.twist_px != 0) motion({static_cast<double>(g.twist_px), 0.0}, true, true);
+            motion({static_cast<double>(g.right_px), static_cast<double>(g.down_px)}, false, true);
+            return;
+        }
         motion({static_cast<double>(g.right_px), 0.0}, false, true);
         motion({0.0, static_cast<double>(g.down_px)}, false, true);
-        if (g.clicks == 0) return;
-        for (int c = 0; c < std::abs(g.clicks); ++c) script_.event("keydown ctrl\nsleep 0.08\nclick " + std::string(g.clicks > 0 ? "4" : "5") + "\nsleep 0.08\nkeyup ctrl\nsleep 0.08", now_s());
-        s.scroll += g.clicks;
+        wheel(g.clicks);
+    }
+    void wheel(int clicks) {
+        if (clicks == 0) return;
+        auto& s = pointer_.state;
+        for (int c = 0; c < std::abs(clicks); ++c) script_.event("keydown ctrl\nsleep 0.08\nclick " + std::string(clicks > 0 ? "4" : "5") + "\nsleep 0.08\nkeyup ctrl\nsleep 0.08", now_s());
+        s.scroll += clicks;
         s.tilt_modifier = true;
         aim();
         clock_.run_for_us(1000);
@@ -258,6 +273,7 @@ private:
     void aim() {
         std::array<std::optional<glm::dvec3>, 2> hands{mouse_.sample(0, clock_.now_us()).position, mouse_.sample(1, clock_.now_us()).position};
         aim_.aim(pointer_.state, view_, hands, [](glm::dvec2) {});
+        tell_held_stem(pointer_.state, w_.main.resource<const systems::ReceivedFrames>()->latest(), mouse_.active_hand(), 0.0);
     }
     // One reading of the pointer with this motion and these keys held, then a tick to read it; a
     // modifier let go is read too (the window then puts the cursor back on the hand).

@@ -209,13 +209,21 @@ public:
         if (x != 0 || up != 0) move_pointer(x, -up);
         if (away != 0) held_down("shift", [&] { move_pointer(0, -away); });
     }
-    // Ctrl+drag sideways, then up or down, then the wheel, each seen by the window before the next:
-    // turns about one axis each, which add up to the turn asked for however the window reads them.
+    // Holding nothing: Ctrl+drag sideways, then up or down, then the wheel, each seen by the window
+    // before the next: turns about one axis each, which add up to the turn asked for however the window
+    // reads them. Holding a stem: Ctrl+Shift+drag to twist it about its own axis, seen, then one
+    // Ctrl+drag that takes its tip where the turn puts it (the window leans a held stem the way the
+    // drag goes: lean_turn).
     void turn(glm::dvec3 target) override {
         glm::dvec3& turned = angles_[active_];
-        const auto g = devices::MouseKeyboardHands::tilt_gesture(config_, turned, target);
-        if (g.clicks == 0 && g.right_px == 0 && g.down_px == 0) return;
+        const auto g = devices::MouseKeyboardHands::tilt_gesture(config_, turned, target, held_along());
+        if (g.clicks == 0 && g.right_px == 0 && g.down_px == 0 && g.twist_px == 0) return;
         turned = g.reached;
+        if (g.held) {
+            if (g.twist_px != 0) held_down("ctrl+shift", [&] { move_pointer(g.twist_px, 0); });
+            if (g.right_px != 0 || g.down_px != 0) held_down("ctrl", [&] { move_pointer(g.right_px, g.down_px); });
+            return;
+        }
         std::string wheel;
         for (int c = 0; c < std::abs(g.clicks); ++c) wheel += std::string(g.clicks > 0 ? "click 4 " : "click 5 ") + "sleep 0.02 ";
         held_down("ctrl", [&] {
@@ -225,6 +233,15 @@ public:
             if (g.down_px != 0 && g.clicks != 0) seen(steady_us());
             xdo(wheel);
         });
+    }
+    // Which way the stem the active hand holds points, bottom to tip, as the window tells its hands
+    // (device space: this demonstration never turns the camera); nothing when it holds none.
+    std::optional<glm::dvec3> held_along() const {
+        const auto& hand = state_.hands[active_];
+        if (!hand.holding || hand.held_flower < 0 || static_cast<std::size_t>(hand.held_flower) >= state_.flowers.size()) return std::nullopt;
+        const auto& points = state_.flowers[static_cast<std::size_t>(hand.held_flower)].points_m;
+        if (points.size() < 2 || glm::length(points.back() - points.front()) < 1e-6) return std::nullopt;
+        return glm::normalize(points.back() - points.front());
     }
     void grab(bool down) override {
         xdo(down ? "mousedown 1" : "mouseup 1");

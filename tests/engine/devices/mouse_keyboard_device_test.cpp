@@ -249,41 +249,99 @@ TEST(MouseKeyboard, AStemHeldFastTurnsAboutWhereItIsHeldAndTheHandGoesRoundIt) {
     EXPECT_NEAR(glm::length(right->poll(3000)->position - dragged.position), 0.0, 1e-12);
 }
 
-// A first-time trainee found that dragging toward the viewer barely leant a stem lying flat: turned
-// about the screen's horizontal axis, a stem pointing right only rolls. Knowing which way the stem
-// points, "near" and "away" move its tip that way, by the same 5 degrees; sideways it turns in the
-// picture as before; an upright stem leans as before.
-TEST(MouseKeyboard, KnowingWhichWayTheStemPointsALeanMovesItsTipTheWayAsked) {
+namespace {
+// A direction's lean as the gauge reads it: its tilt from the vertical toward where it points (x right,
+// y away from the viewer), in radians.
+glm::dvec2 gauge_lean(glm::dvec3 d) {
+    d = glm::normalize(d);
+    const double across = std::hypot(d.x, d.y);
+    return across > 1e-12 ? std::atan2(across, d.z) / across * glm::dvec2{d.x, d.y} : glm::dvec2{0.0};
+}
+glm::dvec3 from_lean(glm::dvec2 lean) {
+    const double tilt = glm::length(lean);
+    return tilt < 1e-12 ? glm::dvec3{0, 0, 1} : glm::dvec3{std::sin(tilt) / tilt * lean, std::cos(tilt)};
+}
+} // namespace
+
+// A first-time trainee found that dragging toward the viewer barely leant a stem lying flat (about the
+// screen's horizontal axis a stem pointing right only rolls), that a Ctrl+arrow gave 1 to 4 degrees
+// on the gauge instead of 5, and that the same drag did different things as the stem leant further.
+// Knowing which way the stem points, a lean moves its tip the way asked by the degrees asked, on the
+// gauge, whichever way it points now.
+TEST(MouseKeyboard, KnowingWhichWayTheStemPointsALeanMovesItsTipTheWayAskedByTheDegreesAsked) {
     const MouseKeyboardHands::Config config;
     const auto tip_after = [&](glm::dvec3 along, glm::dvec2 steps, glm::dvec2 moved_px = {0.0, 0.0}) {
         return MouseKeyboardHands::lean_turn(config, along, moved_px, 0.0, steps) * along;
     };
-    const glm::dvec3 right{1.0, 0.0, 0.0}, up{0.0, 0.0, 1.0};
-    const glm::dvec3 near = tip_after(right, {0.0, -1.0}); // one "near" step
-    EXPECT_NEAR(near.y, -std::sin(5.0 * deg), 1e-12) << "its tip toward the viewer";
-    EXPECT_NEAR(near.z, 0.0, 1e-12) << "still lying flat";
-    const glm::dvec3 dragged = tip_after(right, {0.0, 0.0}, {0.0, 40.0}); // 40 px down: 10 degrees toward the viewer
-    EXPECT_NEAR(dragged.y, -std::sin(10.0 * deg), 1e-12);
-    const glm::dvec3 clockwise = tip_after(right, {1.0, 0.0});
-    EXPECT_NEAR(clockwise.z, -std::sin(5.0 * deg), 1e-12) << "sideways it turns in the picture like a clock's hand";
-    EXPECT_NEAR(clockwise.y, 0.0, 1e-12);
-    const glm::dvec3 toward = {0.0, -1.0, 0.0};
-    EXPECT_NEAR(glm::length(tip_after(toward, {0.0, -2.0}) - toward), 0.0, 1e-12) << "already pointing at the viewer";
+    // From several leans, an arrow step and a 40 px drag (10 degrees) each way.
+    for (const glm::dvec2 lean_deg : {glm::dvec2{0, 0}, glm::dvec2{30, 0}, glm::dvec2{0, -45}, glm::dvec2{-50, 35}, glm::dvec2{90, 0}, glm::dvec2{0, -90}}) {
+        const glm::dvec3 along = from_lean(lean_deg * deg);
+        for (const glm::dvec2 step : {glm::dvec2{1, 0}, glm::dvec2{-1, 0}, glm::dvec2{0, 1}, glm::dvec2{0, -1}}) {
+            const glm::dvec2 moved = gauge_lean(tip_after(along, step)) - lean_deg * deg;
+            EXPECT_NEAR(glm::length(moved - step * 5.0 * deg), 0.0, 1e-9) << "from " << lean_deg.x << ", " << lean_deg.y << " a step " << step.x << ", " << step.y;
+            const glm::dvec2 dragged = gauge_lean(tip_after(along, {0, 0}, glm::dvec2{step.x, -step.y} * 40.0)) - lean_deg * deg;
+            EXPECT_NEAR(glm::length(dragged - step * 10.0 * deg), 0.0, 1e-9) << "dragged, from " << lean_deg.x << ", " << lean_deg.y;
+        }
+    }
+    // Leaning right, a step right adds 5 degrees to its tilt; lying flat to the right, a step toward the
+    // viewer swings its tip toward them (about the fixed axis it only rolled).
+    const glm::dvec3 thirty_right = from_lean(glm::dvec2{30, 0} * deg);
+    EXPECT_NEAR(std::acos(tip_after(thirty_right, {1.0, 0.0}).z), 35.0 * deg, 1e-9);
+    const glm::dvec3 near = tip_after({1.0, 0.0, 0.0}, {0.0, -1.0});
+    EXPECT_LT(near.y, -std::sin(3.0 * deg)) << "its tip toward the viewer (5 degrees of lean, at 90 degrees' tilt 3.2 of turn)";
+    EXPECT_NEAR(near.z, 0.0, 3e-3) << "still lying about flat";
+    // The lean turns the stem the shortest way: no spin about itself.
+    const glm::dquat q = MouseKeyboardHands::lean_turn(config, thirty_right, {37.0, -12.0}, 0.0, {});
+    EXPECT_NEAR(glm::dot(glm::axis(q), thirty_right), 0.0, 1e-9);
     // Upright, the same as about the fixed axes.
+    const glm::dvec3 up{0.0, 0.0, 1.0};
     for (const glm::dvec2 steps : {glm::dvec2{1.0, 0.0}, glm::dvec2{0.0, -1.0}, glm::dvec2{-2.0, 1.0}}) {
         const glm::dvec3 fixed = MouseKeyboardHands::drag_turn(config, {0.0, 0.0}, 0.0, steps) * up;
         EXPECT_NEAR(glm::length(tip_after(up, steps) - fixed), 0.0, 3e-3) << steps.x << ", " << steps.y; // both at once: within 0.2 degree
     }
-    // Through the hands' readings: the window says which way the held stem points.
+    // Through the hands' readings: the window says which way the held stem points; a Ctrl+drag and
+    // Ctrl+arrows both lean it so.
     FakePointer pointer;
     MouseKeyboardHands hands(pointer);
     auto hand = hands.hand(1);
-    const auto start = *hand->poll(0);
+    (void)hand->poll(0);
+    const glm::dvec3 right{1.0, 0.0, 0.0};
     pointer.state.lean_along = true;
     pointer.state.lean_along_dir = right;
     pointer.state.tilt_presses = {0.0, -2.0};
     const auto leaned = *hand->poll(1000);
-    EXPECT_NEAR(turn_between(start, leaned).first, 10.0 * deg, 1e-9);
+    EXPECT_NEAR(glm::length(gauge_lean(turn_of_angles(leaned.rotation) * right) - glm::dvec2{90.0, -10.0} * deg), 0.0, 1e-9);
+    pointer.state.lean_along_dir = turn_of_angles(leaned.rotation) * right;
+    pointer.state.tilt_modifier = true;
+    pointer.state.cursor_px.y -= 40.0; // and back, dragged up (away): 10 degrees
+    const auto back = *hand->poll(2000);
+    EXPECT_NEAR(glm::length(turn_of_angles(back.rotation) * right - right), 0.0, 1e-9);
+}
+
+// A drag split into the window's readings, the window telling the hands each time which way the stem
+// now points, leans it as the same drag read at once: the lean goes straight across the gauge.
+TEST(MouseKeyboard, ALeanDraggedOverManyReadingsEndsWhereOneReadingWouldPutIt) {
+    const glm::dvec3 along = from_lean(glm::dvec2{-20, 40} * deg);
+    const glm::dvec2 drag{150.0, 90.0};
+    glm::dvec3 ends[2];
+    for (int readings : {1, 7}) {
+        FakePointer pointer;
+        MouseKeyboardHands hands(pointer);
+        auto hand = hands.hand(1);
+        const auto start = *hand->poll(0);
+        pointer.state.lean_along = true;
+        pointer.state.tilt_modifier = true;
+        std::int64_t t = 0;
+        DeviceSample now = start;
+        for (int r = 0; r < readings; ++r) {
+            pointer.state.lean_along_dir = turn_of_angles(now.rotation) * glm::conjugate(turn_of_angles(start.rotation)) * along;
+            pointer.state.cursor_px += drag / static_cast<double>(readings);
+            now = *hand->poll(t += 1000);
+        }
+        ends[readings == 1 ? 0 : 1] = turn_of_angles(now.rotation) * glm::conjugate(turn_of_angles(start.rotation)) * along;
+    }
+    EXPECT_NEAR(glm::length(ends[0] - ends[1]), 0.0, 1e-9);
+    EXPECT_NEAR(glm::length(gauge_lean(ends[0]) - (glm::dvec2{-20, 40} * deg + glm::dvec2{150.0, -90.0} * (0.25 * deg))), 0.0, 1e-9);
 }
 
 TEST(MouseKeyboard, TurningTheCameraLeavesTheHandsWhereTheyAreInTheRoomTurnedAsTheyWere) {
@@ -344,6 +402,52 @@ TEST(MouseKeyboard, TheTiltGestureForATurnReachesItThroughTheHandsReadings) {
         target.rotation = to;
         // Within whole pixels and half a wheel click (5°, about the vertical) of the turn asked for.
         EXPECT_LT(turn_between(reached, target).first, 2.5 * deg + 0.3 * deg);
+    }
+}
+
+// Holding a stem, a scripted mouse turns it by a Ctrl+Shift drag (a twist about its own axis) and then
+// one Ctrl+drag (the window leaning it the way the drag goes): the stem ends pointing where the turn
+// asked, and the hand turned as asked, within the pixels' rounding.
+TEST(MouseKeyboard, TheTiltGestureForAHeldStemTwistsAndLeansItWhereTheTurnAsked) {
+    const MouseKeyboardHands::Config config;
+    const glm::dvec3 along_hand = glm::normalize(glm::dvec3{0.3, -0.2, 1.0}); // the stem in the hand, unturned
+    for (const auto& [from, to] : {std::pair{glm::dvec3{0.0}, glm::dvec3{0.3, -0.5, 0.2}}, std::pair{glm::dvec3{0.4, 0.2, -1.0}, glm::dvec3{-0.2, 0.9, 0.5}},
+                                   std::pair{glm::dvec3{1.2, 0.0, 0.0}, glm::dvec3{1.25, 0.05, 0.02}}, std::pair{glm::dvec3{0.0}, glm::dvec3{0.0, 0.0, 2.5}}}) {
+        FakePointer pointer;
+        MouseKeyboardHands hands(pointer);
+        auto right = hands.hand(1);
+        std::int64_t t = 0;
+        // To `from` first, holding nothing.
+        const auto first = MouseKeyboardHands::tilt_gesture(config, glm::dvec3{0.0}, from);
+        pointer.state.tilt_modifier = true;
+        pointer.state.cursor_px.x += first.right_px;
+        (void)right->poll(t += 1000);
+        pointer.state.cursor_px.y += first.down_px;
+        (void)right->poll(t += 1000);
+        pointer.state.scroll += first.clicks;
+        const auto there = *right->poll(t += 1000);
+        // Now holding: the window says which way the stem points at each reading.
+        const auto pointing = [&](const DeviceSample& s) { return turn_of_angles(s.rotation) * along_hand; };
+        const auto g = MouseKeyboardHands::tilt_gesture(config, there.rotation, to, pointing(there));
+        ASSERT_TRUE(g.held);
+        EXPECT_EQ(g.clicks, 0);
+        pointer.state.lean_along = true;
+        pointer.state.lean_along_dir = pointing(there);
+        pointer.state.depth_modifier = true; // Ctrl+Shift: the twist
+        pointer.state.cursor_px.x += g.twist_px;
+        const auto twisted = *right->poll(t += 1000);
+        EXPECT_NEAR(glm::length(pointing(twisted) - pointing(there)), 0.0, 1e-9) << "a twist leaves it pointing where it pointed";
+        pointer.state.depth_modifier = false;
+        (void)right->poll(t += 1000);
+        pointer.state.lean_along_dir = pointing(twisted);
+        pointer.state.cursor_px += glm::dvec2(g.right_px, g.down_px);
+        const auto reached = *right->poll(t += 1000);
+        EXPECT_LT(glm::length(reached.rotation - g.reached), 1e-9) << "the gesture says where it ends";
+        DeviceSample target;
+        target.rotation = to;
+        const double tip_off = std::acos(std::min(1.0, glm::dot(pointing(reached), pointing(target))));
+        EXPECT_LT(tip_off, 0.2 * deg) << "its tip where the turn puts it, within whole pixels";
+        EXPECT_LT(turn_between(reached, target).first, 0.4 * deg) << "the whole turn, its twist too";
     }
 }
 
