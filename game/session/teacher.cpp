@@ -46,24 +46,9 @@ glm::dquat turn_of(glm::dvec3 angles) { return devices::turn_of_angles(angles); 
 // From this tilt on, a stem is set a little higher than its form (see teach).
 constexpr double low_stem_rad = 60.0 * pi / 180.0;
 // How much higher than its form a low stem is set (it sank 1-2 degrees once let go: a 258 mm
-// chrysanthemum held at 60 settled at 62), and how far below the angle at which it would lie on the rim.
+// chrysanthemum held at 60 settled at 62); and never past rim_margin_rad inside the angle at which it
+// would lie on the rim.
 constexpr double low_stem_sink_rad = 3.0 * pi / 180.0;
-constexpr double rim_margin_rad = 1.0 * pi / 180.0;
-
-// The largest tilt at which a straight stem from `bottom` leaning toward `azimuth` passes over the
-// container's wall, a radius and 2 mm above its rim where it crosses the wall's middle; none if it ends
-// before the wall (`reach_m`: its length from the bottom) or the container is a vase (the stems rise
-// from its mouth).
-std::optional<double> rim_tilt_rad(const components::Container& c, glm::dvec3 bottom, double azimuth_rad, double reach_m, double radius_m) {
-    if (c.floor_z_m > c.base_z_m + c.wall_m + 1e-6) return std::nullopt; // a vase
-    const glm::dvec3 way = lesson_direction(0.5 * pi, azimuth_rad);
-    const glm::dvec2 u{way.x, way.y};
-    const glm::dvec2 b = glm::dvec2(bottom) - c.centre_m;
-    const double to_wall = distance_to_wall_m(c.round, c.half_extent_m + glm::dvec2{0.5 * c.wall_m}, b, u);
-    const double rise = c.rim_z_m + radius_m + 0.002 - bottom.z;
-    if (to_wall >= reach_m || rise <= 0.0) return std::nullopt;
-    return std::atan2(to_wall, rise);
-}
 
 // A shoka's stems rise from the water as one line and then part (lessons with one_line_at_water):
 // each is bent first, lying on the table (the bending system's two-hand bend, Eq. 4-5, over its span
@@ -133,15 +118,6 @@ std::size_t first_bent_joint(const std::vector<glm::dvec3>& shape) {
         }
     }
     return first_bent;
-}
-
-// Where a stem's bottom goes for it to enter the pins' tops at `base` (where the form, and the score,
-// put a stem: lesson_scene measures from there), held along `want` with `in_pins` of it in the pins.
-// Set at the base itself, a stem at 70 degrees with 13 mm in the pins entered 36 mm further out, toward
-// the wall.
-glm::dvec2 bottom_for(glm::dvec2 base, glm::dvec3 want, double in_pins) {
-    if (want.z < 0.2) return base;
-    return base - glm::dvec2{want.x, want.y} * (in_pins / want.z);
 }
 
 class Teacher {
@@ -695,6 +671,8 @@ void teach(const LessonDef& lesson, const Arrangement& model, Classroom& room, T
         const auto role = std::find_if(lesson.stems.begin(), lesson.stems.end(), [&](const MainStemDef& m) { return m.role == target.role; });
         if (role != lesson.stems.end() && role->tilt_rad.target >= low_stem_rad) aimed.tilt_rad = role->tilt_rad.target - low_stem_sink_rad;
         const char* why_aimed = "a low stem sinks once let go";
+        // C cuts for the lean the trainee is told to aim for: the form's, or what the rim allows.
+        double cut_tilt_rad = target.tilt_rad;
         if (container && target.path_m.size() != 2) {
             const glm::dvec3 want = lesson_direction(aimed.tilt_rad, aimed.azimuth_rad);
             const glm::dvec3 bottom = kenzan + glm::dvec3(bottom_for(target.base_m, want, in_pins), 0.0);
@@ -703,6 +681,7 @@ void teach(const LessonDef& lesson, const Arrangement& model, Classroom& room, T
                 aimed.tilt_rad = *lies - rim_margin_rad;
                 why_aimed = "the container's rim is in its way";
             }
+            if (lies) cut_tilt_rad = std::min(cut_tilt_rad, *lies - rim_margin_rad);
         }
         const auto held_at = options.tilt_deg.find(target.role);
         if (held_at != options.tilt_deg.end()) aimed.tilt_rad = held_at->second * pi / 180;
@@ -721,9 +700,9 @@ void teach(const LessonDef& lesson, const Arrangement& model, Classroom& room, T
                 rise = Teacher::Rise{in_pins + target.path_m[0].z + bend_above_knee_m, lean > one_line_bend_beyond_rad ? lean - rise_tilt_rad : 0.0};
         }
         // A stem that tipped over, or slipped from the hand, is taken again once, as a teacher would.
-        if (!teacher.place(*pick, target.role, aimed, target.tilt_rad, rise)) {
+        if (!teacher.place(*pick, target.role, aimed, cut_tilt_rad, rise)) {
             teacher.say(target.role + ": it did not stand: take it again");
-            teacher.place(*pick, target.role, aimed, target.tilt_rad, rise);
+            teacher.place(*pick, target.role, aimed, cut_tilt_rad, rise);
         }
     }
     teacher.strip_leaves_in_water();

@@ -98,6 +98,22 @@ Result<SceneDef> scene_for_lesson(const LessonDef& l) {
     return s;
 }
 
+glm::dvec2 bottom_for(glm::dvec2 base, glm::dvec3 want, double in_pins) {
+    if (want.z < 0.2) return base;
+    return base - glm::dvec2{want.x, want.y} * (in_pins / want.z);
+}
+
+std::optional<double> rim_tilt_rad(const components::Container& c, glm::dvec3 bottom, double azimuth_rad, double reach_m, double radius_m) {
+    if (c.floor_z_m > c.base_z_m + c.wall_m + 1e-6) return std::nullopt; // a vase
+    const glm::dvec3 way = lesson_direction(0.5 * 3.14159265358979323846, azimuth_rad);
+    const glm::dvec2 u{way.x, way.y};
+    const glm::dvec2 b = glm::dvec2(bottom) - c.centre_m;
+    const double to_wall = distance_to_wall_m(c.round, c.half_extent_m + glm::dvec2{0.5 * c.wall_m}, b, u);
+    const double rise = c.rim_z_m + radius_m + 0.002 - bottom.z;
+    if (to_wall >= reach_m || rise <= 0.0) return std::nullopt;
+    return std::atan2(to_wall, rise);
+}
+
 Arrangement measure_arrangement(const components::FrameSnapshot& frame) {
     Arrangement a;
     if (!frame.kenzan) return a;
@@ -267,7 +283,7 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
     const double tilt = std::acos(std::clamp(glm::normalize(chord).z, -1.0, 1.0));
     const double azimuth = std::atan2(-chord.x, -chord.y);
     constexpr double deg = 180.0 / 3.14159265358979323846;
-    char text[240];
+    char text[320];
     std::string species = f.species; // as a trainee reads it
     std::replace(species.begin(), species.end(), '_', ' ');
     std::snprintf(text, sizeof text, "holding a %s: %.0f mm long, %.0f° from vertical toward the %s", species.c_str(), length * 1e3, tilt * deg,
@@ -326,8 +342,26 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
         // low stem a little higher than the form's figure).
         double lean_rad = m.tilt_rad.target;
         if (!model) model = model_arrangement(l, footprint);
+        // The lean to aim for: the form's, or a degree inside the steepest at which it clears the
+        // container's rim set where the form puts it (as the demonstration aims it: a trainee told
+        // "75°" for hikae found the rim would not let it lean past 70).
+        double aim_tilt_rad = m.tilt_rad.target;
+        std::string rim_words;
         for (const auto& s : model->stems) {
-            if (s.role == m.role) lean_rad = s.path_m.size() == 2 ? 0.0 : s.tilt_rad;
+            if (s.role != m.role) continue;
+            lean_rad = s.path_m.size() == 2 ? 0.0 : s.tilt_rad;
+            if (s.path_m.size() == 2 || !frame.container) continue;
+            const glm::dvec3 want = lesson_direction(m.tilt_rad.target, s.azimuth_rad);
+            const double pin_height = frame.kenzan->pin_height_m();
+            const glm::dvec3 bottom = frame.kenzan->origin_m + glm::dvec3(bottom_for(s.base_m, want, pin_height), 0.0);
+            const auto clears = rim_tilt_rad(*frame.container, bottom, s.azimuth_rad, target + in_pins_along_m(pin_height, m.tilt_rad.target), 0.5 * f.diameter_m);
+            if (clears && *clears - rim_margin_rad < m.tilt_rad.target) {
+                aim_tilt_rad = *clears - rim_margin_rad;
+                char why[96];
+                std::snprintf(why, sizeof why, ", as far as the rim lets it of the form's %.0f°", m.tilt_rad.target * deg);
+                rim_words = why;
+                lean_rad = std::min(lean_rad, aim_tilt_rad);
+            }
         }
         const double pins = in_pins_along_m(frame.kenzan->pin_height_m(), lean_rad);
         advice.role = m.role;
@@ -342,7 +376,7 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
             std::snprintf(text, sizeof text, "press C to cut it for %s (to %.0f mm)", m.role.c_str(), advice.keep_length_m * 1e3);
             advice.next_step = text;
         } else {
-            std::snprintf(text, sizeof text, "tilt it %.0f°%s (Ctrl+drag), then lower it into %s", m.tilt_rad.target * deg, lean.c_str(),
+            std::snprintf(text, sizeof text, "tilt it %.0f°%s%s (Ctrl+drag), then lower it into %s", aim_tilt_rad * deg, lean.c_str(), rim_words.c_str(),
                           on_kenzan_words(m.region).c_str());
             advice.next_step = text;
             // Its tilt in the band, and the ring on the pins but outside the role's place: said while
@@ -359,8 +393,8 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
             }
         }
         if (length > advice.keep_length_m + 0.002) {
-            std::snprintf(text, sizeof text, "for %s: C cuts it to %.0f mm (%.0f above the kenzan%s; %.0f in the pins); then Ctrl+drag to tilt it %.0f°%s",
-                          m.role.c_str(), advice.keep_length_m * 1e3, target * 1e3, follows.c_str(), pins * 1e3, m.tilt_rad.target * deg, lean.c_str());
+            std::snprintf(text, sizeof text, "for %s: C cuts it to %.0f mm (%.0f above the kenzan%s; %.0f in the pins); then Ctrl+drag to tilt it %.0f°%s%s",
+                          m.role.c_str(), advice.keep_length_m * 1e3, target * 1e3, follows.c_str(), pins * 1e3, aim_tilt_rad * deg, lean.c_str(), rim_words.c_str());
         } else {
             std::snprintf(text, sizeof text, "for %s (%.0f mm above the kenzan%s): tilt it %.0f° ±%.0f°%s (Ctrl+drag), put it in %s", m.role.c_str(),
                           target * 1e3, follows.c_str(), m.tilt_rad.target * deg, m.tilt_rad.tolerance * deg, lean.c_str(), on_kenzan_words(m.region).c_str());

@@ -20,6 +20,20 @@ Result<SceneDef> scene_for_lesson(const LessonDef& lesson);
 // The kenzan's footprint as the scoring needs it, from its layout.
 Result<KenzanFootprint> footprint_of(const LessonDef& lesson);
 
+// Where a stem's bottom goes for it to enter the pins' tops at `base` (where the form, and the score,
+// put a stem: measure_arrangement measures from there), held along `want` with `in_pins` of it in the
+// pins. Set at the base itself, a stem at 70 degrees with 13 mm in the pins entered 36 mm further out,
+// toward the wall.
+[[nodiscard]] glm::dvec2 bottom_for(glm::dvec2 base, glm::dvec3 want, double in_pins);
+
+// The largest tilt at which a straight stem from `bottom` leaning toward `azimuth` passes over the
+// container's wall, a radius and 2 mm above its rim where it crosses the wall's middle; none if it ends
+// before the wall (`reach_m`: its length from the bottom) or the container is a vase (the stems rise
+// from its mouth).
+[[nodiscard]] std::optional<double> rim_tilt_rad(const components::Container& c, glm::dvec3 bottom, double azimuth_rad, double reach_m, double radius_m);
+// How far inside rim_tilt_rad a low stem is aimed (by the demonstration, and in the trainee's next step).
+inline constexpr double rim_margin_rad = 1.0 * 3.14159265358979323846 / 180.0;
+
 // The stems in (or fallen from) the kenzan, none held by a hand: materials still on the table are not
 // part of the arrangement. Roles are left to the scoring.
 Arrangement measure_arrangement(const components::FrameSnapshot& frame);

@@ -895,6 +895,71 @@ void stand_cherry_as_soe(components::FrameSnapshot& frame, const LessonDef& l) {
 }
 } // namespace
 
+namespace {
+// A stem standing in the kenzan where the model puts a role, as the model stands it.
+void stand_as_model(components::FrameSnapshot& frame, const LessonDef& l, const std::string& role, const std::string& species) {
+    const auto model = model_arrangement(l, footprint(l));
+    const auto m = std::find_if(model.stems.begin(), model.stems.end(), [&](const ArrangementStem& s) { return s.role == role; });
+    ASSERT_NE(m, model.stems.end());
+    components::FlowerStatus standing{};
+    standing.species = species;
+    standing.in_kenzan = true;
+    const glm::dvec3 base = frame.kenzan->origin_m + glm::dvec3(m->base_m, 0.0);
+    for (int i = 0; i <= 10; ++i) standing.points_m.push_back(base + lesson_direction(m->tilt_rad, m->azimuth_rad) * (m->length_m * i / 10.0));
+    frame.flowers.push_back(standing);
+}
+} // namespace
+
+// A first-time trainee was told "tilt it 75°" for hikae where the container's rim would not let it lean
+// past about 70. The next step names the lean the rim allows (the model's), and why.
+TEST(LessonControls, ALowStemIsToldTheLeanTheRimAllowsNotTheFormsSteeperOne) {
+    const LessonDef l = lesson("sogetsu_basic_upright");
+    const auto model = model_arrangement(l, footprint(l));
+    const auto hikae = std::find_if(model.stems.begin(), model.stems.end(), [](const ArrangementStem& s) { return s.role == "hikae"; });
+    ASSERT_NE(hikae, model.stems.end());
+    const auto form = std::find_if(l.stems.begin(), l.stems.end(), [](const auto& m) { return m.role == "hikae"; });
+    ASSERT_NE(form, l.stems.end());
+    components::FrameSnapshot frame = holding_a_lying_cherry_branch();
+    // The lesson's kenzan and container where its scene puts them.
+    const auto scene = scene_for_lesson(l);
+    ASSERT_TRUE(scene);
+    auto kenzan = load_kenzan(scene->kenzan_layout);
+    ASSERT_TRUE(kenzan);
+    kenzan->origin_m = scene->kenzan_position_m;
+    frame.kenzan = *kenzan;
+    frame.container = container_of(*scene);
+    frame.flowers[0].species = "chrysanthemum";
+    frame.flowers[0].diameter_m = 0.006;
+    frame.hands[1].position_m = frame.flowers[0].points_m[3];
+    stand_as_model(frame, l, "shin", "willow_branch");
+    stand_as_model(frame, l, "soe", "cherry_branch");
+    const auto before_cut = advise_held_stem(l, footprint(l), frame, 1);
+    ASSERT_EQ(before_cut.role, "hikae");
+    // Cut to what C keeps.
+    auto& held = frame.flowers[0].points_m;
+    const glm::dvec3 from = held.front();
+    for (std::size_t i = 0; i < held.size(); ++i) held[i] = from + (held[i] - from) * (before_cut.keep_length_m * 0.99 / 0.34);
+    const auto cut = advise_held_stem(l, footprint(l), frame, 1);
+    // The steepest lean that clears the rim from where hikae goes, a degree inside it.
+    const glm::dvec3 want = lesson_direction(form->tilt_rad.target, hikae->azimuth_rad);
+    const glm::dvec3 bottom = frame.kenzan->origin_m + glm::dvec3(bottom_for(hikae->base_m, want, frame.kenzan->pin_height_m()), 0.0);
+    const auto clears = rim_tilt_rad(*frame.container, bottom, hikae->azimuth_rad, 0.3, 0.003);
+    ASSERT_TRUE(clears.has_value());
+    ASSERT_LT(*clears, form->tilt_rad.target - 2.0 * deg) << "the rim holds hikae up in this lesson";
+    char expected[160];
+    std::snprintf(expected, sizeof expected, "tilt it %.0f° toward the right front, as far as the rim lets it of the form's %.0f° (Ctrl+drag)",
+                  (*clears - rim_margin_rad) / deg, form->tilt_rad.target / deg);
+    EXPECT_EQ(cut.next_step.rfind(expected, 0), 0u) << cut.next_step;
+    EXPECT_LT(cut.keep_length_m, before_cut.keep_length_m + 1e-9);
+    // Upright shin is told the form's lean, with nothing of a rim.
+    components::FrameSnapshot first = holding_a_lying_cherry_branch();
+    first.flowers[0].species = "willow_branch";
+    first.hands[1].position_m = first.flowers[0].points_m[3];
+    const auto shin = advise_held_stem(l, footprint(l), first, 1);
+    ASSERT_EQ(shin.role, "shin");
+    EXPECT_EQ(shin.lines.front().find("rim"), std::string::npos) << shin.lines.front();
+}
+
 // A first-time trainee holding a fourth chrysanthemum read jushi instructions in the panel and "no role
 // is left for this stem: let go of it away from the kenzan" as the next step, and never placed a jushi
 // the score asked for. With soe standing, a second cherry branch is heading for a supporting stem: the
