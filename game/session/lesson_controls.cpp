@@ -180,6 +180,19 @@ double chord_tilt_rad(const components::FlowerStatus& f) {
 }
 // Sunk further than this past its lean when let go, a stem is said to have sunk.
 constexpr double sank_beyond_rad = 6.0 * 3.14159265358979323846 / 180.0;
+// Less of the pins' height than this holds a stem too loosely to let go of it.
+constexpr double shallow_fraction = 0.6;
+
+// Whether a point is over the container (over the kenzan, where there is none).
+bool over_container(const components::FrameSnapshot& latest, glm::dvec3 p) {
+    if (latest.container) {
+        const auto& c = *latest.container;
+        const glm::dvec2 d = glm::dvec2(p) - c.centre_m;
+        if (c.round) return glm::length(d) <= c.half_extent_m.x;
+        return std::abs(d.x) <= c.half_extent_m.x && std::abs(d.y) <= c.half_extent_m.y;
+    }
+    return latest.kenzan && glm::length(glm::dvec2(p - latest.kenzan->origin_m)) < 0.1;
+}
 } // namespace
 
 void LessonControls::watch_sinking(const components::FrameSnapshot& latest, const components::HandStatus& h, const std::string& role) {
@@ -198,6 +211,11 @@ void LessonControls::watch_sinking(const components::FrameSnapshot& latest, cons
         if (const auto* f = flower_at(held_.flower); f && f->in_kenzan) {
             let_go_ = held_;
             let_go_.readings_left = 90;
+        } else if (f && !f->points_m.empty() && over_container(latest, f->points_m.front())) {
+            // Let go over the container but not in the pins (a lean had levered it out of them): it
+            // falls, and with no stem in the kenzan nothing said so.
+            const std::string who = held_.role.empty() ? "the " + species_words(f->species) : held_.role;
+            sank_ = who + " was not in the pins when you let go, and fell: take it again, push it down into the pins, then let go";
         }
         held_ = {};
     }
@@ -241,9 +259,14 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     const bool held_in_pins = h.holding && h.held_flower >= 0 && static_cast<std::size_t>(h.held_flower) < latest.flowers.size() &&
                               latest.flowers[static_cast<std::size_t>(h.held_flower)].in_kenzan;
     if (form && held_in_pins) {
-        char text[160];
-        std::snprintf(text, sizeof text, "it is in the pins, %.0f mm deep: release the button to let go of it (click, if the button is up)",
-                      latest.flowers[static_cast<std::size_t>(h.held_flower)].depth_m * 1e3);
+        char text[200];
+        const double depth_m = latest.flowers[static_cast<std::size_t>(h.held_flower)].depth_m;
+        // Shallow (a lean in the pins can lever it up), it would sink or fall once let go.
+        if (latest.kenzan && depth_m < shallow_fraction * latest.kenzan->pin_height_m())
+            std::snprintf(text, sizeof text, "it is only %.0f mm deep in the pins (they are %.0f mm tall): push it down (move the mouse down) before you let go",
+                          depth_m * 1e3, latest.kenzan->pin_height_m() * 1e3);
+        else
+            std::snprintf(text, sizeof text, "it is in the pins, %.0f mm deep: release the button to let go of it (click, if the button is up)", depth_m * 1e3);
         next_step_ = text;
     } else if (form && h.holding) {
         // Where it would go in, if that is wrong: said before anything else.
