@@ -719,7 +719,8 @@ TEST(LessonWithTheMouse, TheSogetsuBasicUprightLessonThroughTheMouseMeetsEveryBa
     ASSERT_TRUE(session.ok()) << session.error().message;
     std::string steps;
     for (const auto& s : session->steps) steps += s.what + "\n";
-    for (const char* cut : {"shin: cut it to 448 mm", "soe: cut it to 345 mm", "hikae: cut it to 295 mm"}) EXPECT_NE(steps.find(cut), std::string::npos) << cut;
+    // (Hikae: 245 mm above the kenzan and 35 in the pins at the 69° the suiban's rim lets it lean.)
+    for (const char* cut : {"shin: cut it to 448 mm", "soe: cut it to 345 mm", "hikae: cut it to 279 mm"}) EXPECT_NE(steps.find(cut), std::string::npos) << cut;
     EXPECT_EQ(steps.find("it was cut to"), std::string::npos) << "C cut each to what its role wants:\n" << steps;
     EXPECT_EQ(steps.find("missed"), std::string::npos) << steps;
     std::string why;
