@@ -27,9 +27,9 @@ LessonFlow::Outcome LessonFlow::update(const platform::PointerState& keys, std::
             scenery.list = sample_scenery_;
             scenery.labels.clear();
             if (controls_->ghosts()) {
-                add_form_ghosts(scenery.list, *lesson_, footprint_, kenzan_at_m_);
+                add_form_ghosts(scenery.list, *lesson_, footprint_, kenzan_at_m_, &latest);
                 add_model_flowers(scenery.list, *lesson_, footprint_, model_plate_origin(*lesson_, kenzan_at_m_), species_);
-                scenery.labels = form_labels(*lesson_, footprint_, kenzan_at_m_, model_plate_origin(*lesson_, kenzan_at_m_));
+                scenery.labels = form_labels(*lesson_, footprint_, kenzan_at_m_, model_plate_origin(*lesson_, kenzan_at_m_), &latest);
             }
         }
         if (effects.score) show_result(effects.score->ok() ? (*effects.score)->lines() : std::vector<std::string>{"RESULT: " + effects.score->error().message}, hud);

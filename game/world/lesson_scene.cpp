@@ -114,6 +114,16 @@ std::optional<double> rim_tilt_rad(const components::Container& c, glm::dvec3 bo
     return std::atan2(to_wall, rise);
 }
 
+std::optional<double> rim_held_tilt_rad(const ArrangementStem& stem, const components::FrameSnapshot& frame, double radius_m) {
+    if (stem.path_m.size() == 2 || !frame.container || !frame.kenzan) return std::nullopt;
+    const glm::dvec3 want = lesson_direction(stem.tilt_rad, stem.azimuth_rad);
+    const double pin_height = frame.kenzan->pin_height_m();
+    const glm::dvec3 bottom = frame.kenzan->origin_m + glm::dvec3(bottom_for(stem.base_m, want, pin_height), 0.0);
+    const auto clears = rim_tilt_rad(*frame.container, bottom, stem.azimuth_rad, stem.length_m + in_pins_along_m(pin_height, stem.tilt_rad), radius_m);
+    if (clears && *clears - rim_margin_rad < stem.tilt_rad) return *clears - rim_margin_rad;
+    return std::nullopt;
+}
+
 Arrangement measure_arrangement(const components::FrameSnapshot& frame) {
     Arrangement a;
     if (!frame.kenzan) return a;
@@ -350,13 +360,11 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
         for (const auto& s : model->stems) {
             if (s.role != m.role) continue;
             lean_rad = s.path_m.size() == 2 ? 0.0 : s.tilt_rad;
-            if (s.path_m.size() == 2 || !frame.container) continue;
-            const glm::dvec3 want = lesson_direction(m.tilt_rad.target, s.azimuth_rad);
-            const double pin_height = frame.kenzan->pin_height_m();
-            const glm::dvec3 bottom = frame.kenzan->origin_m + glm::dvec3(bottom_for(s.base_m, want, pin_height), 0.0);
-            const auto clears = rim_tilt_rad(*frame.container, bottom, s.azimuth_rad, target + in_pins_along_m(pin_height, m.tilt_rad.target), 0.5 * f.diameter_m);
-            if (clears && *clears - rim_margin_rad < m.tilt_rad.target) {
-                aim_tilt_rad = *clears - rim_margin_rad;
+            ArrangementStem as_asked = s; // at the form's lean and this stem's target length
+            as_asked.tilt_rad = m.tilt_rad.target;
+            as_asked.length_m = target;
+            if (const auto held = rim_held_tilt_rad(as_asked, frame, 0.5 * f.diameter_m)) {
+                aim_tilt_rad = *held;
                 char why[96];
                 std::snprintf(why, sizeof why, ", as far as the rim lets it of the form's %.0f°", m.tilt_rad.target * deg);
                 rim_words = why;
@@ -477,9 +485,22 @@ glm::mat4 rod(const glm::dvec3& p, const glm::dvec3& q, double radius) {
 
 std::string ghost_colour_name(std::size_t role) { return role_colour(role).name; }
 
-void add_form_ghosts(render::DrawList& list, const LessonDef& l, const KenzanFootprint& kenzan, const glm::dvec3& origin) {
+namespace {
+// The model over the kenzan as the trainee is to set it: low stems at the lean the rim allows.
+Arrangement model_as_set(const LessonDef& l, const KenzanFootprint& kenzan, const components::FrameSnapshot* frame) {
+    Arrangement model = model_arrangement(l, kenzan);
+    if (!frame) return model;
+    for (auto& s : model.stems) {
+        if (const auto held = rim_held_tilt_rad(s, *frame, 0.003)) s.tilt_rad = *held;
+    }
+    return model;
+}
+double pin_tops_m(const components::FrameSnapshot* frame) { return frame && frame->kenzan ? frame->kenzan->pin_height_m() : 0.0; }
+} // namespace
+
+void add_form_ghosts(render::DrawList& list, const LessonDef& l, const KenzanFootprint& kenzan, const glm::dvec3& origin, const components::FrameSnapshot* frame) {
     if (l.scoring != "form") return;
-    const Arrangement model = model_arrangement(l, kenzan);
+    const Arrangement model = model_as_set(l, kenzan, frame);
     auto& rods = list.batch("cylinder", true).instances;
     auto& tips = list.batch("cube", true).instances;
     for (const auto& s : model.stems) {
@@ -487,7 +508,9 @@ void add_form_ghosts(render::DrawList& list, const LessonDef& l, const KenzanFoo
         const auto it = std::find_if(l.stems.begin(), l.stems.end(), [&](const MainStemDef& m) { return m.role == s.role; });
         if (it == l.stems.end() && s.role != "supporting") continue;
         const auto& colour = role_colour(static_cast<std::size_t>(it - l.stems.begin()));
-        std::vector<glm::dvec3> line{origin + glm::dvec3(s.base_m, 0.0)};
+        // A straight stem from where its line crosses the pins' tops (where the score measures it from),
+        // when the frame says how tall they are.
+        std::vector<glm::dvec3> line{origin + glm::dvec3(s.base_m, s.path_m.empty() ? pin_tops_m(frame) : 0.0)};
         if (s.path_m.empty()) line.push_back(line.front() + lesson_direction(s.tilt_rad, s.azimuth_rad) * s.length_m);
         for (const auto& p : s.path_m) line.push_back(origin + p);
         for (std::size_t i = 1; i < line.size(); ++i) rods.push_back({rod(line[i - 1], line[i], 0.006), glm::vec4(colour.rgb, 0.55f)});
@@ -498,15 +521,21 @@ void add_form_ghosts(render::DrawList& list, const LessonDef& l, const KenzanFoo
 }
 
 std::vector<render::OverlayPanel> form_labels(const LessonDef& l, const KenzanFootprint& kenzan, const glm::dvec3& kenzan_origin_m,
-                                              const glm::dvec3& plate_origin_m) {
+                                              const glm::dvec3& plate_origin_m, const components::FrameSnapshot* frame) {
     std::vector<render::OverlayPanel> labels;
     if (l.scoring != "form") return labels;
-    for (const auto& s : model_arrangement(l, kenzan).stems) {
+    const Arrangement model = model_arrangement(l, kenzan), as_set = model_as_set(l, kenzan, frame);
+    for (std::size_t n = 0; n < model.stems.size(); ++n) {
+        const auto& s = model.stems[n];
         const auto it = std::find_if(l.stems.begin(), l.stems.end(), [&](const MainStemDef& m) { return m.role == s.role; });
         if (it == l.stems.end()) continue;
         const glm::vec3 colour = role_colour(static_cast<std::size_t>(it - l.stems.begin())).rgb;
-        // The stem's end from its place (its risen path's end when it has one).
-        const glm::dvec3 tip = s.path_m.empty() ? glm::dvec3(s.base_m, 0.0) + lesson_direction(s.tilt_rad, s.azimuth_rad) * s.length_m : s.path_m.back();
+        // The stem's end from its place (its risen path's end when it has one): on the plate the
+        // model's, over the kenzan as it is to be set there.
+        const auto end_of = [](const ArrangementStem& a) {
+            return a.path_m.empty() ? glm::dvec3(a.base_m, 0.0) + lesson_direction(a.tilt_rad, a.azimuth_rad) * a.length_m : a.path_m.back();
+        };
+        const glm::dvec3 tip = end_of(s);
         render::OverlayPanel name;
         name.scale = 1.5f;
         name.panel_colour = glm::vec4(colour * 0.6f, 0.8f);
@@ -514,10 +543,11 @@ std::vector<render::OverlayPanel> form_labels(const LessonDef& l, const KenzanFo
         name.anchor_m = glm::vec3(plate_origin_m + tip + glm::dvec3{0, 0, 0.05}); // above the marker cube
         labels.push_back(name);
         char text[96];
-        std::snprintf(text, sizeof text, "%s %.0f mm, %.0f deg", it->role.c_str(), s.length_m * 1e3, s.tilt_rad * 180.0 / 3.14159265358979323846);
+        const auto& set = as_set.stems[n];
+        std::snprintf(text, sizeof text, "%s %.0f mm, %.0f deg", it->role.c_str(), set.length_m * 1e3, set.tilt_rad * 180.0 / 3.14159265358979323846);
         name.lines = {text};
         name.panel_colour.a = 0.6f;
-        name.anchor_m = glm::vec3(kenzan_origin_m + tip + glm::dvec3{0, 0, 0.03});
+        name.anchor_m = glm::vec3(kenzan_origin_m + end_of(set) + glm::dvec3{0, 0, 0.03 + (set.path_m.empty() ? pin_tops_m(frame) : 0.0)});
         labels.push_back(name);
     }
     return labels;

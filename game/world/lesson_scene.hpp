@@ -33,6 +33,11 @@ Result<KenzanFootprint> footprint_of(const LessonDef& lesson);
 [[nodiscard]] std::optional<double> rim_tilt_rad(const components::Container& c, glm::dvec3 bottom, double azimuth_rad, double reach_m, double radius_m);
 // How far inside rim_tilt_rad a low stem is aimed (by the demonstration, and in the trainee's next step).
 inline constexpr double rim_margin_rad = 1.0 * 3.14159265358979323846 / 180.0;
+// The lean a model stem is to be set at when the container's rim would not let it lean as far as its
+// form (rim_margin_rad inside the steepest that clears the rim from where the form puts it, in the
+// frame's kenzan and container); nothing when the form's lean clears it, or for a stem that rises
+// upright from the pins first (a two-point path).
+[[nodiscard]] std::optional<double> rim_held_tilt_rad(const ArrangementStem& stem, const components::FrameSnapshot& frame, double radius_m);
 
 // The stems in (or fallen from) the kenzan, none held by a hand: materials still on the table are not
 // part of the arrangement. Roles are left to the scoring.
@@ -90,7 +95,10 @@ namespace ikebana::game {
 
 // The form's targets over the kenzan, translucent: each main stem of the model arrangement at its
 // nominal length, tilt and direction from its place, in its role's colour (ghost_colour_name).
-void add_form_ghosts(render::DrawList& list, const LessonDef& lesson, const KenzanFootprint& kenzan, const glm::dvec3& kenzan_origin_m);
+// With a frame that has the container, a low stem is drawn at the lean its rim allows
+// (rim_held_tilt_rad: the lean the panel asks for), not through the container's wall.
+void add_form_ghosts(render::DrawList& list, const LessonDef& lesson, const KenzanFootprint& kenzan, const glm::dvec3& kenzan_origin_m,
+                     const components::FrameSnapshot* frame = nullptr);
 [[nodiscard]] std::string ghost_colour_name(std::size_t role);
 // The form's model arrangement as the flowers themselves, on a plate at `plate_origin_m` (behind the
 // container): stems along the model's lines, heads, petals and leaves as the species have them, and
@@ -102,7 +110,7 @@ void add_model_flowers(render::DrawList& list, const LessonDef& lesson, const Ke
 // tip in the model by the container, its label ("Shin"); over each ghost's end, the role with its
 // target length and tilt ("shin 630 mm, 15°"). Both in the role's colour.
 [[nodiscard]] std::vector<render::OverlayPanel> form_labels(const LessonDef& lesson, const KenzanFootprint& kenzan, const glm::dvec3& kenzan_origin_m,
-                                                           const glm::dvec3& plate_origin_m);
+                                                           const glm::dvec3& plate_origin_m, const components::FrameSnapshot* frame = nullptr);
 // Where that plate goes: behind the container and right, at the kenzan's height.
 [[nodiscard]] glm::dvec3 model_plate_origin(const LessonDef& lesson, const glm::dvec3& kenzan_origin_m);
 

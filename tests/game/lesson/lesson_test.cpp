@@ -1824,6 +1824,43 @@ TEST(Reach, AStemThatSinksOnceLetGoIsSaidToHaveSunk) {
     EXPECT_EQ(controls.next_step().find("sank"), std::string::npos) << controls.next_step();
 }
 
+// A first-time trainee saw G's rods for soe and hikae go through the suiban's wall: the form's 75° for
+// hikae from the front of the kenzan crosses the wall below the rim. Drawn with the frame's container,
+// each rod, from where its line crosses the pins' tops, stays inside it below the rim (hikae at the
+// lean the rim allows, which its label says); drawn without it, hikae's went through.
+TEST(ModelArrangement, TheFormsRodsOverTheKenzanStayInsideTheContainersWall) {
+    LessonTable t;
+    const auto fp = footprint(t.l);
+    const auto& c = *t.frame.container;
+    const auto through_wall = [&](const render::DrawList& list) {
+        std::size_t crossing = 0;
+        for (const auto& b : list.batches) {
+            if (b.mesh != "cylinder") continue;
+            for (const auto& inst : b.instances) {
+                const glm::dvec3 from(inst.model[3]), along(inst.model[2]);
+                for (int k = 0; k <= 50; ++k) {
+                    const glm::dvec3 p = from + along * (k / 50.0);
+                    if (p.z < c.rim_z_m && glm::length(glm::dvec2(p) - c.centre_m) > c.half_extent_m.x) {
+                        ++crossing;
+                        break;
+                    }
+                }
+            }
+        }
+        return crossing;
+    };
+    render::DrawList bare, set;
+    add_form_ghosts(bare, t.l, fp, t.frame.kenzan->origin_m);
+    add_form_ghosts(set, t.l, fp, t.frame.kenzan->origin_m, &t.frame);
+    ASSERT_TRUE(c.round);
+    EXPECT_GT(through_wall(bare), 0u) << "the form's own leans cross the wall";
+    EXPECT_EQ(through_wall(set), 0u);
+    const auto labels = form_labels(t.l, fp, t.frame.kenzan->origin_m, model_plate_origin(t.l, t.frame.kenzan->origin_m), &t.frame);
+    std::string all;
+    for (const auto& label : labels) all += label.lines.front() + "\n";
+    EXPECT_NE(all.find("hikae 245 mm, 69 deg"), std::string::npos) << all;
+}
+
 // A first-time trainee leant shin in the pins until it came out of them, let go, and it toppled with no
 // word (a stem out of the kenzan is not "fallen"; it lies like the materials on the table). Let go over
 // the container but not in the pins, it is said to have fallen; let go away from it, nothing is said.
