@@ -238,7 +238,9 @@ RuleResult check_rule(const LessonDef& l, const RuleDef& rule, const Arrangement
     for (const auto& s : a.stems) {
         if (s.standing) context.standing.push_back(&s);
     }
-    Verdict verdict = judge(context);
+    // Nothing standing meets no rule (an empty kenzan "crossed no stems" and "hid no leaves", and a
+    // trainee who pressed Enter before placing anything was given 14 points for it).
+    Verdict verdict = context.standing.empty() ? Verdict{false, "nothing stands in the kenzan yet"} : judge(context);
     RuleResult r{rule_name(rule.kind), verdict.ok, 0.0, rule.points, std::move(verdict.tip)};
     r.points = r.ok ? r.max_points : 0.0;
     return r;

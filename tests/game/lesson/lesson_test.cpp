@@ -232,6 +232,24 @@ TEST(FormScore, EveryShippedFormsModelArrangementScoresAtLeast90) {
     }
 }
 
+// A first-time trainee pressed Enter before placing anything and was given 14 points: the rules an
+// empty kenzan "met" (no stems cross, no leaves in the water). Nothing standing scores nothing, and
+// each rule says why; a fallen stem alone does not stand either.
+TEST(FormScore, NothingStandingInTheKenzanScoresNothing) {
+    for (const char* id : {"sogetsu_basic_upright", "sogetsu_basic_slanting", "ohara_rising_form", "ikenobo_shoka_shofutai"}) {
+        const LessonDef l = lesson(id);
+        Arrangement empty;
+        const auto scored = score_form(l, empty, footprint(l));
+        ASSERT_TRUE(scored.ok()) << scored.error().message;
+        EXPECT_EQ(scored->score, 0.0) << id;
+        for (const auto& r : scored->rules) EXPECT_EQ(r.tip, "nothing stands in the kenzan yet") << id;
+        Arrangement fallen = model_arrangement(l, footprint(l));
+        fallen.stems.resize(1);
+        fallen.stems[0].standing = false;
+        EXPECT_EQ(score_form(l, fallen, footprint(l))->score, 0.0) << id;
+    }
+}
+
 TEST(FormScore, ShinLeftAt45DegreesLosesPointsOnShinsTiltWithATipNamingShin) {
     const LessonDef l = lesson("sogetsu_basic_upright");
     Arrangement a = model_arrangement(l, footprint(l));
