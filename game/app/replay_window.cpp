@@ -314,6 +314,11 @@ int play_recording(WindowStack& stack, const ReplayWindowOptions& o, std::uint32
 }
 
 int run_replay_window(const ReplayWindowOptions& o) {
+    const auto mode = render::parse_stereo_mode(o.stereo);
+    if (!mode) {
+        std::cerr << "ikebana replay: --stereo: " << mode.error().message << "\n";
+        return 2;
+    }
     // Read before a window opens: a bad folder is an error with or without a display.
     {
         auto check = SessionPlayback::open(o.folder);
@@ -327,7 +332,7 @@ int run_replay_window(const ReplayWindowOptions& o) {
         std::cerr << "ikebana replay: " << window.error().message << "; `ikebana replay " << o.folder << " --json -` replays it without a window\n";
         return 3;
     }
-    auto stack = WindowStack::open(std::move(window).value(), {.width = o.width, .height = o.height, .mode = render::StereoMode::side_by_side, .validation = o.validation, .need_ui = true, .msaa = 0});
+    auto stack = WindowStack::open(std::move(window).value(), {.width = o.width, .height = o.height, .mode = *mode, .validation = o.validation, .need_ui = true, .msaa = 0});
     if (!stack) {
         std::cerr << "ikebana replay: " << stack.error().message << "\n";
         return 3;

@@ -16,6 +16,7 @@ struct ReplayWindowOptions {
     std::string folder;
     double speed = 1.0;
     std::uint32_t width = 1280, height = 720;
+    std::string stereo = "mono"; // its own window's display (render::parse_stereo_mode): a flat screen by default
     std::uint32_t frames = 0;   // stop after this many presented frames (0: until Esc or the window closes)
     std::string screenshot;     // the last frame, as PNG
     std::string state_out;      // what the window shows, as JSON each frame (game/session/window_state.hpp)

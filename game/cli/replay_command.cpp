@@ -17,6 +17,7 @@ void add_replay_command(CLI::App& app, int& exit_code) {
     replay->add_option("--speed", args->speed, "The window's playback speed at the start (0.25 to 8)")->capture_default_str()->check(CLI::Range(0.25, 8.0));
     replay->add_option("--width", args->width, "The window's width")->capture_default_str()->check(CLI::Range(64u, 8192u));
     replay->add_option("--height", args->height, "The window's height")->capture_default_str()->check(CLI::Range(64u, 8192u));
+    replay->add_option("--stereo", args->stereo, "The window's display: mono (a flat screen), sbs, rows (polarized displays) or anaglyph")->capture_default_str();
     replay->add_option("--frames", args->frames, "Stop after this many frames (tests)")->capture_default_str();
     replay->add_option("--screenshot", args->screenshot, "Write the last frame to this PNG");
     replay->add_option("--state-out", args->state_out, "Write what the window shows as JSON each frame (for scripts that work the window)");

@@ -81,6 +81,8 @@ file(WRITE ${out}/session/commands.csv "100,cut,1,0.3\n50,cut,1,0.2\n")
 expect_refusal("a replay with its cuts out of order" "commands.csv: line 2: expected time_us,cut,hand,keep_length_m" ${IKEBANA} lesson replay ${out}/session)
 expect_refusal("a folder with no recording" "ikebana replay: ${out}/nothing/session.json" ${IKEBANA} replay ${out}/nothing --json -)
 expect_refusal("a folder with no recording, in the window" "ikebana replay: ${out}/nothing/session.json" ${IKEBANA} replay ${out}/nothing)
+expect_refusal("a display the replay window does not know" "ikebana replay: --stereo: stereo mode 'tv': expected sbs, rows, anaglyph or mono"
+               ${IKEBANA} replay ${out}/session --stereo tv)
 expect_refusal("the window's session on record" "ikebana lesson demo: --record records the headless demonstration"
                ${IKEBANA} lesson demo sogetsu_basic_upright --window --record ${out}/never)
 expect_refusal("a demonstration of free practice" "ikebana lesson demo: free_practice copies its scene's sample; it has no form to demonstrate"
