@@ -1802,8 +1802,9 @@ TEST(Reach, AHeldStemHeldBackByTheWallIsToldToGoOverTheRim) {
 }
 
 // A trainee's shin, let go at 15° (in its band), sank to 30° and was scored there with no word: a stem
-// let go in the pins that sinks more than a few degrees past its lean is named in the next step, with
-// how deep it is and what to do; one that stays is not, nor is one still held.
+// let go in the pins that sinks more than a few degrees past its lean, out of its role's band, is named
+// in the next step, with how deep it is and what to do; one that stays, or stays in its band, is not,
+// nor is one still held.
 TEST(Reach, AStemThatSinksOnceLetGoIsSaidToHaveSunk) {
     LessonTable t;
     LessonControls controls(t.l, footprint(t.l));
@@ -1831,10 +1832,16 @@ TEST(Reach, AStemThatSinksOnceLetGoIsSaidToHaveSunk) {
     lean(18.0); // settles a little: not said
     (void)controls.update(platform::PointerState{}, 1, t.frame, channel);
     EXPECT_EQ(controls.next_step().find("sank"), std::string::npos) << controls.next_step();
+    lean(24.0); // further, but still in shin's 15° ±10°: nothing to take it again for
+    (void)controls.update(platform::PointerState{}, 1, t.frame, channel);
+    EXPECT_EQ(controls.next_step().find("sank"), std::string::npos) << controls.next_step();
     lean(30.0);
     (void)controls.update(platform::PointerState{}, 1, t.frame, channel);
     EXPECT_EQ(controls.next_step(),
               "shin sank from 15° to 30° once let go (4 mm deep in the pins): take it again and push it deeper, or set it 15° steeper than you want it");
+    f.depth_m = 0.013; // as deep as the pins go: pushing deeper is no help
+    (void)controls.update(platform::PointerState{}, 1, t.frame, channel);
+    EXPECT_EQ(controls.next_step(), "shin sank from 15° to 30° once let go (13 mm deep in the pins): take it again and set it 15° steeper than you want it");
     // Taken again, the word goes.
     hand.holding = true;
     hand.held_flower = static_cast<std::int32_t>(t.willow);
