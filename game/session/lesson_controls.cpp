@@ -158,8 +158,24 @@ std::string LessonControls::reach_words(const components::FrameSnapshot& latest,
         return before + "take a stem: move the cube onto one (the stem turns yellow) and hold the left button";
     }
     const auto& f = latest.flowers[reach->flower];
-    const std::string role = role_heading_for(lesson_, footprint_, latest, f.species);
-    std::string words = before + "hold the left button to take the " + species_words(f.species) + (role.empty() ? " (no role of the form is left for it)" : " for " + role);
+    // A stem standing in the pins already plays its role there: that is said, not a role it would
+    // head for (hovering over a standing hikae, a trainee read "take the chrysanthemum for a
+    // supporting stem").
+    std::string plays;
+    if (f.in_kenzan && placed) {
+        std::size_t n = 0; // its place among the measured stems (measure_arrangement's order)
+        const auto& other = latest.hands[(hand + 1u) & 1u];
+        for (std::size_t i = 0; i < reach->flower; ++i) {
+            const auto& g = latest.flowers[i];
+            const bool held = static_cast<std::int32_t>(i) == h.held_flower || static_cast<std::int32_t>(i) == other.held_flower;
+            if (!held && (g.in_kenzan || g.fallen) && g.points_m.size() >= 2) ++n;
+        }
+        if (n < placed->arrangement.stems.size()) plays = placed->arrangement.stems[n].role;
+    }
+    const std::string role = plays.empty() ? role_heading_for(lesson_, footprint_, latest, f.species) : std::string{};
+    std::string words = before + "hold the left button to take the " + species_words(f.species) +
+                        (!plays.empty() ? " (it stands as " + (plays == "supporting" ? std::string("a supporting stem") : plays) + ")"
+                         : role.empty() ? " (no role of the form is left for it)" : " for " + role);
     if (const double along = grip_along_m(latest, hand); bottom_grip_for(latest, hand, along))
     {
         char text[120];

@@ -1886,6 +1886,22 @@ TEST(ModelArrangement, TheFormsRodsOverTheKenzanStayInsideTheContainersWall) {
     EXPECT_NE(all.find("hikae 245 mm, 69 deg"), std::string::npos) << all;
 }
 
+// Hovering over hikae standing in the kenzan, a trainee read "take the chrysanthemum for a supporting
+// stem (jushi): it comes out of the pins". A stem that stands says the role it plays there.
+TEST(Reach, AStemStandingInTheKenzanIsNamedByTheRoleItPlays) {
+    LessonTable t;
+    auto& f = t.frame.flowers[t.willow];
+    const auto& k = *t.frame.kenzan;
+    const glm::dvec3 lean{-std::sin(15.0 * M_PI / 180.0) * 0.7071, -std::sin(15.0 * M_PI / 180.0) * 0.7071, std::cos(15.0 * M_PI / 180.0)};
+    for (std::size_t i = 0; i < f.points_m.size(); ++i) f.points_m[i] = k.origin_m + glm::dvec3{-0.02, 0.02, 0.0} + lean * (0.45 * static_cast<double>(i) / static_cast<double>(f.points_m.size() - 1));
+    f.in_kenzan = true;
+    f.depth_m = 0.012;
+    auto& hand = t.frame.hands[1];
+    hand.position_m = f.points_m[f.points_m.size() / 2];
+    const std::string says = t.next_step();
+    EXPECT_NE(says.find("shin stands; hold the left button to take the willow branch (it stands as shin): it comes out of the pins"), std::string::npos) << says;
+}
+
 // A first-time trainee leant shin in the pins until it came out of them, let go, and it toppled with no
 // word (a stem out of the kenzan is not "fallen"; it lies like the materials on the table). Let go over
 // the container but not in the pins, it is said to have fallen; let go away from it, nothing is said.
