@@ -215,7 +215,12 @@ std::optional<glm::dvec3> bottom_grip_for(const components::FrameSnapshot& frame
     const auto reach = systems::stem_in_reach(frame, hand);
     if (!reach) return std::nullopt;
     const auto& f = frame.flowers[reach->flower];
-    if (f.in_kenzan || f.points_m.size() < 3 || !far_from_bottom(f.points_m, reach->point)) return std::nullopt;
+    if (f.in_kenzan || f.points_m.size() < 3) return std::nullopt;
+    // Taken near its bottom but on the part C will cut off, the hand would hold the piece that comes
+    // off (a trainee took a chrysanthemum 100 mm up and C refused to cut it for a 59 mm jushi): it
+    // takes it above that part instead.
+    const bool on_cut_off = along_m > 0.06 + 1e-9 && along_to(f.points_m, reach->point) < along_m - 0.02;
+    if (!far_from_bottom(f.points_m, reach->point) && !on_cut_off) return std::nullopt;
     // The point nearest 60 mm along the stem: near its end, and above what C usually cuts off (a grip
     // 30 mm up was cut away with the 42 mm a chrysanthemum lost for hikae, and the hand held nothing).
     std::size_t best = 0;

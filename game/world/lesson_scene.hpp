@@ -76,8 +76,9 @@ HeldStemAdvice advise_held_stem(const LessonDef& lesson, const KenzanFootprint& 
                                            const std::string& species);
 
 // A press of this hand on a stem lying out of the kenzan, far from its bottom end (where it could not be
-// pushed into the pins from): the point near that end where the hand takes it instead (the mouse's hand
-// goes there). Nothing when the press would take it near its end already, or takes nothing.
+// pushed into the pins from), or on the part of it below `along_m` (what C would cut off): the point
+// `along_m` up from that end where the hand takes it instead (the mouse's hand goes there). Nothing when
+// the press would take it there already, or takes nothing.
 // `along_m`: how far up from its end (60 mm by default, grip_along_m for a lesson's role).
 [[nodiscard]] std::optional<glm::dvec3> bottom_grip_for(const components::FrameSnapshot& frame, std::size_t hand, double along_m = 0.06);
 

@@ -1025,6 +1025,12 @@ TEST(LessonControls, AStemHeadingForASupportingRoleIsToldItsNextStepAndShownItsL
     EXPECT_NEAR(grip->x - uncut.flowers[0].points_m.front().x, along, 0.017) << "the stem point nearest that far up";
     (void)controls.update(platform::PointerState{}, 1, uncut, channel);
     EXPECT_NE(controls.next_step().find(" mm up from its bottom end, above what C cuts off"), std::string::npos) << controls.next_step();
+    // Pressed near its bottom end, on the part C will cut off, likewise (a trainee took a
+    // chrysanthemum 100 mm up, and C refused to cut it for a 59 mm jushi).
+    uncut.hands[1].position_m = uncut.flowers[0].points_m[4];
+    const auto low = bottom_grip_for(uncut, 1, grip_along_m(l, footprint(l), uncut, 1));
+    ASSERT_TRUE(low.has_value());
+    EXPECT_NEAR(low->x - uncut.flowers[0].points_m.front().x, along, 0.017);
 }
 
 // Taken by its bottom end and cut with C for a short jushi, the hand held the piece that came off and
