@@ -143,7 +143,14 @@ std::string LessonControls::reach_words(const components::FrameSnapshot& latest,
         before += standing.size() == 1 ? " stands; " : " stand; ";
     }
     if (!reach) {
-        if (!h.grab_button && placed && standing.size() >= lesson_.stems.size()) return before + "every role stands: Score (Enter)";
+        if (!h.grab_button && placed && standing.size() >= lesson_.stems.size()) {
+            // A rule still unmet is the next thing to do (a trainee read "every role stands" and never
+            // added the jushi that hide the kenzan, which the score then asked for).
+            for (const auto& r : placed->rules) {
+                if (!r.ok) return before + "to do: " + r.tip + "; or Score (Enter)";
+            }
+            return before + "every role stands: Score (Enter)";
+        }
         // A press that took nothing says why.
         if (h.grab_button) {
             const auto& other = latest.hands[(hand + 1u) & 1u];

@@ -312,11 +312,22 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
     }
     double held_from_bottom = 0.0;
     for (std::size_t i = 1; i <= nearest; ++i) held_from_bottom += glm::length(x[i] - x[i - 1]);
-    const bool held_far = held_from_bottom > std::max(far_from_end_m, 0.35 * length);
-    if (held_far) {
-        std::snprintf(text, sizeof text, "held %.0f mm from its bottom end: to push it in, let go and take it near that end", held_from_bottom * 1e3);
-        advice.lines.emplace_back(text);
-    }
+    // Far from the bottom it will have once C has cut it to `keep_m` (a stem taken above what C cuts
+    // off for a jushi is held near its end once cut: a trainee was told to take it again by its end,
+    // then that C would cut off the part in the hand).
+    const auto held_far_after_cut = [&](double keep_m) {
+        const double cut_m = keep_m > 0.0 ? std::max(0.0, length - keep_m) : 0.0;
+        return held_from_bottom - cut_m > std::max(far_from_end_m, 0.35 * (length - cut_m));
+    };
+    bool held_far = held_far_after_cut(0.0);
+    // Said under the first line when, cut as its role wants, it is still held far from its end.
+    const auto finish = [&]() -> HeldStemAdvice {
+        if (held_far) {
+            std::snprintf(text, sizeof text, "held %.0f mm from its bottom end: to push it in, let go and take it near that end", held_from_bottom * 1e3);
+            advice.lines.insert(advice.lines.begin() + std::min<std::ptrdiff_t>(1, static_cast<std::ptrdiff_t>(advice.lines.size())), text);
+        }
+        return std::move(advice);
+    };
     // The roles already played by standing stems, as the score assigns them.
     const auto placed = score_form(l, measure_arrangement(frame), footprint);
     std::optional<Arrangement> model;
@@ -383,6 +394,7 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
                                              m.azimuth_rad ? std::optional<double>(m.azimuth_rad->target) : std::nullopt,
                                              m.azimuth_rad ? m.azimuth_rad->tolerance : 0.0, r};
         std::string lean = m.azimuth_rad ? " toward the " + direction_words(m.azimuth_rad->target) : "";
+        held_far = held_far_after_cut(advice.keep_length_m);
         if (held_far) {
             advice.next_step = "let go (release the button) and take it again near its bottom end";
         } else if (length > advice.keep_length_m + 0.002) {
@@ -429,7 +441,7 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
                 break;
             }
         }
-        return advice;
+        return finish();
     }
     // A supporting stem (jushi): the next of the model arrangement's that no standing stem plays yet.
     std::size_t supporting_placed = 0;
@@ -447,6 +459,7 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
         // chrysanthemum read jushi instructions above "no role is left for this stem"). The form
         // scores no jushi's angle: the band is the model's, a guide (+-15°, +-30°).
         const std::string place = on_kenzan_words(region_of(s.base_m, footprint.size_m));
+        held_far = held_far_after_cut(advice.keep_length_m);
         if (held_far) {
             advice.next_step = "let go (release the button) and take it again near its bottom end";
         } else if (length > advice.keep_length_m + 0.002) {
@@ -467,11 +480,11 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
         }
         advice.lines.emplace_back(text);
         if (const auto leaves = low_leaves_line(l, footprint, f, length, advice.keep_length_m, s.tilt_rad); !leaves.empty()) advice.lines.push_back(leaves);
-        return advice;
+        return finish();
     }
     advice.lines.emplace_back("every role this species may play stands already: it can support (jushi), shorter than " +
                               (l.supporting.shorter_than_role ? l.stems[*l.supporting.shorter_than_role].role : std::string("the main stems")));
-    return advice;
+    return finish();
 }
 
 } // namespace ikebana::game

@@ -1031,6 +1031,13 @@ TEST(LessonControls, AStemHeadingForASupportingRoleIsToldItsNextStepAndShownItsL
     const auto low = bottom_grip_for(uncut, 1, grip_along_m(l, footprint(l), uncut, 1));
     ASSERT_TRUE(low.has_value());
     EXPECT_NEAR(low->x - uncut.flowers[0].points_m.front().x, along, 0.017);
+    // Taken there, it is to be cut, not taken again by its end (far from its end now, near it once cut).
+    uncut.hands[1].holding = true;
+    uncut.hands[1].held_flower = 0;
+    uncut.hands[1].position_m = *low;
+    const auto taken = advise_held_stem(l, footprint(l), uncut, 1);
+    EXPECT_EQ(taken.next_step.rfind("press C to cut it as a supporting stem", 0), 0u) << taken.next_step;
+    for (const auto& line : taken.lines) EXPECT_EQ(line.find("take it near that end"), std::string::npos) << line;
 }
 
 // Taken by its bottom end and cut with C for a short jushi, the hand held the piece that came off and
@@ -1906,6 +1913,20 @@ TEST(Reach, AStemStandingInTheKenzanIsNamedByTheRoleItPlays) {
     hand.position_m = f.points_m[f.points_m.size() / 2];
     const std::string says = t.next_step();
     EXPECT_NE(says.find("shin stands; hold the left button to take the willow branch (it stands as shin): it comes out of the pins"), std::string::npos) << says;
+}
+
+// With shin, soe and hikae standing, the next step said "every role stands: Score (Enter)" and a trainee
+// never added the jushi the score then asked for. A rule still unmet is the next thing to do.
+TEST(Reach, WithEveryMainRoleStandingAnUnmetRuleIsTheNextStep) {
+    LessonTable t;
+    stand_as_model(t.frame, t.l, "shin", "willow_branch");
+    stand_as_model(t.frame, t.l, "soe", "cherry_branch");
+    stand_as_model(t.frame, t.l, "hikae", "chrysanthemum");
+    t.frame.hands[1].position_m = {0.0, 0.3, 0.4};
+    const std::string says = t.next_step();
+    EXPECT_EQ(says.rfind("shin, soe, hikae stand; to do: the kenzan still shows from the front", 0), 0u) << says;
+    EXPECT_NE(says.find("add a low supporting stem"), std::string::npos) << says;
+    EXPECT_NE(says.find("; or Score (Enter)"), std::string::npos) << says;
 }
 
 // A first-time trainee leant shin in the pins until it came out of them, let go, and it toppled with no
