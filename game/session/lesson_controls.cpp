@@ -303,8 +303,8 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
         {
             char text[200];
             std::snprintf(text, sizeof text,
-                          "lean it at most %.0f° here (it would go through the container's wall, or rest on its rim), or move it toward the container's middle",
-                          std::floor(mark->rim_tilt_rad * 180.0 / 3.14159265358979323846));
+                          "lean it %.0f° less here (it would go through the container's wall, or rest on its rim), or move it toward the container's middle",
+                          std::max(1.0, std::ceil((mark->lower_tilt_rad - mark->rim_tilt_rad) * 180.0 / 3.14159265358979323846)));
             next_step_ = mark->meets_wall ? std::string(text) : "move it over the kenzan: the red ring shows it would miss the pins";
         }
         if (next_step_.empty()) next_step_ = "no role is left for this stem: let go of it (release the button) away from the kenzan";

@@ -250,6 +250,7 @@ std::optional<EntryMark> entry_mark(const FrameSnapshot& frame, std::size_t h) {
     const glm::dvec3 bottom{end.x, end.y, k.origin_m.z};
     EntryMark mark;
     mark.at_m = bottom + up * ((tips_z - bottom.z) / up.z);
+    mark.lower_tilt_rad = std::acos(std::clamp(up.z, -1.0, 1.0));
     const glm::dvec3 lo = k.pin_base(0, 0), hi = k.pin_base(k.columns - 1, k.rows - 1);
     const double edge = 0.5 * k.pitch_m;
     mark.on_pins = bottom.x >= lo.x - edge && bottom.x <= hi.x + edge && bottom.y >= lo.y - edge && bottom.y <= hi.y + edge;
@@ -269,7 +270,9 @@ std::optional<EntryMark> entry_mark(const FrameSnapshot& frame, std::size_t h) {
                 if (std::abs(along[i]) > 1e-12) to_wall = std::min(to_wall, (std::copysign(c.half_extent_m[i], along[i]) - from[i]) / along[i]);
             }
         }
-        mark.meets_wall = to_wall < rise;
+        double length = 0.0;
+        for (std::size_t i = 1; i < x.size(); ++i) length += glm::length(x[i] - x[i - 1]);
+        mark.meets_wall = to_wall < rise && to_wall < length; // (a 59 mm jushi was told to lean less: it ends before the wall)
         // The steepest lean this way that clears the rim (the stem rests on the rim leant further).
         if (mark.meets_wall) mark.rim_tilt_rad = std::atan2(to_wall * glm::length(along), c.rim_z_m - bottom.z);
     }

@@ -30,8 +30,9 @@ struct StemInReach {
 struct EntryMark {
     glm::dvec3 at_m{0.0};
     bool on_pins = false;       // its end would go into the pin field
-    bool meets_wall = false;    // standing so, its line would cross the container's wall below the rim
-    double rim_tilt_rad = 0.0;  // then: the furthest from vertical it may lean this way and clear the rim
+    bool meets_wall = false;    // standing so, it would cross the container's wall below the rim (a stem too short to reach the wall never does)
+    double rim_tilt_rad = 0.0;  // then: the furthest from vertical its lower part may lean this way and clear the rim
+    double lower_tilt_rad = 0.0; // its lower part's lean now (a curved stem's differs from its whole line's)
     [[nodiscard]] bool good() const noexcept { return on_pins && !meets_wall; }
 };
 [[nodiscard]] std::optional<EntryMark> entry_mark(const components::FrameSnapshot& frame, std::size_t hand);

@@ -1753,8 +1753,11 @@ TEST(Reach, AHeldStemsEntryIsMarkedRedWhenItWouldMissThePinsOrMeetTheWall) {
         << "the ring where it comes out of the pins, along its lean";
     EXPECT_GT(through->rim_tilt_rad, 0.0);
     EXPECT_LT(through->rim_tilt_rad, 70.0 * M_PI / 180.0);
-    const double rim_deg = std::floor(through->rim_tilt_rad * 180.0 / M_PI);
-    EXPECT_EQ(t.next_step().rfind("lean it at most " + std::to_string(static_cast<int>(rim_deg)) + "° here (it would go through the container's wall, or rest on its rim)", 0), 0u)
+    // Told by how much less, against the lean of its lower part (a curved soe read "at most 50°" while
+    // its gauge, the whole line's, showed 45).
+    EXPECT_NEAR(through->lower_tilt_rad, 70.0 * M_PI / 180.0, 1e-9);
+    const double less_deg = std::ceil(70.0 - through->rim_tilt_rad * 180.0 / M_PI);
+    EXPECT_EQ(t.next_step().rfind("lean it " + std::to_string(static_cast<int>(less_deg)) + "° less here (it would go through the container's wall, or rest on its rim)", 0), 0u)
         << t.next_step();
     // Leant that far, it clears the rim: the ring is green.
     const auto at_rim = lean_toward(out_dir, through->rim_tilt_rad - 0.01);
@@ -1764,6 +1767,16 @@ TEST(Reach, AHeldStemsEntryIsMarkedRedWhenItWouldMissThePinsOrMeetTheWall) {
     const auto inward = lean_toward(-out_dir, 70.0 * M_PI / 180.0);
     ASSERT_TRUE(inward.has_value());
     EXPECT_TRUE(inward->good());
+    // Too short to reach the wall, leaning at it the same: nothing in its way (a 59 mm jushi was told to
+    // lean less).
+    {
+        const double tilt = 70.0 * M_PI / 180.0;
+        const glm::dvec3 u{out_dir.x * std::sin(tilt), out_dir.y * std::sin(tilt), std::cos(tilt)};
+        for (std::size_t i = 0; i < x.size(); ++i) x[i] = glm::dvec3(edge_pin.x, edge_pin.y, tips + 0.03) + u * (0.012 * static_cast<double>(i) / static_cast<double>(x.size() - 1));
+        const auto short_one = systems::entry_mark(t.frame, 1);
+        ASSERT_TRUE(short_one.has_value());
+        EXPECT_FALSE(short_one->meets_wall);
+    }
     // Wholly outside the container, its way down ends on the table: it misses the pins, no wall.
     for (std::size_t i = 0; i < x.size(); ++i) x[i] = {outside_x + 0.03, k.origin_m.y, c.rim_z_m + 0.01 + 0.04 * static_cast<double>(i)};
     const auto beside_it = systems::entry_mark(t.frame, 1);
