@@ -12,9 +12,19 @@ GlfwPointerSource::GlfwPointerSource(GLFWwindow* window) : window_(window) {
     glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double y) {
         if (auto* self = static_cast<GlfwPointerSource*>(glfwGetWindowUserPointer(w))) self->scroll_ += y;
     });
+    // The left button from its events too: a click quicker than a frame (a trainee's click to let go of
+    // a stem held over the panel) is a reading down and one up, not nothing.
+    glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int) {
+        auto* self = static_cast<GlfwPointerSource*>(glfwGetWindowUserPointer(w));
+        if (!self || button != GLFW_MOUSE_BUTTON_LEFT) return;
+        if (action == GLFW_PRESS) self->button_taps_.press();
+        else if (action == GLFW_RELEASE) self->button_taps_.release();
+    });
+    if (glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) button_taps_.press(); // held as it opened
 }
 
 GlfwPointerSource::~GlfwPointerSource() {
+    glfwSetMouseButtonCallback(window_, nullptr);
     glfwSetScrollCallback(window_, nullptr);
     glfwSetKeyCallback(window_, nullptr);
     glfwSetWindowUserPointer(window_, nullptr);
@@ -55,7 +65,7 @@ PointerState GlfwPointerSource::read() {
     int height = 1;
     glfwGetWindowSize(window_, &width, &height);
     s.window_px = {width > 0 ? width : 1, height > 0 ? height : 1};
-    s.grab_button = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+    s.grab_button = button_taps_.report();
     s.depth_modifier = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
     s.switch_hand = taps_[tab].report();
     s.scroll = scroll_;

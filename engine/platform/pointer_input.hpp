@@ -87,6 +87,11 @@ public:
         ++pending_;
     }
     void release() noexcept { down_ = false; }
+    // Presses not yet read are dropped; a key held down stays down.
+    void forget() noexcept {
+        pending_ = 0;
+        reported_down_ = down_;
+    }
     [[nodiscard]] bool report() noexcept {
         if (pending_ > 0) {
             if (reported_down_) {
@@ -113,9 +118,9 @@ public:
     [[nodiscard]] virtual PointerState read() = 0;
 };
 
-// Reads a GLFW window: the cursor and buttons as they are, the scroll wheel accumulated, and the keys
-// that act when pressed (Enter, Esc, Tab, the letters A-Z) from GLFW's key events, so no tap is lost
-// between two frames. Held keys (Ctrl, Shift, the arrows) are read as they are.
+// Reads a GLFW window: the cursor as it is, the scroll wheel accumulated, and the left button and the
+// keys that act when pressed (Enter, Esc, Tab, the letters A-Z) from GLFW's events, so no tap or click
+// is lost between two frames. Held keys (Ctrl, Shift, the arrows) are read as they are.
 class GlfwPointerSource final : public PointerSource {
 public:
     explicit GlfwPointerSource(GLFWwindow* window);
@@ -127,6 +132,7 @@ public:
     void forget_taps() noexcept {
         for (auto& t : taps_) t = KeyTaps{};
         for (auto& t : letter_taps_) t = KeyTaps{};
+        button_taps_.forget();
     }
     ~GlfwPointerSource() override;
     GlfwPointerSource(const GlfwPointerSource&) = delete;
@@ -143,6 +149,7 @@ private:
     glm::dvec2 arrow_presses_{0.0}, tilt_presses_{0.0};
     KeyTaps taps_[tap_count];
     KeyTaps letter_taps_[26]; // A to Z
+    KeyTaps button_taps_;     // the left mouse button
     bool recentre_at_edges_ = false;
 };
 

@@ -100,3 +100,33 @@ TEST(GlfwPointer, AKeyTappedBetweenFramesIsReadFromItsEvent) {
     }
     glfwDestroyWindow(window);
 }
+
+// A trainee's click to let go of a stem held over the panel did nothing: quicker than a frame, the
+// button was up at both readings. A click between two readings is one reading down, then one up.
+TEST(GlfwPointer, AClickBetweenFramesIsReadFromItsEvents) {
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !*display) GTEST_SKIP() << "no display (ctest runs this under xvfb-run)";
+    if (!glfw_ready()) GTEST_SKIP() << "GLFW cannot start here";
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    GLFWwindow* window = glfwCreateWindow(320, 240, "ikebana click test", nullptr, nullptr);
+    ASSERT_NE(window, nullptr);
+    {
+        GlfwPointerSource pointer(window);
+        const GLFWmousebuttonfun installed = glfwSetMouseButtonCallback(window, nullptr);
+        ASSERT_NE(installed, nullptr) << "the reader listens to no button events";
+        glfwSetMouseButtonCallback(window, installed);
+        EXPECT_FALSE(pointer.read().grab_button);
+        installed(window, GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, 0);
+        installed(window, GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, 0);
+        EXPECT_TRUE(pointer.read().grab_button) << "the click, down";
+        EXPECT_FALSE(pointer.read().grab_button) << "and up";
+        installed(window, GLFW_MOUSE_BUTTON_RIGHT, GLFW_PRESS, 0);
+        EXPECT_FALSE(pointer.read().grab_button) << "the right button is not the grab";
+        installed(window, GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, 0);
+        EXPECT_TRUE(pointer.read().grab_button);
+        EXPECT_TRUE(pointer.read().grab_button) << "held, it stays down";
+        installed(window, GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, 0);
+        EXPECT_FALSE(pointer.read().grab_button);
+    }
+    glfwDestroyWindow(window);
+}
