@@ -130,7 +130,13 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
     if (now_us == last_update_us_) return;
     last_update_us_ = now_us;
     const platform::PointerState now = source_.read();
-    if (now.switch_hand && !tab_was_down_) active_.store(active_.load(std::memory_order_relaxed) ^ 1u, std::memory_order_relaxed);
+    if (now.switch_hand && !tab_was_down_) {
+        active_.store(active_.load(std::memory_order_relaxed) ^ 1u, std::memory_order_relaxed);
+        // The hand switched to keeps its button as it left it until the button next goes down or up:
+        // Tab back to a hand holding a stem, with the button up, dropped the stem (a first-timer's
+        // hikae fell onto the table with no word).
+        keep_button_ = true;
+    }
     const std::uint8_t active = active_.load(std::memory_order_relaxed);
     tab_was_down_ = now.switch_hand;
     // A right-button drag turns the camera; the hand stays where it is meanwhile.
@@ -214,7 +220,8 @@ void MouseKeyboardHands::update(std::int64_t now_us) {
     }
     // Put somewhere by the window (before the button is taken: a press that moved it takes it there).
     if (started_ && now.hand_moves != last_.hand_moves) position_[active] = glm::clamp(now.hand_to_m, config_.reach_min_m, config_.reach_max_m);
-    buttons_[active] = now.grab_button ? 1u : 0u;
+    if (keep_button_ && now.grab_button != last_.grab_button) keep_button_ = false;
+    if (!keep_button_) buttons_[active] = now.grab_button ? 1u : 0u;
     last_ = now;
     started_ = true;
 }

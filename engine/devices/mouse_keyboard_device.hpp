@@ -1,6 +1,7 @@
 #pragma once
 // Two hands from one mouse and keyboard, for trainees with no haptic device. The mouse drives the
-// active hand; Tab switches hands (the other keeps its place and its grip, so both stay reachable).
+// active hand; Tab switches hands (the other keeps its place and its grip, so both stay reachable;
+// the one switched to keeps its grip, or its open hand, until the button next goes down or up).
 // Horizontal motion moves the hand left-right, vertical motion up-down; with Shift held, vertical
 // motion moves it in depth instead, and the wheel moves it in depth too. The left button grabs.
 // When the pointer comes with a ray through the cursor (PointerState::ray: the window knows its
@@ -92,6 +93,7 @@ private:
     std::atomic<std::uint8_t> active_{1}; // the right hand first
     std::int64_t last_update_us_ = -1;
     bool tab_was_down_ = false;
+    bool keep_button_ = false; // after Tab: the active hand's button as it was, until the button changes
     bool started_ = false;
     platform::PointerState last_{};
     std::array<glm::dvec3, 2> position_{glm::dvec3{-0.06, 0.0, 0.12}, glm::dvec3{0.06, 0.0, 0.12}};

@@ -70,6 +70,28 @@ TEST(MouseKeyboard, TabSwitchesHandsAndEachKeepsItsGrip) {
     EXPECT_EQ(right->poll(2000)->buttons, 1u) << "the right hand still holds what it grabbed";
     EXPECT_LT(left->poll(2000)->position.x, -0.06) << "the mouse now drives the left hand";
     EXPECT_FALSE(right->capabilities().has_force_output);
+    // Tab back with the button up: the right hand keeps its grip (it dropped the stem it held) until
+    // the button next goes down and up.
+    pointer.state.switch_hand = true;
+    (void)right->poll(3000);
+    pointer.state.switch_hand = false;
+    EXPECT_EQ(hands.active_hand(), 1);
+    EXPECT_EQ(right->poll(4000)->buttons, 1u) << "still holding";
+    pointer.state.grab_button = true;
+    EXPECT_EQ(right->poll(5000)->buttons, 1u);
+    pointer.state.grab_button = false;
+    EXPECT_EQ(right->poll(6000)->buttons, 0u) << "let go when the button comes up";
+    // And Tab with the button down hands the left an open hand until the button comes up and goes down.
+    pointer.state.grab_button = true;
+    (void)right->poll(7000);
+    pointer.state.switch_hand = true;
+    (void)right->poll(8000);
+    pointer.state.switch_hand = false;
+    EXPECT_EQ(left->poll(9000)->buttons, 0u) << "the button held for the right takes nothing with the left";
+    pointer.state.grab_button = false;
+    (void)left->poll(10000);
+    pointer.state.grab_button = true;
+    EXPECT_EQ(left->poll(11000)->buttons, 1u) << "a press of its own";
 }
 
 TEST(MouseKeyboard, RightDragTurnsTheViewAndLeavesTheHandsStill) {
