@@ -457,7 +457,7 @@ SessionPanelModel TraineeSession::panel_model(sched::SystemContext& main_lane) c
                   "Ctrl+drag: lean the held stem as you see it: right leans it right, up leans it away from you, a degree for 4 pixels on its gauge",
                   "Ctrl+arrow keys, or the Tilt buttons: lean it 5° that way",
                   "Ctrl+Shift+drag sideways: twist the held stem about itself (where a bend or a branch faces)",
-                  "Ctrl+wheel: swing its lean round the vertical",
+                  "Ctrl+wheel: swing its lean round the vertical, 5° a notch (wheel up: counterclockwise seen from above)",
                   "C: cut the held stem to its role's length",
                   "P: prune at the cube: the twig it touches off at its fork, or the leaf or blossom it touches stripped",
                   "Tab: the other hand",

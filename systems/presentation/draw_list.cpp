@@ -83,8 +83,18 @@ void add_container(render::DrawList& list, const Container& c) {
 }
 
 // A stem's (or a twig's) petals and leaves, each placed on its point and turned with its bark.
+// A leaf under the container's water (a lesson's rule: it rots there) is drawn in this colour, so
+// that the trainee can see which leaves P is to strip (a first-timer spent six minutes looking).
+constexpr glm::vec3 rotting_leaf_colour{0.9f, 0.35f, 0.05f};
+
+bool under_water(const Container* c, const glm::dvec3& p) {
+    if (!c || p.z >= c->water_z_m) return false;
+    const glm::dvec2 d = glm::dvec2(p) - c->centre_m;
+    return c->round ? glm::length(d) <= c->half_extent_m.x : std::abs(d.x) <= c->half_extent_m.x && std::abs(d.y) <= c->half_extent_m.y;
+}
+
 void add_parts(render::DrawList& list, const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& directors,
-               const std::vector<Part>& parts, const FlowerLook& look) {
+               const std::vector<Part>& parts, const FlowerLook& look, const Container* container = nullptr) {
     for (const auto& part : parts) {
         const auto f = physics::attachment_frame(x, std::min<std::size_t>(part.stem_point, x.size() - 1), directors);
         // The mesh runs along +x for one unit: out along the offset's direction, as long as the part.
@@ -94,7 +104,8 @@ void add_parts(render::DrawList& list, const std::vector<glm::dvec3>& x, const s
         const glm::dvec3 along = glm::normalize(out);
         const glm::dvec3 across = glm::normalize(glm::cross(f.up, along));
         const glm::dvec3 normal = glm::cross(along, across);
-        const glm::vec3 part_colour = (part.kind == PartKind::petal ? look.petal_colour : look.leaf_colour) * part.shade;
+        glm::vec3 part_colour = (part.kind == PartKind::petal ? look.petal_colour : look.leaf_colour) * part.shade;
+        if (part.kind == PartKind::leaf && under_water(container, f.origin_m)) part_colour = rotting_leaf_colour;
         // One unit long before scaling: its cup is the bend per unit.
         list.batch(part.mesh).instances.push_back(
             {frame_matrix(along * size, across * size, normal * size, f.origin_m), glm::vec4(part_colour, 1.0f), part.cup_rad});
@@ -148,11 +159,12 @@ render::DrawList build_draw_list(const FrameSnapshot& frame) {
             list.batch(look.head_mesh).instances.push_back({frame_matrix(f.side, f.third, f.up, x.back()), glm::vec4(look.head_colour, 1.0f)});
         }
         if (x.empty()) continue;
-        add_parts(list, x, flower.directors, flower.parts, look);
+        const Container* water = frame.container ? &*frame.container : nullptr;
+        add_parts(list, x, flower.directors, flower.parts, look, water);
         for (const auto& twig : flower.twigs) {
             const auto& y = twig.points_m;
             for (std::size_t i = 0; i + 1 < y.size(); ++i) stems.push_back({segment(y[i], y[i + 1], 0.5 * twig.diameter_m), colour});
-            if (!y.empty()) add_parts(list, y, twig.directors, twig.parts, look);
+            if (!y.empty()) add_parts(list, y, twig.directors, twig.parts, look, water);
         }
     }
     for (const auto& cutting : frame.cuttings) {

@@ -1942,6 +1942,35 @@ TEST(Reach, WithEveryMainRoleStandingAnUnmetRuleIsTheNextStep) {
     EXPECT_NE(says.find("; or Score (Enter)"), std::string::npos) << says;
 }
 
+// A first-time trainee spent six minutes looking for the two leaves the score said were under the water,
+// and stripped the wrong ones. Leaves under the container's water are drawn in their own colour; the
+// same stem on the table, its leaves as they are.
+TEST(Reach, LeavesUnderTheContainersWaterAreDrawnInTheirOwnColour) {
+    LessonTable t;
+    std::size_t chrysanthemum = 0;
+    while (chrysanthemum < t.frame.flowers.size() && t.frame.flowers[chrysanthemum].species != "chrysanthemum") ++chrysanthemum;
+    ASSERT_LT(chrysanthemum, t.frame.flowers.size());
+    auto& f = t.frame.flowers[chrysanthemum];
+    const auto& c = *t.frame.container;
+    ASSERT_GT(c.water_z_m, c.floor_z_m);
+    const glm::vec3 rotting{0.9f, 0.35f, 0.05f};
+    const auto count = [&] {
+        std::size_t n = 0;
+        for (const auto& b : systems::build_draw_list(t.frame).batches) {
+            for (const auto& inst : b.instances) n += glm::length(glm::vec3(inst.colour) - rotting) < 1e-6f ? 1 : 0;
+        }
+        return n;
+    };
+    EXPECT_EQ(count(), 0u) << "on the table, none";
+    // Stood upright in the kenzan, its lowest leaves under the water.
+    const glm::dvec3 at = t.frame.kenzan->origin_m;
+    for (std::size_t i = 0; i < f.points_m.size(); ++i) f.points_m[i] = at + glm::dvec3{0.0, 0.0, 0.1 * static_cast<double>(i) / static_cast<double>(f.points_m.size() - 1)};
+    std::size_t leaves_below = 0;
+    for (const auto& part : f.parts) leaves_below += part.kind == components::PartKind::leaf && f.points_m[std::min<std::size_t>(part.stem_point, f.points_m.size() - 1)].z < c.water_z_m ? 1 : 0;
+    ASSERT_GT(leaves_below, 0u) << "the test stands it with leaves in the water";
+    EXPECT_EQ(count(), leaves_below);
+}
+
 // A first-time trainee leant shin in the pins until it came out of them, let go, and it toppled with no
 // word (a stem out of the kenzan is not "fallen"; it lies like the materials on the table). Let go over
 // the container but not in the pins, it is said to have fallen; let go away from it, nothing is said.
