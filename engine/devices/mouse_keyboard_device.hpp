@@ -83,6 +83,17 @@ public:
     // Where a hand starts (a scene's hands, near what they are to pick up). Before the session runs.
     void place(std::uint8_t which, glm::dvec3 position_m) { position_[which & 1u] = position_m; }
 
+    // A session started over (the same hands in a new world, before it runs): open hands, unturned,
+    // and the next reading the first (nothing carried over: a grip kept after Tab took whatever lay
+    // under the hand's start). Where they are stays, for place() to set.
+    void restart() {
+        started_ = false;
+        keep_button_ = false;
+        tab_was_down_ = false;
+        last_update_us_ = -1;
+        buttons_ = {0, 0};
+        turn_ = {glm::dquat{1, 0, 0, 0}, glm::dquat{1, 0, 0, 0}};
+    }
     // Reads the pointer once per tick, however many hands poll.
     void update(std::int64_t now_us);
     [[nodiscard]] DeviceSample sample(std::uint8_t which, std::int64_t now_us) const;

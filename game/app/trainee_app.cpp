@@ -368,6 +368,7 @@ int TraineeSession::build_world() {
             if (device_names_[hand] != "mouse and keyboard") kept[hand] = std::move(world_->hand_devices[hand]);
         }
         world_.reset();
+        mouse_->restart();
         if (lesson_) {
             for (const auto& h : scene_->hands) mouse_->place(h.hand, h.position_m);
         }
@@ -524,7 +525,9 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
     }
     // A held stem in the pins turns about its bottom, where the pins hold it, not about the hand's
     // grip; and a lean moves its tip the way asked, knowing which way it points.
-    tell_held_stem(in, main_lane.registry.resource<const systems::ReceivedFrames>()->latest(), aim_.active_hand(), camera_.yaw_rad());
+    // (The hands' own idea of which is active: a Tab pressed over the panel reaches them, not the aim.)
+    tell_held_stem(in, main_lane.registry.resource<const systems::ReceivedFrames>()->latest(), mouse_ ? mouse_->active_hand() : aim_.active_hand(),
+                   camera_.yaw_rad());
     // Over the panel the hands keep the last reading (they neither move nor take what is under them),
     // but a Tab pressed there still switches them.
     if (!over_panel) {

@@ -169,7 +169,9 @@ std::string LessonControls::reach_words(const components::FrameSnapshot& latest,
     // head for (hovering over a standing hikae, a trainee read "take the chrysanthemum for a
     // supporting stem").
     std::string plays;
-    if (f.in_kenzan && placed) {
+    const bool in_a_hand = static_cast<std::int32_t>(reach->flower) == h.held_flower ||
+                           static_cast<std::int32_t>(reach->flower) == latest.hands[(hand + 1u) & 1u].held_flower;
+    if (f.in_kenzan && placed && !in_a_hand) { // (a held stem is not measured: the index would be another's)
         std::size_t n = 0; // its place among the measured stems (measure_arrangement's order)
         const auto& other = latest.hands[(hand + 1u) & 1u];
         for (std::size_t i = 0; i < reach->flower; ++i) {
@@ -229,6 +231,11 @@ void LessonControls::watch_sinking(const components::FrameSnapshot& latest, cons
         sank_.clear();
         return;
     }
+    // Not let go: Tab handed the mouse to the other hand, which still holds nothing, while this stem
+    // stays in the hand that held it.
+    const bool still_held = std::any_of(std::begin(latest.hands), std::end(latest.hands),
+                                        [&](const components::HandStatus& other) { return other.holding && other.held_flower == held_.flower; });
+    if (held_.flower >= 0 && still_held) return;
     if (held_.flower >= 0) {
         // Just let go: watched for about three seconds of readings, if it stays in the pins.
         if (const auto* f = flower_at(held_.flower); f && f->in_kenzan) {

@@ -98,6 +98,8 @@ public:
     }
     [[nodiscard]] bool on() const { return !path_.empty(); }
     void motion(glm::dvec2 px, bool shift, bool ctrl, double now_s) {
+        // A twist and a lean do not commute: each kind is written out before the other comes.
+        if ((ctrl && shift && ctrl_ != glm::dvec2{0.0}) || (ctrl && !shift && twist_ != glm::dvec2{0.0})) flush();
         if (plain_ == glm::dvec2{0.0} && shift_ == glm::dvec2{0.0} && ctrl_ == glm::dvec2{0.0} && twist_ == glm::dvec2{0.0}) {
             catch_up(now_s);
             gathering_from_s_ = now_s;

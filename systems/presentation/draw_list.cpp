@@ -83,8 +83,9 @@ void add_container(render::DrawList& list, const Container& c) {
 }
 
 // A stem's (or a twig's) petals and leaves, each placed on its point and turned with its bark.
-// A leaf under the container's water (a lesson's rule: it rots there) is drawn in this colour, so
-// that the trainee can see which leaves P is to strip (a first-timer spent six minutes looking).
+// A leaf under the container's water (it rots there; some lessons' rules count it) is drawn in this
+// colour, so that the trainee can see which leaves P is to strip (a first-timer spent six minutes
+// looking).
 constexpr glm::vec3 rotting_leaf_colour{0.9f, 0.35f, 0.05f};
 
 bool under_water(const Container* c, const glm::dvec3& p) {

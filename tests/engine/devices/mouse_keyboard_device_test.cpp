@@ -94,6 +94,31 @@ TEST(MouseKeyboard, TabSwitchesHandsAndEachKeepsItsGrip) {
     EXPECT_EQ(left->poll(11000)->buttons, 1u) << "a press of its own";
 }
 
+// Started over (R) with a hand's grip kept after Tab, the new world's hand took whatever lay under its
+// start: a restart opens both hands and forgets the last reading.
+TEST(MouseKeyboard, ARestartOpensBothHandsAndForgetsTheLastReading) {
+    FakePointer pointer;
+    MouseKeyboardHands hands(pointer);
+    auto right = hands.hand(1);
+    pointer.state.grab_button = true;
+    EXPECT_EQ(right->poll(0)->buttons, 1u);
+    pointer.state.switch_hand = true;
+    (void)right->poll(1000);
+    pointer.state.switch_hand = false;
+    pointer.state.grab_button = false;
+    (void)right->poll(2000);
+    pointer.state.switch_hand = true; // back to the right: it keeps its grip with the button up
+    (void)right->poll(3000);
+    pointer.state.switch_hand = false;
+    ASSERT_EQ(right->poll(4000)->buttons, 1u);
+    pointer.state.hand_moves = 3; // where the old session's window had moved it
+    hands.restart();
+    hands.place(1, {0.05, -0.1, 0.1});
+    const auto first = *right->poll(5000);
+    EXPECT_EQ(first.buttons, 0u) << "an open hand";
+    EXPECT_EQ(first.position, glm::dvec3(0.05, -0.1, 0.1)) << "where it was placed, not where an old move put it";
+}
+
 TEST(MouseKeyboard, RightDragTurnsTheViewAndLeavesTheHandsStill) {
     FakePointer pointer;
     MouseKeyboardHands hands(pointer);

@@ -1990,6 +1990,17 @@ TEST(Reach, AStemLetGoOverTheContainerButNotInThePinsIsSaidToHaveFallen) {
     hand.held_flower = -1;
     (void)controls.update(platform::PointerState{}, 1, t.frame, channel);
     EXPECT_EQ(controls.next_step(), "shin was not in the pins when you let go, and fell: take it again, push it down into the pins, then let go");
+    {
+        // Tab to the other hand is no letting go: the right hand still holds it.
+        LessonControls tabbed(t.l, footprint(t.l));
+        hand.holding = true;
+        hand.held_flower = static_cast<std::int32_t>(t.willow);
+        (void)tabbed.update(platform::PointerState{}, 1, t.frame, channel);
+        (void)tabbed.update(platform::PointerState{}, 0, t.frame, channel);
+        EXPECT_EQ(tabbed.next_step().find("fell"), std::string::npos) << tabbed.next_step();
+        hand.holding = false;
+        hand.held_flower = -1;
+    }
     // Taken again, the word goes; let go on the table in front, nothing is said.
     hand.holding = true;
     hand.held_flower = static_cast<std::int32_t>(t.willow);
