@@ -39,6 +39,14 @@ struct Container {
     // Where it stands (the table): a suiban's bottom is wall_m below its floor; a vase is filled up to
     // near its mouth (a kubari, or sand), so its floor is far above this.
     double base_z_m;
+
+    // Whether a point seen from above is inside it, `margin_m` beyond its inside (half the wall: the
+    // wall's middle). One definition for the physics, the drawing and the lesson's words.
+    [[nodiscard]] bool holds_xy(glm::dvec2 xy, double margin_m = 0.0) const noexcept {
+        const glm::dvec2 d = xy - centre_m;
+        if (round) return d.x * d.x + d.y * d.y < (half_extent_m.x + margin_m) * (half_extent_m.x + margin_m);
+        return (d.x < 0.0 ? -d.x : d.x) < half_extent_m.x + margin_m && (d.y < 0.0 ? -d.y : d.y) < half_extent_m.y + margin_m;
+    }
 };
 
 } // namespace ikebana::components

@@ -210,12 +210,7 @@ constexpr double shallow_fraction = 0.6;
 
 // Whether a point is over the container (over the kenzan, where there is none).
 bool over_container(const components::FrameSnapshot& latest, glm::dvec3 p) {
-    if (latest.container) {
-        const auto& c = *latest.container;
-        const glm::dvec2 d = glm::dvec2(p) - c.centre_m;
-        if (c.round) return glm::length(d) <= c.half_extent_m.x;
-        return std::abs(d.x) <= c.half_extent_m.x && std::abs(d.y) <= c.half_extent_m.y;
-    }
+    if (latest.container) return latest.container->holds_xy(glm::dvec2(p));
     return latest.kenzan && glm::length(glm::dvec2(p - latest.kenzan->origin_m)) < 0.1;
 }
 } // namespace

@@ -14,11 +14,7 @@ using namespace components;
 namespace {
 // Which side of a container's wall a point is on (the wall's middle), and whether it is low enough
 // (below the rim, with a stem's radius of slack) for the wall to be in its way.
-bool inside_wall(const Container& c, const glm::dvec3& p) {
-    const glm::dvec2 d = glm::dvec2(p) - c.centre_m;
-    if (c.round) return glm::length(d) < c.half_extent_m.x + 0.5 * c.wall_m;
-    return std::abs(d.x) < c.half_extent_m.x + 0.5 * c.wall_m && std::abs(d.y) < c.half_extent_m.y + 0.5 * c.wall_m;
-}
+bool inside_wall(const Container& c, const glm::dvec3& p) { return c.holds_xy(glm::dvec2(p), 0.5 * c.wall_m); }
 // Whether moving a held stem by `by` would take one of its points through the container's wall below
 // the rim (a trainee's willow went into the kenzan straight through the suiban's front wall, and a
 // chrysanthemum ended up under it: the hand's grip moves the stem whatever is in the way).

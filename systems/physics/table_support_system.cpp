@@ -11,11 +11,7 @@ namespace ikebana::systems {
 using namespace components;
 
 namespace {
-bool inside_container(const Container& c, glm::dvec2 xy) {
-    const glm::dvec2 d = xy - c.centre_m;
-    if (c.round) return glm::length(d) < c.half_extent_m.x;
-    return std::abs(d.x) < c.half_extent_m.x && std::abs(d.y) < c.half_extent_m.y;
-}
+bool inside_container(const Container& c, glm::dvec2 xy) { return c.holds_xy(xy); }
 
 // Pushes a point below the rim out of the wall, to the side it is on; returns the wall's normal
 // toward that side, or zero when it was not in the wall.

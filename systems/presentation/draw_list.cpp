@@ -88,11 +88,7 @@ void add_container(render::DrawList& list, const Container& c) {
 // looking).
 constexpr glm::vec3 rotting_leaf_colour{0.9f, 0.35f, 0.05f};
 
-bool under_water(const Container* c, const glm::dvec3& p) {
-    if (!c || p.z >= c->water_z_m) return false;
-    const glm::dvec2 d = glm::dvec2(p) - c->centre_m;
-    return c->round ? glm::length(d) <= c->half_extent_m.x : std::abs(d.x) <= c->half_extent_m.x && std::abs(d.y) <= c->half_extent_m.y;
-}
+bool under_water(const Container* c, const glm::dvec3& p) { return c && p.z < c->water_z_m && c->holds_xy(glm::dvec2(p)); }
 
 void add_parts(render::DrawList& list, const std::vector<glm::dvec3>& x, const std::vector<glm::dvec3>& directors,
                const std::vector<Part>& parts, const FlowerLook& look, const Container* container = nullptr) {
