@@ -1,6 +1,8 @@
 #pragma once
 // Insertion into the kenzan (paper sections 2.5 and 3): what each flower remembers of its insertions,
 // which pins are in its stem now, and the resistance model its species gives it. SI units.
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -30,6 +32,35 @@ struct PinEngagement {
     bool in_kenzan;
 };
 
+// The pins an insertion met, kept without allocating (it grows on the 1 kHz lane, one pin at a time):
+// up to `capacity` distinct pins, more than a stem as thick as a thumb touches on the standard kenzan;
+// past that the first ones are kept and `more` counts the adds that did not fit.
+struct PinSet {
+    static constexpr std::size_t capacity = 64;
+    std::array<std::int32_t, capacity> pin{};
+    std::uint32_t count = 0;
+    std::uint32_t more = 0;
+    [[nodiscard]] std::size_t size() const noexcept { return count; }
+    [[nodiscard]] const std::int32_t* begin() const noexcept { return pin.data(); }
+    [[nodiscard]] const std::int32_t* end() const noexcept { return pin.data() + count; }
+    [[nodiscard]] bool contains(std::int32_t p) const noexcept {
+        for (std::uint32_t i = 0; i < count; ++i) {
+            if (pin[i] == p) return true;
+        }
+        return false;
+    }
+    void add(std::int32_t p) noexcept {
+        if (contains(p)) return;
+        if (count < capacity) pin[count++] = p;
+        else ++more;
+    }
+};
+
+// What a flower's insertion history holds without allocating on the lane: reserved as the flower is
+// made (a session of a hundred insertions of one stem is far past any the paper's flowers survive).
+inline constexpr std::size_t insertion_records_reserved = 128;
+inline constexpr std::size_t engaged_pins_reserved = 64;
+
 struct InsertionRecord {
     std::uint32_t number;         // 1-based, counted on the current stem end
     std::int64_t start_us;
@@ -40,7 +71,7 @@ struct InsertionRecord {
     double angle_deg;             // stem elevation against the horizontal when it entered
     bool reused_hole;             // entered where an earlier insertion of this end had been
     bool broke;                   // the bottom split during this insertion
-    std::vector<std::int32_t> pins; // every pin that was inside the stem during this insertion
+    PinSet pins;                  // every pin that was inside the stem during this insertion
 };
 
 // The flower's own history (kept by insertion_tracking_system).

@@ -3,6 +3,7 @@
 // value or an Error with a code a caller can branch on and a message a person can act on.
 #include <cassert>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <variant>
 
@@ -23,6 +24,13 @@ enum class ErrorCode {
 struct Error {
     ErrorCode code;
     std::string message;
+    // Text with static storage, for errors made on the 1 kHz thread: a std::string longer than its
+    // small buffer allocates, and glibc's allocator locks do not inherit priority. `message` stays
+    // empty there; text() gives whichever is set.
+    const char* static_text = nullptr;
+    [[nodiscard]] std::string_view text() const noexcept {
+        return message.empty() && static_text ? std::string_view(static_text) : std::string_view(message);
+    }
 };
 
 template <typename T>
@@ -70,5 +78,7 @@ private:
 };
 
 inline Error make_error(ErrorCode code, std::string message) { return Error{code, std::move(message)}; }
+// An error that allocates nothing (see Error::static_text): for code on the 1 kHz thread.
+inline Error lane_error(ErrorCode code, const char* static_text) noexcept { return Error{code, {}, static_text}; }
 
 } // namespace ikebana

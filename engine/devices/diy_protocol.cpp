@@ -21,21 +21,41 @@ std::uint32_t get32(const std::uint8_t* p) {
            (static_cast<std::uint32_t>(p[3]) << 24);
 }
 
+FrameFault frame_fault(std::span<const std::uint8_t> bytes, std::uint8_t id) noexcept {
+    if (bytes.size() != report_size) return FrameFault::wrong_size;
+    if (bytes[0] != id) return FrameFault::wrong_id;
+    if (bytes[1] != protocol_version) return FrameFault::wrong_version;
+    if (crc8(bytes.first(report_size - 1)) != bytes[report_size - 1]) return FrameFault::bad_crc;
+    return FrameFault::none;
+}
+
+// The reason in words, with the numbers: for a person (tests, `ikebana devices`), never the 1 kHz thread.
 Result<void> check_frame(std::span<const std::uint8_t> bytes, std::uint8_t id, const char* what) {
     const std::string name = what;
-    if (bytes.size() != report_size) {
+    switch (frame_fault(bytes, id)) {
+    case FrameFault::none: return {};
+    case FrameFault::wrong_size:
         return make_error(ErrorCode::device_error, name + " report of " + std::to_string(bytes.size()) + " bytes, expected " +
                                                        std::to_string(report_size));
-    }
-    if (bytes[0] != id) return make_error(ErrorCode::device_error, name + " report has id " + std::to_string(bytes[0]));
-    if (bytes[1] != protocol_version) {
+    case FrameFault::wrong_id: return make_error(ErrorCode::device_error, name + " report has id " + std::to_string(bytes[0]));
+    case FrameFault::wrong_version:
         return make_error(ErrorCode::device_error, name + " report speaks protocol version " + std::to_string(bytes[1]) +
                                                        ", this host speaks " + std::to_string(protocol_version));
-    }
-    if (crc8(bytes.first(report_size - 1)) != bytes[report_size - 1]) {
-        return make_error(ErrorCode::device_error, name + " report fails its CRC (corrupted)");
+    case FrameFault::bad_crc: return make_error(ErrorCode::device_error, name + " report fails its CRC (corrupted)");
     }
     return {};
+}
+
+StateReport read_state(std::span<const std::uint8_t> b) noexcept {
+    StateReport r{};
+    r.sequence = get16(&b[2]);
+    r.acknowledged = get16(&b[4]);
+    for (int i = 0; i < 3; ++i) r.position_um[i] = static_cast<std::int32_t>(get32(&b[6 + 4 * static_cast<std::size_t>(i)]));
+    for (int i = 0; i < 3; ++i) r.rotation_mrad[i] = static_cast<std::int16_t>(get16(&b[18 + 2 * static_cast<std::size_t>(i)]));
+    r.buttons = get16(&b[24]);
+    r.status = b[26];
+    r.max_force_n = b[27] / 10.0;
+    return r;
 }
 
 std::int16_t saturate16(double v) {
@@ -72,15 +92,13 @@ std::array<std::uint8_t, report_size> encode_state(const StateReport& r) {
 
 Result<StateReport> decode_state(std::span<const std::uint8_t> b) {
     if (auto ok = check_frame(b, state_report_id, "state"); !ok) return std::move(ok).error();
-    StateReport r{};
-    r.sequence = get16(&b[2]);
-    r.acknowledged = get16(&b[4]);
-    for (int i = 0; i < 3; ++i) r.position_um[i] = static_cast<std::int32_t>(get32(&b[6 + 4 * static_cast<std::size_t>(i)]));
-    for (int i = 0; i < 3; ++i) r.rotation_mrad[i] = static_cast<std::int16_t>(get16(&b[18 + 2 * static_cast<std::size_t>(i)]));
-    r.buttons = get16(&b[24]);
-    r.status = b[26];
-    r.max_force_n = b[27] / 10.0;
-    return r;
+    return read_state(b);
+}
+
+FrameFault decode_state(std::span<const std::uint8_t> b, StateReport& out) noexcept {
+    const FrameFault fault = frame_fault(b, state_report_id);
+    if (fault == FrameFault::none) out = read_state(b);
+    return fault;
 }
 
 std::array<std::uint8_t, report_size> encode_force(const ForceReport& r) {

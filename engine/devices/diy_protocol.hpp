@@ -44,9 +44,14 @@ struct ForceReport {
 
 std::uint8_t crc8(std::span<const std::uint8_t> bytes);
 
+// Why a report was refused, without words: what the 1 kHz thread counts (words allocate).
+enum class FrameFault : std::uint8_t { none, wrong_size, wrong_id, wrong_version, bad_crc };
+
 // Decoding refuses, with the reason: a wrong length (truncated or oversized), another report id, an
 // unknown version, a CRC mismatch.
 Result<StateReport> decode_state(std::span<const std::uint8_t> bytes);
+// The same check without words and without allocating, for the 1 kHz thread: fills `out` when none.
+FrameFault decode_state(std::span<const std::uint8_t> bytes, StateReport& out) noexcept;
 Result<ForceReport> decode_force(std::span<const std::uint8_t> bytes);
 std::array<std::uint8_t, report_size> encode_state(const StateReport& report);
 std::array<std::uint8_t, report_size> encode_force(const ForceReport& report);

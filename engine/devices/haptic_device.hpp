@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "engine/core/result.hpp"
+#include "engine/devices/wire.hpp"
 
 namespace ikebana::devices {
 
@@ -70,7 +71,8 @@ enum class ForceHeld : std::uint8_t {
 // What became of the last force sent, after the safety chain (SafeForceDevice); a device outside the
 // chain (the mouse) sends nothing.
 struct SentForce {
-    glm::dvec3 sent_n{0.0};
+    glm::dvec3 sent_n{0.0};     // on the wire: the force of the last report the device was written
+    glm::dvec3 queued_n{0.0};   // the last force the chain let out, which may still wait to be written
     double max_force_n = 0.0;   // the chain's limit now (the lower of ours and the device's)
     ForceHeld held = ForceHeld::none; // why it differs from the request
     bool pushes = false;        // this device is on the safety chain (a real one, or a scripted hand's "would feel")
@@ -92,6 +94,12 @@ public:
     virtual bool drop() { return false; }
     // The force the last send_force put on the wire, after the safety chain.
     [[nodiscard]] virtual SentForce last_sent() const { return {}; }
+    // The force limit now: capabilities()' unless the device has since reported a lower one. Safe from
+    // any thread (capabilities() never changes once a device is made; this may).
+    [[nodiscard]] virtual double max_force_now_n() const { return capabilities().max_force_n; }
+    // Its transport's reports (queued and written) and I/O thread; nothing for a device not on a wire.
+    [[nodiscard]] virtual WireCounts wire() const { return {}; }
+    [[nodiscard]] virtual IoPriority io_priority() const { return IoPriority::none; }
 };
 
 } // namespace ikebana::devices

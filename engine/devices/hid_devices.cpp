@@ -29,7 +29,7 @@ Result<DeviceSample> SpaceMouseDevice::poll(std::int64_t now_us) {
         auto n = transport_->read(buffer, 0);
         if (!n) return std::move(n).error();
         if (*n == 0) break;
-        (void)parser_.feed(std::span<const std::uint8_t>(buffer.data(), *n));
+        (void)parser_.take(std::span<const std::uint8_t>(buffer.data(), *n));
     }
     return parser_.sample(now_us);
 }
@@ -39,12 +39,14 @@ DiyForceDevice::DiyForceDevice(std::unique_ptr<HidTransport> transport, double m
     caps_.name = "DIY force-feedback device";
     caps_.has_force_output = true;
     caps_.max_force_n = max_force_n;
-    caps_.workspace_half_extent_m = glm::dvec3{0.08};
+    caps_.workspace_half_extent_m = glm::dvec3{diy_workspace_half_extent_m};
     caps_.reports_position = true;
     caps_.silent_after_us = diy_silent_after_us;
     caps_.coupling_n_per_m = diy_coupling_n_per_m;
     caps_.coupling_damping_ns_per_m = diy_coupling_damping_ns_per_m;
 }
+
+DiyForceDevice::~DiyForceDevice() { (void)send_zero(); }
 
 Result<DeviceSample> DiyForceDevice::poll(std::int64_t now_us) {
     std::array<std::uint8_t, 64> buffer{};
@@ -52,17 +54,17 @@ Result<DeviceSample> DiyForceDevice::poll(std::int64_t now_us) {
         auto n = transport_->read(buffer, 0);
         if (!n) return std::move(n).error();
         if (*n == 0) break;
-        const auto report = diy::decode_state(std::span<const std::uint8_t>(buffer.data(), *n));
-        if (!report || !inbound_.accept(report->sequence)) {
+        diy::StateReport report{};
+        if (diy::decode_state(std::span<const std::uint8_t>(buffer.data(), *n), report) != diy::FrameFault::none || !inbound_.accept(report.sequence)) {
             ++refused_;
             continue;
         }
-        last_ = *report;
+        last_ = report;
         report_us_ = now_us;
-        // The device's own limit tightens ours (never loosens it).
-        if (last_.max_force_n > 0.0 && last_.max_force_n < caps_.max_force_n) {
-            caps_.max_force_n = last_.max_force_n;
-            max_force_n_.store(last_.max_force_n);
+        // The device's own limit tightens ours (never loosens it). capabilities() stays as made: other
+        // threads read it while this one polls.
+        if (last_.max_force_n > 0.0 && last_.max_force_n < max_force_n_.load(std::memory_order_relaxed)) {
+            max_force_n_.store(last_.max_force_n, std::memory_order_relaxed);
         }
     }
     // Until the first report, silence is measured from the first poll.

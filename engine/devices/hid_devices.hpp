@@ -23,6 +23,8 @@ inline constexpr std::uint16_t diy_product_id = 0x1d3a;
 // (the builds differ: a delta, a pantograph), so the coupling is the profile's own, a conservative
 // 400 N/m and 2 N s/m that a desk-sized build renders without buzzing.
 inline constexpr std::int64_t diy_silent_after_us = 20'000;
+inline constexpr double diy_max_force_n = 3.0;           // until the device reports its own, lower, limit
+inline constexpr double diy_workspace_half_extent_m = 0.08;
 inline constexpr double diy_coupling_n_per_m = 400.0;
 inline constexpr double diy_coupling_damping_ns_per_m = 2.0;
 
@@ -41,6 +43,8 @@ public:
     Result<DeviceSample> poll(std::int64_t now_us) override;
     Result<void> send_force(glm::dvec3) override { return {}; }
     [[nodiscard]] const SpaceMouseParser& parser() const noexcept { return parser_; }
+    [[nodiscard]] WireCounts wire() const override { return transport_->wire(); }
+    [[nodiscard]] IoPriority io_priority() const override { return transport_->io_priority(); }
 
 private:
     std::unique_ptr<HidTransport> transport_;
@@ -52,8 +56,16 @@ class DiyForceDevice final : public HapticDevice {
 public:
     // The ramp, rate limit and stall handling are SafeForceDevice's, which wraps every force device
     // before a hand gets it; this device only refuses to encode more than its limit or a NaN.
-    explicit DiyForceDevice(std::unique_ptr<HidTransport> transport, double max_force_n = 3.0);
+    explicit DiyForceDevice(std::unique_ptr<HidTransport> transport, double max_force_n = diy_max_force_n);
+    // A last zero, queued before the transport goes (it writes it before it closes the handle).
+    ~DiyForceDevice() override;
+    DiyForceDevice(const DiyForceDevice&) = delete;
+    DiyForceDevice& operator=(const DiyForceDevice&) = delete;
+    // Fixed once made: the limit the device reports later is max_force_now_n().
     [[nodiscard]] const DeviceCapabilities& capabilities() const override { return caps_; }
+    [[nodiscard]] double max_force_now_n() const override { return max_force_n_.load(std::memory_order_relaxed); }
+    [[nodiscard]] WireCounts wire() const override { return transport_->wire(); }
+    [[nodiscard]] IoPriority io_priority() const override { return transport_->io_priority(); }
     Result<DeviceSample> poll(std::int64_t now_us) override;
     // Sends the force (clamped to the device's limit, non-finite as zero) with the next sequence number.
     Result<void> send_force(glm::dvec3 force_n) override;
@@ -67,7 +79,7 @@ public:
 
 private:
     std::unique_ptr<HidTransport> transport_;
-    std::atomic<double> max_force_n_; // read by the sender, tightened by poll()
+    std::atomic<double> max_force_n_; // read by the sender and other threads, tightened by poll()
     diy::SequenceTracker inbound_;
     diy::StateReport last_{};
     std::atomic<std::uint16_t> outbound_{0};

@@ -3,13 +3,19 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <chrono>
+#include <cerrno>
+#include <cstdio>
+#include <ctime>
 #include <mutex>
 #include <thread>
 
 #include <hidapi/hidapi.h>
+#include <pthread.h>
+#include <semaphore.h>
 
+#include "engine/core/monotonic_clock.hpp"
 #include "engine/core/pi_mutex.hpp"
+#include "engine/core/spsc_ring.hpp"
 #include "engine/sched/triple_buffer.hpp"
 
 namespace ikebana::devices {
@@ -25,8 +31,7 @@ std::string narrow(const wchar_t* text) {
 
 // hidapi's enumerate, open and close call hid_init, which frees and sets a global error string with no
 // lock (hidapi 0.13): two reconnecting devices' opener threads, or one of them and the main thread,
-// must not be in them at once. The 1 kHz thread never takes this lock: it only reads and hands its
-// writes to the transport's writer.
+// must not be in them at once. The 1 kHz thread never takes this lock: it never calls hidapi at all.
 std::mutex& bus_mutex() {
     static std::mutex m;
     return m;
@@ -40,83 +45,227 @@ Result<void> init_once() {
     return {};
 }
 
-// Linux's hidraw write() waits for the USB transfer: on a stalled hub, for seconds. The 1 kHz thread
-// (and the watchdog) therefore only leave the newest report in a mailbox; a writer thread of the
-// transport's own sends it. A newer report replaces one not yet sent: each carries the whole force,
-// so the newest is the one that matters. A write that failed, or one the writer has been stuck in
-// for longer than `stalled_after`, makes the next write() fail: the safety chain counts that, and
-// after a few in a row drops the device (it is closed on the opener's thread, which then waits for
-// the writer, never the 1 kHz thread).
+timespec monotonic_in(std::chrono::nanoseconds from_now) {
+    timespec t{};
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    const std::int64_t ns = t.tv_nsec + from_now.count();
+    t.tv_sec += static_cast<time_t>(ns / 1'000'000'000);
+    t.tv_nsec = static_cast<long>(ns % 1'000'000'000);
+    return t;
+}
+
+// Waits on `s` until it is posted or `wait` has passed; true if it was posted.
+bool wait_for(sem_t& s, std::chrono::nanoseconds wait) {
+    const timespec until = monotonic_in(wait);
+    for (;;) {
+        if (sem_clockwait(&s, CLOCK_MONOTONIC, &until) == 0) return true;
+        if (errno != EINTR) return false;
+    }
+}
+
+constexpr std::size_t max_report_bytes = 64;
+
+struct OutReport {
+    std::array<std::uint8_t, max_report_bytes> bytes{};
+    std::size_t size = 0;
+    std::uint64_t ticket = 0; // its number among the reports write() was given
+};
+struct InReport {
+    std::array<std::uint8_t, max_report_bytes> bytes{};
+    std::size_t size = 0;
+};
+
+// Everything the I/O thread uses. Shared, so that a thread whose last write is stuck in the kernel can
+// outlive its transport (it closes the handle when the write returns) without using freed memory.
+struct Link {
+    static constexpr std::size_t inbound_reports = 64; // 64 ms of a device reporting every millisecond
+    static constexpr int reads_per_wake = 32;
+    static constexpr auto idle_wake = std::chrono::microseconds(500);
+
+    Link(const HidApi& a, void* h, std::string p, HidTransportOptions o) : api(a), handle(h), path(std::move(p)), options(std::move(o)) {
+        sem_init(&wake, 0, 0);
+        sem_init(&done, 0, 0);
+    }
+    ~Link() {
+        sem_destroy(&wake);
+        sem_destroy(&done);
+    }
+    Link(const Link&) = delete;
+    Link& operator=(const Link&) = delete;
+
+    HidApi api;
+    void* handle;
+    std::string path;
+    HidTransportOptions options;
+    // The caller's side of the mailbox: the 1 kHz thread and the watchdog may both write, so a
+    // priority-inheriting lock, held for a copy. The I/O thread only reads it (no lock).
+    PiMutex mailbox_mutex;
+    sched::TripleBuffer<OutReport> mailbox;
+    std::uint64_t queued = 0; // under mailbox_mutex
+    std::atomic<std::uint64_t> queued_seen{0};
+    std::atomic<std::uint64_t> written{0};
+    SpscRing<InReport> inbound{inbound_reports};
+    std::atomic<std::uint64_t> inbound_dropped{0};
+    std::atomic<bool> read_failed{false};
+    std::atomic<bool> write_failed{false};
+    std::atomic<std::int64_t> writing_since_ns{0};
+    std::atomic<IoPriority> priority{IoPriority::normal};
+    std::atomic<bool> stop{false};
+    sem_t wake{};
+    sem_t done{};
+};
+
+void write_newest(Link& link) {
+    if (!link.mailbox.update()) return;
+    const OutReport& r = link.mailbox.read_buffer();
+    link.writing_since_ns.store(monotonic_ns(), std::memory_order_release);
+    const int n = link.api.write(link.handle, r.bytes.data(), r.size);
+    link.writing_since_ns.store(0, std::memory_order_release);
+    if (n < 0) {
+        link.write_failed.store(true, std::memory_order_release);
+    } else {
+        link.written.store(r.ticket, std::memory_order_release);
+    }
+}
+
+void read_available(Link& link) {
+    if (link.read_failed.load(std::memory_order_relaxed)) return;
+    for (int i = 0; i < Link::reads_per_wake; ++i) {
+        InReport* slot = link.inbound.claim();
+        InReport overflow;
+        InReport& into = slot ? *slot : overflow;
+        const int n = link.api.read_timeout(link.handle, into.bytes.data(), into.bytes.size(), 0);
+        if (n < 0) {
+            link.read_failed.store(true, std::memory_order_release);
+            return;
+        }
+        if (n == 0) return;
+        if (!slot) {
+            // The reader has stopped taking reports (a stalled lane): the newest is dropped, counted.
+            link.inbound_dropped.fetch_add(1, std::memory_order_relaxed);
+            continue;
+        }
+        into.size = static_cast<std::size_t>(n);
+        link.inbound.commit();
+    }
+}
+
+void io_loop(const std::shared_ptr<Link>& link) {
+    pthread_setname_np(pthread_self(), "ikebana-hid-io");
+    if (link->options.fifo_priority > 0) {
+        sched_param param{};
+        param.sched_priority = link->options.fifo_priority;
+        link->priority.store(pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0 ? IoPriority::realtime : IoPriority::not_permitted);
+    }
+    for (;;) {
+        // Stop is looked at before the mailbox: whatever was queued before the stop (the zero a chain
+        // queues as it ends) is written below, after it.
+        const bool stopping = link->stop.load(std::memory_order_acquire);
+        write_newest(*link);
+        if (stopping) break;
+        read_available(*link);
+        (void)wait_for(link->wake, Link::idle_wake);
+        while (sem_trywait(&link->wake) == 0) {} // several posts since: one look serves them all
+    }
+    {
+        const std::lock_guard lock(bus_mutex());
+        link->api.close(link->handle);
+    }
+    sem_post(&link->done);
+}
+
 class HidapiTransport final : public HidTransport {
 public:
-    static constexpr std::size_t max_report_bytes = 64;
     static constexpr auto stalled_after = std::chrono::milliseconds(20);
 
-    HidapiTransport(hid_device* device, std::string path) : device_(device), path_(std::move(path)), writer_([this] { write_loop(); }) {}
+    HidapiTransport(const HidApi& api, void* handle, std::string path, HidTransportOptions options)
+        : link_(std::make_shared<Link>(api, handle, std::move(path), std::move(options))), io_([link = link_] { io_loop(link); }) {}
+
     ~HidapiTransport() override {
-        stop_.store(true, std::memory_order_release);
-        writer_.join();
-        const std::lock_guard lock(bus_mutex());
-        hid_close(device_);
+        link_->stop.store(true, std::memory_order_release);
+        sem_post(&link_->wake);
+        if (wait_for(link_->done, link_->options.close_wait)) {
+            io_.join();
+            return;
+        }
+        // Stuck in the kernel (a hung hub): the program does not wait for it. The thread closes the
+        // handle when the write returns; the device's own watchdog zeroes it meanwhile.
+        char line[256];
+        std::snprintf(line, sizeof line, "%s: the last report has waited for the device for over %lld ms; it is left to its own watchdog",
+                      link_->path.c_str(), static_cast<long long>(link_->options.close_wait.count()));
+        if (link_->options.say) {
+            link_->options.say(line);
+        } else {
+            std::fprintf(stderr, "ikebana: %s\n", line);
+        }
+        io_.detach();
     }
+    HidapiTransport(const HidapiTransport&) = delete;
+    HidapiTransport& operator=(const HidapiTransport&) = delete;
 
     Result<std::size_t> read(std::span<std::uint8_t> buffer, int timeout_ms) override {
-        const int n = hid_read_timeout(device_, buffer.data(), buffer.size(), timeout_ms);
-        if (n < 0) return make_error(ErrorCode::device_error, path_ + ": read failed (unplugged?)");
-        return static_cast<std::size_t>(n);
+        const std::int64_t until_ns = monotonic_ns() + std::int64_t{timeout_ms} * 1'000'000;
+        for (;;) {
+            if (const InReport* in = link_->inbound.peek()) {
+                const std::size_t n = std::min(in->size, buffer.size());
+                std::copy_n(in->bytes.begin(), n, buffer.begin());
+                link_->inbound.release();
+                return n;
+            }
+            if (link_->read_failed.load(std::memory_order_acquire)) return lane_error(ErrorCode::device_error, "a read from the device failed (unplugged?)");
+            if (timeout_ms <= 0 || monotonic_ns() >= until_ns) return std::size_t{0};
+            std::this_thread::sleep_for(std::chrono::microseconds(100)); // off the 1 kHz thread only (it asks with 0)
+        }
     }
+
     Result<void> write(std::span<const std::uint8_t> report) override {
-        if (report.size() > max_report_bytes) return make_error(ErrorCode::invalid_argument, path_ + ": report longer than 64 bytes");
+        if (report.size() > max_report_bytes) return lane_error(ErrorCode::invalid_argument, "a report longer than 64 bytes");
         {
-            // The loop and the watchdog may both write: a priority-inheriting lock, held for a copy.
-            const std::lock_guard lock(mailbox_mutex_);
-            Report& r = mailbox_.write_buffer();
+            const std::lock_guard lock(link_->mailbox_mutex);
+            OutReport& r = link_->mailbox.write_buffer();
             std::copy(report.begin(), report.end(), r.bytes.begin());
             r.size = report.size();
-            mailbox_.publish();
+            r.ticket = ++link_->queued;
+            link_->mailbox.publish();
+            link_->queued_seen.store(r.ticket, std::memory_order_release);
         }
-        if (failed_.exchange(false, std::memory_order_acq_rel)) return make_error(ErrorCode::device_error, path_ + ": write failed (unplugged?)");
-        const std::int64_t since = writing_since_ns_.load(std::memory_order_acquire);
-        if (since != 0 && now_ns() - since > std::chrono::nanoseconds(stalled_after).count()) {
-            return make_error(ErrorCode::device_error, path_ + ": a write has been waiting for the device for over 20 ms");
+        sem_post(&link_->wake);
+        if (link_->write_failed.exchange(false, std::memory_order_acq_rel)) {
+            return lane_error(ErrorCode::device_error, "a write to the device failed (unplugged?)");
+        }
+        const std::int64_t since = link_->writing_since_ns.load(std::memory_order_acquire);
+        if (since != 0 && monotonic_ns() - since > std::chrono::nanoseconds(stalled_after).count()) {
+            return lane_error(ErrorCode::device_error, "a write has been waiting for the device for over 20 ms");
         }
         return {};
     }
 
-private:
-    struct Report {
-        std::array<std::uint8_t, max_report_bytes> bytes{};
-        std::size_t size = 0;
-    };
-    static std::int64_t now_ns() {
-        return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    [[nodiscard]] WireCounts wire() const override {
+        return {link_->queued_seen.load(std::memory_order_acquire), link_->written.load(std::memory_order_acquire), this};
     }
-    void write_loop() {
-        while (!stop_.load(std::memory_order_acquire)) {
-            if (!mailbox_.update()) {
-                // A report a millisecond: looking every quarter of one costs nothing and takes no lock.
-                std::this_thread::sleep_for(std::chrono::microseconds(250));
-                continue;
-            }
-            const Report& r = mailbox_.read_buffer();
-            writing_since_ns_.store(now_ns(), std::memory_order_release);
-            const int written = hid_write(device_, r.bytes.data(), r.size);
-            writing_since_ns_.store(0, std::memory_order_release);
-            if (written < 0) failed_.store(true, std::memory_order_release);
-        }
-    }
+    [[nodiscard]] IoPriority io_priority() const override { return link_->priority.load(); }
 
-    hid_device* device_;
-    std::string path_;
-    PiMutex mailbox_mutex_;
-    sched::TripleBuffer<Report> mailbox_;
-    std::atomic<bool> failed_{false};
-    std::atomic<std::int64_t> writing_since_ns_{0};
-    std::atomic<bool> stop_{false};
-    std::thread writer_; // last: it starts when everything it uses is there
+private:
+    std::shared_ptr<Link> link_;
+    std::thread io_; // last: it starts when everything it uses is there
 };
 
+int real_read(void* handle, unsigned char* data, std::size_t length, int milliseconds) {
+    return hid_read_timeout(static_cast<hid_device*>(handle), data, length, milliseconds);
+}
+int real_write(void* handle, const unsigned char* data, std::size_t length) { return hid_write(static_cast<hid_device*>(handle), data, length); }
+void real_close(void* handle) { hid_close(static_cast<hid_device*>(handle)); }
+
 } // namespace
+
+const HidApi& real_hidapi() {
+    static const HidApi api{real_read, real_write, real_close};
+    return api;
+}
+
+std::unique_ptr<HidTransport> make_hidapi_transport(const HidApi& api, void* handle, std::string path, HidTransportOptions options) {
+    return std::make_unique<HidapiTransport>(api, handle, std::move(path), std::move(options));
+}
 
 Result<std::vector<HidDeviceInfo>> enumerate_hid_devices() {
     const std::lock_guard lock(bus_mutex());
@@ -131,11 +280,14 @@ Result<std::vector<HidDeviceInfo>> enumerate_hid_devices() {
 }
 
 Result<std::unique_ptr<HidTransport>> open_hid_device(const std::string& path) {
-    const std::lock_guard lock(bus_mutex());
-    if (auto ok = init_once(); !ok) return std::move(ok).error();
-    hid_device* device = hid_open_path(path.c_str());
+    hid_device* device = nullptr;
+    {
+        const std::lock_guard lock(bus_mutex());
+        if (auto ok = init_once(); !ok) return std::move(ok).error();
+        device = hid_open_path(path.c_str());
+    }
     if (!device) return make_error(ErrorCode::device_error, path + ": cannot be opened (permissions? see docs/haptics.md, 'Checking it')");
-    return std::unique_ptr<HidTransport>(std::make_unique<HidapiTransport>(device, path));
+    return make_hidapi_transport(real_hidapi(), device, path);
 }
 
 } // namespace ikebana::devices

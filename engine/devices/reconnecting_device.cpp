@@ -15,17 +15,34 @@ ReconnectingDevice::~ReconnectingDevice() {
     wake_.notify_one();
     opener_thread_.join();
     delete ready_.exchange(nullptr);
-    delete retired_.exchange(nullptr);
+    HapticDevice* retired = nullptr;
+    while (retired_.pop(retired)) delete retired;
 }
 
-const DeviceCapabilities& ReconnectingDevice::capabilities() const { return inner_ ? inner_->capabilities() : expected_; }
+const DeviceCapabilities& ReconnectingDevice::capabilities() const { return expected_; }
+
+double ReconnectingDevice::max_force_now_n() const {
+    const std::lock_guard lock(swap_mutex_);
+    return inner_ ? inner_->max_force_now_n() : expected_.max_force_n;
+}
+
+WireCounts ReconnectingDevice::wire() const {
+    const std::lock_guard lock(swap_mutex_);
+    return inner_ ? inner_->wire() : WireCounts{};
+}
+
+IoPriority ReconnectingDevice::io_priority() const {
+    const std::lock_guard lock(swap_mutex_);
+    return inner_ ? inner_->io_priority() : IoPriority::none;
+}
 
 void ReconnectingDevice::open_loop() {
     std::unique_lock lock(wake_mutex_);
     while (!stop_) {
         lock.unlock();
         // Closing a dropped device may block (hid_close): here, never on the caller's thread.
-        delete retired_.exchange(nullptr, std::memory_order_acq_rel);
+        HapticDevice* retired = nullptr;
+        while (retired_.pop(retired)) delete retired;
         bool retry_later = false;
         if (wanted_.load(std::memory_order_acquire) && ready_.load(std::memory_order_acquire) == nullptr) {
             attempts_.fetch_add(1, std::memory_order_relaxed);
@@ -44,7 +61,7 @@ void ReconnectingDevice::open_loop() {
         // Asleep until the retry is due, or 50 ms (a device the caller dropped is seen within that).
         const auto wait = retry_later ? std::chrono::microseconds(std::max<std::int64_t>(retry_us_, 1000)) : std::chrono::microseconds(50'000);
         wake_.wait_for(lock, wait, [&] {
-            return stop_ || (!retry_later && wanted_.load(std::memory_order_acquire)) || retired_.load(std::memory_order_acquire) != nullptr;
+            return stop_ || (!retry_later && wanted_.load(std::memory_order_acquire)) || retired_.size() != 0;
         });
     }
 }
@@ -55,18 +72,31 @@ void ReconnectingDevice::detach() {
         const std::lock_guard lock(swap_mutex_);
         old = std::move(inner_);
     }
-    // The opener thread closes it; the slot is empty by now (that thread empties it before it opens
-    // the device that replaced the last one), so nothing is ever overwritten.
-    delete retired_.exchange(old.release(), std::memory_order_acq_rel);
+    // The opener thread closes it. Its queue may still hold devices it has not reached (it empties it
+    // only between two openings); full, this one waits here for the next poll to hand it over.
+    hand_over_retired(std::move(old));
     wanted_.store(true, std::memory_order_release);
     // No notify: glibc's takes the condition variable's internal lock, which is not priority
     // inheriting. The opener thread looks again within its 50 ms sleep.
 }
 
+void ReconnectingDevice::hand_over_retired(std::unique_ptr<HapticDevice> device) {
+    if (parked_ && retired_.push(parked_.get())) (void)parked_.release();
+    if (!device) return;
+    if (!parked_ && retired_.push(device.get())) {
+        (void)device.release();
+        return;
+    }
+    // Eight closes behind and one parked already: never seen; kept rather than closed here.
+    if (!parked_) parked_ = std::move(device);
+    else (void)device.release(); // leaked rather than closed on the 1 kHz thread
+}
+
 Result<DeviceSample> ReconnectingDevice::poll(std::int64_t now_us) {
+    if (parked_) hand_over_retired(nullptr);
     if (!inner_) {
         HapticDevice* ready = ready_.exchange(nullptr, std::memory_order_acq_rel);
-        if (!ready) return make_error(ErrorCode::device_error, expected_.name + ": disconnected");
+        if (!ready) return lane_error(ErrorCode::device_error, "disconnected");
         {
             const std::lock_guard lock(swap_mutex_);
             inner_.reset(ready);

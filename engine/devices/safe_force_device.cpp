@@ -1,15 +1,41 @@
 #include "engine/devices/safe_force_device.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <mutex>
+#include <thread>
+
+#include "engine/core/emergency_stop.hpp"
 
 namespace ikebana::devices {
 
 SafeForceDevice::SafeForceDevice(std::unique_ptr<HapticDevice> inner, ForceSafetyConfig config, WallClock wall_clock_us)
-    : inner_(std::move(inner)), clock_(std::move(wall_clock_us)), safety_(config) {}
+    : inner_(std::move(inner)), clock_(std::move(wall_clock_us)), safety_(config) {
+    // A real pushing device is zeroed on every way out, the ones that skip destructors included.
+    if (inner_ && inner_->capabilities().has_force_output) {
+        emergency_slot_ = add_emergency_stop({&SafeForceDevice::emergency_zero, &SafeForceDevice::zero_flushed, this});
+    }
+}
 
 SafeForceDevice::~SafeForceDevice() {
+    remove_emergency_stop(emergency_slot_);
     if (inner_ && inner_->capabilities().has_force_output) (void)inner_->zero_force();
+}
+
+void SafeForceDevice::emergency_zero(void* self) noexcept {
+    auto* device = static_cast<SafeForceDevice*>(self);
+    // The lane may have died holding the lock (an exception inside a send): wait for it a little, then
+    // zero without it. A zero overtaken by nothing (the lane is gone) cannot be undone.
+    bool locked = false;
+    for (int i = 0; i < 50 && !(locked = device->mutex_.try_lock()); ++i) std::this_thread::sleep_for(std::chrono::microseconds(100));
+    if (locked) device->safety_.zeroed();
+    (void)device->inner_->zero_force();
+    if (locked) device->mutex_.unlock();
+}
+
+bool SafeForceDevice::zero_flushed(void* self) noexcept {
+    const WireCounts w = static_cast<SafeForceDevice*>(self)->inner_->wire();
+    return w.queued == 0 || w.written >= w.queued;
 }
 
 std::unique_ptr<SafeForceDevice> SafeForceDevice::on_timeline(std::unique_ptr<HapticDevice> inner, ForceSafetyConfig config) {
@@ -28,12 +54,12 @@ Result<DeviceSample> SafeForceDevice::poll(std::int64_t now_us) {
         safety_.reset();
         reporting_ = false;
         silent_ = false;
-        if (lost_) return make_error(ErrorCode::device_lost, inner_->capabilities().name + ": stopped taking forces; reconnecting");
+        if (lost_) return lane_error(ErrorCode::device_lost, "the device stopped taking forces; reconnecting");
         return sample;
     }
     if (lost_) {
         // A device that cannot be opened anew stays lost (released, nothing sent) for the session.
-        if (!reopening_) return make_error(ErrorCode::device_lost, inner_->capabilities().name + ": stopped taking forces");
+        if (!reopening_) return lane_error(ErrorCode::device_lost, "the device stopped taking forces");
         // The reopened device answers: it starts over, from the wait and the ramp.
         lost_ = false;
         reopening_ = false;
@@ -59,15 +85,16 @@ Result<DeviceSample> SafeForceDevice::poll(std::int64_t now_us) {
         silent_ = true;
     }
     if (silent_) {
-        return make_error(ErrorCode::device_silent, inner_->capabilities().name + ": sent nothing for " +
-                                                        std::to_string((now - report_changed_at_us_) / 1000) + " ms");
+        silent_for_us_ = now - report_changed_at_us_;
+        return lane_error(ErrorCode::device_silent, "the device has sent nothing for longer than its profile allows");
     }
+    silent_for_us_ = 0;
     return sample;
 }
 
 Result<void> SafeForceDevice::send_force(glm::dvec3 force_n) {
     const std::lock_guard lock(mutex_);
-    safety_.limit_max_force(inner_->capabilities().max_force_n);
+    safety_.limit_max_force(inner_->max_force_now_n());
     if (lost_) return {}; // nothing to push against: poll says it is lost, and the hand has let go
     // Silent: whatever the hand asks, the force fades to zero at the rate limit.
     const glm::dvec3 out = safety_.filter(silent_ ? glm::dvec3{0.0} : force_n, clock_());
@@ -75,13 +102,14 @@ Result<void> SafeForceDevice::send_force(glm::dvec3 force_n) {
     auto sent = inner_->send_force(out);
     if (sent) {
         failures_in_a_row_ = 0;
+        note_queued(out);
         return sent;
     }
     ++write_failures_;
     if (++failures_in_a_row_ >= lost_after_failures) {
         lost_ = true;
         safety_.reset();
-        (void)inner_->zero_force(); // as far as it still listens
+        if (inner_->zero_force()) note_queued(glm::dvec3{0.0}); // as far as it still listens
         reopening_ = inner_->drop();
     }
     return sent;
@@ -91,13 +119,42 @@ Result<void> SafeForceDevice::zero_force() {
     const std::lock_guard lock(mutex_);
     safety_.zeroed();
     ++zeroed_;
-    return inner_->zero_force();
+    auto sent = inner_->zero_force();
+    if (sent) note_queued(glm::dvec3{0.0});
+    return sent;
+}
+
+void SafeForceDevice::note_queued(glm::dvec3 force_n) {
+    const WireCounts w = inner_->wire();
+    if (w.queued == 0) return; // a synchronous transport: what is queued is on the wire
+    if (w.transport != queued_transport_) {
+        queued_.fill({});
+        wire_n_ = glm::dvec3{0.0};
+        queued_transport_ = w.transport;
+    }
+    queued_[queued_next_] = {w.queued, force_n};
+    queued_next_ = (queued_next_ + 1) % queued_kept;
+}
+
+glm::dvec3 SafeForceDevice::on_wire(glm::dvec3 queued_n) const {
+    const WireCounts w = inner_->wire();
+    if (w.queued == 0) return queued_n;
+    if (w.transport != queued_transport_) return glm::dvec3{0.0}; // a new transport: nothing of ours written yet
+    // The newest force whose report is at or before the last one written; none kept (a writer stuck
+    // for 32 reports): the last one known to have gone out.
+    const Queued* best = nullptr;
+    for (const auto& q : queued_) {
+        if (q.ticket != 0 && q.ticket <= w.written && (!best || q.ticket > best->ticket)) best = &q;
+    }
+    if (best) wire_n_ = best->force_n;
+    return wire_n_;
 }
 
 SentForce SafeForceDevice::last_sent() const {
     const std::lock_guard lock(mutex_);
     SentForce s;
-    s.sent_n = safety_.last_output();
+    s.queued_n = safety_.last_output();
+    s.sent_n = on_wire(s.queued_n);
     s.max_force_n = safety_.config().max_force_n;
     s.held = silent_ || lost_ ? ForceHeld::fading : safety_.held();
     s.pushes = true;
@@ -132,6 +189,11 @@ std::uint64_t SafeForceDevice::write_failures() const {
 bool SafeForceDevice::silent() const {
     const std::lock_guard lock(mutex_);
     return silent_;
+}
+
+std::int64_t SafeForceDevice::silent_for_us() const {
+    const std::lock_guard lock(mutex_);
+    return silent_ ? silent_for_us_ : 0;
 }
 
 bool SafeForceDevice::lost() const {

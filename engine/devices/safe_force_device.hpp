@@ -22,6 +22,7 @@
 // priority-inheriting mutex, so a zero can never be overtaken by a stale force: the 1 kHz thread
 // (SCHED_FIFO) waits on it only while the watchdog holds it for one report's write, and then the
 // watchdog runs at its priority.
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -48,6 +49,9 @@ public:
     SafeForceDevice& operator=(const SafeForceDevice&) = delete;
 
     [[nodiscard]] const DeviceCapabilities& capabilities() const override { return inner_->capabilities(); }
+    [[nodiscard]] double max_force_now_n() const override { return inner_->max_force_now_n(); }
+    [[nodiscard]] WireCounts wire() const override { return inner_->wire(); }
+    [[nodiscard]] IoPriority io_priority() const override { return inner_->io_priority(); }
     Result<DeviceSample> poll(std::int64_t now_us) override;
     Result<void> send_force(glm::dvec3 force_n) override;
     Result<void> zero_force() override;
@@ -62,9 +66,23 @@ public:
     [[nodiscard]] double peak_output_n() const;
     [[nodiscard]] std::uint64_t write_failures() const;
     [[nodiscard]] bool silent() const;
+    // How long a silent device has sent nothing (0 when it is not silent).
+    [[nodiscard]] std::int64_t silent_for_us() const;
     [[nodiscard]] bool lost() const;
 
 private:
+    // The forces let out, by the transport's number for the report that carried each, so that the
+    // force on the wire is known from the number of the last report written (WireCounts).
+    struct Queued {
+        std::uint64_t ticket = 0;
+        glm::dvec3 force_n{0.0};
+    };
+    static constexpr std::size_t queued_kept = 32;
+    void note_queued(glm::dvec3 force_n); // under mutex_
+    [[nodiscard]] glm::dvec3 on_wire(glm::dvec3 queued_n) const; // under mutex_
+    static void emergency_zero(void* self) noexcept;  // engine/core/emergency_stop.hpp
+    static bool zero_flushed(void* self) noexcept;
+
     std::unique_ptr<HapticDevice> inner_;
     WallClock clock_;
     mutable PiMutex mutex_;
@@ -77,11 +95,17 @@ private:
     std::int64_t last_report_us_ = 0;
     std::int64_t report_changed_at_us_ = 0;
     bool silent_ = false;
+    std::int64_t silent_for_us_ = 0;
     // Lost: writes failed `lost_after_failures` times in a row; cleared once a reopened device answers.
     std::uint64_t write_failures_ = 0;
     int failures_in_a_row_ = 0;
     bool lost_ = false;
     bool reopening_ = false; // the lost device is being opened anew: its next answer is the new one's
+    std::array<Queued, queued_kept> queued_{};
+    std::size_t queued_next_ = 0;
+    const void* queued_transport_ = nullptr;
+    mutable glm::dvec3 wire_n_{0.0};
+    std::size_t emergency_slot_ = static_cast<std::size_t>(-1);
 };
 
 // `device` wrapped in a SafeForceDevice if it can push (on the wall clock) or is a scripted or replayed

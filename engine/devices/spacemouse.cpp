@@ -41,30 +41,38 @@ std::optional<SpaceMouseProfile> find_spacemouse_profile(std::uint16_t vendor_id
     return std::nullopt;
 }
 
-Result<ReportOutcome> SpaceMouseParser::feed(std::span<const std::uint8_t> report) {
-    auto refuse = [this](std::string why) -> Result<ReportOutcome> {
-        ++refused_;
-        return make_error(ErrorCode::device_error, std::string(profile_.name) + ": " + why);
-    };
-    if (report.empty()) return refuse("empty report");
-    const std::uint8_t id = report[0];
+const char* SpaceMouseParser::fault(std::span<const std::uint8_t> report) const noexcept {
+    if (report.empty()) return "empty report";
     const std::size_t n = report.size();
-    switch (id) {
+    switch (report[0]) {
     case 1:
-        if (profile_.reports == SpaceMouseReports::combined || n == 13) {
-            if (n != 13) return refuse("report 1 of " + std::to_string(n) + " bytes, expected 13 (six axes)");
+        if (profile_.reports == SpaceMouseReports::combined && n != 13) return "expected 13 (six axes)";
+        if (n != 13 && n != 7) return "expected 7 (translation)";
+        return nullptr;
+    case 2: return n == 7 ? nullptr : "expected 7 (rotation)";
+    case 3: return n >= 2 && n <= 5 ? nullptr : "expected 2 to 5 (buttons)";
+    default: return nullptr;
+    }
+}
+
+ReportOutcome SpaceMouseParser::take(std::span<const std::uint8_t> report) noexcept {
+    if (fault(report)) {
+        ++refused_;
+        return ReportOutcome::refused;
+    }
+    const std::size_t n = report.size();
+    switch (report[0]) {
+    case 1:
+        if (n == 13) {
             for (int axis = 0; axis < 6; ++axis) axes_[axis] = le16(&report[1 + 2 * static_cast<std::size_t>(axis)]);
-            return ReportOutcome::updated;
+        } else {
+            for (int axis = 0; axis < 3; ++axis) axes_[axis] = le16(&report[1 + 2 * static_cast<std::size_t>(axis)]);
         }
-        if (n != 7) return refuse("report 1 of " + std::to_string(n) + " bytes, expected 7 (translation)");
-        for (int axis = 0; axis < 3; ++axis) axes_[axis] = le16(&report[1 + 2 * static_cast<std::size_t>(axis)]);
         return ReportOutcome::updated;
     case 2:
-        if (n != 7) return refuse("report 2 of " + std::to_string(n) + " bytes, expected 7 (rotation)");
         for (int axis = 0; axis < 3; ++axis) axes_[3 + axis] = le16(&report[1 + 2 * static_cast<std::size_t>(axis)]);
         return ReportOutcome::updated;
     case 3: {
-        if (n < 2 || n > 5) return refuse("report 3 of " + std::to_string(n) + " bytes, expected 2 to 5 (buttons)");
         std::uint32_t bits = 0;
         for (std::size_t i = 1; i < n; ++i) bits |= static_cast<std::uint32_t>(report[i]) << (8 * (i - 1));
         buttons_ = bits;
@@ -72,6 +80,15 @@ Result<ReportOutcome> SpaceMouseParser::feed(std::span<const std::uint8_t> repor
     }
     default: return ReportOutcome::ignored; // LEDs, battery, vendor reports
     }
+}
+
+Result<ReportOutcome> SpaceMouseParser::feed(std::span<const std::uint8_t> report) {
+    const char* why = fault(report);
+    const ReportOutcome outcome = take(report);
+    if (outcome != ReportOutcome::refused) return outcome;
+    if (report.empty()) return make_error(ErrorCode::device_error, std::string(profile_.name) + ": " + why);
+    return make_error(ErrorCode::device_error, std::string(profile_.name) + ": report " + std::to_string(report[0]) + " of " +
+                                                   std::to_string(report.size()) + " bytes, " + why);
 }
 
 DeviceSample SpaceMouseParser::sample(std::int64_t now_us) const {

@@ -32,20 +32,26 @@ struct SpaceMouseProfile {
 [[nodiscard]] const std::vector<SpaceMouseProfile>& spacemouse_profiles();
 [[nodiscard]] std::optional<SpaceMouseProfile> find_spacemouse_profile(std::uint16_t vendor_id, std::uint16_t product_id);
 
-enum class ReportOutcome : std::uint8_t { updated, ignored };
+enum class ReportOutcome : std::uint8_t { updated, ignored, refused };
 
 class SpaceMouseParser {
 public:
     explicit SpaceMouseParser(SpaceMouseProfile profile) : profile_(profile) {}
 
-    // One HID report, its first byte the report id. Errors name what was wrong with it.
+    // One HID report, its first byte the report id. Errors name what was wrong with it (in words,
+    // which allocate: for tests and diagnostics).
     Result<ReportOutcome> feed(std::span<const std::uint8_t> report);
+    // The same without words, for the 1 kHz thread: a refused report is counted and said `refused`.
+    ReportOutcome take(std::span<const std::uint8_t> report) noexcept;
 
     // The current push and twist, each axis in [-1, 1], and the buttons.
     [[nodiscard]] DeviceSample sample(std::int64_t now_us) const;
     [[nodiscard]] std::uint64_t reports_refused() const noexcept { return refused_; }
 
 private:
+    // Why `report` is refused (nullptr: it is not), and the size it should have had.
+    [[nodiscard]] const char* fault(std::span<const std::uint8_t> report) const noexcept;
+
     SpaceMouseProfile profile_;
     std::int16_t axes_[6]{};
     std::uint32_t buttons_ = 0;

@@ -169,6 +169,8 @@ WoodenHapticsDevice::WoodenHapticsDevice(std::unique_ptr<HidTransport> transport
     angles_ = woodenhaptics_angles(profile_, counts_);
 }
 
+WoodenHapticsDevice::~WoodenHapticsDevice() { (void)zero_force(); }
+
 Result<DeviceSample> WoodenHapticsDevice::poll(std::int64_t now_us) {
     // Larger than a report, so an oversized one is seen as such rather than cut to size.
     std::array<std::uint8_t, 64> buffer{};

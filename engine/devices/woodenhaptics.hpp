@@ -113,7 +113,14 @@ Result<WoodenHapticsProfile> load_woodenhaptics_profile(const std::filesystem::p
 class WoodenHapticsDevice final : public HapticDevice {
 public:
     WoodenHapticsDevice(std::unique_ptr<HidTransport> transport, WoodenHapticsProfile profile);
+    // A last zero current, queued before the transport goes (it writes it before it closes the handle):
+    // this firmware keeps its currents for half a second by itself.
+    ~WoodenHapticsDevice() override;
+    WoodenHapticsDevice(const WoodenHapticsDevice&) = delete;
+    WoodenHapticsDevice& operator=(const WoodenHapticsDevice&) = delete;
     [[nodiscard]] const DeviceCapabilities& capabilities() const override { return caps_; }
+    [[nodiscard]] WireCounts wire() const override { return transport_->wire(); }
+    [[nodiscard]] IoPriority io_priority() const override { return transport_->io_priority(); }
     // Drains the pending reports (at most a bounded number, so a flood cannot hold the loop); a
     // report of the wrong size is counted and skipped. The position is the newest report's, in metres,
     // device frame. The 2017 firmware has no buttons: buttons are always 0.

@@ -11,13 +11,18 @@
 #include <chrono>
 #include <ctime>
 #include <limits>
+#include <exception>
 #include <stdexcept>
 #include <thread>
 
 #include <pthread.h>
 #include <sched.h>
+#include <sys/mman.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
+#include "engine/core/emergency_stop.hpp"
 #include "engine/core/monotonic_clock.hpp"
 #include "engine/ecs/registry.hpp"
 
@@ -35,6 +40,20 @@ void sleep_until_ns(std::int64_t deadline_ns) {
     }
 }
 
+thread_local const char* lane_running = nullptr;
+
+// Names the lane whose system this thread runs, for as long as it runs.
+class LaneTag {
+public:
+    explicit LaneTag(const char* lane) noexcept : previous_(lane_running) { lane_running = lane; }
+    ~LaneTag() { lane_running = previous_; }
+    LaneTag(const LaneTag&) = delete;
+    LaneTag& operator=(const LaneTag&) = delete;
+
+private:
+    const char* previous_;
+};
+
 std::int64_t next_due(const std::vector<ScheduledSystem*>& systems) {
     std::int64_t t = std::numeric_limits<std::int64_t>::max();
     for (const auto* s : systems) t = std::min(t, s->next_due_us);
@@ -42,6 +61,8 @@ std::int64_t next_due(const std::vector<ScheduledSystem*>& systems) {
 }
 
 } // namespace
+
+const char* running_lane() noexcept { return lane_running; }
 
 DeterministicClock::DeterministicClock(Schedule& schedule) : schedule_(schedule) {
     if (!schedule_.finalized()) throw std::logic_error("DeterministicClock needs a finalized schedule");
@@ -76,6 +97,7 @@ void DeterministicClock::run_until(std::int64_t t_us) {
             if (s.next_due_us != t) continue;
             const bool counted = counted_lane_ && *counted_lane_ == s.lane;
             if (counted) toggle_instruction_count();
+            const LaneTag tag(lanes[s.lane].name.c_str());
             if (measure_) {
                 const auto begin = monotonic_ns();
                 s.fire(*lanes[s.lane].registry);
@@ -138,13 +160,14 @@ std::vector<LaneReport> RealtimeClock::run_for(double seconds, const std::atomic
     const std::int64_t end_us = earliest + static_cast<std::int64_t>(seconds * 1e6);
     std::atomic<bool> lanes_stop{false};
 
-    auto run_lane = [&](std::size_t li) {
+    auto run_lane_unguarded = [&](std::size_t li) {
         auto& systems = by_lane[li];
         auto& report = reports[li];
         ecs::Registry& registry = *lanes[li].registry;
         for (;;) {
             if (lanes_stop.load(std::memory_order_relaxed)) break;
             if (external_stop && external_stop->load(std::memory_order_relaxed)) break;
+            if (stop_requested()) break; // SIGINT, SIGTERM: the caller ends the ordinary way
             const std::int64_t t = next_due(systems);
             if (t >= end_us) break;
             const std::int64_t deadline_ns = start_ns + t * 1000;
@@ -166,6 +189,7 @@ std::vector<LaneReport> RealtimeClock::run_for(double seconds, const std::atomic
                 s->stats.lateness_ns.record(lateness);
                 const std::int64_t period_ns = (s->due_us(s->firing + 1) - s->next_due_us) * 1000;
                 if (lateness > period_ns) ++s->stats.missed_deadlines;
+                const LaneTag tag(lanes[li].name.c_str());
                 s->fire(registry);
                 s->stats.duration_ns.record(monotonic_ns() - begin);
                 ++s->stats.calls;
@@ -175,6 +199,29 @@ std::vector<LaneReport> RealtimeClock::run_for(double seconds, const std::atomic
         }
     };
 
+    // An exception on a lane (an undeclared access, a logic error) would otherwise end in std::terminate
+    // with the force still on: every pushing device is zeroed at once, every lane stops, and the
+    // report says which lane and why.
+    auto run_lane = [&](std::size_t li) {
+        try {
+            run_lane_unguarded(li);
+        } catch (const std::exception& e) {
+            reports[li].failure = e.what();
+        } catch (...) {
+            reports[li].failure = "an exception of unknown type";
+        }
+        if (!reports[li].failure.empty()) {
+            lanes_stop.store(true);
+            reports[li].zeroed_devices = run_emergency_stops();
+        }
+    };
+
+    if (config_.lock_memory) {
+        rlimit limit{};
+        const bool unlimited = getrlimit(RLIMIT_MEMLOCK, &limit) == 0 && limit.rlim_cur == RLIM_INFINITY;
+        const bool locked = (unlimited || geteuid() == 0) && mlockall(MCL_CURRENT | MCL_FUTURE | MCL_ONFAULT) == 0;
+        for (auto& r : reports) r.memory_locked = locked;
+    }
     std::vector<std::thread> threads;
     for (std::size_t li = 0; li < lanes.size(); ++li) {
         if (lanes[li].thread != LaneThread::own) continue;
@@ -193,7 +240,7 @@ std::vector<LaneReport> RealtimeClock::run_for(double seconds, const std::atomic
     }
     // The caller's lanes are done. If that was a stop request (a window closed), stop the other lanes
     // now; if time ran out, they finish their own timeline up to the same end.
-    if (external_stop && external_stop->load()) lanes_stop.store(true);
+    if ((external_stop && external_stop->load()) || stop_requested()) lanes_stop.store(true);
     for (auto& t : threads) t.join();
     return reports;
 }

@@ -11,6 +11,7 @@
 // firings it missed are dropped and counted instead of run back to back (no spiral of death).
 #include <optional>
 #include <atomic>
+#include <string>
 #include <cstdint>
 #include <functional>
 #include <utility>
@@ -19,6 +20,11 @@
 #include "engine/sched/schedule.hpp"
 
 namespace ikebana::sched {
+
+// The name of the lane whose system the calling thread is running now, on either clock; nullptr
+// between systems and on threads that run none. For checks that hold per lane (tests count the
+// allocations made while the 1 kHz lane runs).
+[[nodiscard]] const char* running_lane() noexcept;
 
 class DeterministicClock {
 public:
@@ -65,6 +71,12 @@ struct LaneReport {
     DurationHistogram wake_lateness_ns; // how late the lane woke for each due time
     DurationHistogram tick_ns;          // from waking to the end of the last system due then
     bool fifo_priority = false;         // an own-thread lane got the real-time priority it asked for
+    // Not empty: the lane threw this and stopped the run; every pushing device was sent zero force
+    // (zeroed_devices of them) before the other lanes were stopped.
+    std::string failure;
+    std::size_t zeroed_devices = 0;
+    // RealtimeConfig::lock_memory: whether the process's memory is locked (the same for every lane).
+    bool memory_locked = false;
 };
 
 struct RealtimeConfig {
@@ -77,6 +89,11 @@ struct RealtimeConfig {
     // The loop sleeps between ticks and its tick is tens of microseconds, so it cannot starve the
     // rest; without the privilege the request fails and the lane runs at normal priority.
     int own_thread_fifo_priority = 0;
+    // Lock the process's memory (mlockall, pages locked as they are first touched) before the lanes
+    // start, so that the 1 kHz lane's pages are never swapped out from under it. Asked only where it
+    // cannot fail later (root, CAP_IPC_LOCK or no memlock limit: a limit reached by a later mapping,
+    // the renderer's, would fail that mapping instead).
+    bool lock_memory = false;
     // Told on the lane's own thread each time the clamp drops firings: the lane, its due time then
     // and the time its firings resume from (what DeterministicClock::skip_lane needs to do the same).
     std::function<void(std::size_t lane, std::int64_t due_us, std::int64_t until_us)> on_skip;
@@ -86,8 +103,9 @@ class RealtimeClock {
 public:
     RealtimeClock(Schedule& schedule, RealtimeConfig config = {});
 
-    // Runs for `seconds` of wall time, or until *stop becomes true (set by a window close, say).
-    // Returns one report per lane, in lane order.
+    // Runs for `seconds` of wall time, or until *stop becomes true (set by a window close, say), a
+    // SIGINT or SIGTERM asks the program to stop (engine/core/emergency_stop.hpp), or a lane throws.
+    // Returns one report per lane, in lane order; a lane's `failure` says it threw.
     std::vector<LaneReport> run_for(double seconds, const std::atomic<bool>* stop = nullptr);
 
 private:

@@ -1,4 +1,7 @@
 #include "game/app/trainee_app.hpp"
+
+#include "engine/core/emergency_stop.hpp"
+#include "engine/devices/hid_transport.hpp"
 #include "game/session/session_report.hpp"
 
 #include <algorithm>
@@ -649,6 +652,10 @@ int TraineeSession::run_and_finish() {
         if (showing_start_) {
             const auto chosen = run_start_screen();
             if (!chosen) {
+                if (const auto ended = stopped_by_signal(); ended.exit_code != 0) {
+                    std::fprintf(stderr, "ikebana: %s\n", ended.why.c_str());
+                    code_ = ended.exit_code;
+                }
                 write_screenshot();
                 vkDeviceWaitIdle(ctx_->device());
                 return code_;
@@ -681,7 +688,7 @@ std::optional<std::string> TraineeSession::run_start_screen() {
     const render::DrawList nothing;
     for (;;) {
         window_->poll_events();
-        if (window_->should_close()) return std::nullopt;
+        if (window_->should_close() || stop_requested()) return std::nullopt;
         const platform::PointerState in = window_pointer_->read();
         if (in.quit_key) return std::nullopt;
         renderer_->set_column(0); // the start screen is all panel
@@ -767,6 +774,7 @@ void TraineeSession::write_screenshot() {
 int TraineeSession::run_once() {
     World& w = *world_;
     std::string figures;
+    RunEnding ended;
     // The hands' first reading is the pointer as it is now, not an empty state (that would look like
     // a jump of the cursor from the corner).
     // Presses made while the world was (re)built are dropped here rather than taken by this reading,
@@ -776,7 +784,9 @@ int TraineeSession::run_once() {
     shared_pointer_.store(hands_.last());
     {
         const HandForceWatchdogs watchdogs(w);
-        sched::RealtimeConfig config{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 20, .on_skip = {}};
+        sched::RealtimeConfig config{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000,
+                                     .own_thread_fifo_priority = devices::haptic_lane_fifo_priority,
+                                     .lock_memory = true, .on_skip = {}};
         // The simulation's dropped firings go on record, on its own thread (the one that writes the
         // commands file), so that the replay drops the same.
         if (auto* recorder = stored_.recorder()) {
@@ -794,6 +804,7 @@ int TraineeSession::run_once() {
         sched::RealtimeClock clock(w.schedule, config);
         // Until the window closes or the frames asked for are presented.
         const auto lanes = clock.run_for(1e9, &stop_);
+        ended = how_the_run_ended(w.schedule, lanes);
         figures += format_realtime_report(w, lanes);
         for (std::size_t hand = 0; hand < 2; ++hand) {
             // Said whatever --stats is: the device's force was cut for safety.
@@ -805,6 +816,11 @@ int TraineeSession::run_once() {
     for (std::size_t hand = 0; hand < 2; ++hand) {
         // Nothing pushes after the session: zero now (a send through the chain would only step down).
         if (w.hand_devices[hand]) (void)w.hand_devices[hand]->zero_force();
+    }
+    if (ended.exit_code != 0) {
+        // Said whatever --stats is: the trainee (or whoever sent the signal) should know why it ended.
+        std::fprintf(stderr, "ikebana: %s\n", ended.why.c_str());
+        code_ = ended.exit_code;
     }
     stored_.finish(w, lesson_ ? &*lesson_ : nullptr);
     stored_.store_pending_at_exit();
@@ -829,6 +845,10 @@ int TraineeSession::run_once() {
 } // namespace
 
 int run_trainee_app(const TraineeAppOptions& o) {
+    // Every way out zeroes the devices: Ctrl-C and SIGTERM end the session the ordinary way (the start
+    // screen and the clock look for them), a throw on a lane or std::terminate on the spot.
+    install_stop_signals();
+    install_terminate_handler();
     TraineeSession session(o);
     const int code = session.open();
     return session.is_open() ? session.run_and_finish() : code;

@@ -1,5 +1,6 @@
 #include "game/cli/sim_command.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
@@ -8,6 +9,8 @@
 
 #include <unistd.h>
 
+#include "engine/core/emergency_stop.hpp"
+#include "engine/devices/hid_transport.hpp"
 #include "engine/sched/clocks.hpp"
 #include "components/hand.hpp"
 #include "engine/devices/safe_force_device.hpp"
@@ -83,12 +86,29 @@ int run_sim(const SimOptions& options) {
         std::cerr << "ikebana sim: --count-lane counts a run on the deterministic clock, not --realtime\n";
         return 2;
     }
+    RunEnding ended;
+    double simulated_s = options.seconds;
     if (options.realtime) {
         std::printf("running %.1f s in real time (simulation lane on its own thread)...\n", options.seconds);
         std::fflush(stdout);
+        // Ctrl-C and SIGTERM end the run the ordinary way, which zeroes every device; a throw or
+        // std::terminate zeroes them on the spot (engine/core/emergency_stop.hpp).
+        install_stop_signals();
+        install_terminate_handler();
         const HandForceWatchdogs watchdogs(w);
-        sched::RealtimeClock clock(w.schedule, sched::RealtimeConfig{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000, .own_thread_fifo_priority = 20, .on_skip = {}});
+        sched::RealtimeClock clock(w.schedule, sched::RealtimeConfig{.max_catchup_us = 50'000, .own_thread_timer_slack_ns = 1'000,
+                                                                     .own_thread_fifo_priority = devices::haptic_lane_fifo_priority,
+                                     .lock_memory = true, .on_skip = {}});
         const auto reports = clock.run_for(options.seconds);
+        ended = how_the_run_ended(w.schedule, reports);
+        if (ended.exit_code != 0) {
+            // Ended early: the summary speaks of the time the simulation reached, not the time asked.
+            std::int64_t reached_us = 0;
+            for (const auto& s : w.schedule.systems()) {
+                if (w.schedule.lanes()[s.lane].name == "sim") reached_us = std::max(reached_us, s.next_due_us);
+            }
+            simulated_s = static_cast<double>(reached_us) * 1e-6;
+        }
         // Nothing pushes after the run (the watchdogs stop with this block).
         for (auto& device : w.hand_devices) {
             if (device) (void)device->zero_force();
@@ -99,6 +119,7 @@ int run_sim(const SimOptions& options) {
                         static_cast<unsigned long long>(watchdogs.trips(hand)));
         }
         std::printf("%s", format_realtime_report(w, reports).c_str());
+        if (ended.exit_code != 0) std::fprintf(stderr, "ikebana sim: %s\n", ended.why.c_str());
     } else {
         sched::DeterministicClock clock(w.schedule);
         if (!options.count_lane.empty()) {
@@ -138,7 +159,7 @@ int run_sim(const SimOptions& options) {
         if (options.stats) print_ticks();
     }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-    std::printf("%s", format_summary(summarize(w), options.seconds).c_str());
+    std::printf("%s", format_summary(summarize(w), simulated_s).c_str());
     for (std::uint8_t hand = 0; hand < 2; ++hand) {
         if (w.hands[hand].is_null()) continue;
         const auto& input = w.sim.get<components::HandInput>(w.hands[hand]);
@@ -171,14 +192,14 @@ int run_sim(const SimOptions& options) {
                         static_cast<unsigned long long>(recorders[hand]->dropped()));
         }
     }
-    std::printf("wall time %.3f s (%.1fx real time)\n", wall, wall > 0 ? options.seconds / wall : 0.0);
+    std::printf("wall time %.3f s (%.1fx real time)\n", wall, wall > 0 ? simulated_s / wall : 0.0);
     if (options.stats) {
         std::printf("\n%s", w.schedule.stats_table().c_str());
         // Declarations this run did not use (a system that never met what it handles says so too).
         for (const auto& line : w.schedule.unused_access()) std::printf("declared, unused in this run: %s\n", line.c_str());
     }
     if (options.hash) std::printf("state-hash: %016" PRIx64 "\n", w.state_hash());
-    return 0;
+    return ended.exit_code;
 }
 
 void add_sim_command(CLI::App& app, int& exit_code) {

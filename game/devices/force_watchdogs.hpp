@@ -5,8 +5,11 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "engine/devices/force_safety.hpp"
+#include "engine/sched/clocks.hpp"
 
 namespace ikebana::game {
 
@@ -27,5 +30,17 @@ private:
     World& world_;
     std::array<std::unique_ptr<devices::ForceWatchdog>, 2> dogs_;
 };
+
+// How a real-time run ended when not as asked (time up, Esc, the window closed): a lane that threw
+// (the clock zeroed every pushing device at once), or SIGINT/SIGTERM (the caller zeroes them as it
+// ends). `why` is the sentence to say, `exit_code` the status to end with (128 + the signal, or 1);
+// both empty and 0 when it ended as asked.
+struct RunEnding {
+    std::string why;
+    int exit_code = 0;
+};
+[[nodiscard]] RunEnding how_the_run_ended(const sched::Schedule& schedule, const std::vector<sched::LaneReport>& lanes);
+// The same for SIGINT/SIGTERM alone (a loop outside the clock: the start screen).
+[[nodiscard]] RunEnding stopped_by_signal();
 
 } // namespace ikebana::game

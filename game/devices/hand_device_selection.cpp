@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 
+#include "engine/devices/emulated_diy.hpp"
 #include "engine/devices/hid_devices.hpp"
 #include "engine/devices/reconnecting_device.hpp"
 #include "engine/devices/scripted_device.hpp"
@@ -53,10 +54,13 @@ Result<OpenedDevice> reconnecting(const devices::HidDeviceInfo& info) {
     expected.reports_position = expected.has_force_output;
     if (match.kind == devices::DeviceMatch::Kind::diy_force) {
         expected.silent_after_us = devices::diy_silent_after_us;
+        expected.max_force_n = devices::diy_max_force_n;
+        expected.workspace_half_extent_m = glm::dvec3{devices::diy_workspace_half_extent_m};
         expected.coupling_n_per_m = devices::diy_coupling_n_per_m;
         expected.coupling_damping_ns_per_m = devices::diy_coupling_damping_ns_per_m;
     } else if (match.kind == devices::DeviceMatch::Kind::woodenhaptics) {
         expected.max_force_n = woodenhaptics.max_force_n;
+        expected.workspace_half_extent_m = glm::dvec3{woodenhaptics.workspace_radius_m};
         expected.silent_after_us = static_cast<std::int64_t>(woodenhaptics.silent_after_ms * 1000.0);
         expected.max_stiffness_n_per_m = woodenhaptics.max_stiffness_n_per_m;
         expected.max_damping_ns_per_m = woodenhaptics.max_damping_ns_per_m;
@@ -99,6 +103,13 @@ Result<OpenedDevice> open_hand_device(const std::string& spec, std::uint8_t hand
         const auto mode = kind == "replay" ? devices::ScriptedDevice::Mode::replay : devices::ScriptedDevice::Mode::interpolate;
         return OpenedDevice{std::make_unique<devices::ScriptedDevice>(std::move(keys).value(), mode, spec), spec};
     }
+    if (kind == "emulated-diy") {
+        // The whole chain without hardware: the DIY protocol over the real transport, its reports logged.
+        if (arg.empty()) return make_error(ErrorCode::invalid_argument, "'" + spec + "': give a log file, e.g. emulated-diy:forces.log");
+        auto transport = devices::open_emulated_diy(arg);
+        if (!transport) return std::move(transport).error();
+        return OpenedDevice{std::make_unique<devices::DiyForceDevice>(std::move(transport).value()), "emulated DIY device, its forces in " + arg};
+    }
     if (kind == "hid" || kind == "auto") {
         auto found = devices::enumerate_hid_devices();
         if (!found) return std::move(found).error();
@@ -120,7 +131,7 @@ Result<OpenedDevice> open_hand_device(const std::string& spec, std::uint8_t hand
         return OpenedDevice{nullptr, "none found"};
     }
     return make_error(ErrorCode::invalid_argument,
-                      "'" + spec + "': expected auto, none, scripted:FILE, replay:FILE or hid:PATH");
+                      "'" + spec + "': expected auto, none, scripted:FILE, replay:FILE, hid:PATH or emulated-diy:LOG");
 }
 
 } // namespace ikebana::game

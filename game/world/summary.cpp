@@ -231,6 +231,33 @@ std::string format_realtime_report(const World& world, const std::vector<sched::
                     s.stats.missed_deadlines, s.stats.calls);
         out += line;
     }
+    if (!reports.empty()) {
+        out += reports.front().memory_locked ? "memory: locked (mlockall: no page of the 1 kHz lane is swapped out)\n"
+                                             : "memory: not locked (mlockall not asked, or not permitted: run as root or with CAP_IPC_LOCK)\n";
+    }
+    // Each device's own I/O thread (a HID transport's): at the real-time priority just below the
+    // lane's when permitted; without it, the renderer's threads can hold a report past the DIY
+    // firmware's 2 ms zeroing.
+    for (std::size_t hand = 0; hand < 2; ++hand) {
+        const auto* device = world.hand_devices[hand].get();
+        if (!device) continue;
+        const char* io = nullptr;
+        switch (device->io_priority()) {
+        case devices::IoPriority::none: break;
+        case devices::IoPriority::realtime: io = "real-time priority (SCHED_FIFO), just below the 1 kHz lane's"; break;
+        case devices::IoPriority::normal: io = "normal priority (as asked)"; break;
+        case devices::IoPriority::not_permitted:
+            io = "normal priority: SCHED_FIFO was not permitted (give the program CAP_SYS_NICE or an rtprio limit, docs/haptics.md)";
+            break;
+        }
+        if (!io) continue;
+        std::snprintf(line, sizeof line, "%s hand device I/O thread: %s\n", hand ? "right" : "left", io);
+        out += line;
+        const auto wire = device->wire();
+        std::snprintf(line, sizeof line, "%s hand device reports: %" PRIu64 " queued, the last written was number %" PRIu64 "\n",
+                      hand ? "right" : "left", wire.queued, wire.written);
+        out += line;
+    }
     return out;
 }
 

@@ -276,8 +276,12 @@ ecs::Entity spawn_flower(ecs::Registry& r, const SpeciesDef& sp, const FlowerPla
     // The kenzan grip engages this clamp when the stem stands released in the pins.
     r.emplace<StemClamp>(flower, StemClamp{false, spec.base_m, placement.direction, 0.0});
     r.emplace<PinResistance>(flower, pin_resistance_of(sp));
-    r.emplace<InsertionHistory>(flower);
-    r.emplace<PinEngagement>(flower);
+    // Their lists grow on the 1 kHz lane as the stem goes in and out: room made now, so that they don't
+    // allocate there (nothing on that lane may).
+    auto& history = r.emplace<InsertionHistory>(flower);
+    history.records.reserve(insertion_records_reserved);
+    history.holes.reserve(insertion_records_reserved);
+    r.emplace<PinEngagement>(flower).pins.reserve(engaged_pins_reserved);
     r.emplace<KenzanGrip>(flower);
     r.emplace<Grasp>(flower);
     Bending bending{};

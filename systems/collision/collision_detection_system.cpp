@@ -67,7 +67,14 @@ namespace collision_pass {
 
 CollisionPass& of(ecs::Registry& r) {
     if (auto* pass = r.single<CollisionPass>()) return *pass;
-    return r.emplace<CollisionPass>(r.create());
+    // Made on the first pass; its lists then keep their memory from pass to pass. Room for far more
+    // than a lesson's hands and stem ends cover, so that a stem carried across the table (more cells,
+    // more pairs) does not make them grow on the 1 kHz lane.
+    auto& pass = r.emplace<CollisionPass>(r.create());
+    pass.cells.reserve(4096);
+    pass.pairs.reserve(16384);
+    pass.found.reserve(1024);
+    return pass;
 }
 
 void begin(ecs::Registry& r, CollisionPass& pass) {

@@ -48,8 +48,8 @@ double extension_factor(const std::vector<components::DeteriorationTerm>& terms,
             double x = 0.0;
             if (name == "insertion") {
                 x = static_cast<double>(insertion);
-            } else if (const auto it = covariates.numeric.find(name); it != covariates.numeric.end()) {
-                x = it->second;
+            } else if (const auto it = covariates.numeric.find(name); it != covariates.numeric.end() && !std::isnan(it->second)) {
+                x = it->second; // NaN: kept in the map but absent for this insertion
             } else {
                 if (!(high > low)) return std::nullopt;
                 x = 0.5 * (low + high);

@@ -12,6 +12,8 @@
 namespace ikebana::systems::insertion {
 
 // Values a term may depend on besides the insertion count: trial covariates or world settings.
+// A numeric value of NaN, or a category of "", is absent (a map kept from tick to tick on the 1 kHz
+// lane marks what an insertion lacks this way rather than erase and remake the entry).
 struct Covariates {
     std::map<std::string, double> numeric;
     std::map<std::string, std::string> category;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <string>
 
 #include "components/kenzan.hpp"
 #include "engine/ecs/registry.hpp"
@@ -13,13 +15,30 @@ namespace ikebana::systems {
 
 using namespace components;
 
+namespace {
+// Made before the lane starts: a key longer than a string's small buffer would allocate to look up.
+const std::string minutes_since_cut_key = "minutes_since_cut";
+const std::string angle_key = "angle_deg";
+const std::string hole_reuse_key = "hole_reuse";
+const std::string pins_key = "pins";
+
+template <typename Map, typename Value>
+void set(Map& map, const std::string& key, const Value& value) {
+    if (const auto it = map.find(key); it != map.end()) {
+        it->second = value;
+    } else {
+        map.emplace(key, value); // the first time only
+    }
+}
+} // namespace
+
 void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
     const Kenzan* kenzan = r.single<const Kenzan>();
     const auto* settings = r.resource<const PhysicsSettings>();
     const double g = settings ? glm::length(settings->gravity_m_s2) : 9.80665;
     const auto* world_covariates = r.resource<const insertion::Covariates>();
-    insertion::Covariates covariates;
+    insertion::Covariates& covariates = covariates_;
     r.view<const StemPoints, const StemRestShape, const PinResistance, InsertionHistory, PinEngagement>().each(
         [&](ecs::Entity, const StemPoints& points, const StemRestShape& rest, const PinResistance& model, InsertionHistory& history,
             PinEngagement& engagement) {
@@ -29,16 +48,16 @@ void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
             if (!engagement.in_kenzan || !kenzan) return;
             // Covariates a fitted extension may use: the world's, plus this insertion's own. Only a species
             // with an extension reads them (building the map was eight allocations a flower a tick).
-            covariates.numeric.clear();
-            covariates.category.clear();
             if (!model.extension.empty()) {
-                if (world_covariates) covariates = *world_covariates;
-                covariates.numeric["minutes_since_cut"] = static_cast<double>(ctx.time_us - history.cut_at_us) / 60e6;
-                if (!history.records.empty()) {
-                    covariates.numeric["angle_deg"] = history.records.back().angle_deg;
-                    covariates.numeric["hole_reuse"] = history.records.back().reused_hole ? 1.0 : 0.0;
+                if (world_covariates) {
+                    for (const auto& [key, value] : world_covariates->numeric) set(covariates.numeric, key, value);
+                    for (const auto& [key, value] : world_covariates->category) set(covariates.category, key, value);
                 }
-                covariates.numeric["pins"] = static_cast<double>(engagement.pins.size());
+                set(covariates.numeric, minutes_since_cut_key, static_cast<double>(ctx.time_us - history.cut_at_us) / 60e6);
+                const bool recorded = !history.records.empty();
+                set(covariates.numeric, angle_key, recorded ? history.records.back().angle_deg : std::numeric_limits<double>::quiet_NaN());
+                set(covariates.numeric, hole_reuse_key, recorded ? (history.records.back().reused_hole ? 1.0 : 0.0) : std::numeric_limits<double>::quiet_NaN());
+                set(covariates.numeric, pins_key, static_cast<double>(engagement.pins.size()));
             }
             const double soft = model.kind == ResistanceKind::soft_table
                                     ? insertion::soft_resistance_n_per_m(model, std::max(history.insertions, 1u), covariates)
@@ -78,7 +97,7 @@ void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
                 rec.max_pins = std::max(rec.max_pins, static_cast<std::uint32_t>(engagement.pins.size()));
                 for (const auto& p : engagement.pins) {
                     rec.max_pin_force_n = std::max(rec.max_pin_force_n, p.force_n);
-                    if (std::find(rec.pins.begin(), rec.pins.end(), p.pin) == rec.pins.end()) rec.pins.push_back(p.pin);
+                    rec.pins.add(p.pin);
                 }
             }
         });

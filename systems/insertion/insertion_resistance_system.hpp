@@ -31,6 +31,12 @@ struct InsertionResistanceSystem {
     using writes = sched::Components<components::PinEngagement, components::InsertionHistory>;
 
     void operator()(sched::SystemContext& ctx);
+
+private:
+    // Kept from tick to tick: the map's nodes are made the first time each key is set and then only
+    // written (building it anew was allocations a flower a tick on the 1 kHz lane). A covariate this
+    // insertion does not have is NaN (numeric) or empty (category): absent, as extension_factor reads it.
+    insertion::Covariates covariates_;
 };
 
 } // namespace ikebana::systems

@@ -44,9 +44,13 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
     order_.resize(stems_.size());
     for (std::size_t i = 0; i < order_.size(); ++i) order_[i] = i;
     // Longest first: a group of four costs its longest stem's rows, so similar lengths share a group,
-    // and one left alone (solved without lanes) is a short one.
-    std::stable_sort(order_.begin(), order_.end(),
-                     [&](std::size_t a, std::size_t b) { return stems_[a].points->position_m.size() > stems_[b].points->position_m.size(); });
+    // and one left alone (solved without lanes) is a short one. Ties by index, the order stable_sort
+    // gave, without its buffer: std::sort allocates nothing (nothing on the 1 kHz lane may).
+    std::sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
+        const std::size_t na = stems_[a].points->position_m.size();
+        const std::size_t nb = stems_[b].points->position_m.size();
+        return na != nb ? na > nb : a < b;
+    });
     std::size_t rounds = 0;
     for (const auto& stem : stems_) rounds = std::max(rounds, stem.parts);
     if (lane_scratch_.size() < rounds) lane_scratch_.resize(rounds);

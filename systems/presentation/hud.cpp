@@ -1,6 +1,7 @@
 #include "systems/presentation/hud.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <utility>
 
@@ -14,7 +15,11 @@ std::string felt_words(const components::HandStatus& hand) {
     const double sent = glm::length(hand.sent.sent_n);
     const double asked = glm::length(hand.force_n);
     char text[160];
-    const int n = std::snprintf(text, sizeof text, "   feels %.2f N", sent);
+    // What the device was written last (the transport's writer), and what the chain queued after it
+    // where the two differ: a writer behind (a stalled hub) shows here before anything else does.
+    const double queued = glm::length(hand.sent.queued_n);
+    const int n = std::abs(queued - sent) > std::max(0.05, 0.1 * queued) ? std::snprintf(text, sizeof text, "   feels %.2f N (%.2f N queued)", sent, queued)
+                                                                        : std::snprintf(text, sizeof text, "   feels %.2f N", sent);
     std::string words(text, static_cast<std::size_t>(std::max(n, 0)));
     // Said only where the request is far from what the hand gets, or while it fades out.
     if (hand.sent.held != devices::ForceHeld::fading && asked - sent <= std::max(0.5, 0.2 * asked)) return words;

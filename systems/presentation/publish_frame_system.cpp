@@ -19,13 +19,19 @@ void piece_of(ecs::Registry& r, ecs::Entity e, TwigStatus& out) {
     if (frame) out.directors = frame->director;
     else out.directors.clear();
     out.diameter_m = rest ? rest->diameter_m : 0.0;
-    out.parts.clear();
+    // Assigned over the slot's earlier parts: their mesh names keep their memory (a clear and a copy
+    // allocated every name, every frame, on the 1 kHz lane).
+    std::size_t used = 0;
     if (const auto* children = r.try_get<const ecs::Children>(e)) {
         for (const ecs::Entity child : children->entities) {
             const auto* part = r.try_get<const Part>(child);
-            if (part && part->kind != PartKind::stem && !part->mesh.empty()) out.parts.push_back(*part);
+            if (!part || part->kind == PartKind::stem || part->mesh.empty()) continue;
+            if (used < out.parts.size()) out.parts[used] = *part;
+            else out.parts.push_back(*part);
+            ++used;
         }
     }
+    out.parts.resize(used);
 }
 
 } // namespace

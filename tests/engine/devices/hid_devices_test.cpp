@@ -55,7 +55,38 @@ TEST(HidDevices, DiyDeviceReadsPositionAndRefusesCorruptAndReplayedReports) {
     EXPECT_NEAR(s->position.y, -0.02, 1e-12);
     EXPECT_EQ(s->buttons, 1u);
     EXPECT_EQ(device.reports_refused(), 2u) << "the corrupt one and the replay";
-    EXPECT_DOUBLE_EQ(device.capabilities().max_force_n, 2.5) << "the device's own limit tightens ours";
+    EXPECT_DOUBLE_EQ(device.max_force_now_n(), 2.5) << "the device's own limit tightens ours";
+    EXPECT_DOUBLE_EQ(device.capabilities().max_force_n, 3.0) << "capabilities stay as made: other threads read them while it polls";
+}
+
+// The DIY device's reported limit tightens while other threads read what it can do (the watchdog's
+// owner, the HUD): its capabilities never change once made (under ThreadSanitizer this was a race on
+// caps_.max_force_n), and the limit now is an atomic.
+TEST(HidDevices, ADiyDevicesLimitTightensWhileOtherThreadsReadItsCapabilities) {
+    auto transport = std::make_unique<FakeTransport>();
+    auto* fake = transport.get();
+    DiyForceDevice device(std::move(transport));
+    std::atomic<bool> done{false};
+    std::atomic<int> wrong{0};
+    std::thread reader([&] {
+        while (!done) {
+            if (device.capabilities().max_force_n != 3.0) ++wrong;
+            const double now = device.max_force_now_n();
+            if (now > 3.0 || now < 1.0) ++wrong;
+        }
+    });
+    std::uint16_t seq = 0;
+    for (int tick = 0; tick < 500; ++tick) {
+        {
+            const std::lock_guard lock(fake->mutex);
+            fake->inbound.push_back(state(++seq, {0, 0, 0}, 0, 3.0 - 0.002 * tick));
+        }
+        ASSERT_TRUE(device.poll(tick * 1000));
+    }
+    done = true;
+    reader.join();
+    EXPECT_EQ(wrong.load(), 0);
+    EXPECT_NEAR(device.max_force_now_n(), 2.0, 0.05);
 }
 
 TEST(HidDevices, DiyDeviceNeverSendsMoreThanItsLimitNorNaN) {
@@ -138,7 +169,8 @@ TEST(HidDevices, AStaleDiyDeviceSaysHowOldItsReportIsAndFallsSilent) {
     const auto silent = device.poll(now += 1000);
     ASSERT_FALSE(silent);
     EXPECT_EQ(silent.error().code, ErrorCode::device_silent);
-    EXPECT_EQ(silent.error().message, "DIY force-feedback device: sent nothing for 21 ms");
+    EXPECT_EQ(silent.error().text(), "the device has sent nothing for longer than its profile allows");
+    EXPECT_TRUE(silent.error().message.empty()) << "made on the 1 kHz thread: no words that allocate";
     report();
     EXPECT_TRUE(device.poll(now += 1000)) << "reports again: it answers again";
 }

@@ -97,11 +97,90 @@ TEST(ReconnectingDevice, AnOpenerThatBlocksNeverHoldsThePollingThread) {
     std::int64_t now = 0;
     const auto first = device.poll(now += 1000);
     ASSERT_FALSE(first) << "not there yet: the opener is still at work";
-    EXPECT_EQ(first.error().message, "plug: disconnected");
+    EXPECT_EQ(first.error().text(), "disconnected");
     const std::int64_t slowest_us = poll_until(device, now, [&] { return device.attached(); });
     EXPECT_TRUE(device.attached());
     // Far from the opener's 300 ms (a sanitizer build on a busy machine may take a millisecond or two).
     EXPECT_LT(slowest_us, 50'000) << "a poll waited for the opener";
     EXPECT_GE(now, 100'000) << "the polls went on meanwhile, 1 ms apart";
     EXPECT_EQ(opens.load(), 1);
+}
+
+namespace {
+// A device that says which thread destroyed it, and whose limit it reports goes down as it is polled.
+struct Witness : HapticDevice {
+    DeviceCapabilities caps{"witness", true, 3.0, glm::dvec3{0.1}, true};
+    std::atomic<std::thread::id>* destroyed_on;
+    std::atomic<double> limit{3.0};
+    explicit Witness(std::atomic<std::thread::id>* d) : destroyed_on(d) {}
+    ~Witness() override {
+        if (destroyed_on) *destroyed_on = std::this_thread::get_id();
+    }
+    const DeviceCapabilities& capabilities() const override { return caps; }
+    double max_force_now_n() const override { return limit.load(); }
+    Result<DeviceSample> poll(std::int64_t now) override {
+        limit = 2.0;
+        DeviceSample s;
+        s.time_us = now;
+        return s;
+    }
+    Result<void> send_force(glm::dvec3) override { return {}; }
+};
+} // namespace
+
+// Dropped again and again, as fast as the opener hands devices over: none is ever closed on the
+// caller's (the 1 kHz) thread, however late the opener thread gets round to the ones dropped before.
+// The caller's slot for them used to be one pointer, which a late opener left full: the caller then
+// deleted the device in it itself (hid_close and a thread's join, on the 1 kHz thread).
+TEST(ReconnectingDevice, ADeviceDroppedBeforeTheOpenerClosedTheLastIsNeverClosedOnTheCallersThread) {
+    std::atomic<std::thread::id> last_destroyed_on{};
+    std::atomic<int> destroyed_here{0};
+    std::atomic<int> opened{0};
+    const auto caller = std::this_thread::get_id();
+    {
+        ReconnectingDevice device(
+            [&]() -> Result<std::unique_ptr<HapticDevice>> {
+                ++opened;
+                return std::unique_ptr<HapticDevice>(std::make_unique<Witness>(&last_destroyed_on));
+            },
+            DeviceCapabilities{"witness", true, 3.0, glm::dvec3{0.1}, true}, 1000);
+        std::int64_t now = 0;
+        int drops = 0;
+        const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+        while (drops < 60 && std::chrono::steady_clock::now() < give_up) {
+            if (device.poll(now += 1000) && device.drop()) ++drops;
+            if (last_destroyed_on.exchange(std::thread::id{}) == caller) ++destroyed_here;
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+        }
+        EXPECT_EQ(drops, 60);
+        EXPECT_EQ(destroyed_here.load(), 0) << "a dropped device was closed on the caller's thread";
+    }
+    EXPECT_GE(opened.load(), 60);
+}
+
+// Another thread (the HUD's, the watchdog owner's) holds the capabilities while the device is dropped,
+// closed and reopened: they are the reconnecting device's own, never a reference into a device the
+// opener thread may delete; the limit the device reports later comes through max_force_now_n.
+TEST(ReconnectingDevice, ItsCapabilitiesStayValidForOtherThreadsWhileItsDeviceIsSwappedAndDeleted) {
+    ReconnectingDevice device([]() -> Result<std::unique_ptr<HapticDevice>> { return std::unique_ptr<HapticDevice>(std::make_unique<Witness>(nullptr)); },
+                              DeviceCapabilities{"expected", true, 3.0, glm::dvec3{0.1}, true}, 1000);
+    const DeviceCapabilities& held = device.capabilities();
+    std::atomic<bool> done{false};
+    std::atomic<int> wrong{0};
+    std::thread reader([&] {
+        while (!done) {
+            if (held.name != "expected" || device.capabilities().max_force_n != 3.0) ++wrong;
+            const double limit = device.max_force_now_n();
+            if (limit != 3.0 && limit != 2.0) ++wrong;
+        }
+    });
+    std::int64_t now = 0;
+    for (int i = 0; i < 2000; ++i) {
+        if (device.poll(now += 1000) && i % 10 == 0) (void)device.drop();
+        std::this_thread::sleep_for(std::chrono::microseconds(100));
+    }
+    done = true;
+    reader.join();
+    EXPECT_EQ(wrong.load(), 0);
+    EXPECT_EQ(&device.capabilities(), &held) << "one object for the device's life";
 }

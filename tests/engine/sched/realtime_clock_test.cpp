@@ -1,12 +1,16 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <stdexcept>
 #include <chrono>
 #include <thread>
 
+#include "engine/devices/hid_devices.hpp"
+#include "engine/devices/safe_force_device.hpp"
 #include "engine/ecs/registry.hpp"
 #include "engine/sched/clocks.hpp"
 #include "engine/sched/triple_buffer.hpp"
+#include "tests/support/hidapi_shim.hpp"
 
 using namespace ikebana;
 using namespace ikebana::sched;
@@ -224,4 +228,52 @@ TEST(RealtimeClock, TheFiringsTheClampDroppedAreToldAndTheDeterministicClockDrop
     }
     det.run_until(live.times.back() + 1);
     EXPECT_EQ(replay.times, live.times);
+}
+
+// A lane that throws (an undeclared access, a logic error in release builds) used to end in
+// std::terminate with the force still on. Now the clock zeroes every pushing device at once, stops
+// every lane and says which lane threw and why.
+TEST(RealtimeClock, ALaneThatThrowsStopsTheRunAndEveryPushingDeviceIsSentZeroAtOnce) {
+    ikebana::test::ShimDevice shim;
+    auto chain = devices::make_force_safe(std::make_unique<devices::DiyForceDevice>(
+        devices::make_hidapi_transport(ikebana::test::ShimDevice::api(), &shim, "shim", devices::HidTransportOptions{.fifo_priority = 0, .close_wait = std::chrono::milliseconds(200), .say = {}})));
+    ecs::Registry haptic_world;
+    ecs::Registry main_world;
+    Schedule schedule;
+    ASSERT_TRUE(schedule.add_lane({"haptic", &haptic_world, LaneThread::own, {"loop"}}));
+    ASSERT_TRUE(schedule.add_lane({"main", &main_world, LaneThread::caller, {"frame"}}));
+    std::atomic<double> pushed_n{0.0};
+    SystemDesc push;
+    push.name = "push";
+    push.lane = "haptic";
+    push.phase = "loop";
+    push.rate = "haptic";
+    push.run = [&](SystemContext& ctx) {
+        if (ctx.firing == 400) throw std::logic_error("push: an undeclared access");
+        (void)chain->poll(ctx.time_us);
+        (void)chain->send_force({0.0, 0.0, 1.5});
+        pushed_n = std::max(pushed_n.load(), glm::length(chain->last_sent().queued_n));
+    };
+    SystemDesc frame;
+    frame.name = "frame";
+    frame.lane = "main";
+    frame.phase = "frame";
+    frame.rate = "render";
+    frame.run = [](SystemContext&) {};
+    ASSERT_TRUE(schedule.add(push));
+    ASSERT_TRUE(schedule.add(frame));
+    ASSERT_TRUE(schedule.finalize());
+    RealtimeClock clock(schedule);
+    const auto start = std::chrono::steady_clock::now();
+    const auto reports = clock.run_for(20.0);
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10)) << "the other lanes stop too";
+    ASSERT_EQ(reports.size(), 2u);
+    EXPECT_EQ(reports[0].failure, "push: an undeclared access");
+    EXPECT_GE(reports[0].zeroed_devices, 1u);
+    EXPECT_TRUE(reports[1].failure.empty());
+    EXPECT_GT(pushed_n.load(), 0.5) << "it was pushing when the lane threw";
+    glm::dvec3 last{1.0};
+    ASSERT_TRUE(shim.last_force(last));
+    EXPECT_EQ(last, glm::dvec3(0.0)) << "the zero reached the wire before run_for returned";
+    EXPECT_FALSE(shim.problems());
 }

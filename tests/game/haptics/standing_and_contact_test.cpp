@@ -450,17 +450,26 @@ TEST(Hud, AHandFeelsWhatItsDeviceGotAndIsToldWhyThatDiffersFromTheRequest) {
     EXPECT_EQ(systems::felt_words(hand), "") << "the mouse: nothing to feel";
     hand.sent.pushes = true;
     hand.sent.max_force_n = 3.0;
-    hand.sent.sent_n = {0.0, 0.0, 3.0};
+    hand.sent.sent_n = hand.sent.queued_n = {0.0, 0.0, 3.0};
     hand.sent.held = devices::ForceHeld::at_limit;
     EXPECT_EQ(systems::felt_words(hand), "   feels 3.00 N (pushing back at its 3 N limit; the contact asks 24.0 N)");
-    hand.sent.sent_n = {0.0, 0.0, 0.0};
+    hand.sent.sent_n = hand.sent.queued_n = {0.0, 0.0, 0.0};
     hand.sent.held = devices::ForceHeld::waiting;
     EXPECT_EQ(systems::felt_words(hand), "   feels 0.00 N (not pushing yet: it engages once the force asked is small; ease the handle back, it asks 24.0 N)");
-    hand.sent.sent_n = {0.0, 0.0, 1.2};
+    hand.sent.sent_n = hand.sent.queued_n = {0.0, 0.0, 1.2};
     hand.sent.held = devices::ForceHeld::ramping;
     EXPECT_EQ(systems::felt_words(hand), "   feels 1.20 N (ramping up towards 3.0 N)");
     hand.force_n = {0.0, 0.0, 1.3};
     EXPECT_EQ(systems::felt_words(hand), "   feels 1.20 N") << "close to the request: no explanation";
+    // What reached the wire is what it feels; what the chain queued since is said where it differs
+    // (a writer behind a stalled hub).
+    hand.sent.queued_n = {0.0, 0.0, 1.25};
+    EXPECT_EQ(systems::felt_words(hand), "   feels 1.20 N") << "a report's difference: the same";
+    hand.sent.queued_n = {0.0, 0.0, 2.9};
+    hand.force_n = {0.0, 0.0, 2.9};
+    EXPECT_EQ(systems::felt_words(hand).rfind("   feels 1.20 N (2.90 N queued)", 0), 0u) << systems::felt_words(hand);
+    hand.sent.queued_n = hand.sent.sent_n;
+    hand.force_n = {0.0, 0.0, 1.3};
 
     components::FrameSnapshot frame{};
     frame.hands[1] = hand;
