@@ -27,22 +27,37 @@ std::string number(double v) {
     return text;
 }
 
+// An axis over any finite range: denormals, one value, a range of 1e-300 or 1e300, ends near
+// +-DBL_MAX. Every loop is counted, not stepped by a floating value that may not move (a step of a
+// denormal's size, or one lost against a value of 1e300, looped for ever).
 struct Axis {
+    static constexpr int most_ticks = 12;
     double lo = 0.0, hi = 1.0;
     bool log = false;
     double to_unit(double v) const {
         const double a = log ? std::log10(std::max(v, 1e-300)) : v;
-        const double l = log ? std::log10(lo) : lo;
-        const double h = log ? std::log10(hi) : hi;
-        return h > l ? (a - l) / (h - l) : 0.5;
+        const double l = log ? std::log10(std::max(lo, 1e-300)) : lo;
+        const double h = log ? std::log10(std::max(hi, 1e-300)) : hi;
+        // Halves first: h - l of two values near +-DBL_MAX overflows.
+        const double width = 0.5 * h - 0.5 * l;
+        if (!(width > 0.0) || !std::isfinite(width)) return 0.5;
+        const double u = (0.5 * a - 0.5 * l) / width;
+        return std::isfinite(u) ? u : 0.5;
     }
     std::vector<double> ticks() const {
         std::vector<double> out;
-        if (log) {
-            for (double decade = std::pow(10.0, std::floor(std::log10(lo))); decade <= hi * 1.0001; decade *= 10.0) {
-                for (double m : {1.0, 2.0, 5.0}) {
-                    const double t = m * decade;
-                    if (t >= lo * 0.9999 && t <= hi * 1.0001) out.push_back(t);
+        if (!std::isfinite(lo) || !std::isfinite(hi) || !(hi >= lo)) return out;
+        if (log && lo > 0.0) {
+            // Decades from the one at or below lo, normal numbers only (10^-307 and up); at most
+            // most_ticks of them, every k-th decade when the range is wider.
+            const int first = std::max(static_cast<int>(std::floor(std::log10(lo))), -307);
+            const int last = std::min(static_cast<int>(std::ceil(std::log10(hi))), 308);
+            const int every = std::max(1, (last - first) / most_ticks + 1);
+            for (int e = first; e <= last; e += every) {
+                static constexpr double steps[] = {1.0, 2.0, 5.0};
+                for (int k = 0; k < (every == 1 ? 3 : 1); ++k) {
+                    const double t = steps[k] * std::pow(10.0, e);
+                    if (std::isfinite(t) && t >= lo * 0.9999 && t <= hi * 1.0001) out.push_back(t);
                 }
             }
             if (out.size() >= 3) return out;
@@ -52,8 +67,12 @@ struct Axis {
             linear.log = false;
             return linear.ticks();
         }
-        const double span = hi - lo;
-        const double raw = span / 5.0;
+        const double span = 0.5 * hi - 0.5 * lo; // half the span: the whole may overflow
+        if (!(span > 0.0)) {
+            out.push_back(lo); // one value: one tick at it
+            return out;
+        }
+        const double raw = span / 2.5;             // the span over 5
         const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
         double step = magnitude;
         for (double m : {1.0, 2.0, 2.5, 5.0, 10.0}) {
@@ -62,7 +81,19 @@ struct Axis {
                 break;
             }
         }
-        for (double t = std::ceil(lo / step) * step; t <= hi + 1e-9 * span; t += step) out.push_back(std::abs(t) < 1e-12 * span ? 0.0 : t);
+        const double first = std::ceil(lo / step) * step;
+        // A step too small to tell apart from the values it is added to (a denormal step, or the
+        // magnitude of 10^-308 that one rounds to): the two ends only.
+        if (!(step > 0.0) || !std::isfinite(step) || !std::isfinite(first) || first + step == first) {
+            out.push_back(lo);
+            out.push_back(hi);
+            return out;
+        }
+        for (int i = 0; i <= most_ticks; ++i) {
+            const double t = first + static_cast<double>(i) * step;
+            if (!std::isfinite(t) || t > hi + 1e-9 * span) break;
+            out.push_back(std::abs(t) < 1e-12 * span ? 0.0 : t);
+        }
         return out;
     }
 };
@@ -80,9 +111,14 @@ Axis fit_axis(std::vector<double> values, bool log) {
         a.lo /= 1.08;
         a.hi *= 1.08;
     } else {
-        const double pad = a.hi > a.lo ? 0.06 * (a.hi - a.lo) : std::max(1.0, std::abs(a.lo) * 0.1);
-        a.lo -= pad;
-        a.hi += pad;
+        // A pad of 6 % each side, or (one value) 10 % of it, or 1 near zero; halves so that the span of
+        // values near +-DBL_MAX does not overflow, and ends that stay finite.
+        const double half_span = 0.5 * a.hi - 0.5 * a.lo;
+        const double pad = half_span > 0.0 ? 0.12 * half_span : std::max(1.0, std::abs(a.lo) * 0.1);
+        const double lo = a.lo - pad;
+        const double hi = a.hi + pad;
+        a.lo = std::isfinite(lo) ? lo : a.lo;
+        a.hi = std::isfinite(hi) ? hi : a.hi;
     }
     return a;
 }

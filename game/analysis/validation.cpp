@@ -75,7 +75,11 @@ Result<void> check_each_species(ValidationResult& v, const std::vector<std::stri
         }
         if (extension->empty()) continue;
         auto json = extended_species_json(c.species, *extension, v.measured_file);
-        if (!json) return std::move(json).error();
+        if (!json) {
+            // The analysis stands without the file: said, and the rest written.
+            v.resimulation_note += (v.resimulation_note.empty() ? "" : "; ") + c.species + ": " + json.error().message + ", so no species file is written for it";
+            continue;
+        }
         c.extended_species_json = std::move(json).value();
     }
     return {};
@@ -191,7 +195,11 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
         return v;
     }
     auto json = extended_species_json(v.species, v.analysis.extension, measured_path);
-    if (!json) return std::move(json).error();
+    if (!json) {
+        // A check that the written species loads never costs the analysis: said, and the rest written.
+        v.resimulation_note = json.error().message + ", so no species file is written and the simulation is not run again with it";
+        return v;
+    }
     v.extended_species_json = *json;
 
     // The extended species back through the simulation, row by row.

@@ -299,6 +299,11 @@ int run_validate(Args& args) {
     for (const auto& path : species_written) std::printf("wrote an extended species to %s\n", path.c_str());
     if (!args.json.empty()) std::printf("wrote %s\n", args.json.c_str());
     if (!args.report.empty()) std::printf("wrote %s/report.md\n", args.report.c_str());
+    // Asked for a species file that could not be made: the rest is written, and the status says so.
+    if (!args.write_species.empty() && v.extended_species_json.empty() && species_written.empty() && !v.analysis.extension.empty()) {
+        std::cerr << "ikebana validate: --write-species: not written: " << v.resimulation_note << "\n";
+        return 1;
+    }
     return 0;
 }
 

@@ -11,6 +11,11 @@
 
 namespace ikebana::game {
 
+namespace {
+// A deterioration term's origin, scale and range: any finite value a column may hold.
+constexpr double term_value_limit = 1.7e308;
+} // namespace
+
 using assets::Json;
 using assets::JsonChecker;
 using assets::NumberRange;
@@ -231,10 +236,13 @@ void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
                 // An interaction's coefficient is per unit of its second covariate too (a fraction's units
                 // are small): it gets the room the factor's own clamp (e^+-5) bounds anyway.
                 term.coefficient = c.number(t, tp, "coefficient", t.contains("times") ? NumberRange{-1e6, 1e6} : NumberRange{-50, 50}).value_or(0);
-                term.scale = c.number(t, tp, "scale", {-1e9, 1e9}, false).value_or(0);
-                term.origin = c.number(t, tp, "origin", {-1e9, 1e9}, false).value_or(0);
+                // Where a covariate is centred and how wide it runs: a lab's columns include Unix
+                // timestamps (1.7e9 s) and readings in any unit, so any finite value (the basis is
+                // computed from x - origin, which stays small whatever the origin).
+                term.scale = c.number(t, tp, "scale", {-term_value_limit, term_value_limit}, false).value_or(0);
+                term.origin = c.number(t, tp, "origin", {-term_value_limit, term_value_limit}, false).value_or(0);
                 if (t.contains("range")) {
-                    const auto range = c.numbers(t, tp, "range", {-1e9, 1e9}, 2);
+                    const auto range = c.numbers(t, tp, "range", {-term_value_limit, term_value_limit}, 2);
                     if (range && range->size() != 2) c.problem(tp + "/range", "expected [low, high]");
                     else if (range && (*range)[0] > (*range)[1]) c.problem(tp + "/range", "expected low <= high");
                     else if (range) {
@@ -249,11 +257,11 @@ void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
                     if (const Json* times = c.object(t, tp, "times")) {
                         c.no_unknown_keys(*times, xp, {"covariate", "origin", "range"});
                         term.times_covariate = c.string(*times, xp, "covariate").value_or("");
-                        term.times_origin = c.number(*times, xp, "origin", {-1e9, 1e9}, false).value_or(0);
+                        term.times_origin = c.number(*times, xp, "origin", {-term_value_limit, term_value_limit}, false).value_or(0);
                         // The range is required: it is where a world without the covariate takes it (its centre).
                         if (!times->contains("range")) c.problem(xp + "/range", "missing: give [low, high], the values the interaction was fitted over");
                         else {
-                            const auto range = c.numbers(*times, xp, "range", {-1e9, 1e9}, 2);
+                            const auto range = c.numbers(*times, xp, "range", {-term_value_limit, term_value_limit}, 2);
                             if (range && range->size() != 2) c.problem(xp + "/range", "expected [low, high]");
                             else if (range && (*range)[0] > (*range)[1]) c.problem(xp + "/range", "expected low <= high");
                             else if (range) {

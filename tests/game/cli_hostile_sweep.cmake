@@ -1,0 +1,81 @@
+# Issue 58's reproductions (a hostile-input sweep), through the CLI where a user meets them.
+# -DIKEBANA, -DWORK.
+set(out ${WORK}/hostile_sweep)
+file(REMOVE_RECURSE ${out})
+file(MAKE_DIRECTORY ${out})
+
+# 1. A hang: a max_force_gf of 1e-323 (a denormal) with --report spun the report's axis for ever.
+#    Every figure takes any finite data and ends: denormals, one value, ranges of 1e-300 and 1e300.
+set(tables
+  "denormal|flower_id,insertion,max_force_gf\nf0,1,355\nf0,2,276\nf1,1,363\nf1,2,1e-323\n"
+  "tiny|flower_id,insertion,max_force_gf\nf0,1,1e-300\nf0,2,2e-300\nf1,1,3e-300\nf1,2,1e-300\n"
+  "wide_cause|flower_id,insertion,max_force_gf,dose\nf0,1,355,1e-300\nf0,2,276,1e300\nf1,1,363,-1e300\nf1,2,300,5\n")
+foreach(entry IN LISTS tables)
+  string(REPLACE "|" ";" parts "${entry}")
+  list(GET parts 0 name)
+  list(GET parts 1 csv)
+  string(REPLACE "\\n" "\n" csv "${csv}")
+  file(WRITE ${out}/${name}.csv "${csv}")
+  execute_process(COMMAND ${IKEBANA} validate ${out}/${name}.csv --json ${out}/${name}.json --report ${out}/${name}_report
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr TIMEOUT 120)
+  if(rc MATCHES "timeout|Process terminated")
+    message(FATAL_ERROR "${name}: validate --report did not end: ${rc}")
+  endif()
+  if(NOT EXISTS ${out}/${name}_report/report.md)
+    message(FATAL_ERROR "${name}: no report.md (exit ${rc}):\n${stdout}\n${stderr}")
+  endif()
+  file(GLOB figures ${out}/${name}_report/*.svg)
+  list(LENGTH figures n)
+  if(n EQUAL 0)
+    message(FATAL_ERROR "${name}: the report has no figure")
+  endif()
+  foreach(figure IN LISTS figures)
+    file(READ ${figure} svg)
+    if(svg MATCHES "nan|inf")
+      message(FATAL_ERROR "${name}: ${figure} holds a non-finite number")
+    endif()
+  endforeach()
+  message(STATUS "${name}: validate --report ended (exit ${rc}) with ${n} figures")
+endforeach()
+# A force of 1e300 gf is no measurement: refused, naming the line and the column.
+file(WRITE ${out}/huge.csv "flower_id,insertion,max_force_gf\nf0,1,1e300\n")
+execute_process(COMMAND ${IKEBANA} validate ${out}/huge.csv --report ${out}/huge_report RESULT_VARIABLE rc ERROR_VARIABLE stderr TIMEOUT 60)
+if(rc EQUAL 0 OR NOT stderr MATCHES "huge.csv:2: column 'max_force_gf': expected a number in \\[0, 100000\\], got '1e300'")
+  message(FATAL_ERROR "huge: not refused as it should be (exit ${rc}): ${stderr}")
+endif()
+
+# 2. A Unix timestamp as a cause column (1.7e9 s): analysed, centred and scaled, and its species loads.
+#    Made so that the force follows the timestamp: the search must find it and write the species.
+set(csv "flower_id,insertion,max_force_gf,measured_at\n")
+foreach(f RANGE 0 11)
+  foreach(k RANGE 1 4)
+    math(EXPR at "1733500000 + ${f} * 86400 + ${k} * 60")
+    math(EXPR force "300 - ${k} * 20 + ${f} * 9")
+    string(APPEND csv "f${f},${k},${force},${at}\n")
+  endforeach()
+endforeach()
+file(WRITE ${out}/timestamps.csv "${csv}")
+execute_process(COMMAND ${IKEBANA} validate ${out}/timestamps.csv --species sunflower --json ${out}/timestamps.json
+                        --write-species ${out}/timestamps.species.json --report ${out}/timestamps_report
+                RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr TIMEOUT 300)
+foreach(written timestamps.json timestamps_report/report.md)
+  if(NOT EXISTS ${out}/${written})
+    message(FATAL_ERROR "timestamps: ${written} not written (exit ${rc}):\n${stdout}\n${stderr}")
+  endif()
+endforeach()
+if(stderr MATCHES "expected a number in")
+  message(FATAL_ERROR "timestamps: the species check refused the column's range:\n${stderr}")
+endif()
+file(READ ${out}/timestamps.json json)
+string(JSON causes GET "${json}" causes)
+if(NOT causes MATCHES "\"covariate\" *: *\"measured_at\"")
+  message(FATAL_ERROR "timestamps: the force follows measured_at, and it was not named: ${causes}")
+endif()
+if(NOT EXISTS ${out}/timestamps.species.json)
+  message(FATAL_ERROR "timestamps: the extended species was not written (exit ${rc}): ${stderr}")
+endif()
+execute_process(COMMAND ${IKEBANA} species check ${out}/timestamps.species.json RESULT_VARIABLE check_rc OUTPUT_VARIABLE check_out ERROR_VARIABLE check_err)
+if(check_err MATCHES "expected a number in")
+  message(FATAL_ERROR "timestamps: the written species does not load: ${check_err}")
+endif()
+message(STATUS "timestamps: measured_at named, its species written (exit ${rc})")
