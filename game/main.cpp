@@ -77,7 +77,9 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        // CLI11 says what was wrong; its own codes (105, 106, 109) are folded into ours: 2, a usage error,
+        // as every command's own refusals of its options are. --help is 0.
+        return app.exit(e) == 0 ? 0 : 2;
     }
     if (app.get_subcommands().empty()) {
         // The name is stored and written back out as JSON: bytes that are not UTF-8 are refused here,

@@ -1,5 +1,6 @@
 #include "engine/core/async_line_writer.hpp"
 
+#include <cerrno>
 #include <cstring>
 
 namespace ikebana {
@@ -58,18 +59,33 @@ void AsyncLineWriter::flush() {
     flushed_.wait(lock, [&] { return flush_done_ >= ticket; });
 }
 
+std::string AsyncLineWriter::failure() const { return failed() ? failure_ : std::string(); }
+
+void AsyncLineWriter::note_failure(int error_number) {
+    if (failed()) return;
+    failure_ = error_number != 0 ? std::strerror(error_number) : "the file refused a write";
+    failed_.store(true, std::memory_order_release);
+    if (tell_) tell_(failure_);
+}
+
 void AsyncLineWriter::write_queued() {
     // In one write per batch: a slow stream (a network share) pays its cost once, not once a line.
     batch_.clear();
+    const auto put = [&] {
+        if (failed()) return; // a dead file: the lines go nowhere, the producer goes on
+        errno = 0;
+        out_.write(batch_.data(), static_cast<std::streamsize>(batch_.size()));
+        if (!out_) note_failure(errno);
+    };
     while (const Line* line = ring_.peek()) {
         batch_.append(line->text, line->size);
         ring_.release();
         if (batch_.size() >= batch_bytes) {
-            out_.write(batch_.data(), static_cast<std::streamsize>(batch_.size()));
+            put();
             batch_.clear();
         }
     }
-    if (!batch_.empty()) out_.write(batch_.data(), static_cast<std::streamsize>(batch_.size()));
+    if (!batch_.empty()) put();
 }
 
 void AsyncLineWriter::run() {
@@ -82,8 +98,10 @@ void AsyncLineWriter::run() {
         lock.unlock();
         write_queued();
         const auto now = std::chrono::steady_clock::now();
-        if (stopping || asked > flush_done_ || now - last_flush >= flush_every_) {
+        if ((stopping || asked > flush_done_ || now - last_flush >= flush_every_) && !failed()) {
+            errno = 0;
             out_.flush();
+            if (!out_) note_failure(errno);
             last_flush = now;
         }
         lock.lock();

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <ostream>
 #include <string>
@@ -40,6 +41,14 @@ public:
     // Waits until everything queued so far is written and flushed. Not for the 1 kHz thread.
     void flush();
     [[nodiscard]] std::uint64_t dropped() const noexcept { return dropped_.load(std::memory_order_relaxed); }
+    // The stream refused a write or a flush (a full disk, a vanished share): from then on lines are
+    // taken and thrown away (the producer never waits on a dead file), and the file is not whole.
+    [[nodiscard]] bool failed() const noexcept { return failed_.load(std::memory_order_acquire); }
+    // Why, in words ("No space left on device"); empty while it has not failed.
+    [[nodiscard]] std::string failure() const;
+    // Told once, on the writer's thread, the moment the stream fails (say it at once). Set before
+    // anything is written.
+    void on_failure(std::function<void(const std::string& why)> tell) { tell_ = std::move(tell); }
 
 private:
     struct Line {
@@ -56,6 +65,10 @@ private:
     static constexpr std::size_t batch_bytes = 1 << 16;
     std::string batch_; // the writer thread's
     std::atomic<std::uint64_t> dropped_{0};
+    void note_failure(int error_number);
+    std::atomic<bool> failed_{false};
+    std::string failure_;                                   // set once, before failed_
+    std::function<void(const std::string&)> tell_;
     std::mutex mutex_; // the writer's own wake-up; the producer never takes it
     std::condition_variable wake_;
     std::condition_variable flushed_;

@@ -91,4 +91,28 @@ std::optional<std::string> non_utf8_words(std::string_view what, std::string_vie
     return std::string(what) + ": not UTF-8 text (" + byte_text(text, *at) + " at position " + std::to_string(*at + 1) + ")";
 }
 
+std::string terminal_text(std::string_view text) {
+    const std::string valid = utf8_or_replacement(text);
+    std::string out;
+    out.reserve(valid.size());
+    const auto escape = [&](unsigned value) {
+        char hex[8];
+        std::snprintf(hex, sizeof hex, "\\x%02x", value);
+        out += hex;
+    };
+    for (std::size_t i = 0; i < valid.size(); ++i) {
+        const auto c = static_cast<unsigned char>(valid[i]);
+        if ((c < 0x20 && c != '\n' && c != '\t') || c == 0x7f) {
+            escape(c);
+        } else if (c == 0xc2 && i + 1 < valid.size() && static_cast<unsigned char>(valid[i + 1]) >= 0x80 &&
+                   static_cast<unsigned char>(valid[i + 1]) <= 0x9f) {
+            escape(static_cast<unsigned char>(valid[i + 1])); // U+0080..U+009F: the C1 controls (CSI among them)
+            ++i;
+        } else {
+            out += static_cast<char>(c);
+        }
+    }
+    return out;
+}
+
 } // namespace ikebana

@@ -29,4 +29,10 @@ namespace ikebana {
 // "--trainee: not UTF-8 text (byte 0xEB at position 3)", or nothing.
 [[nodiscard]] std::optional<std::string> non_utf8_words(std::string_view what, std::string_view text);
 
+// Text from data (a CSV's header or cells, a database's names) made safe to print on a terminal: each
+// control character but the line break and the tab (C0, DEL, and C1 as UTF-8 encodes it) is shown as
+// `\x1b` rather than sent (an escape sequence in a cell could retitle the window or clear the screen),
+// and bytes that are not UTF-8 become U+FFFD.
+[[nodiscard]] std::string terminal_text(std::string_view text);
+
 } // namespace ikebana

@@ -82,6 +82,10 @@ public:
     // Samples lost because the writer fell seconds behind (real time only): a replay of this recording
     // would part from the session.
     [[nodiscard]] std::uint64_t dropped() const noexcept { return writer_.dropped(); }
+    // The file refused a write (a full disk): the recording is not whole (AsyncLineWriter::failed).
+    [[nodiscard]] bool failed() const noexcept { return writer_.failed(); }
+    [[nodiscard]] std::string failure() const { return writer_.failure(); }
+    void on_failure(std::function<void(const std::string&)> tell) { writer_.on_failure(std::move(tell)); }
 
 private:
     AsyncLineWriter writer_;

@@ -1,5 +1,7 @@
 #include "game/analysis/validation_report.hpp"
 
+#include "engine/core/utf8.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +17,43 @@
 namespace ikebana::game {
 
 namespace {
+
+// Text from the data in a Markdown table's cell: a '|' or a line break would split the table, and
+// '<', '>' and '&' would reach a renderer as HTML; control characters are shown, not kept.
+// Text from the data in Markdown prose (a heading, a list item): HTML shown as text, one line.
+std::string prose(const std::string& text) {
+    std::string out;
+    for (const char ch : terminal_text(text)) {
+        switch (ch) {
+        case '\n':
+        case '\r': out += ' '; break;
+        case '<': out += "&lt;"; break;
+        case '>': out += "&gt;"; break;
+        case '&': out += "&amp;"; break;
+        default: out += ch;
+        }
+    }
+    return out;
+}
+
+std::string cell(const std::string& text) {
+    std::string out;
+    for (const char ch : terminal_text(text)) {
+        switch (ch) {
+        case '|': out += "\\|"; break;
+        case '\n':
+        case '\r':
+        case '\t': out += ' '; break;
+        case '<': out += "&lt;"; break;
+        case '>': out += "&gt;"; break;
+        case '&': out += "&amp;"; break;
+        case '`': out += "'"; break; // inside a code span a backtick would end it
+        default: out += ch;
+        }
+    }
+    return out;
+}
+
 
 double finite_or_zero(double v) { return std::isfinite(v) ? v : 0.0; }
 
@@ -426,14 +465,19 @@ std::vector<std::pair<std::string, std::string>> validation_report_files(const V
         md << "> Fewer than 4 flowers: rows stand in for flowers in the permutations, the folds and the bootstrap. With one row per "
               "insertion count (published means) this treats the rows as independent, which they are not quite.\n\n";
     }
-    md << "## Summary\n\n```\n" << validation_summary(v) << "```\n\n";
+    {
+        // Verbatim in a fence, where HTML is not read; a fence in the data would end it early.
+        std::string summary = terminal_text(validation_summary(v));
+        for (std::size_t at = summary.find("```"); at != std::string::npos; at = summary.find("```", at)) summary.replace(at, 3, "'''");
+        md << "## Summary\n\n```\n" << summary << "```\n\n";
+    }
     if (!a.suspected.empty()) {
         md << "## Rows set aside\n\nThese rows lie more than " << fmt("%.0f", options.outlier_z)
            << " robust standard deviations (1.4826 × the median absolute deviation) from the median of all rows, against the fitted model: a "
               "slipped gauge or a misread scale looks like this. The analysis ran without them; check them against the lab notes.\n\n"
               "| line | flower | measured (gf) | the model (gf) | robust z |\n|---|---|---|---|---|\n";
         for (const auto& r : a.suspected) {
-            md << "| " << v.data.trials[r.row].line << " | " << v.data.trials[r.row].flower_id << " | " << fmt("%.1f", r.measured_gf) << " | "
+            md << "| " << v.data.trials[r.row].line << " | " << cell(v.data.trials[r.row].flower_id) << " | " << fmt("%.1f", r.measured_gf) << " | "
                << fmt("%.1f", r.expected_gf) << " | " << fmt("%.1f", r.z) << " |\n";
         }
         md << "\n";
@@ -452,7 +496,7 @@ std::vector<std::pair<std::string, std::string>> validation_report_files(const V
           "significance here).\n\n";
     md << "| column | kind | blank cells | best shape | strength | p | family | given model | cause |\n|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& d : a.diagnostics) {
-        md << "| `" << d.covariate << "` | " << (d.numeric ? "numeric" : "categorical") << " | "
+        md << "| `" << cell(d.covariate) << "` | " << (d.numeric ? "numeric" : "categorical") << " | "
            << (d.blank == 0 ? std::string("0") : std::to_string(d.blank) + (d.numeric ? " (taken as " + fmt("%.4g", d.blank_value) + ")" : " (a level)")) << " | "
            << d.best_shape << " | " << fmt("%.3f", d.strength)
            << " | " << fmt("%.3g", d.p_value) << " | " << fmt("%.3g", d.p_adjusted) << " | " << fmt("%.3g", d.p_given_model) << " | "
@@ -460,7 +504,7 @@ std::vector<std::pair<std::string, std::string>> validation_report_files(const V
     }
     if (!v.input.covariates.constant.empty()) {
         md << "\nNot tested (one value only):";
-        for (const auto& c : v.input.covariates.constant) md << " `" << c << "`";
+        for (const auto& c : v.input.covariates.constant) md << " `" << cell(c) << "`";
         md << ".\n";
     }
     if (!a.screened.empty()) {
@@ -469,7 +513,7 @@ std::vector<std::pair<std::string, std::string>> validation_report_files(const V
               "share chance alone gives that many levels.\n\n| column | levels | flowers a level | between levels | by chance | why |\n"
               "|---|---|---|---|---|---|\n";
         for (const auto& c : a.screened) {
-            md << "| `" << c.covariate << "` | " << c.levels << " | " << fmt("%.1f", c.flowers_per_level) << " | " << fmt("%.1f %%", 100 * c.between_level_share)
+            md << "| `" << cell(c.covariate) << "` | " << c.levels << " | " << fmt("%.1f", c.flowers_per_level) << " | " << fmt("%.1f %%", 100 * c.between_level_share)
                << " | " << fmt("%.1f %%", 100 * c.chance_share) << " | " << c.reason << " |\n";
         }
     }
@@ -480,17 +524,17 @@ std::vector<std::pair<std::string, std::string>> validation_report_files(const V
         if (!flagged(d, options.alpha)) continue;
         const std::string name = "residual_" + file_safe(d.covariate) + ".svg";
         figures.emplace_back(name, residual_chart(v, d));
-        md << "### `" << d.covariate << "`\n\n![residual against " << d.covariate << "](" << name << ")\n\n";
+        md << "### `" << cell(d.covariate) << "`\n\n![residual against " << cell(d.covariate) << "](" << name << ")\n\n";
         md << "| bin | n | measured / simulated | ±2 s.e. |\n|---|---|---|---|\n";
         for (const auto& b : d.bins) {
-            md << "| " << b.label << " | " << b.n << " | " << fmt("%.3f", b.factor) << " | "
+            md << "| " << cell(b.label) << " | " << b.n << " | " << fmt("%.3f", b.factor) << " | "
                << (b.n > 1 ? fmt("%.3f", b.low) + "–" + fmt("%.3f", b.high) : std::string("— (one trial)")) << " |\n";
         }
         md << "\n";
     }
     md << "## Causes\n\n";
     if (a.causes.empty()) md << "No column explains the residual beyond chance after correction.\n\n";
-    for (std::size_t k = 0; k < a.causes.size(); ++k) md << k + 1 << ". **`" << a.causes[k].covariate << "`** — " << v.explanations[k] << "\n";
+    for (std::size_t k = 0; k < a.causes.size(); ++k) md << k + 1 << ". **`" << cell(a.causes[k].covariate) << "`** — " << prose(v.explanations[k]) << "\n";
     md << "\nOverall level: the extended model multiplies the simulation by " << fmt("%.3f", a.calibration.factor) << " on average (95 % interval "
        << fmt("%.3f", a.calibration.low) << "–" << fmt("%.3f", a.calibration.high) << "); the baseline's level alone has p = "
        << fmt("%.3g", a.calibration.p_value) << " (sign flips of whole flowers).\n\n";
@@ -500,8 +544,8 @@ std::vector<std::pair<std::string, std::string>> validation_report_files(const V
     } else {
         md << "The force the species gives is multiplied by exp(sum of terms):\n\n| covariate | form | coefficient | scale | origin | category |\n|---|---|---|---|---|---|\n";
         for (const auto& t : a.extension) {
-            md << "| `" << t.covariate << "` | " << t.form << " | " << fmt("%.5g", t.coefficient) << " | " << fmt("%.5g", t.scale) << " | "
-               << fmt("%.5g", t.origin) << " | " << t.category << " |\n";
+            md << "| `" << cell(t.covariate) << "` | " << t.form << " | " << fmt("%.5g", t.coefficient) << " | " << fmt("%.5g", t.scale) << " | "
+               << fmt("%.5g", t.origin) << " | " << cell(t.category) << " |\n";
         }
         md << "\n`--write-species` writes these into a species file that `ikebana predict --species`, `ikebana experiment --species` and the app "
               "load like any other.\n\n";
@@ -521,7 +565,7 @@ std::vector<std::pair<std::string, std::string>> validation_report_files(const V
         md << "## Every other measurement, before and after\n\nAn extension fitted to the forces must not move what else was measured away from "
               "its measurement.\n\n| measured quantity | measured | baseline | extended | verdict |\n|---|---|---|---|---|\n";
         for (const auto& m : v.others) {
-            md << "| " << m.name << " | " << fmt("%.3g", m.measured) << " | " << fmt("%.3g", m.baseline) << " | " << fmt("%.3g", m.extended) << " | "
+            md << "| " << cell(m.name) << " | " << fmt("%.3g", m.measured) << " | " << fmt("%.3g", m.baseline) << " | " << fmt("%.3g", m.extended) << " | "
                << (m.worse ? "**clearly worse**" : "not worse") << " |\n";
         }
         md << "\n";

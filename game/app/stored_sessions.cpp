@@ -134,8 +134,19 @@ void StoredSessions::finish(World& w, const LessonDef* lesson) {
         run.rates = o_.rates;
         run.env = o_.env;
         for (std::size_t h = 0; h < 2; ++h) run.rate_device[h] = w.hand_devices[h] && !w.hand_devices[h]->capabilities().reports_position;
-        if (auto done = recorder_->finish_window(*lesson, session_.kind, run, end_us, scored_->second, w); !done)
-            std::cerr << "ikebana: the session's recording is incomplete: " << done.error().message << "\n";
+        if (auto done = recorder_->finish_window(*lesson, session_.kind, run, end_us, scored_->second, w); !done) {
+            // The session stays stored, marked as having no recording (it would not replay), and the
+            // half-made folder goes.
+            recorder_.reset();
+            std::error_code ec;
+            std::filesystem::remove_all(folder, ec);
+            std::cerr << "ikebana: " << done.error().message << "; the session is kept without its recording (it would not replay)\n";
+            session_.recording.clear();
+            if (!unsaved_ && progress_) {
+                if (auto saved = progress_->save(session_); !saved) std::cerr << "ikebana: " << saved.error().message << "\n";
+            }
+            return;
+        }
         recorder_.reset();
         return;
     }

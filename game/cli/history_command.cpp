@@ -1,5 +1,7 @@
 #include "game/cli/history_command.hpp"
 
+#include "engine/core/utf8.hpp"
+
 #include <cstdio>
 #include <iostream>
 
@@ -85,13 +87,14 @@ int show_history(const HistoryArgs& args) {
     if (sessions.empty()) {
         std::printf("no sessions of %s yet in %s (a lesson's Enter, or `ikebana lesson demo`, stores one)\n", whose(args).c_str(), path.string().c_str());
     } else {
-        std::printf("%zu session(s) of %s in %s, oldest first\n", sessions.size(), whose(args).c_str(), path.string().c_str());
+        std::printf("%zu session(s) of %s in %s, oldest first\n", sessions.size(), terminal_text(whose(args)).c_str(), terminal_text(path.string()).c_str());
         std::printf("  %4s  %-17s  %-24s  %-12s  %-13s  %5s  %7s\n", "id", "started (UTC)", "lesson", "trainee", "kind", "score", "minutes");
         for (const auto& s : sessions) {
             std::string started = iso_utc(s.started_unix_s).substr(0, 16);
             started[10] = ' ';
-            std::printf("  %4lld  %-17s  %-24s  %-12s  %-13s  %5.1f  %7.1f\n", static_cast<long long>(s.id), started.c_str(), s.lesson.c_str(), s.trainee.c_str(),
-                        s.kind.c_str(), s.result.score, s.duration_s / 60.0);
+            // Names from the database (another program may have written them): shown, never sent as controls.
+            std::printf("  %4lld  %-17s  %-24s  %-12s  %-13s  %5.1f  %7.1f\n", static_cast<long long>(s.id), started.c_str(), terminal_text(s.lesson).c_str(),
+                        terminal_text(s.trainee).c_str(), terminal_text(s.kind).c_str(), s.result.score, s.duration_s / 60.0);
         }
     }
     if (!args.plot.empty()) std::printf("plot of the scores and each criterion's trend in %s\n", args.plot.c_str());

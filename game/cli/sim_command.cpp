@@ -60,6 +60,8 @@ int run_sim(const SimOptions& options) {
     }
     std::unique_ptr<std::ostream> record_files[2];
     std::unique_ptr<devices::DeviceRecorder> recorders[2];
+    std::error_code exists_error;
+    const bool record_folder_was_there = !options.record_dir.empty() && std::filesystem::exists(options.record_dir, exists_error);
     if (!options.record_dir.empty()) {
         if (auto folder = assets::create_output_folder(options.record_dir); !folder) {
             std::cerr << "ikebana sim: --record: " << folder.error().message << "\n";
@@ -77,6 +79,10 @@ int run_sim(const SimOptions& options) {
             // In real time a disk seconds behind costs samples (counted below), never the haptic loop's time.
             recorders[hand] = std::make_unique<devices::DeviceRecorder>(
                 *record_files[hand], options.realtime ? AsyncLineWriter::WhenFull::drop : AsyncLineWriter::WhenFull::wait);
+            // Said the moment the disk refuses (from the writer's thread), and again at the end.
+            recorders[hand]->on_failure([path](const std::string& why) {
+                std::fprintf(stderr, "ikebana sim: --record: %s: %s; the recording stops here\n", path.c_str(), why.c_str());
+            });
             slots->record_to(static_cast<std::size_t>(hand), recorders[hand].get());
         }
         std::printf("recording every device sample to %s/{left,right}.csv (replay with --left replay:FILE)\n", options.record_dir.c_str());
@@ -186,6 +192,23 @@ int run_sim(const SimOptions& options) {
                     device ? device->capabilities().name.c_str() : "no device", input.connected ? "connected" : "not connected",
                     static_cast<unsigned long long>(input.disconnects), grip.held.is_null() ? "" : ", holding a flower", felt.c_str());
     }
+    // A recording the disk refused part of would not replay: said, removed (nothing half-made is left),
+    // and the run fails.
+    std::string recording_failed;
+    for (int hand = 0; hand < 2; ++hand) {
+        if (!recorders[hand]) continue;
+        recorders[hand]->flush();
+        if (recorders[hand]->failed() && recording_failed.empty()) {
+            recording_failed = std::string(hand ? "right.csv" : "left.csv") + ": " + recorders[hand]->failure();
+        }
+    }
+    if (!recording_failed.empty()) {
+        std::error_code ec;
+        for (const char* name : {"left.csv", "right.csv"}) std::filesystem::remove(std::filesystem::path(options.record_dir) / name, ec);
+        if (!record_folder_was_there) std::filesystem::remove(options.record_dir, ec);
+        std::fprintf(stderr, "ikebana sim: --record: %s: not written whole (%s); removed, as it would not replay\n", options.record_dir.c_str(),
+                     recording_failed.c_str());
+    }
     for (int hand = 0; hand < 2; ++hand) {
         if (recorders[hand] && recorders[hand]->dropped() > 0) {
             std::printf("%s hand: %llu samples not recorded (the disk fell behind): a replay will part from this run\n", hand ? "right" : "left",
@@ -199,7 +222,8 @@ int run_sim(const SimOptions& options) {
         for (const auto& line : w.schedule.unused_access()) std::printf("declared, unused in this run: %s\n", line.c_str());
     }
     if (options.hash) std::printf("state-hash: %016" PRIx64 "\n", w.state_hash());
-    return ended.exit_code;
+    if (ended.exit_code != 0) return ended.exit_code;
+    return recording_failed.empty() ? 0 : 1;
 }
 
 void add_sim_command(CLI::App& app, int& exit_code) {

@@ -1,5 +1,7 @@
 #include "game/cli/validate_command.hpp"
 
+#include "engine/core/utf8.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -134,9 +136,10 @@ int run_validate(Args& args) {
         return 2;
     }
     ValidationResult& v = *result;
-    if (!v.data.table.note.empty()) std::printf("note: %s\n", v.data.table.note.c_str());
-    std::printf("%s", validation_summary(v).c_str());
-    for (std::size_t k = 0; k < v.explanations.size(); ++k) std::printf("  %zu. %s\n", k + 1, v.explanations[k].c_str());
+    // Column names and categories come from the file: shown, never sent to the terminal as controls.
+    if (!v.data.table.note.empty()) std::printf("note: %s\n", terminal_text(v.data.table.note).c_str());
+    std::printf("%s", terminal_text(validation_summary(v)).c_str());
+    for (std::size_t k = 0; k < v.explanations.size(); ++k) std::printf("  %zu. %s\n", k + 1, terminal_text(v.explanations[k]).c_str());
 
     std::string json = validation_json(v, args.analysis);
     std::string extra = v.data.table.note.empty() ? std::string() : "Note on the input: " + v.data.table.note + ".\n\n";

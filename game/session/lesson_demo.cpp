@@ -461,8 +461,15 @@ Result<DemoResult> run_lesson_demo(const LessonDef& lesson, const DemoOptions& o
     result.unused_access = w.schedule.unused_access();
     result.flowers = flower_outcomes(w.main.resource<const systems::ReceivedFrames>()->latest());
     if (recorder) {
-        if (auto written = recorder->finish(lesson, "demonstration", scored_at_us, clock.now_us(), result.score.score, w); !written)
+        if (auto written = recorder->finish(lesson, "demonstration", scored_at_us, clock.now_us(), result.score.score, w); !written) {
+            // Nothing half-made is left: the folder's files go (and the folder, if nothing else is in it).
+            const auto folder = recorder->folder();
+            recorder.reset();
+            std::error_code ec;
+            for (const char* name : {"left.csv", "right.csv", "commands.csv", "lesson.json"}) std::filesystem::remove(folder / name, ec);
+            std::filesystem::remove(folder, ec);
             return std::move(written).error();
+        }
     }
     return result;
 }

@@ -53,6 +53,14 @@ Result<std::unique_ptr<SessionRecorder>> SessionRecorder::create(const std::file
     const auto when_full = real_time ? AsyncLineWriter::WhenFull::drop : AsyncLineWriter::WhenFull::wait;
     for (int hand = 0; hand < 2; ++hand) recorder->recorders_[hand] = std::make_unique<devices::DeviceRecorder>(*recorder->files_[hand], when_full);
     recorder->commands_ = std::make_unique<AsyncLineWriter>(*recorder->files_[2], when_full);
+    // Said at once (from the writer's thread), and again when the session ends.
+    for (int i = 0; i < 3; ++i) {
+        auto tell = [path = (folder / file_names[i]).string()](const std::string& why) {
+            std::fprintf(stderr, "ikebana: the recording's %s: %s; it stops here\n", path.c_str(), why.c_str());
+        };
+        if (i < 2) recorder->recorders_[i]->on_failure(tell);
+        else recorder->commands_->on_failure(tell);
+    }
     return recorder;
 }
 
@@ -85,10 +93,22 @@ Result<void> SessionRecorder::finish_window(const LessonDef& lesson, const std::
 
 std::uint64_t SessionRecorder::dropped() const { return recorders_[0]->dropped() + recorders_[1]->dropped() + commands_->dropped(); }
 
+std::string SessionRecorder::failure() const {
+    for (int i = 0; i < 2; ++i) {
+        if (recorders_[i]->failed()) return std::string(file_names[i]) + ": " + recorders_[i]->failure();
+    }
+    if (commands_->failed()) return std::string(file_names[2]) + ": " + commands_->failure();
+    return {};
+}
+
 Result<void> SessionRecorder::write(const LessonDef& lesson, const std::string& kind, std::int64_t scored_us, std::int64_t end_us, double score,
                                     const World& world, const WindowRun* window) {
     for (auto& r : recorders_) r->flush();
     commands_->flush();
+    // A file the disk refused part of would not replay: no session.json makes it one.
+    if (const std::string why = failure(); !why.empty()) {
+        return make_error(ErrorCode::io_error, folder_.string() + ": not written whole (" + why + ")");
+    }
     nlohmann::ordered_json j;
     j["format"] = "ikebana-session/1";
     // A shipped lesson by its id (the recording then replays on another checkout), another by a copy

@@ -62,6 +62,9 @@ public:
     [[nodiscard]] AsyncLineWriter& commands() { return *commands_; }
     // Lines the rings dropped (real time, the disk seconds behind): a replay would part.
     [[nodiscard]] std::uint64_t dropped() const;
+    // A file the disk refused part of (full): "left.csv: No space left on device"; empty while whole.
+    // Said on stderr the moment it happens; finish() then refuses to call the recording a session.
+    [[nodiscard]] std::string failure() const;
     [[nodiscard]] const std::filesystem::path& folder() const { return folder_; }
 
 private:

@@ -23,3 +23,12 @@ TEST(Utf8, ReplacesWhatIsNotUtf8AndReadsWindows1252) {
     EXPECT_EQ(windows1252_to_utf8("Zo\xeb \x80 \x93quoted\x94 \xff"), "Zoë € “quoted” ÿ");
     EXPECT_TRUE(is_utf8(windows1252_to_utf8(std::string("\x81\x8d\x8f\x90\x9d\x00\x7f", 7)))) << "the five bytes 1252 leaves undefined too";
 }
+
+TEST(Utf8, TextFromDataReachesATerminalWithItsControlCharactersShownNotSent) {
+    EXPECT_EQ(terminal_text("plain text, caf\xc3\xa9\n\tand a tab"), "plain text, caf\xc3\xa9\n\tand a tab") << "line breaks and tabs stay";
+    EXPECT_EQ(terminal_text("\x1b]0;owned\x07title"), "\\x1b]0;owned\\x07title") << "an OSC title change is shown, not sent";
+    EXPECT_EQ(terminal_text("\x1b[2J\x1b[H"), "\\x1b[2J\\x1b[H") << "a screen clear";
+    EXPECT_EQ(terminal_text("a\xc2\x9b" "31mred"), "a\\x9b31mred") << "the C1 CSI, as UTF-8 encodes it";
+    EXPECT_EQ(terminal_text("\x7f\r"), "\\x7f\\x0d");
+    EXPECT_EQ(terminal_text("bad \xff byte"), "bad \xef\xbf\xbd byte") << "not UTF-8: U+FFFD";
+}

@@ -113,8 +113,8 @@ TEST_P(LaneAllocationInState, ASteadyTickAllocatesNothing) {
 
 INSTANTIATE_TEST_SUITE_P(WithTheDevice, LaneAllocationInState,
                          ::testing::Values(DeviceState::connected, DeviceState::silent, DeviceState::lost, DeviceState::unplugged, DeviceState::refusing),
-                         [](const ::testing::TestParamInfo<DeviceState>& info) {
-                             switch (info.param) {
+                         [](const ::testing::TestParamInfo<DeviceState>& param) {
+                             switch (param.param) {
                              case DeviceState::connected: return std::string("Connected");
                              case DeviceState::silent: return std::string("Silent");
                              case DeviceState::lost: return std::string("Lost");
