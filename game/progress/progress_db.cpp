@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <thread>
+
+#include <unistd.h>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -257,7 +259,42 @@ std::filesystem::path xdg_dir(const char* variable, const char* fallback) {
     return std::filesystem::path(home && *home ? home : ".") / ".local" / fallback;
 }
 
-Result<void> check_progress_path(const std::filesystem::path& path) { return check_regular_path(path); }
+namespace {
+// A database's folder: made only where the program keeps its own (the default, under
+// $XDG_DATA_HOME); a --db whose folder is missing is refused rather than made (a mistyped path once
+// made /nonexistent/dir as root, silently).
+Result<void> check_folder(const std::filesystem::path& path) {
+    const auto folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+    std::error_code ec;
+    if (std::filesystem::is_directory(folder, ec)) {
+        if (::access(folder.c_str(), W_OK | X_OK) != 0) return make_error(ErrorCode::io_error, path.string() + ": its folder " + folder.string() + " cannot be written to");
+        return {};
+    }
+    if (path == default_progress_path()) {
+        std::filesystem::create_directories(folder, ec);
+        if (ec) return make_error(ErrorCode::io_error, folder.string() + ": cannot be created: " + ec.message());
+        return {};
+    }
+    return make_error(ErrorCode::not_found, path.string() + ": its folder " + folder.string() + " does not exist (make it, or give another --db)");
+}
+} // namespace
+
+Result<void> check_progress_path(const std::filesystem::path& path) {
+    if (auto regular = check_regular_path(path); !regular) return regular;
+    // Everything a save will need, looked at before the work: the file, if there, is Ikebana's and
+    // may be written; if not, its folder is there and may be written (a read-only or foreign database
+    // was refused only after a whole demonstration had run).
+    std::error_code ec;
+    if (std::filesystem::exists(path, ec)) {
+        if (auto ours = check_existing(path); !ours) return ours.error();
+        if (::access(path.c_str(), W_OK) != 0) return make_error(ErrorCode::io_error, path.string() + ": read-only: the session could not be stored in it");
+    }
+    const auto folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+    if (!std::filesystem::is_directory(folder, ec) && path != default_progress_path()) {
+        return make_error(ErrorCode::not_found, path.string() + ": its folder " + folder.string() + " does not exist (make it, or give another --db)");
+    }
+    return {};
+}
 
 std::filesystem::path default_progress_path() { return xdg_dir("XDG_DATA_HOME", "share") / "ikebana" / "progress.sqlite"; }
 
@@ -287,9 +324,8 @@ Result<ProgressDb> ProgressDb::open(const std::filesystem::path& path) {
         auto needs_tables = check_existing(path);
         if (!needs_tables) return needs_tables.error();
         fresh = *needs_tables;
-    } else if (path.has_parent_path()) {
-        std::filesystem::create_directories(path.parent_path(), ec);
-        if (ec) return make_error(ErrorCode::io_error, path.parent_path().string() + ": cannot be created: " + ec.message());
+    } else if (auto folder = check_folder(path); !folder) {
+        return folder.error();
     }
     sqlite3* db = nullptr;
     if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOFOLLOW, nullptr) != SQLITE_OK) {

@@ -58,7 +58,7 @@ expect_refusal("history of a file that is not a database"
                "ikebana history: ${out}/notes.sqlite: not an Ikebana progress database (not an SQLite file);${left}"
                ${IKEBANA} history --db ${out}/notes.sqlite)
 expect_refusal("a demonstration that would be stored in it"
-               "ikebana lesson demo: the demonstration was not stored: ${out}/notes.sqlite: not an Ikebana progress database (not an SQLite file);${left}"
+               "ikebana lesson demo: --db: ${out}/notes.sqlite: not an Ikebana progress database (not an SQLite file);${left}"
                ${IKEBANA} lesson demo sogetsu_basic_upright --db ${out}/notes.sqlite)
 file(SHA256 ${out}/notes.sqlite after)
 if(NOT before STREQUAL after)
