@@ -174,6 +174,7 @@ Result<std::string> write_temporary(const std::filesystem::path& path, std::stri
 } // namespace
 
 Result<void> write_file_atomically(const std::filesystem::path& path, std::string_view bytes) {
+    if (path.empty()) return make_error(ErrorCode::invalid_argument, "an output file's name is empty");
     auto temporary = write_temporary(path, bytes);
     if (!temporary) return std::move(temporary).error();
     if (::rename(temporary->c_str(), path.c_str()) != 0) {
@@ -261,6 +262,7 @@ Result<void> OutputBatch::folder(const std::filesystem::path& path) {
 }
 
 Result<void> OutputBatch::add(const std::filesystem::path& path, std::string_view bytes) {
+    if (path.empty()) return make_error(ErrorCode::invalid_argument, "an output file's name is empty");
     for (const auto& staged : staged_) {
         if (staged.target == path) return make_error(ErrorCode::invalid_argument, path.string() + ": named twice as an output");
     }

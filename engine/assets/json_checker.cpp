@@ -90,6 +90,21 @@ std::string without_echo(std::string message) {
 }
 
 std::optional<Json> JsonChecker::parse(std::string_view text) {
+    // A NUL byte ends the parser's input early ("unexpected end of input" said nothing of it).
+    if (const auto nul = text.find('\0'); nul != std::string_view::npos) {
+        std::size_t line = 1;
+        std::size_t column = 1;
+        for (std::size_t i = 0; i < nul; ++i) {
+            if (text[i] == '\n') {
+                ++line;
+                column = 1;
+            } else {
+                ++column;
+            }
+        }
+        problems_.push_back(file_ + ":" + std::to_string(line) + ":" + std::to_string(column) + ": a NUL byte (0x00): not JSON text");
+        return std::nullopt;
+    }
     if (const auto deep = json_nesting_beyond(text, max_json_depth)) {
         problems_.push_back(file_ + ":" + std::to_string(deep->line) + ":" + std::to_string(deep->column) +
                             ": arrays and objects nest deeper than " + std::to_string(max_json_depth) + " levels");

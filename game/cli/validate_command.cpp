@@ -23,6 +23,16 @@ namespace ikebana::game {
 
 namespace {
 
+// A species' id is its file's name (`species check` holds every file to that): the extended species
+// written to ext.json is "ext", whatever the species it extends was called.
+std::string species_named_as_file(const std::string& json, const std::filesystem::path& path) {
+    auto root = nlohmann::ordered_json::parse(json, nullptr, false);
+    if (root.is_discarded() || !root.is_object()) return json;
+    root["id"] = path.stem().string();
+    return assets::json_text(root, 2) + "\n";
+}
+
+
 struct Args {
     std::string measured;
     std::string species;
@@ -230,13 +240,13 @@ int run_validate(Args& args) {
             path = species_output_path(args.write_species, c.species + "-" + std::to_string(k));
         }
         species_written.push_back(path);
-        if (auto w = outputs.add(species_written.back(), c.extended_species_json); !w) {
+        if (auto w = outputs.add(species_written.back(), species_named_as_file(c.extended_species_json, path)); !w) {
             std::cerr << "ikebana validate: " << w.error().message << "\n";
             return 1;
         }
     }
     if (!v.extended_species_json.empty() && !args.write_species.empty()) {
-        if (auto w = outputs.add(args.write_species, v.extended_species_json); !w) {
+        if (auto w = outputs.add(args.write_species, species_named_as_file(v.extended_species_json, args.write_species)); !w) {
             std::cerr << "ikebana validate: " << w.error().message << "\n";
             return 1;
         }
