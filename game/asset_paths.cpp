@@ -48,6 +48,15 @@ Result<std::filesystem::path> named_from(const std::filesystem::path& naming_fil
         return make_error(ErrorCode::invalid_argument, "\"" + named.string() + "\" is outside " + naming_file.filename().string() +
                                                            "'s folder and the assets folder: a data file names only files inside them");
     if (first_allowed && is_file(first)) return first;
+    // Beside the naming file by name, but a link that leads out of its folder: refused as such, not
+    // looked for in the assets folder instead (a species whose mesh was such a link was refused by
+    // `species check` and loaded by `sim` and `render`, which then drew a placeholder).
+    const auto relative = first.lexically_relative(folder.lexically_normal());
+    const bool lexically_inside = !relative.empty() && *relative.begin() != "..";
+    if (!naming_file.empty() && !first_allowed && !named.is_absolute() && lexically_inside && std::filesystem::is_symlink(first, ec)) {
+        return make_error(ErrorCode::invalid_argument, "\"" + named.string() + "\" beside " + naming_file.filename().string() +
+                                                           " is a link that leads outside its folder: a data file names only files inside it and the assets folder");
+    }
     const auto whole = std::filesystem::absolute(first, ec);
     const std::string looked = (ec ? first : whole).string() + (naming_file.empty() ? std::string(" (from the working directory)") : " (beside " + naming_file.filename().string() + ")") + " nor ";
     if (shipped_allowed && is_file(shipped)) return shipped;

@@ -357,16 +357,20 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
     if (!layout_file) return from_scene("/kenzan/layout", layout_file.error());
     auto kenzan = load_kenzan(layout_is_path ? layout_file->string() : scene.kenzan_layout);
     if (!kenzan) return from_scene("/kenzan/layout", kenzan.error());
-    for (std::size_t i = 0; i < scene.flowers.size(); ++i) {
-        const auto& f = scene.flowers[i];
-        if (w->species.contains(f.species)) continue;
+    // The flowers' species, and the sample's (one rule for every file a scene names: a sample stem of a
+    // species that does not load, or of /etc/passwd, was once drawn as a grey placeholder).
+    std::vector<std::pair<std::string, std::string>> named; // (species, the field that named it)
+    for (std::size_t i = 0; i < scene.flowers.size(); ++i) named.emplace_back(scene.flowers[i].species, "/flowers/" + std::to_string(i) + "/species");
+    for (std::size_t i = 0; i < scene.sample.size(); ++i) named.emplace_back(scene.sample[i].species, "/sample/" + std::to_string(i) + "/species");
+    for (const auto& [species, field] : named) {
+        if (w->species.contains(species)) continue;
         // A path is looked for beside the scene, then in the assets folder; an id is assets/species/<id>.json.
-        const bool is_path = f.species.find('/') != std::string::npos || f.species.ends_with(".json");
-        auto where = is_path ? named_from(scene.file, f.species) : Result<std::filesystem::path>(asset_dir() / "species" / (f.species + ".json"));
-        if (!where) return from_scene("/flowers/" + std::to_string(i) + "/species", where.error());
+        const bool is_path = species.find('/') != std::string::npos || species.ends_with(".json");
+        auto where = is_path ? named_from(scene.file, species) : Result<std::filesystem::path>(asset_dir() / "species" / (species + ".json"));
+        if (!where) return from_scene(field, where.error());
         auto sp = load_species_file(*where);
-        if (!sp) return from_scene("/flowers/" + std::to_string(i) + "/species", sp.error());
-        w->species.emplace(f.species, std::move(sp).value());
+        if (!sp) return from_scene(field, sp.error());
+        w->species.emplace(species, std::move(sp).value());
     }
     {
         components::Kenzan placed = *kenzan;
