@@ -29,7 +29,13 @@ int make_report(const ReportArgs& args) {
     std::printf("%s, %s: %.0f / 100%s\n", report->lesson.title.c_str(), report->session.trainee.empty() ? "a trainee" : report->session.trainee.c_str(),
                 report->session.result.score, report->in_database ? "" : " (not in the progress database: replayed from its recording, no trend)");
     std::printf("wrote %s and %s\n", (std::filesystem::path(args.out) / "report.png").string().c_str(), (std::filesystem::path(args.out) / "report.pdf").string().c_str());
-    return 0;
+    // Whether the page shows what the recording replays to; the status says it too (0 only when it does).
+    if (report->checked && report->replays) {
+        std::printf("%s\n", report->replay_check.c_str());
+        return 0;
+    }
+    std::cerr << "ikebana report: " << report->replay_check << "\n";
+    return 1;
 }
 
 } // namespace

@@ -288,6 +288,12 @@ void draw_page(cairo_t* cr, const SessionReport& r) {
     if (const std::string when = date_of(s.started_unix_s); !when.empty()) who += ", " + when + " UTC";
     cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
     page_text(cr, 30.0, 62.0, who, 12.0);
+    if (!r.replay_check.empty()) {
+        // Whether what the page shows is what the recording replays to.
+        if (r.checked && r.replays) cairo_set_source_rgb(cr, 0.2, 0.55, 0.3);
+        else cairo_set_source_rgb(cr, 0.8, 0.2, 0.15);
+        page_text(cr, 30.0, 76.0, r.replay_check, 10.0);
+    }
     char score[32];
     std::snprintf(score, sizeof score, "%.0f / 100", s.result.score);
     cairo_set_source_rgb(cr, 0.05, 0.05, 0.05);
@@ -304,6 +310,12 @@ void draw_page(cairo_t* cr, const SessionReport& r) {
 // The session's lesson, its kenzan and its model arrangement.
 Result<void> with_lesson(SessionReport& r) {
     auto lesson = load_lesson(r.session.lesson);
+    // A lesson given as a file travels with its recording (lesson.json beside session.json).
+    if (!lesson && !r.session.recording.empty()) {
+        std::error_code ec;
+        const auto copy = std::filesystem::path(r.session.recording) / "lesson.json";
+        if (std::filesystem::is_regular_file(copy, ec)) lesson = load_lesson(copy.string());
+    }
     if (!lesson) return make_error(lesson.error().code, "its lesson: " + lesson.error().message);
     r.lesson = std::move(lesson).value();
     auto kenzan = footprint_of(r.lesson);
@@ -317,14 +329,15 @@ Result<void> with_lesson(SessionReport& r) {
 
 Result<SessionReport> load_session_report(const std::filesystem::path& recording, const std::filesystem::path& db) {
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(recording / "session.json", ec)) {
-        return make_error(ErrorCode::not_found, recording.string() + ": not a session's recording (no session.json in it)");
-    }
+    const bool recorded = std::filesystem::is_regular_file(recording / "session.json", ec);
     SessionReport r;
     if (auto progress = ProgressDb::open_read_only(db)) {
         auto sessions = progress->sessions();
         if (!sessions) return std::move(sessions).error();
-        const auto found = std::find_if(sessions->begin(), sessions->end(), [&](const SessionRecord& s) { return !s.recording.empty() && same_folder(s.recording, recording); });
+        const auto found = std::find_if(sessions->begin(), sessions->end(), [&](const SessionRecord& s) {
+            return !s.recording.empty() && (same_folder(s.recording, recording) ||
+                                            (!recorded && std::filesystem::path(s.recording).lexically_normal() == std::filesystem::absolute(recording, ec).lexically_normal()));
+        });
         if (found != sessions->end()) {
             r.session = *found;
             r.in_database = true;
@@ -335,14 +348,40 @@ Result<SessionReport> load_session_report(const std::filesystem::path& recording
     } else if (progress.error().code != ErrorCode::not_found) {
         return std::move(progress).error();
     }
-    if (!r.in_database) {
-        auto replayed = replay_lesson_session(recording);
-        if (!replayed) return make_error(replayed.error().code, recording.string() + ": " + replayed.error().message);
-        r.session.lesson = replayed->score.lesson;
-        r.session.kind = replayed->kind;
-        r.session.result = std::move(replayed->score);
-        r.session.recording = recording.string();
+    if (!recorded) {
+        // The folder is gone, but the database holds everything the page shows: reported, unchecked.
+        if (!r.in_database) return make_error(ErrorCode::not_found, recording.string() + ": not a session's recording (no session.json in it)");
+        r.replay_check = "not checked against its recording: " + recording.string() + " is gone";
+        if (auto done = with_lesson(r); !done) return make_error(done.error().code, recording.string() + ": " + done.error().message);
+        return r;
     }
+    // The recording replayed, as `replay --json` does: what the page shows is what it replays to, or the
+    // page says it is not (a recording edited by hand, another lesson swapped in).
+    auto replayed = replay_lesson_session(recording);
+    if (!replayed) {
+        if (!r.in_database) return make_error(replayed.error().code, recording.string() + ": " + replayed.error().message);
+        r.replay_check = "not checked: the recording does not replay (" + replayed.error().message + ")";
+    } else {
+        r.checked = true;
+        const bool same_hash = replayed->state_hash == replayed->recorded_state_hash;
+        const bool same_score = std::abs(replayed->score.score - replayed->recorded_score) < 1e-6;
+        const bool as_stored = !r.in_database || std::abs(replayed->score.score - r.session.result.score) < 0.05;
+        r.replays = same_hash && same_score && as_stored;
+        char words[200];
+        if (r.replays) {
+            std::snprintf(words, sizeof words, "checked: its recording replays to this result (%.1f, the same final state)", replayed->score.score);
+        } else {
+            std::snprintf(words, sizeof words, "NOT what its recording replays to: %.1f against %.1f stored%s", replayed->score.score,
+                          r.in_database ? r.session.result.score : replayed->recorded_score, same_hash ? "" : ", another final state");
+        }
+        r.replay_check = words;
+        if (!r.in_database) {
+            r.session.lesson = replayed->score.lesson;
+            r.session.kind = replayed->kind;
+            r.session.result = std::move(replayed->score);
+        }
+    }
+    if (!r.in_database) r.session.recording = recording.string();
     if (auto done = with_lesson(r); !done) return make_error(done.error().code, recording.string() + ": " + done.error().message);
     return r;
 }

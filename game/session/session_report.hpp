@@ -21,11 +21,18 @@ struct SessionReport {
     KenzanFootprint kenzan;
     std::vector<SessionRecord> trend;  // the same trainee's sessions of the lesson up to this one, oldest first
     bool in_database = false;          // false: replayed from its recording, no trend
+    // Whether the recording replays to its stored result, checked as `replay --json` does (and against
+    // the database's score when it holds the session): said on the page and in `report`'s exit status.
+    // `replay_check` says what was found, or why it could not be checked (the folder gone).
+    bool checked = false;
+    bool replays = false;
+    std::string replay_check;
 };
 
 // The session recorded in `recording` (a folder with session.json, as `history --json` gives it):
 // from the progress database at `db` when it holds it (with the trend), else replayed from the
-// recording. Errors name the folder or the file.
+// recording; either way the recording is replayed and checked against its stored result. A folder
+// that is gone is reported from the database alone (not checked). Errors name the folder or the file.
 Result<SessionReport> load_session_report(const std::filesystem::path& recording, const std::filesystem::path& db);
 // A session in hand (the app's, after Enter), its trend from `db` (none when it is not there) and its
 // lesson's model.

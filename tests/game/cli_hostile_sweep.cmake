@@ -259,3 +259,48 @@ if(check_rc EQUAL 0 OR rc EQUAL 0 OR NOT stderr MATCHES "is a link that leads ou
   message(FATAL_ERROR "a mesh link out of the folder: species check exit ${check_rc}, sim exit ${rc}: ${stderr}")
 endif()
 message(STATUS "a mesh link out of its folder is refused by species check and by sim")
+
+# 4. `report` checks what `replay` checks: a recording edited by hand is reported as not what it
+#    replays to (exit 1); a session of a lesson given as a file is reported from the lesson.json in its
+#    recording; a session whose folder was deleted is reported from the database, said unchecked.
+file(READ ${ASSETS}/lessons/ohara_rising_form.json lesson)
+string(REPLACE "\"id\": \"ohara_rising_form\"" "\"id\": \"ohara_plain\"" lesson "${lesson}")
+file(WRITE ${out}/ohara_plain.json "${lesson}")
+file(REMOVE_RECURSE ${out}/plain_rec ${out}/plain_report)
+execute_process(COMMAND ${IKEBANA} lesson demo ${out}/ohara_plain.json --record ${out}/plain_rec --db ${out}/reports.sqlite
+                RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr TIMEOUT 300)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "the demonstration of a lesson file: exit ${rc}: ${stderr}")
+endif()
+execute_process(COMMAND ${IKEBANA} report ${out}/plain_rec --out ${out}/plain_report --db ${out}/reports.sqlite
+                RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr TIMEOUT 300)
+if(NOT rc EQUAL 0 OR NOT stdout MATCHES "checked: its recording replays to this result")
+  message(FATAL_ERROR "a report of a lesson given as a file: exit ${rc}: ${stdout}${stderr}")
+endif()
+# Its score edited by hand.
+file(READ ${out}/plain_rec/session.json session)
+string(REGEX REPLACE "\"score\": [0-9.]+" "\"score\": 12.5" edited "${session}")
+file(WRITE ${out}/plain_rec/session.json "${edited}")
+execute_process(COMMAND ${IKEBANA} report ${out}/plain_rec --out ${out}/edited_report --db ${out}/nowhere.sqlite
+                RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr TIMEOUT 300)
+if(rc EQUAL 0 OR NOT stderr MATCHES "ikebana report: NOT what its recording replays to: [0-9.]+ against 12.5 stored")
+  message(FATAL_ERROR "an edited recording: exit ${rc}: ${stdout}${stderr}")
+endif()
+if(NOT EXISTS ${out}/edited_report/report.png)
+  message(FATAL_ERROR "an edited recording: no page saying so")
+endif()
+# The folder deleted: the database still holds the session (of a shipped lesson: a lesson given as a
+# file went with its folder).
+file(REMOVE_RECURSE ${out}/shipped_rec)
+execute_process(COMMAND ${IKEBANA} lesson demo ohara_rising_form --record ${out}/shipped_rec --db ${out}/reports.sqlite
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE stderr TIMEOUT 300)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "the demonstration: exit ${rc}: ${stderr}")
+endif()
+file(REMOVE_RECURSE ${out}/shipped_rec)
+execute_process(COMMAND ${IKEBANA} report ${out}/shipped_rec --out ${out}/gone_report --db ${out}/reports.sqlite
+                RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr TIMEOUT 300)
+if(rc EQUAL 0 OR NOT stderr MATCHES "not checked against its recording: [^\n]*shipped_rec is gone" OR NOT EXISTS ${out}/gone_report/report.png)
+  message(FATAL_ERROR "a deleted recording: exit ${rc}: ${stdout}${stderr}")
+endif()
+message(STATUS "report checks its recording as replay does, reads a lesson file from it, and reports a deleted one from the database")
