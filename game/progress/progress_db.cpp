@@ -334,42 +334,54 @@ Result<ProgressDb> ProgressDb::open(const std::filesystem::path& path) {
         return e;
     }
     ProgressDb out(db, path);
-    sqlite3_busy_timeout(db, open_wait_ms);
-    if (fresh) {
-        // Two stations started at once on a new file both find it empty: the first to hold the write
-        // lock makes the tables, and the other, let in after it, finds them made.
-        if (auto r = exec(db, path, "BEGIN IMMEDIATE", "cannot be started"); !r) return r.error();
-        int code = SQLITE_OK;
-        const auto app = single_integer(db, "PRAGMA application_id", code);
-        if (app && *app == application_id) {
-            if (auto r = exec(db, path, "COMMIT", "cannot be started"); !r) return r.error();
-        } else {
-            char init[160];
-            std::snprintf(init, sizeof init, "PRAGMA application_id = %d; PRAGMA user_version = %d;", application_id, schema_version);
-            if (auto r = exec(db, path, init, "cannot be started"); !r) {
-                (void)exec(db, path, "ROLLBACK", "");
-                return r.error();
+    // Everything that makes the file ours, as one step: a file this open made and could not finish (a
+    // full disk) is removed with whatever SQLite put beside it, not left as a 0-byte database.
+    const auto set_up = [&]() -> Result<void> {
+        sqlite3_busy_timeout(db, open_wait_ms);
+        if (fresh) {
+            // Two stations started at once on a new file both find it empty: the first to hold the write
+            // lock makes the tables, and the other, let in after it, finds them made.
+            if (auto r = exec(db, path, "BEGIN IMMEDIATE", "cannot be started"); !r) return r;
+            int code = SQLITE_OK;
+            const auto app = single_integer(db, "PRAGMA application_id", code);
+            if (app && *app == application_id) {
+                if (auto r = exec(db, path, "COMMIT", "cannot be started"); !r) return r;
+            } else {
+                char init[160];
+                std::snprintf(init, sizeof init, "PRAGMA application_id = %d; PRAGMA user_version = %d;", application_id, schema_version);
+                if (auto r = exec(db, path, init, "cannot be started"); !r) {
+                    (void)exec(db, path, "ROLLBACK", "");
+                    return r;
+                }
+                if (auto r = exec(db, path, schema_sql, "cannot be started"); !r) {
+                    (void)exec(db, path, "ROLLBACK", "");
+                    return r;
+                }
+                if (auto r = exec(db, path, "COMMIT", "cannot be started"); !r) return r;
             }
-            if (auto r = exec(db, path, schema_sql, "cannot be started"); !r) {
-                (void)exec(db, path, "ROLLBACK", "");
-                return r.error();
-            }
-            if (auto r = exec(db, path, "COMMIT", "cannot be started"); !r) return r.error();
         }
+        // A killed app loses at most the session it was writing: each commit is in the log before it
+        // returns (FULL), and the log survives the process.
+        // Turning the log on takes the file alone, and SQLite answers busy at once rather than call the
+        // busy handler while another station has it open (two stations started on a new file: 4 runs in
+        // 40 of the two-stations test failed here): tried again until the open's wait is over.
+        const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(open_wait_ms);
+        for (;;) {
+            auto r = exec(db, path, "PRAGMA journal_mode = WAL", "cannot be set up");
+            if (r) break;
+            if (r.error().code != ErrorCode::busy || std::chrono::steady_clock::now() > until) return r;
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        if (auto r = exec(db, path, "PRAGMA synchronous = FULL; PRAGMA foreign_keys = ON;", "cannot be set up"); !r) return r;
+        return {};
+    };
+    if (auto ready = set_up(); !ready) {
+        if (!exists) {
+            out = ProgressDb(nullptr, path);
+            for (const char* suffix : {"", "-wal", "-shm", "-journal"}) std::filesystem::remove(path.string() + suffix, ec);
+        }
+        return ready.error();
     }
-    // A killed app loses at most the session it was writing: each commit is in the log before it
-    // returns (FULL), and the log survives the process.
-    // Turning the log on takes the file alone, and SQLite answers busy at once rather than call the
-    // busy handler while another station has it open (two stations started on a new file: 4 runs in
-    // 40 of the two-stations test failed here): tried again until the open's wait is over.
-    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(open_wait_ms);
-    for (;;) {
-        auto r = exec(db, path, "PRAGMA journal_mode = WAL", "cannot be set up");
-        if (r) break;
-        if (r.error().code != ErrorCode::busy || std::chrono::steady_clock::now() > until) return r.error();
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    if (auto r = exec(db, path, "PRAGMA synchronous = FULL; PRAGMA foreign_keys = ON;", "cannot be set up"); !r) return r.error();
     // Another window of the app saving at the same moment: saves run on the frame's lane, so no long
     // waits there (a save that finds the file busy is tried again: StoredSessions).
     sqlite3_busy_timeout(db, save_wait_ms);
