@@ -251,10 +251,28 @@ Result<std::vector<SessionCommand>> parse_session_commands(std::string_view text
     return commands;
 }
 
+namespace {
+// A recording's own files are read as files inside its folder: one that is a link leading out of it
+// (to a secret, say, whose first cell an error message would then echo) is refused, as a data file's
+// named files are (named_from).
+Result<void> inside_recording(const std::filesystem::path& folder, const std::filesystem::path& file) {
+    std::error_code ec;
+    if (!std::filesystem::is_symlink(file, ec)) return {};
+    const auto target = std::filesystem::weakly_canonical(file, ec);
+    const auto root = std::filesystem::weakly_canonical(folder, ec);
+    const auto [r, t] = std::mismatch(root.begin(), root.end(), target.begin(), target.end());
+    if (!ec && r == root.end()) return {};
+    return make_error(ErrorCode::invalid_argument, file.string() + ": a link that leads out of the recording's folder: its files are read only inside it");
+}
+} // namespace
+
 Result<std::unique_ptr<SessionPlayback>> SessionPlayback::open(const std::filesystem::path& folder) {
     auto p = std::unique_ptr<SessionPlayback>(new SessionPlayback());
     p->session_file_ = folder / "session.json";
     const auto& session_file = p->session_file_;
+    for (const char* name : {"session.json", "commands.csv", "left.csv", "right.csv"}) {
+        if (auto inside = inside_recording(folder, folder / name); !inside) return inside.error();
+    }
     auto text = assets::read_text_file(session_file);
     if (!text) return std::move(text).error();
     auto info = parse_session(*text, session_file.string());

@@ -328,3 +328,16 @@ if(rc EQUAL 0 OR NOT stderr MATCHES "not checked against its recording: [^\n]*sh
   message(FATAL_ERROR "a deleted recording: exit ${rc}: ${stdout}${stderr}")
 endif()
 message(STATUS "report checks its recording as replay does, reads a lesson file from it, and reports a deleted one from the database")
+
+# 6c. A recording's files are read only inside its folder: a left.csv that links to a secret is refused,
+#     and the secret is never echoed.
+file(REMOVE_RECURSE ${out}/linked_rec)
+execute_process(COMMAND ${IKEBANA} lesson demo ohara_rising_form --record ${out}/linked_rec --no-history RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET TIMEOUT 300)
+file(WRITE ${out}/secret.csv "SECRET_TOKEN_abc,1,2\n")
+file(REMOVE ${out}/linked_rec/left.csv)
+file(CREATE_LINK ${out}/secret.csv ${out}/linked_rec/left.csv SYMBOLIC)
+execute_process(COMMAND ${IKEBANA} replay ${out}/linked_rec --json - RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr TIMEOUT 300)
+if(rc EQUAL 0 OR NOT stderr MATCHES "left.csv: a link that leads out of the recording's folder" OR "${stdout}${stderr}" MATCHES "SECRET_TOKEN")
+  message(FATAL_ERROR "a recording's file linked out of its folder: exit ${rc}: ${stdout}${stderr}")
+endif()
+message(STATUS "a recording's files are read only inside its folder")
