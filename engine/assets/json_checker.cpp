@@ -1,5 +1,6 @@
 #include "engine/assets/json_checker.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -89,20 +90,27 @@ std::string without_echo(std::string message) {
     return message;
 }
 
+namespace {
+// "LINE:COLUMN" of the byte at `offset`, which an editor can jump to.
+std::string line_column(std::string_view text, std::size_t offset) {
+    std::size_t line = 1;
+    std::size_t column = 1;
+    for (std::size_t i = 0; i < std::min(offset, text.size()); ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            column = 1;
+        } else {
+            ++column;
+        }
+    }
+    return std::to_string(line) + ":" + std::to_string(column);
+}
+} // namespace
+
 std::optional<Json> JsonChecker::parse(std::string_view text) {
     // A NUL byte ends the parser's input early ("unexpected end of input" said nothing of it).
     if (const auto nul = text.find('\0'); nul != std::string_view::npos) {
-        std::size_t line = 1;
-        std::size_t column = 1;
-        for (std::size_t i = 0; i < nul; ++i) {
-            if (text[i] == '\n') {
-                ++line;
-                column = 1;
-            } else {
-                ++column;
-            }
-        }
-        problems_.push_back(file_ + ":" + std::to_string(line) + ":" + std::to_string(column) + ": a NUL byte (0x00): not JSON text");
+        problems_.push_back(file_ + ":" + line_column(text, nul) + ": a NUL byte (0x00): not JSON text");
         return std::nullopt;
     }
     if (const auto deep = json_nesting_beyond(text, max_json_depth)) {
@@ -113,21 +121,9 @@ std::optional<Json> JsonChecker::parse(std::string_view text) {
     try {
         return Json::parse(text.begin(), text.end());
     } catch (const Json::parse_error& e) {
-        // Turn the byte offset into line:column, which an editor can jump to.
-        std::size_t line = 1;
-        std::size_t column = 1;
-        const std::size_t end = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
-        for (std::size_t i = 0; i < end; ++i) {
-            if (text[i] == '\n') {
-                ++line;
-                column = 1;
-            } else {
-                ++column;
-            }
-        }
         std::string what = without_echo(e.what());
         if (const auto at = what.find("syntax error"); at != std::string::npos) what = what.substr(at);
-        problems_.push_back(file_ + ":" + std::to_string(line) + ":" + std::to_string(column) + ": not valid JSON: " + what);
+        problems_.push_back(file_ + ":" + line_column(text, e.byte > 0 ? e.byte - 1 : 0) + ": not valid JSON: " + what);
         return std::nullopt;
     } catch (const Json::out_of_range& e) {
         // A number too large for a double ("1e400"): nlohmann names the number but not where it is.
