@@ -82,6 +82,12 @@ SessionRecord session(const std::string& lesson, const std::string& trainee, dou
 TEST(ProgressDb, ASessionIsReadBackWithItsCriteriaRulesFlowersAndArrangement) {
     const auto path = fresh_dir() / "deeper" / "progress.sqlite";
     {
+        // A folder that is not there is not made (a mistyped --db made folders as root): refused.
+        auto refused = ProgressDb::open(path);
+        ASSERT_FALSE(refused);
+        EXPECT_NE(refused.error().message.find("deeper does not exist (make it, or give another --db)"), std::string::npos) << refused.error().message;
+        EXPECT_FALSE(std::filesystem::exists(path.parent_path()));
+        std::filesystem::create_directories(path.parent_path());
         auto db = ProgressDb::open(path);
         ASSERT_TRUE(db) << db.error().message;
         auto s = session("sogetsu_basic_upright", "mika", 72.5, 1'700'000'000);
