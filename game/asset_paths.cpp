@@ -15,8 +15,6 @@ std::filesystem::path asset_path(const std::filesystem::path& relative) {
     return relative.is_absolute() ? relative : asset_dir() / relative;
 }
 
-namespace {
-// Whether `path`, its links and ../ resolved, lies below `folder`.
 bool below(const std::filesystem::path& folder, const std::filesystem::path& path) {
     std::error_code ec;
     const auto root = std::filesystem::weakly_canonical(folder, ec);
@@ -26,7 +24,6 @@ bool below(const std::filesystem::path& folder, const std::filesystem::path& pat
     const auto [r, t] = std::mismatch(root.begin(), root.end(), target.begin(), target.end());
     return r == root.end();
 }
-} // namespace
 
 Result<std::filesystem::path> named_from(const std::filesystem::path& naming_file, const std::filesystem::path& named) {
     if (named.empty()) return make_error(ErrorCode::invalid_argument, "an empty path names no file");

@@ -16,6 +16,8 @@ namespace ikebana::game {
 // a path that leads outside both (absolute, ../, a link out) is refused as such (invalid_argument),
 // whether or not a file is there. Found in neither: not_found, saying where it looked. Without a naming
 // file (a path from the command line, a scene made in code), any path, the working directory first.
+// Whether `path`, its links and ../ resolved, lies below `folder` (false where either cannot be resolved).
+[[nodiscard]] bool below(const std::filesystem::path& folder, const std::filesystem::path& path);
 [[nodiscard]] Result<std::filesystem::path> named_from(const std::filesystem::path& naming_file, const std::filesystem::path& named);
 
 } // namespace ikebana::game
