@@ -36,6 +36,13 @@ public:
     [[nodiscard]] std::size_t size() const noexcept { return dense_.size(); }
     [[nodiscard]] const std::vector<Entity>& entities() const noexcept { return dense_; }
     [[nodiscard]] std::uint32_t position(Entity e) const noexcept { return sparse_[e.index]; }
+    // Room for entities with index below `entity_slots` and for `more` components beyond those held:
+    // inserting them later allocates nothing (a structural change on a 1 kHz lane).
+    void reserve(std::size_t entity_slots, std::size_t more) {
+        sparse_.reserve(entity_slots);
+        dense_.reserve(dense_.size() + more);
+        reserve_payload(dense_.size() + more);
+    }
 
     // Removes e if present; the type-erased path the registry uses when an entity is destroyed.
     bool erase(Entity e) {
@@ -79,6 +86,7 @@ protected:
         return sparse_[e.index];
     }
     virtual void swap_and_pop_payload(std::uint32_t pos) = 0;
+    virtual void reserve_payload(std::size_t count) = 0;
     virtual void clear_payload() = 0;
     virtual void swap_payload(SparseSet& other) noexcept = 0;
 
@@ -124,6 +132,7 @@ private:
         payload_.pop_back();
     }
     void clear_payload() override { payload_.clear(); }
+    void reserve_payload(std::size_t count) override { payload_.reserve(count); }
     void swap_payload(SparseSet& other) noexcept override { payload_.swap(static_cast<Storage&>(other).payload_); }
 
     std::vector<T> payload_;
@@ -152,6 +161,7 @@ public:
 private:
     void swap_and_pop_payload(std::uint32_t) override {}
     void clear_payload() override {}
+    void reserve_payload(std::size_t) override {}
     void swap_payload(SparseSet&) noexcept override {}
     static inline T instance_{};
 };

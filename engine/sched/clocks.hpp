@@ -25,6 +25,9 @@ namespace ikebana::sched {
 // between systems and on threads that run none. For checks that hold per lane (tests count the
 // allocations made while the 1 kHz lane runs).
 [[nodiscard]] const char* running_lane() noexcept;
+// And the system's name (engine/sched/schedule.cpp sets it while the system runs and while its queued
+// changes are applied); nullptr between systems.
+[[nodiscard]] const char* running_system() noexcept;
 
 class DeterministicClock {
 public:

@@ -41,8 +41,23 @@ std::shared_ptr<const ecs::AccessMask> mask_of(const SystemDesc& d) {
 }
 } // namespace
 
+namespace {
+thread_local const char* system_running = nullptr;
+// Names the system this thread runs, for as long as it runs (and its queued changes are applied).
+struct SystemTag {
+    explicit SystemTag(const char* name) noexcept : previous(system_running) { system_running = name; }
+    ~SystemTag() { system_running = previous; }
+    SystemTag(const SystemTag&) = delete;
+    SystemTag& operator=(const SystemTag&) = delete;
+    const char* previous;
+};
+} // namespace
+
+const char* running_system() noexcept { return system_running; }
+
 void ScheduledSystem::fire(ecs::Registry& registry) {
     SystemContext ctx{registry, next_due_us, dt_s(), firing};
+    const SystemTag tag(desc.name.c_str());
     {
         const AccessScope scope(registry, access.get());
         desc.run(ctx);

@@ -26,12 +26,22 @@ std::array<int, kept_traces> trace_sizes{};
 std::array<std::uint64_t, kept_traces> trace_counts{};
 std::atomic<int> sites{0};
 thread_local bool inside = false; // backtrace() may allocate the first time
+std::array<std::atomic<const char*>, 4> counted_systems{}; // all null: every system of the lane
 
 void note(std::size_t) noexcept {
     const char* lane = counted_lane.load(std::memory_order_relaxed);
     if (!lane || inside) return;
     const char* running = sched::running_lane();
     if (!running || std::strcmp(running, lane) != 0) return;
+    if (counted_systems[0].load(std::memory_order_relaxed)) {
+        const char* system = sched::running_system();
+        bool listed = false;
+        for (const auto& name : counted_systems) {
+            const char* n = name.load(std::memory_order_relaxed);
+            listed = listed || (n && system && std::strcmp(n, system) == 0);
+        }
+        if (!listed) return;
+    }
     counted.fetch_add(1, std::memory_order_relaxed);
     inside = true;
     std::array<void*, trace_depth> trace{};
@@ -68,12 +78,21 @@ void* allocate(std::size_t size, std::size_t alignment = 0) {
 
 void count_allocations_in_lane(const char* lane) {
     if (lane) {
+        for (auto& name : counted_systems) name.store(nullptr);
         counted.store(0);
         trace_sizes.fill(0);
         trace_counts.fill(0);
         sites.store(0);
     }
     counted_lane.store(lane);
+}
+
+void count_allocations_in_systems(const char* lane, std::initializer_list<const char*> systems) {
+    count_allocations_in_lane(lane);
+    std::size_t i = 0;
+    for (const char* name : systems) {
+        if (i < counted_systems.size()) counted_systems[i++].store(name);
+    }
 }
 
 std::uint64_t allocations_counted() { return counted.load(); }
