@@ -30,6 +30,7 @@
 #include "systems/haptics/workspace_view_system.hpp"
 #include "systems/insertion/deterioration.hpp"
 #include "systems/insertion/insertion_module.hpp"
+#include "systems/insertion/structure_reserve.hpp"
 #include "systems/physics/physics_module.hpp"
 #include "systems/physics/stem_builder.hpp"
 #include "systems/presentation/frame_channel.hpp"
@@ -456,6 +457,8 @@ Result<std::unique_ptr<World>> World::create(const SceneDef& scene, const WorldO
                                                                                h.trajectory));
         }
     }
+    // What a cut or pruning needs at run time, made now: on the 1 kHz lane they allocate nothing.
+    systems::reserve_structure_changes(r);
     // The sample to copy, drawn beside the kenzan in every frame (the window's, `render`'s).
     auto& scenery = w->main.set_resource<Scenery>();
     add_sample_to_draw_list(scenery.list, *w, scene.sample);

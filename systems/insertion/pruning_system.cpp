@@ -18,13 +18,7 @@ using namespace components;
 namespace {
 
 // The nearest thing a hand at `at` can prune, within `reach` of it.
-struct Found {
-    double distance_m = std::numeric_limits<double>::infinity();
-    ecs::Entity flower = ecs::null_entity; // whose Twigs list it is on
-    ecs::Entity twig = ecs::null_entity;   // a twig to cut off at its fork
-    ecs::Entity part = ecs::null_entity;   // or a leaf or blossom to strip
-    ecs::Entity owner = ecs::null_entity;  // the stem or twig the part grows on
-};
+using Found = PruningSystem::Found;
 
 double to_segment(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b) {
     const glm::dvec3 ab = b - a;
@@ -71,43 +65,91 @@ ecs::Entity loose_stem(ecs::Registry& r, const std::vector<glm::dvec3>& x, doubl
     return e;
 }
 
-void prune(ecs::Registry& r, const Found& found) {
-    const std::string species = r.all_of<Flower>(found.flower) ? r.get<const Flower>(found.flower).species : std::string{};
-    const auto* found_look = r.try_get<const FlowerLook>(found.flower);
-    const std::optional<FlowerLook> look_copy = found_look ? std::optional<FlowerLook>(*found_look) : std::nullopt; // emplacing may move it
-    const FlowerLook* look = look_copy ? &*look_copy : nullptr;
+// `v` turned by the least rotation that takes +z to `dir` (a unit vector).
+glm::dvec3 turned_from_up(glm::dvec3 v, glm::dvec3 dir) {
+    const glm::dvec3 axis{-dir.y, dir.x, 0.0}; // z x dir
+    const double sin_angle = glm::length(axis);
+    if (sin_angle < 1e-12) return dir.z > 0.0 ? v : glm::dvec3{v.x, -v.y, -v.z}; // half a turn about x
+    const glm::dvec3 k = axis / sin_angle;
+    const double cos_angle = dir.z;
+    return v * cos_angle + glm::cross(k, v) * sin_angle + k * glm::dot(k, v) * (1.0 - cos_angle);
+}
+
+// The stalk from its kit (built upright at the origin when the scene loaded): turned to `dir` and moved to
+// `base`, its components moved in (their storage and the stalk's list of children have room: nothing is
+// allocated).
+ecs::Entity stalk_from(ecs::Registry& r, StalkKit& kit, glm::dvec3 base, glm::dvec3 dir) {
+    for (auto& x : kit.points.position_m) x = base + turned_from_up(x, dir);
+    for (auto* list : {&kit.frame.director, &kit.frame.segment_direction, &kit.frame.held_director, &kit.frame.held_at}) {
+        for (auto& d : *list) d = turned_from_up(d, dir);
+    }
+    const ecs::Entity e = r.create();
+    r.emplace<StemPoints>(e, std::move(kit.points));
+    r.emplace<StemRestShape>(e, std::move(kit.rest));
+    r.emplace<StemSprings>(e, std::move(kit.springs));
+    r.emplace<StemFrame>(e, std::move(kit.frame));
+    r.emplace<StemLoads>(e, std::move(kit.loads));
+    r.emplace<Cutting>(e, std::move(kit.cutting));
+    if (kit.look) r.emplace<FlowerLook>(e, std::move(*kit.look));
+    r.emplace<ecs::Children>(e, std::move(kit.children));
+    kit.used = true;
+    return e;
+}
+
+void prune(ecs::Registry& r, const Found& found, StructureReserve* reserve) {
+    // What it keeps of its flower (its species, its look) comes from its kit; a flower without one (added
+    // after the scene loaded) has them copied here.
+    const auto copy_species = [&] { return r.all_of<Flower>(found.flower) ? r.get<const Flower>(found.flower).species : std::string{}; };
+    const auto copy_look = [&] {
+        const auto* look = r.try_get<const FlowerLook>(found.flower);
+        return look ? std::optional<FlowerLook>(*look) : std::nullopt;
+    };
     if (!found.twig.is_null()) {
-        // Off at its fork: it and its own twigs leave the flower's list; it keeps them as a loose branch.
+        // Off at its fork: it and its own twigs leave the flower's list; it keeps them as a loose branch
+        // (the list is in order, every twig after the one it grows from).
+        LooseBranchKit* kit = reserve ? reserve->branch_for(found.twig) : nullptr;
+        Twigs own;
+        auto& going = kit ? kit->twigs.entities : own.entities;
+        going.clear();
         auto& list = r.get<Twigs>(found.flower).entities;
-        std::vector<ecs::Entity> going{found.twig};
+        const auto is_going = [&](ecs::Entity t) { return std::find(going.begin(), going.end(), t) != going.end(); };
         for (const ecs::Entity t : list) {
             const auto* fork = r.try_get<StemFork>(t);
-            if (fork && std::find(going.begin(), going.end(), fork->parent) != going.end()) going.push_back(t);
+            if (fork && (fork->parent == found.twig || is_going(fork->parent))) going.push_back(t);
         }
-        std::erase_if(list, [&](ecs::Entity t) { return std::find(going.begin(), going.end(), t) != going.end(); });
+        std::erase_if(list, [&](ecs::Entity t) { return t == found.twig || is_going(t); });
         if (list.empty()) r.remove<Twigs>(found.flower);
         r.remove<StemFork>(found.twig);
-        if (going.size() > 1) r.emplace<Twigs>(found.twig, Twigs{std::vector<ecs::Entity>(going.begin() + 1, going.end())});
-        r.emplace<Cutting>(found.twig, Cutting{species});
-        if (look) r.emplace<FlowerLook>(found.twig, *look);
+        if (!going.empty()) r.emplace<Twigs>(found.twig, std::move(kit ? kit->twigs : own));
+        if (kit) {
+            r.emplace<Cutting>(found.twig, std::move(kit->cutting));
+            if (kit->look) r.emplace<FlowerLook>(found.twig, std::move(*kit->look));
+            kit->used = true;
+        } else {
+            r.emplace<Cutting>(found.twig, Cutting{copy_species()});
+            if (auto look = copy_look()) r.emplace<FlowerLook>(found.twig, std::move(*look));
+        }
         return;
     }
     // A leaf or blossom stripped: it falls on a short stalk of its own (10 mm from where it grew).
-    const Part part = r.get<Part>(found.part);
+    Part moved = std::move(r.get<Part>(found.part)); // its mesh's name moved, not copied
     const auto& points = r.get<StemPoints>(found.owner);
     const auto* frame = r.try_get<StemFrame>(found.owner);
-    const glm::dvec3 middle = part_middle(part, points, frame);
-    const glm::dvec3 base = points.position_m[std::min<std::size_t>(part.stem_point, points.position_m.size() - 1)];
+    const glm::dvec3 middle = part_middle(moved, points, frame);
+    const glm::dvec3 base = points.position_m[std::min<std::size_t>(moved.stem_point, points.position_m.size() - 1)];
     const glm::dvec3 out = middle - base;
     const double size = glm::length(out);
     const glm::dvec3 dir = size > 1e-9 ? out / size : glm::dvec3{0.0, 0.0, 1.0};
-    const ecs::Entity stalk = loose_stem(r, {base, base + 0.005 * dir, base + 0.01 * dir}, 0.001, 0.0002, species, look);
-    Part moved = part;
+    StalkKit* kit = reserve ? reserve->stalk_for(found.part) : nullptr;
+    const ecs::Entity stalk = kit ? stalk_from(r, *kit, base, dir) : [&] {
+        const auto look = copy_look();
+        return loose_stem(r, {base, base + 0.5 * stalk_length_m * dir, base + stalk_length_m * dir}, 0.001, 0.0002, copy_species(), look ? &*look : nullptr);
+    }();
     moved.stem_point = 0;
     moved.offset_m = glm::dvec3{0.0, 0.0, size}; // along its stalk, as long as it was
     r.destroy(found.part);
-    const ecs::Entity leaf = r.create();
-    r.emplace<Part>(leaf, moved);
+    const ecs::Entity leaf = r.create(); // in the slot the part left
+    r.emplace<Part>(leaf, std::move(moved));
     r.emplace<Collider>(leaf, ShapeKind::sphere, glm::dvec3{0.0}, glm::dvec3{0.0}, 0.3 * size, glm::dvec3{0.0});
     r.emplace<InactiveCollider>(leaf);
     ecs::attach(r, leaf, stalk);
@@ -117,7 +159,8 @@ void prune(ecs::Registry& r, const Found& found) {
 
 void PruningSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
-    std::vector<Found> cuts;
+    pending_count_ = 0;
+    StructureReserve* reserve = r.resource<StructureReserve>(); // the kits, for the change queued below
     r.view<const HandCube, const HandProxy, const PruneRequest>().each([&](ecs::Entity hand, const HandCube& cube, const HandProxy& proxy, const PruneRequest&) {
         r.commands().remove<PruneRequest>(hand);
         const glm::dvec3 at = proxy.position_m;
@@ -137,15 +180,22 @@ void PruningSystem::operator()(sched::SystemContext& ctx) {
             }
         });
         r.view<const Flower, const StemPoints>().each([&](ecs::Entity flower, const Flower&, const StemPoints&) { consider_parts(r, flower, flower, at, reach, found); });
-        if (!found.flower.is_null()) cuts.push_back(found);
+        if (!found.flower.is_null() && pending_count_ < pending_.size()) pending_[pending_count_++] = found;
     });
-    // After the views: pruning changes what they iterate.
-    for (const Found& found : cuts) r.commands().defer([found](ecs::Registry& reg) { prune(reg, found); });
+    if (pending_count_ == 0) return;
+    // After the views: pruning changes what they iterate. The queued operation holds two pointers (within
+    // std::function's own buffer: queuing it allocates nothing).
+    r.commands().defer([this, reserve](ecs::Registry& reg) {
+        for (std::size_t i = 0; i < pending_count_; ++i) prune(reg, pending_[i], reserve);
+        pending_count_ = 0;
+    });
 }
 
 glm::dvec3 part_middle(const Part& part, const StemPoints& points, const StemFrame* frame) {
     const auto& x = points.position_m;
-    const auto f = physics::attachment_frame(x, std::min<std::size_t>(part.stem_point, x.size() - 1), frame ? frame->director : std::vector<glm::dvec3>{});
+    const std::size_t at = std::min<std::size_t>(part.stem_point, x.size() - 1);
+    // (Not `frame ? frame->director : {}`: that copies the directors, a heap allocation a part.)
+    const auto f = frame ? physics::attachment_frame(x, at, frame->director) : physics::attachment_frame(x, at);
     return f.place(part.offset_m);
 }
 

@@ -4,6 +4,8 @@
 // within the cube's reach (its half edge). What comes off falls: a twig becomes a loose stem of its own
 // (a Cutting, its own twigs, leaves and blossoms with it), a stripped leaf a short stem carrying it. The
 // flower's Twigs list loses the twig and all its twigs.
+#include <array>
+#include <limits>
 #include <string_view>
 
 #include "components/appearance.hpp"
@@ -14,6 +16,7 @@
 #include "components/stem.hpp"
 #include "engine/ecs/hierarchy.hpp"
 #include "engine/sched/system.hpp"
+#include "systems/insertion/structure_reserve.hpp"
 
 namespace ikebana::systems {
 
@@ -30,9 +33,24 @@ struct PruningSystem {
                                     components::StemPoints, components::StemRestShape, components::StemFrame, components::Part, ecs::Children>;
     // The pruning itself (a twig taken off its flower, a leaf put on a stalk of its own) is a structural
     // change, queued on the command buffer and applied after the system, as creating and destroying are.
-    using writes = sched::Components<components::PruneRequest>;
+    // Each twig or part's kit, reserved when the scene loaded (structure_reserve.hpp), is taken from the
+    // StructureReserve.
+    using writes = sched::Components<components::PruneRequest, StructureReserve>;
 
     void operator()(sched::SystemContext& ctx);
+
+    // What the hands' requests found this tick (two hands; room to spare), pruned once the views end.
+    struct Found {
+        double distance_m = std::numeric_limits<double>::infinity();
+        ecs::Entity flower = ecs::null_entity; // whose Twigs list it is on
+        ecs::Entity twig = ecs::null_entity;   // a twig to cut off at its fork
+        ecs::Entity part = ecs::null_entity;   // or a leaf or blossom to strip
+        ecs::Entity owner = ecs::null_entity;  // the stem or twig the part grows on
+    };
+
+private:
+    std::array<Found, 4> pending_{};
+    std::size_t pending_count_ = 0;
 };
 
 } // namespace ikebana::systems

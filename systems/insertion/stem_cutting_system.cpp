@@ -10,12 +10,18 @@ namespace ikebana::systems {
 
 using namespace components;
 
-std::vector<double> moved_bends(const StemRestShape& rest, double cut_m, double keep) {
+void moved_bends_into(const StemRestShape& rest, double cut_m, double keep, CutScratch& scratch, std::vector<double>& moved) {
     const auto& l = rest.segment_length_m;
     const auto& angle = rest.hinge_angle_rad;
-    if (angle.empty() || angle.size() + 1 != l.size()) return angle;
+    if (angle.empty() || angle.size() + 1 != l.size()) {
+        moved.assign(angle.begin(), angle.end());
+        return;
+    }
     // Hinge j sits at the top of segment j; its curvature spreads over half of each segment beside it.
-    std::vector<double> at(angle.size()), curvature(angle.size());
+    auto& at = scratch.at;
+    auto& curvature = scratch.curvature;
+    at.resize(angle.size());
+    curvature.resize(angle.size());
     double s = 0.0;
     for (std::size_t j = 0; j < angle.size(); ++j) {
         s += l[j];
@@ -29,24 +35,34 @@ std::vector<double> moved_bends(const StemRestShape& rest, double cut_m, double 
         const double t = (x - at[j - 1]) / std::max(at[j] - at[j - 1], 1e-12);
         return curvature[j - 1] + t * (curvature[j] - curvature[j - 1]);
     };
-    std::vector<double> moved(angle.size());
+    moved.resize(angle.size());
     double from = cut_m;
     for (std::size_t j = 0; j < angle.size(); ++j) {
         from += l[j] * keep;
         moved[j] = curvature_at(from) * 0.5 * (l[j] + l[j + 1]) * keep;
     }
+}
+
+std::vector<double> moved_bends(const StemRestShape& rest, double cut_m, double keep) {
+    CutScratch scratch;
+    std::vector<double> moved;
+    moved_bends_into(rest, cut_m, keep, scratch, moved);
     return moved;
 }
 
-std::vector<glm::dvec2> moved_bend_directions(const StemRestShape& rest, double cut_m, double keep) {
+void moved_bend_directions_into(const StemRestShape& rest, double cut_m, double keep, CutScratch& scratch, std::vector<glm::dvec2>& moved) {
     const auto& l = rest.segment_length_m;
     const auto& direction = rest.hinge_bend_direction;
-    if (direction.empty() || direction.size() + 1 != l.size()) return direction;
+    if (direction.empty() || direction.size() + 1 != l.size()) {
+        moved.assign(direction.begin(), direction.end());
+        return;
+    }
     // As moved_bends: each new hinge takes the direction of the old hinge nearest where it now sits.
-    std::vector<double> at(direction.size());
+    auto& at = scratch.at;
+    at.resize(direction.size());
     double s = 0.0;
     for (std::size_t j = 0; j < direction.size(); ++j) at[j] = (s += l[j]);
-    std::vector<glm::dvec2> moved(direction.size());
+    moved.resize(direction.size());
     double from = cut_m;
     std::size_t nearest = 0;
     for (std::size_t j = 0; j < direction.size(); ++j) {
@@ -54,20 +70,22 @@ std::vector<glm::dvec2> moved_bend_directions(const StemRestShape& rest, double 
         while (nearest + 1 < at.size() && std::abs(at[nearest + 1] - from) <= std::abs(at[nearest] - from)) ++nearest;
         moved[j] = direction[nearest];
     }
-    return moved;
 }
 
 void move_twigs(ecs::Registry& r, ecs::Entity flower, const std::vector<glm::dvec3>& before, const std::vector<glm::dvec3>& after, double cut_m,
-                double length_m) {
+                double length_m, CutScratch& scratch) {
     auto* twigs = r.try_get<Twigs>(flower);
     if (!twigs || before.size() < 2) return;
     const std::size_t segments = before.size() - 1;
     // The stem's points were laid anew along it, closer together: a twig stays where it grows on the
     // stem (its arc length less the cut), at the nearest point there; one that grew from the part cut
     // off goes with it, and so do its own twigs. A twig and its twigs move as one to their new place.
-    std::vector<glm::dvec3> moved(twigs->entities.size(), glm::dvec3{0.0});
-    std::vector<std::uint8_t> gone(twigs->entities.size(), 0);
-    std::vector<ecs::Entity> kept;
+    auto& moved = scratch.twig_moved;
+    auto& gone = scratch.twig_gone;
+    auto& kept = scratch.kept;
+    moved.assign(twigs->entities.size(), glm::dvec3{0.0});
+    gone.assign(twigs->entities.size(), 0);
+    kept.clear();
     for (std::size_t t = 0; t < twigs->entities.size(); ++t) {
         const ecs::Entity twig = twigs->entities[t];
         auto* fork = r.try_get<StemFork>(twig);
@@ -99,14 +117,15 @@ void move_twigs(ecs::Registry& r, ecs::Entity flower, const std::vector<glm::dve
         for (auto& v : twig_points->velocity_m_s) v = glm::dvec3{0.0};
         kept.push_back(twig);
     }
-    twigs->entities = std::move(kept);
+    twigs->entities.assign(kept.begin(), kept.end()); // fewer than it had: within its capacity
 }
 
-void move_parts(ecs::Registry& r, ecs::Entity flower, std::size_t segments, double cut_m, double length_m) {
+void move_parts(ecs::Registry& r, ecs::Entity flower, std::size_t segments, double cut_m, double length_m, CutScratch& scratch) {
     const auto* children = r.try_get<const ecs::Children>(flower);
     if (!children || segments == 0) return;
     const double step = (length_m - cut_m) / static_cast<double>(segments);
-    std::vector<ecs::Entity> gone;
+    auto& gone = scratch.gone;
+    gone.clear();
     for (const ecs::Entity child : children->entities) {
         auto* part = r.try_get<Part>(child);
         if (!part || part->kind == PartKind::stem) continue;
@@ -122,6 +141,10 @@ void move_parts(ecs::Registry& r, ecs::Entity flower, std::size_t segments, doub
 
 void StemCuttingSystem::operator()(sched::SystemContext& ctx) {
     auto& r = ctx.registry;
+    // The scratch the scene reserved (a registry built without one, as some tests build theirs, makes its own).
+    auto* reserve = r.resource<StructureReserve>();
+    CutScratch own;
+    CutScratch& scratch = reserve ? reserve->cut : own;
     r.view<CutRequest, StemPoints, StemRestShape, StemSprings, InsertionHistory>().each(
         [&](ecs::Entity e, CutRequest& cut, StemPoints& points, StemRestShape& rest, StemSprings& springs,
             InsertionHistory& history) {
@@ -131,9 +154,12 @@ void StemCuttingSystem::operator()(sched::SystemContext& ctx) {
             const double keep = (length - cut.length_m) / length;
             // The new points: the old polyline resampled from arc length `cut` upwards.
             const auto& old = points.position_m;
-            const std::vector<glm::dvec3> before = old; // where its twigs left it
-            std::vector<glm::dvec3> fresh(old.size());
-            std::vector<double> arc(old.size(), 0.0);
+            auto& before = scratch.before; // where its twigs left it
+            auto& fresh = scratch.fresh;
+            auto& arc = scratch.arc;
+            before.assign(old.begin(), old.end());
+            fresh.resize(old.size());
+            arc.assign(old.size(), 0.0);
             for (std::size_t i = 1; i < old.size(); ++i) arc[i] = arc[i - 1] + glm::length(old[i] - old[i - 1]);
             const double total = arc.back();
             for (std::size_t i = 0; i < old.size(); ++i) {
@@ -154,15 +180,17 @@ void StemCuttingSystem::operator()(sched::SystemContext& ctx) {
             // branch bent 150 mm below its tip is still bent there after its bottom is cut (the points
             // were laid anew closer together). Curvature (a hinge's angle over its share of length) is
             // carried over by arc length, and the new hinges take it over their shorter share.
-            rest.hinge_bend_direction = moved_bend_directions(rest, cut.length_m, keep);
-            rest.hinge_angle_rad = moved_bends(rest, cut.length_m, keep);
+            moved_bend_directions_into(rest, cut.length_m, keep, scratch, scratch.direction);
+            moved_bends_into(rest, cut.length_m, keep, scratch, scratch.angle);
+            rest.hinge_bend_direction.assign(scratch.direction.begin(), scratch.direction.end());
+            rest.hinge_angle_rad.assign(scratch.angle.begin(), scratch.angle.end());
             for (auto& l : rest.segment_length_m) l *= keep;
             for (auto& k : springs.axial_n_per_m) k /= keep;
             for (auto& k : springs.hinge_nm_per_rad) k /= keep;
-            points.position_m = std::move(fresh);
+            points.position_m.assign(fresh.begin(), fresh.end()); // as many as it had: within its capacity
             for (auto& v : points.velocity_m_s) v = glm::dvec3{0.0};
-            move_twigs(r, e, before, points.position_m, cut.length_m, length);
-            move_parts(r, e, points.position_m.size() - 1, cut.length_m, length);
+            move_twigs(r, e, before, points.position_m, cut.length_m, length, scratch);
+            move_parts(r, e, points.position_m.size() - 1, cut.length_m, length, scratch);
             history.bottom_broken = false;
             history.insertions = 0;
             history.holes.clear();

@@ -132,7 +132,9 @@ void PublishFrameSystem::operator()(sched::SystemContext& ctx) {
         if (frame.cuttings.size() <= cuttings) frame.cuttings.emplace_back();
         auto& out = frame.cuttings[cuttings++];
         const auto* look = r.try_get<const FlowerLook>(e);
-        out.look = look ? *look : FlowerLook{};
+        // (Not `look ? *look : FlowerLook{}`: that copies the look, its head mesh's name a heap allocation a frame.)
+        if (look) out.look = *look;
+        else out.look = FlowerLook{};
         const auto* twigs = r.try_get<const Twigs>(e);
         out.pieces.resize(1 + (twigs ? twigs->entities.size() : 0));
         piece_of(r, e, out.pieces[0]);

@@ -23,7 +23,11 @@
 #include "tests/support/hidapi_shim.hpp"
 #include "components/insertion.hpp"
 #include "components/stem.hpp"
+#include "components/flower.hpp"
+#include "engine/ecs/hierarchy.hpp"
 #include "scripted_hands.hpp"
+#include "systems/insertion/pruning_system.hpp"
+#include "systems/haptics/trainee_command_system.hpp"
 
 using namespace ikebana;
 using namespace ikebana::game;
@@ -208,4 +212,115 @@ TEST(LaneAllocation, TakingAStemOutOfThePinsAndPushingItBackInASecondTimeAllocat
     }
     EXPECT_EQ(counted, 0u) << where;
     EXPECT_FALSE(shim.problems());
+}
+
+namespace {
+
+// A branch or flower standing in the kenzan, one hand held still where `at` says; what the lane
+// allocates while `act` changes the stem's structure and the next second runs (the loose piece falls,
+// is drawn, meets the table).
+struct Structural {
+    std::uint64_t allocations = 0;
+    std::string where;
+};
+
+template <typename Act>
+void allocations_while(const std::string& species, Act act) {
+    SceneDef scene = test::kenzan_bench();
+    scene.flowers.push_back({species, Placement::inserted, {0.0, 0.0, 0.0}, glm::normalize(glm::dvec3{0.1, 0.0, 1.0}), 0.013});
+    scene.hands.push_back({1, {0.15, -0.15, 0.3}, 0.02, ""});
+    auto w = test::world_of(scene);
+    if (!w) return;
+    sched::DeterministicClock clock(w->schedule);
+    clock.run_for_us(500'000);
+    act(*w, clock);
+}
+
+void count_over(sched::DeterministicClock& clock, std::int64_t us, Structural& out) {
+    test::count_allocations_in_lane("sim");
+    clock.run_for_us(us);
+    test::count_allocations_in_lane(nullptr);
+    out.allocations = test::allocations_counted();
+    out.where = test::where_allocations_came_from();
+}
+
+glm::dvec3 middle_of_first_leaf(World& w, ecs::Entity flower) {
+    for (const ecs::Entity child : w.sim.get<const ecs::Children>(flower).entities) {
+        const auto* part = w.sim.try_get<const components::Part>(child);
+        if (part && part->kind == components::PartKind::leaf) {
+            return systems::part_middle(*part, w.sim.get<const components::StemPoints>(flower), w.sim.try_get<const components::StemFrame>(flower));
+        }
+    }
+    ADD_FAILURE() << "no leaf";
+    return glm::dvec3{0.0};
+}
+
+} // namespace
+
+// A cut (C) changes a stem's structure: its points laid anew, its bends moved, the twigs and leaves on the
+// part cut off gone with it. It draws on what the scene reserved when it loaded: nothing allocated on the
+// lane, for a forked willow (twigs go) and a chrysanthemum (leaves go).
+TEST(LaneAllocation, CuttingAStemsBottomOffAllocatesNothingOnTheLane) {
+    for (const std::string species : {"willow_branch", "chrysanthemum"}) {
+        std::size_t parts_before = 0;
+        std::size_t parts_after = 0;
+        allocations_while(species, [&](World& w, sched::DeterministicClock& clock) {
+            const auto flower = w.flowers[0].entity;
+            const auto owned = [&] {
+                const auto* twigs = w.sim.try_get<const components::Twigs>(flower);
+                return (twigs ? twigs->entities.size() : 0) + w.sim.get<const ecs::Children>(flower).entities.size();
+            };
+            parts_before = owned();
+            w.sim.emplace_or_replace<components::CutRequest>(flower, components::CutRequest{0.16});
+            Structural counted;
+            count_over(clock, 1'000'000, counted);
+            parts_after = owned();
+            EXPECT_EQ(w.sim.get<const components::InsertionHistory>(flower).cuts, 1u) << species << ": the cut was made";
+            EXPECT_EQ(counted.allocations, 0u) << species << ":\n" << counted.where;
+        });
+        EXPECT_LT(parts_after, parts_before) << species << ": what grew on the part cut off went with it";
+    }
+}
+
+// Pruning (P) at the hand: a twig off at its fork (it keeps its own twigs as a loose branch) or a leaf
+// stripped onto a stalk of its own. The pruning itself (the command taken, the piece found, the change
+// applied) draws on what the scene reserved and allocates nothing on the lane. The physics, the frame's
+// update and the published frame then meet a body they have not met: their working memory grows for it
+// in its first ticks (docs/architecture.md says so); a second later, with the piece lying on the table,
+// a steady tick allocates nothing again.
+TEST(LaneAllocation, PruningATwigOrStrippingALeafAllocatesNothingOnTheLane) {
+    std::size_t loose = 0;
+    const auto prune_at = [](World& w, sched::DeterministicClock& clock, glm::dvec3 at, const char* what) {
+        w.attach_device(1, test::script({{0.0, at.x, at.y, at.z, 0}, {100.0, at.x, at.y, at.z, 0}}));
+        clock.run_for_us(300'000);
+        ASSERT_TRUE(w.trainee.push({systems::TraineeCommand::Kind::prune, 1, 0.0}));
+        Structural pruning;
+        test::count_allocations_in_systems("sim", {"trainee_commands", "pruning"});
+        clock.run_for_us(20'000);
+        test::count_allocations_in_lane(nullptr);
+        EXPECT_EQ(test::allocations_counted(), 0u) << what << ", pruning:\n" << test::where_allocations_came_from();
+        // It falls; what meets it sizes its memory (counted and recorded: docs/haptics.md quotes it).
+        test::count_allocations_in_lane("sim");
+        clock.run_for_us(1'000'000);
+        test::count_allocations_in_lane(nullptr);
+        ::testing::Test::RecordProperty(std::string("first_second_allocations_") + what, static_cast<int>(test::allocations_counted()));
+        Structural steady;
+        count_over(clock, 1'000'000, steady);
+        EXPECT_EQ(steady.allocations, 0u) << what << ", lying on the table:\n" << steady.where;
+    };
+    allocations_while("cherry_branch", [&](World& w, sched::DeterministicClock& clock) {
+        const auto flower = w.flowers[0].entity;
+        ecs::Entity target = ecs::null_entity;
+        for (const ecs::Entity t : w.sim.get<const components::Twigs>(flower).entities) {
+            if (w.sim.get<const components::StemFork>(t).parent == flower) target = t;
+        }
+        ASSERT_FALSE(target.is_null());
+        prune_at(w, clock, w.sim.get<const components::StemPoints>(target).position_m[1], "twig");
+        EXPECT_TRUE(w.sim.all_of<components::Cutting>(target)) << "the twig was pruned";
+    });
+    allocations_while("sunflower", [&](World& w, sched::DeterministicClock& clock) {
+        prune_at(w, clock, middle_of_first_leaf(w, w.flowers[0].entity), "leaf");
+        w.sim.view<const components::Cutting>().each([&](ecs::Entity, const components::Cutting&) { ++loose; });
+    });
+    EXPECT_EQ(loose, 1u) << "the leaf was stripped onto a stalk of its own";
 }
