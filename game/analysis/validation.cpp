@@ -18,20 +18,31 @@
 
 namespace ikebana::game {
 
-namespace {
-
-std::optional<double> outcome_accuracy(const MeasuredData& data, const std::vector<double>& fall_probability, std::size_t* rows) {
-    std::size_t n = 0, right = 0;
-    for (std::size_t i = 0; i < data.trials.size(); ++i) {
+std::optional<OutcomeScores> score_outcomes(const MeasuredData& data, const std::vector<double>& fall_probability) {
+    OutcomeScores s;
+    std::size_t right = 0;
+    for (std::size_t i = 0; i < data.trials.size() && i < fall_probability.size(); ++i) {
         const auto& o = data.trials[i].outcome;
         if (!o || (*o != "stood" && *o != "fell")) continue;
-        ++n;
-        right += ((fall_probability[i] > 0.5) == (*o == "fell")) ? 1 : 0;
+        const double fell = *o == "fell" ? 1.0 : 0.0;
+        const double p = std::clamp(fall_probability[i], 0.0, 1.0);
+        ++s.rows;
+        right += ((p > 0.5) == (fell == 1.0)) ? 1 : 0;
+        s.brier += (p - fell) * (p - fell);
+        // A chance of exactly 0 or 1 (every placement of the mixture alike) would make one wrong row cost
+        // without bound: kept within [0.001, 0.999].
+        const double given = std::clamp(fell == 1.0 ? p : 1.0 - p, 0.001, 0.999);
+        s.log_loss -= std::log(given);
     }
-    if (rows) *rows = n;
-    if (n == 0) return std::nullopt;
-    return static_cast<double>(right) / static_cast<double>(n);
+    if (s.rows == 0) return std::nullopt;
+    const auto n = static_cast<double>(s.rows);
+    s.accuracy = static_cast<double>(right) / n;
+    s.brier /= n;
+    s.log_loss /= n;
+    return s;
 }
+
+namespace {
 
 // A file of several species: each species' held-out error without and with the extension found on
 // all rows. Five per cent more error than the simulation alone is clearly worse; then the extension
@@ -184,7 +195,7 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
     if (!analysis) return std::move(analysis).error();
     v.analysis = std::move(analysis).value();
     for (const auto& c : v.analysis.causes) v.explanations.push_back(explain_cause(c));
-    if (outcomes) v.baseline_outcome_accuracy = outcome_accuracy(v.data, baseline_fall, &v.outcome_rows);
+    if (outcomes) v.baseline_outcome = score_outcomes(v.data, baseline_fall);
 
     if (v.analysis.extension.empty()) return v;
     if (v.species.empty()) {
@@ -246,12 +257,12 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
             if (options.progress) options.progress("simulating the extended species", n + 1, n_rows);
         }
         v.simulated_extended_rmse_gf = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(used, 1)));
-        if (outcomes) v.extended_outcome_accuracy = outcome_accuracy(v.data, fall, nullptr);
+        if (outcomes) v.extended_outcome = score_outcomes(v.data, fall);
         // Stood or fell, row by row: a perfect model is right on every row; five points of accuracy
         // lost is clearly worse.
-        if (v.baseline_outcome_accuracy && v.extended_outcome_accuracy)
-            v.others.push_back(judge_other_measure("outcome accuracy (share of rows whose stood/fell it gets right)", 1.0, *v.baseline_outcome_accuracy,
-                                                   *v.extended_outcome_accuracy, 0.05));
+        if (v.baseline_outcome && v.extended_outcome)
+            v.others.push_back(judge_other_measure("outcome accuracy (share of rows whose stood/fell it gets right)", 1.0, v.baseline_outcome->accuracy,
+                                                   v.extended_outcome->accuracy, 0.05));
     }
     std::filesystem::remove(temporary);
     return v;

@@ -54,6 +54,19 @@ struct SpeciesCheck {
     std::string extended_species_json;   // what --write-species writes for it (empty: nothing found)
 };
 
+// How well predicted chances of falling match the stood/fell rows: the share called right (a chance
+// above one half is a fall), the Brier score (mean squared difference between the chance and 1 for a
+// fall, 0 for a stand: 0 perfect, 0.25 a coin) and the log-loss (mean -ln of the chance given to what
+// happened, the chance kept within [0.001, 0.999]: ln 2 = 0.693 a coin). Rows whose outcome is neither
+// (broke, blank) are not scored.
+struct OutcomeScores {
+    double accuracy = 0.0;
+    double brier = 0.0;
+    double log_loss = 0.0;
+    std::size_t rows = 0;
+};
+[[nodiscard]] std::optional<OutcomeScores> score_outcomes(const MeasuredData& data, const std::vector<double>& fall_probability);
+
 struct ValidationResult {
     std::string measured_file;
     std::string species;                 // what the extension was fitted for
@@ -65,9 +78,8 @@ struct ValidationResult {
     std::vector<double> simulated_extended_gf; // the extended species through the simulation, per row
     std::optional<double> simulated_extended_rmse_gf;
     std::string resimulation_note;       // why it was skipped, when it was
-    std::optional<double> baseline_outcome_accuracy; // over rows whose outcome is stood or fell
-    std::optional<double> extended_outcome_accuracy;
-    std::size_t outcome_rows = 0;
+    std::optional<OutcomeScores> baseline_outcome; // over rows whose outcome is stood or fell
+    std::optional<OutcomeScores> extended_outcome;
     std::vector<OtherMeasure> others; // every other measured quantity, before and after the extension
     std::vector<SpeciesCheck> by_species; // several species in the file: per species
     bool per_species = false;             // the shared extension was clearly worse for one: each has its own

@@ -189,6 +189,21 @@ nlohmann::ordered_json other_measurements_json(const std::vector<OtherMeasure>& 
     return list;
 }
 
+namespace {
+
+void add_outcome_scores(nlohmann::ordered_json& into, const OutcomeScores& s) {
+    into["outcome_accuracy"] = s.accuracy;
+    into["outcome_brier"] = s.brier;
+    into["outcome_log_loss"] = s.log_loss;
+    into["outcome_rows"] = s.rows;
+}
+
+std::string outcome_words(const OutcomeScores& s) {
+    return ", outcome accuracy " + fmt("%.0f %%", 100 * s.accuracy) + ", Brier " + fmt("%.3f", s.brier) + ", log-loss " + fmt("%.3f", s.log_loss);
+}
+
+} // namespace
+
 std::string validation_json(const ValidationResult& v, const AnalysisOptions& options) {
     const AnalysisResult& a = v.analysis;
     nlohmann::ordered_json j;
@@ -198,7 +213,7 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
     j["species"] = v.species;
     j["rows_stand_in_for_flowers"] = a.rows_as_groups;
     j["baseline"] = {{"rmse_gf", a.baseline_rmse_gf}, {"cv_rmse_gf", a.baseline_cv_rmse_gf}, {"log_rmse", a.baseline_log_rmse}};
-    if (v.baseline_outcome_accuracy) j["baseline"]["outcome_accuracy"] = *v.baseline_outcome_accuracy;
+    if (v.baseline_outcome) add_outcome_scores(j["baseline"], *v.baseline_outcome);
     j["discrepancy_found"] = a.discrepancy_found;
     j["calibration"] = {{"factor", a.calibration.factor}, {"interval", {finite_or_zero(a.calibration.low), finite_or_zero(a.calibration.high)}},
                         {"p_value", a.calibration.p_value}, {"significant", a.calibration.significant}};
@@ -226,7 +241,7 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
     j["extended"]["terms"] = nlohmann::ordered_json::array();
     for (const auto& t : a.extension) j["extended"]["terms"].push_back(term_json(t));
     if (v.simulated_extended_rmse_gf) j["extended"]["simulated_rmse_gf"] = *v.simulated_extended_rmse_gf;
-    if (v.extended_outcome_accuracy) j["extended"]["outcome_accuracy"] = *v.extended_outcome_accuracy;
+    if (v.extended_outcome) add_outcome_scores(j["extended"], *v.extended_outcome);
     if (!v.resimulation_note.empty()) j["extended"]["note"] = v.resimulation_note;
     j["other_measurements"] = other_measurements_json(v.others);
     j["diagnostics"] = nlohmann::ordered_json::array();
@@ -396,7 +411,7 @@ std::string validation_summary(const ValidationResult& v) {
           << "\n";
     }
     o << "baseline:  RMSE " << fmt("%.1f", a.baseline_rmse_gf) << " gf, CV RMSE " << fmt("%.1f", a.baseline_cv_rmse_gf) << " gf";
-    if (v.baseline_outcome_accuracy) o << ", outcome accuracy " << fmt("%.0f %%", 100 * *v.baseline_outcome_accuracy);
+    if (v.baseline_outcome) o << outcome_words(*v.baseline_outcome);
     o << "\n";
     if (!a.discrepancy_found) {
         o << "no discrepancy found: no covariate and no overall level is significant after correction\n";
@@ -420,7 +435,7 @@ std::string validation_summary(const ValidationResult& v) {
     }
     o << "extended:  CV RMSE " << fmt("%.1f", a.extended_cv_rmse_gf) << " gf, gain " << fmt("%.1f %%", 100 * a.gain);
     if (v.simulated_extended_rmse_gf) o << "; the extended species simulated: RMSE " << fmt("%.1f", *v.simulated_extended_rmse_gf) << " gf";
-    if (v.extended_outcome_accuracy) o << ", outcome accuracy " << fmt("%.0f %%", 100 * *v.extended_outcome_accuracy);
+    if (v.extended_outcome) o << outcome_words(*v.extended_outcome);
     o << "\n";
     if (!v.resimulation_note.empty()) o << "note: " << v.resimulation_note << "\n";
     for (const auto& m : v.others) o << (m.worse ? "WORSE:     " : "also:      ") << other_measure_words(m) << "\n";
@@ -555,9 +570,16 @@ std::vector<std::pair<std::string, std::string>> validation_report_files(const V
     md << "| grouped CV RMSE (gf) | " << fmt("%.1f", a.baseline_cv_rmse_gf) << " | " << fmt("%.1f", a.extended_cv_rmse_gf) << " |\n";
     md << "| RMSE of ln(measured/simulated) | " << fmt("%.4f", a.baseline_log_rmse) << " | " << fmt("%.4f", a.extended_log_rmse) << " |\n";
     if (v.simulated_extended_rmse_gf) md << "| RMSE, extended species through the simulation (gf) | " << fmt("%.1f", a.baseline_rmse_gf) << " | " << fmt("%.1f", *v.simulated_extended_rmse_gf) << " |\n";
-    if (v.baseline_outcome_accuracy) {
-        md << "| outcome accuracy (" << v.outcome_rows << " rows stood/fell) | " << fmt("%.1f %%", 100 * *v.baseline_outcome_accuracy) << " | "
-           << (v.extended_outcome_accuracy ? fmt("%.1f %%", 100 * *v.extended_outcome_accuracy) : std::string("not simulated")) << " |\n";
+    if (v.baseline_outcome) {
+        const auto& b = *v.baseline_outcome;
+        const auto& e = v.extended_outcome;
+        const std::string rows = std::to_string(b.rows) + " rows stood/fell";
+        md << "| outcome accuracy (" << rows << ") | " << fmt("%.1f %%", 100 * b.accuracy) << " | "
+           << (e ? fmt("%.1f %%", 100 * e->accuracy) : std::string("not simulated")) << " |\n";
+        md << "| Brier score of the chance of falling (0 perfect, 0.25 a coin) | " << fmt("%.3f", b.brier) << " | "
+           << (e ? fmt("%.3f", e->brier) : std::string("not simulated")) << " |\n";
+        md << "| log-loss of the chance of falling (0.693 a coin) | " << fmt("%.3f", b.log_loss) << " | "
+           << (e ? fmt("%.3f", e->log_loss) : std::string("not simulated")) << " |\n";
     }
     md << "\nGain = 1 − extended CV RMSE / baseline CV RMSE = **" << fmt("%.1f %%", 100 * a.gain) << "**.\n\n";
     if (!v.resimulation_note.empty()) md << "Note: " << v.resimulation_note << ".\n\n";

@@ -29,7 +29,11 @@ int run_predict(const std::string& input, const std::string& species_override, c
     }
     if (!data->table.note.empty()) std::cerr << "ikebana predict: note: " << data->table.note << "\n";
     InsertionPredictor predictor;
-    std::vector<std::pair<double, std::string>> predictions(data->trials.size());
+    struct Prediction {
+        double force_gf = 0.0;
+        double fall_probability = 0.0; // the share of the mixture (placements, sound and split ends) that fell
+    };
+    std::vector<Prediction> predictions(data->trials.size());
     const bool tty = isatty(fileno(stderr)) != 0;
     std::vector<InsertionConditions> rows;
     for (std::size_t i = 0; i < data->trials.size(); ++i) rows.push_back(predictor.conditions_of(*data, i, species_override, data->has_outcome));
@@ -42,7 +46,7 @@ int run_predict(const std::string& input, const std::string& species_override, c
             std::cerr << "ikebana predict: " << input << ":" << t.line << ": " << p.error().message << "\n";
             return 2;
         }
-        predictions[i] = {p->max_force_n / gram_force_n, p->fall_probability > 0.5 ? "fell" : "stood"};
+        predictions[i] = {p->max_force_n / gram_force_n, p->fall_probability};
         if (tty) std::fprintf(stderr, "\rpredicted %zu / %zu rows (%zu simulated)", n + 1, data->trials.size(), predictor.simulated());
     }
     if (tty) std::fprintf(stderr, "\n");
@@ -62,12 +66,16 @@ int run_predict(const std::string& input, const std::string& species_override, c
         ++line_no;
         std::string line(text_line);
         if (line_no == data->table.header_last_line) {
-            line += data->has_outcome ? ",predicted_force_gf,predicted_outcome" : ",predicted_force_gf";
+            line += data->has_outcome ? ",predicted_force_gf,predicted_outcome,predicted_fall_probability" : ",predicted_force_gf";
         } else if (const auto it = row_of_line.find(line_no); it != row_of_line.end()) {
             char value[64];
-            std::snprintf(value, sizeof value, ",%.2f", predictions[it->second].first);
+            const Prediction& p = predictions[it->second];
+            std::snprintf(value, sizeof value, ",%.2f", p.force_gf);
             line += value;
-            if (data->has_outcome) line += "," + predictions[it->second].second;
+            if (data->has_outcome) {
+                std::snprintf(value, sizeof value, ",%s,%.4f", p.fall_probability > 0.5 ? "fell" : "stood", p.fall_probability);
+                line += value;
+            }
         }
         out << line << (ending.empty() ? std::string_view("\n") : ending);
     }

@@ -1,13 +1,17 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
 #include "game/analysis/insertion_predictor.hpp"
 #include "game/analysis/measured_data.hpp"
+#include "game/asset_paths.hpp"
 #include "game/cli/predict_command.hpp"
 
 using namespace ikebana;
@@ -58,12 +62,22 @@ TEST(Predict, SameRowSamePredictionWhateverElseIsInTheFile) {
     EXPECT_EQ(lines(temp("crowd_again.csv")), c) << "deterministic run to run";
 }
 
-TEST(Predict, OutcomeColumnGetsAPredictedOutcome) {
-    const auto input = write("outcome.csv", "flower_id,insertion,max_force_gf,outcome\nA,1,480,stood\n");
+// With an outcome column, each row gets the outcome the mixture votes for and its chance of falling (the
+// share of the mixture that fell): the vote is "fell" exactly when the chance is above one half.
+TEST(Predict, OutcomeColumnGetsAPredictedOutcomeAndAChanceOfFalling) {
+    const auto input = write("outcome.csv", "flower_id,insertion,max_force_gf,outcome\nA,1,480,stood\nB,1,470,stood\nC,9,300,fell\n");
     ASSERT_EQ(run_predict(input, "", temp("outcome_out.csv")), 0);
     const auto out = lines(temp("outcome_out.csv"));
-    EXPECT_EQ(out[0], "flower_id,insertion,max_force_gf,outcome,predicted_force_gf,predicted_outcome");
-    EXPECT_TRUE(out[1].ends_with(",stood") || out[1].ends_with(",fell"));
+    EXPECT_EQ(out[0], "flower_id,insertion,max_force_gf,outcome,predicted_force_gf,predicted_outcome,predicted_fall_probability");
+    for (std::size_t i = 1; i < out.size(); ++i) {
+        const auto comma = out[i].rfind(',');
+        ASSERT_NE(comma, std::string::npos);
+        const double p = std::stod(out[i].substr(comma + 1));
+        EXPECT_GE(p, 0.0);
+        EXPECT_LE(p, 1.0);
+        const std::string vote = out[i].substr(0, comma).substr(out[i].substr(0, comma).rfind(',') + 1);
+        EXPECT_EQ(vote, p > 0.5 ? "fell" : "stood") << out[i];
+    }
 }
 
 TEST(Predict, BadInputNamesFileLineAndColumnAndWritesNothing) {

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -96,15 +98,40 @@ TEST(Validation, OutcomesAreScoredWhenTheDataHasThem) {
     options.analysis.bootstrap = 20;
     const auto v = run_validation(path, options);
     ASSERT_TRUE(v) << v.error().message;
-    EXPECT_EQ(v->outcome_rows, 11u) << "'broke' rows are not stood/fell predictions";
-    ASSERT_TRUE(v->baseline_outcome_accuracy.has_value());
-    EXPECT_GE(*v->baseline_outcome_accuracy, 0.0);
-    EXPECT_LE(*v->baseline_outcome_accuracy, 1.0);
+    ASSERT_TRUE(v->baseline_outcome.has_value());
+    EXPECT_EQ(v->baseline_outcome->rows, 11u) << "'broke' rows are not stood/fell predictions";
+    EXPECT_GE(v->baseline_outcome->accuracy, 0.0);
+    EXPECT_LE(v->baseline_outcome->accuracy, 1.0);
+    EXPECT_GE(v->baseline_outcome->brier, 0.0);
+    EXPECT_LE(v->baseline_outcome->brier, 1.0);
+    EXPECT_GT(v->baseline_outcome->log_loss, 0.0) << "two rows fell: no chance of falling is right on every row";
     if (!v->analysis.extension.empty()) {
-        EXPECT_TRUE(v->extended_outcome_accuracy.has_value());
+        EXPECT_TRUE(v->extended_outcome.has_value());
     }
     const auto json = nlohmann::json::parse(validation_json(*v, options.analysis));
-    EXPECT_TRUE(json["baseline"].contains("outcome_accuracy"));
+    for (const char* key : {"outcome_accuracy", "outcome_brier", "outcome_log_loss", "outcome_rows"}) EXPECT_TRUE(json["baseline"].contains(key)) << key;
+    EXPECT_EQ(json["baseline"]["outcome_rows"], 11);
+}
+
+// A chance of falling is scored as a chance: the Brier score and the log-loss of hand-worked rows (a
+// chance of 1 given to a row that stood costs ln 1000, not infinity), 'broke' and blank rows left out.
+TEST(Validation, ChancesOfFallingAreScoredByAccuracyBrierAndLogLoss) {
+    MeasuredData data;
+    for (const char* o : {"fell", "stood", "fell", "stood", "broke"}) {
+        MeasuredTrial t;
+        t.outcome = std::string(o);
+        data.trials.push_back(t);
+    }
+    data.trials.push_back(MeasuredTrial{}); // no outcome
+    const std::vector<double> p{0.8, 0.3, 0.4, 1.0, 0.9, 0.5};
+    const auto s = score_outcomes(data, p);
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->rows, 4u);
+    EXPECT_DOUBLE_EQ(s->accuracy, 0.5); // 0.8 fell and 0.3 stood right; 0.4 fell and 1.0 stood wrong
+    EXPECT_NEAR(s->brier, (0.04 + 0.09 + 0.36 + 1.0) / 4.0, 1e-12);
+    EXPECT_NEAR(s->log_loss, -(std::log(0.8) + std::log(0.7) + std::log(0.4) + std::log(0.001)) / 4.0, 1e-12);
+    MeasuredData none;
+    EXPECT_FALSE(score_outcomes(none, {}).has_value()) << "nothing to score";
 }
 
 // Issue 17: blank cells keep working, and the summary, report and JSON say how many rows each column
