@@ -126,6 +126,9 @@ struct PinResistance {
     // slides in), not what holds a stem at rest in the pins (its holding moment, the base model's).
     // Fitted to pushes and holding too, it held the paper's sunflowers for 16 insertions, not 5.8.
     bool extension_push_only;
+    // Terms on the holding alone (a species' "applies_to": "hold" terms): exp(sum) multiplies what holds
+    // a stem at rest (the holding moment), never the push's resistance. Empty: none.
+    std::vector<DeteriorationTerm> hold_extension;
     // hard_eq6 (Table 1)
     double cortex_tip_n_per_m;
     double cortex_trunk_n_per_m;

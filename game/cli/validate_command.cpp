@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include <unistd.h>
 
@@ -43,6 +44,7 @@ struct Args {
     bool paper = false;
     bool alpha_given = false;
     std::uint32_t paper_trials = 15;
+    std::uint32_t paper_hold_trials = 100;
     std::uint32_t memory_mb = 1024;
     AnalysisOptions analysis;
 };
@@ -77,6 +79,81 @@ Result<PaperExperiment> run_paper_experiment(const std::string& extended_species
     out.extended_never_fell = extended->trials_never_fell;
     if (tty) std::fprintf(stderr, "\r\033[K");
     return out;
+}
+
+// The paper's falls as a measured outcome (issue 57). What holds a stem at rest is the part of the model
+// the forces cannot see (a gauge reads them while the stem slides in), so it is fitted to the falls: a
+// level on the holding alone ("applies_to": "hold"), found by bisection so that the experiment's mean
+// insertions until the fall is the paper's 5.8, over `trials` flowers (the expectation, not fifteen
+// draws of it: a 15-flower mean has a standard error near 0.8 insertions).
+constexpr double paper_insertions_to_fall = 5.8;
+
+struct HoldFit {
+    double coefficient = 0.0; // ln of the hold factor
+    double fall_mean = 0.0;   // over `trials` flowers, with it
+    double fall_mean_before = 0.0;
+    std::uint32_t trials = 0;
+    std::uint32_t runs = 0;
+    std::string species_json;
+};
+
+Result<std::string> with_hold_level(const std::string& species_json, double coefficient) {
+    auto j = nlohmann::ordered_json::parse(species_json, nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("deterioration")) return make_error(ErrorCode::parse_error, "the extended species is not a species");
+    auto& terms = j["deterioration"]["terms"];
+    if (!terms.is_array()) terms = nlohmann::ordered_json::array();
+    terms.push_back({{"covariate", "insertion"}, {"form", "constant"}, {"coefficient", coefficient}, {"applies_to", "hold"}});
+    return assets::json_text(j, 2) + "\n";
+}
+
+Result<double> mean_insertions_to_fall(const std::string& species_json, std::uint32_t trials, const ExperimentProgress& progress) {
+    const auto file = (std::filesystem::temp_directory_path() / ("ikebana-hold-fit-" + std::to_string(getpid()) + ".json")).string();
+    if (auto w = assets::write_text_file(file, species_json); !w) return std::move(w).error();
+    ExperimentOptions options;
+    options.trials = trials;
+    options.species = file;
+    auto result = run_insertion_experiment(options, progress);
+    std::filesystem::remove(file);
+    if (!result) return std::move(result).error();
+    return result->mean_insertions_to_fall;
+}
+
+Result<HoldFit> fit_hold_level(const std::string& species_json, std::uint32_t trials, bool tty) {
+    HoldFit fit;
+    fit.trials = trials;
+    const auto falls_with = [&](double coefficient) -> Result<double> {
+        auto species = with_hold_level(species_json, coefficient);
+        if (!species) return std::move(species).error();
+        ++fit.runs;
+        const auto run = fit.runs;
+        return mean_insertions_to_fall(*species, trials, [tty, run](std::uint32_t t, std::uint32_t n) {
+            if (tty) std::fprintf(stderr, "\r\033[Kfitting the holding to the paper's falls: run %u, flower %u / %u", run, t, n);
+        });
+    };
+    auto at_zero = falls_with(0.0);
+    if (!at_zero) return std::move(at_zero).error();
+    fit.fall_mean_before = *at_zero;
+    // More holding, later falls: the bracket is [ln 0.6, 0] when they fall too late, [0, ln 1.35] when too early.
+    double lo = *at_zero > paper_insertions_to_fall ? std::log(0.6) : 0.0;
+    double hi = *at_zero > paper_insertions_to_fall ? 0.0 : std::log(1.35);
+    double best = 0.0, best_mean = *at_zero;
+    for (int step = 0; step < 12 && std::abs(best_mean - paper_insertions_to_fall) > 0.05; ++step) {
+        const double mid = 0.5 * (lo + hi);
+        auto mean = falls_with(mid);
+        if (!mean) return std::move(mean).error();
+        if (std::abs(*mean - paper_insertions_to_fall) < std::abs(best_mean - paper_insertions_to_fall)) {
+            best = mid;
+            best_mean = *mean;
+        }
+        (*mean > paper_insertions_to_fall ? hi : lo) = mid;
+    }
+    if (tty) std::fprintf(stderr, "\r\033[K");
+    fit.coefficient = best;
+    fit.fall_mean = best_mean;
+    auto species = with_hold_level(species_json, best);
+    if (!species) return std::move(species).error();
+    fit.species_json = std::move(species).value();
+    return fit;
 }
 
 // The paper's own model as a species: the shipped sunflower without the split-bottom factor the
@@ -219,6 +296,39 @@ int run_validate(Args& args) {
                 applies_to = "push";
             }
         }
+        // The falls as a measured outcome: the holding alone fitted to them (a level of 1 when the falls are
+        // already the paper's).
+        std::optional<HoldFit> hold;
+        {
+            auto fit = fit_hold_level(v.extended_species_json, args.paper_hold_trials, tty);
+            if (!fit) {
+                std::cerr << "ikebana validate: fitting the holding to the paper's falls: " << fit.error().message << "\n";
+                return 1;
+            }
+            auto again = run_with(fit->species_json);
+            if (!again) {
+                std::cerr << "ikebana validate: the paper's experiment, with the holding fitted: " << again.error().message << "\n";
+                return 1;
+            }
+            char said[1200];
+            std::snprintf(said, sizeof said,
+                          "The falls as a measured outcome: what holds a stem at rest is what the forces cannot see (a gauge reads them while "
+                          "the stem slides in). A level on the holding alone (\"applies_to\": \"hold\"), fitted so that %u flowers fall after "
+                          "the paper's 5.8 insertions on average, is x%.3f: the pins hold a stem at rest %.1f %% %s than they resist its push. "
+                          "Over those %u flowers the mean insertions until the fall goes from %.2f to %.2f (%u runs of the experiment); the "
+                          "forces are the push's and do not change. With it the paper's experiment (%u flowers): %.1f insertions until the "
+                          "bottom breaks and %.1f until the flower falls (%u still standing after %u).\n",
+                          fit->trials, std::exp(fit->coefficient), 100.0 * std::abs(1.0 - std::exp(fit->coefficient)),
+                          fit->coefficient < 0.0 ? "less" : "more", fit->trials, fit->fall_mean_before, fit->fall_mean, fit->runs, args.paper_trials,
+                          again->extended_break_mean, again->extended_fall_mean, again->extended_never_fell, again->max_insertions);
+            std::printf("%s", said);
+            text += "\n" + std::string(said);
+            measures = judged(*again);
+            for (const auto& m : measures) std::printf("%s%s\n", m.worse ? "WORSE: " : "also: ", other_measure_words(m).c_str());
+            v.extended_species_json = fit->species_json;
+            experiment = std::move(again);
+            hold = std::move(fit).value();
+        }
         v.others.insert(v.others.end(), measures.begin(), measures.end());
         extra += std::string("## The paper's experiment with the extended species\n\n") + text + "\n";
         auto j = nlohmann::ordered_json::parse(json);
@@ -228,6 +338,14 @@ int run_validate(Args& args) {
                                  {"baseline", {{"insertions_to_break", experiment->break_mean}, {"insertions_to_fall", experiment->fall_mean}}},
                                  {"extended", {{"insertions_to_break", experiment->extended_break_mean}, {"insertions_to_fall", experiment->extended_fall_mean},
                                                {"still_standing", experiment->extended_never_fell}, {"applies_to", applies_to}}}};
+        if (hold) {
+            j["paper_experiment"]["extended"]["hold_fit"] = {{"hold_factor", std::exp(hold->coefficient)},
+                                                             {"coefficient", hold->coefficient},
+                                                             {"trials", hold->trials},
+                                                             {"insertions_to_fall_before", hold->fall_mean_before},
+                                                             {"insertions_to_fall", hold->fall_mean},
+                                                             {"runs", hold->runs}};
+        }
         json = assets::json_text(j, 2) + "\n";
     }
     // Several species: a file for each that has an extension (FILE.<species>.json).
@@ -348,6 +466,9 @@ void add_validate_command(CLI::App& app, int& exit_code) {
         ->check(CLI::Range(std::size_t{0}, std::size_t{1} << 40));
     cmd->add_flag("--paper", args->paper, "Run on the paper's Table 2 and report its experiment with the extended species");
     cmd->add_option("--paper-trials", args->paper_trials, "Flowers in the paper's experiment")->capture_default_str()->check(CLI::Range(1u, 1000u));
+    cmd->add_option("--paper-hold-trials", args->paper_hold_trials, "Flowers the holding is fitted to the paper's falls over (--paper)")
+        ->capture_default_str()
+        ->check(CLI::Range(1u, 1000u));
     cmd->callback([args, alpha, &exit_code] {
         args->alpha_given = alpha->count() > 0;
         exit_code = run_validate(*args);

@@ -229,7 +229,9 @@ void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
                     c.problem(tp, "expected an object, got " + JsonChecker::describe(t));
                     continue;
                 }
-                c.no_unknown_keys(t, tp, {"covariate", "form", "coefficient", "scale", "origin", "range", "category", "times"});
+                c.no_unknown_keys(t, tp, {"covariate", "form", "coefficient", "scale", "origin", "range", "category", "times", "applies_to"});
+                // A term of its own on what holds the stem at rest; otherwise as the block's applies_to says.
+                const bool hold_only = t.contains("applies_to") && c.choice(t, tp, "applies_to", {"hold", "push_and_hold"}).value_or("") == "hold";
                 components::DeteriorationTerm term{};
                 term.covariate = c.string(t, tp, "covariate").value_or("");
                 term.form = c.choice(t, tp, "form", {"constant", "linear", "log", "saturating", "power", "step", "peaked", "category"}).value_or("");
@@ -272,7 +274,7 @@ void read_deterioration(JsonChecker& c, const Json& root, SpeciesDef& out) {
                     }
                     if (term.form == "category" || term.form == "constant") c.problem(xp, "an interaction multiplies a numeric term, not a " + term.form);
                 }
-                out.deterioration.terms.push_back(term);
+                (hold_only ? out.deterioration.hold_terms : out.deterioration.terms).push_back(term);
             }
         }
     } else {

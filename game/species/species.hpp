@@ -85,6 +85,10 @@ struct DeteriorationDef {
     // "extended": "push_and_hold" (the factor multiplies the holding moment too) or "push" (only the
     // resistance to the push; a stem at rest is held as the base model holds it).
     std::string applies_to = "push_and_hold";
+    // Terms with "applies_to": "hold": they multiply only what holds a stem at rest in the pins (its
+    // holding moment, so when it falls), never the resistance to the push (what a gauge reads). Found
+    // from outcomes (stood, fell), where the forces cannot see them.
+    std::vector<components::DeteriorationTerm> hold_terms;
 };
 
 // The stem bottom splitting (section 3.1: on average after 2.6 insertions).

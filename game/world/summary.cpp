@@ -191,8 +191,10 @@ std::vector<std::string> startup_warnings(World& w) {
     std::set<std::string> said; // once per species
     for (const auto& f : w.flowers) {
         const auto* model = w.sim.try_get<PinResistance>(f.entity);
-        if (!model || model->extension.empty() || !said.insert(f.species).second) continue;
-        for (const auto& m : systems::insertion::missing_covariates(model->extension, environment ? *environment : systems::insertion::Covariates{})) {
+        if (!model || (model->extension.empty() && model->hold_extension.empty()) || !said.insert(f.species).second) continue;
+        std::vector<components::DeteriorationTerm> terms = model->extension;
+        terms.insert(terms.end(), model->hold_extension.begin(), model->hold_extension.end());
+        for (const auto& m : systems::insertion::missing_covariates(terms, environment ? *environment : systems::insertion::Covariates{})) {
             out.push_back(missing_covariate_sentence(f.species, m));
         }
     }

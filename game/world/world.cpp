@@ -137,6 +137,7 @@ components::PinResistance pin_resistance_of(const SpeciesDef& sp) {
         m.extension = sp.deterioration.terms;
     }
     m.extension_push_only = sp.deterioration.applies_to == "push";
+    m.hold_extension = sp.deterioration.hold_terms;
     m.break_probability_by_insertion = sp.breakage.model == "hazard_by_insertion" ? sp.breakage.probability_by_insertion : std::vector<double>{};
     m.broken_holding_factor = sp.breakage.broken_holding_factor;
     m.broken_seat_loss_m = sp.breakage.broken_seat_loss_m;

@@ -48,7 +48,7 @@ void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
             if (!engagement.in_kenzan || !kenzan) return;
             // Covariates a fitted extension may use: the world's, plus this insertion's own. Only a species
             // with an extension reads them (building the map was eight allocations a flower a tick).
-            if (!model.extension.empty()) {
+            if (!model.extension.empty() || !model.hold_extension.empty()) {
                 if (world_covariates) {
                     for (const auto& [key, value] : world_covariates->numeric) set(covariates.numeric, key, value);
                     for (const auto& [key, value] : world_covariates->category) set(covariates.category, key, value);
@@ -73,10 +73,12 @@ void InsertionResistanceSystem::operator()(sched::SystemContext& ctx) {
             const double soft_base = hold_apart && model.kind == ResistanceKind::soft_table
                                          ? insertion::soft_resistance_n_per_m(model, std::max(history.insertions, 1u), covariates, false)
                                          : soft;
+            // Terms on the holding alone move when it falls and leave the push as it is.
+            const double hold = model.hold_extension.empty() ? 1.0 : insertion::extension_factor(model.hold_extension, std::max(history.insertions, 1u), covariates);
             for (auto& p : engagement.pins) {
                 p.force_n = factor * insertion::pin_resistance_n(p, model, soft);
                 engagement.resistance_n += p.force_n;
-                const double holding_n = hold_apart ? broken * insertion::pin_resistance_n(p, model, soft_base) : p.force_n;
+                const double holding_n = hold * (hold_apart ? broken * insertion::pin_resistance_n(p, model, soft_base) : p.force_n);
                 engagement.holding_moment_nm += holding_n * p.lever_m;
             }
             // Gravity moment about the tipping edge, from the live mass points.

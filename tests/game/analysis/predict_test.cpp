@@ -80,6 +80,41 @@ TEST(Predict, OutcomeColumnGetsAPredictedOutcomeAndAChanceOfFalling) {
     }
 }
 
+// Issue 57: a term on what holds a stem at rest ("applies_to": "hold") moves the chance of falling and
+// never the force a gauge reads as the stem is pushed in: held at half, stems at 45 degrees that stood
+// fall; the predicted forces are the same to the last digit.
+TEST(Predict, ATermOnTheHoldingAloneMovesTheChanceOfFallingAndNotTheForce) {
+    auto species = nlohmann::json::parse(*assets::read_text_file(asset_dir() / "species" / "sunflower.json"));
+    species["id"] = "held_half";
+    species["deterioration"] = {{"model", "extended"},
+                                {"base", "paper_baseline"},
+                                {"terms", {{{"covariate", "insertion"}, {"form", "constant"}, {"coefficient", std::log(0.5)}, {"applies_to", "hold"}}}}};
+    const auto species_file = write("held_half.json", species.dump());
+    const auto input = write("held.csv", "flower_id,insertion,max_force_gf,outcome,angle_deg\nA,1,480,stood,45\nA,2,470,stood,45\n");
+    ASSERT_EQ(run_predict(input, "", temp("held_base.csv")), 0);
+    ASSERT_EQ(run_predict(input, species_file, temp("held_half_out.csv")), 0);
+    const auto base = lines(temp("held_base.csv"));
+    const auto half = lines(temp("held_half_out.csv"));
+    ASSERT_EQ(base.size(), 3u);
+    ASSERT_EQ(half.size(), 3u);
+    const auto cells = [](const std::string& line) {
+        std::vector<std::string> out;
+        std::stringstream in(line);
+        for (std::string cell; std::getline(in, cell, ',');) out.push_back(cell);
+        return out;
+    };
+    for (std::size_t i = 1; i < 3; ++i) {
+        const auto b = cells(base[i]);
+        const auto h = cells(half[i]);
+        ASSERT_EQ(b.size(), 8u);
+        ASSERT_EQ(h.size(), 8u);
+        EXPECT_EQ(h[5], b[5]) << "the force as it is pushed in, row " << i;
+        EXPECT_GT(std::stod(h[7]), std::stod(b[7])) << "a better chance of falling, row " << i;
+    }
+    EXPECT_EQ(cells(base[1])[6], "stood");
+    EXPECT_EQ(cells(half[1])[6], "fell");
+}
+
 TEST(Predict, BadInputNamesFileLineAndColumnAndWritesNothing) {
     const auto bad = write("bad.csv", "flower_id,insertion,max_force_gf\nA,1,480\nA,two,460\n");
     const auto data = load_measured_data(bad);

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include <nlohmann/json.hpp>
@@ -68,6 +69,31 @@ TEST(Figure12, FallsAfterTwoShallowInsertions) {
     // The same flower pushed to full depth stands (it is the depth, not the count).
     const auto deep = run_insertion_trial(figure12(2), 1, false, false);
     EXPECT_FALSE(deep->insertions[1].fell);
+}
+
+// Issue 57: a term on what holds a stem at rest ("applies_to": "hold") moves when it falls and never the
+// push. Figure 12 (a)'s flower, which stands after each of three insertions at full depth, held at half
+// (a hold factor of 0.5) falls (Predict.ATermOnTheHoldingAloneMovesTheChanceOfFallingAndNotTheForce shows
+// the push's force unchanged).
+TEST(Figure12, AHoldFactorOfOneHalfMakesAStemThatStoodFallAndLeavesThePushAsItWas) {
+    auto text = assets::read_text_file(asset_dir() / "species" / "sunflower.json");
+    ASSERT_TRUE(text);
+    auto species = nlohmann::json::parse(*text);
+    species["id"] = "sunflower_held_half";
+    species["deterioration"] = {{"model", "extended"},
+                                {"base", "paper_baseline"},
+                                {"terms", {{{"covariate", "insertion"}, {"form", "constant"}, {"coefficient", std::log(0.5)}, {"applies_to", "hold"}}}}};
+    const auto path = std::filesystem::temp_directory_path() / "sunflower_held_half.json";
+    ASSERT_TRUE(assets::write_text_file(path, species.dump()));
+    const auto stood = run_insertion_trial(figure12(3), 1, /*stop_at_fall=*/false, /*force_broken=*/false);
+    auto o = figure12(3);
+    o.species = path.string();
+    const auto held_half = run_insertion_trial(o, 1, /*stop_at_fall=*/false, /*force_broken=*/false);
+    ASSERT_TRUE(stood);
+    ASSERT_TRUE(held_half) << held_half.error().message;
+    ASSERT_FALSE(stood->insertions[0].fell);
+    EXPECT_TRUE(held_half->insertions[0].fell) << "held at half, it falls where it stood";
+    EXPECT_NEAR(held_half->insertions[0].depth_m, stood->insertions[0].depth_m, 0.0005) << "pushed as deep";
 }
 
 // Straight down, between four pins, to the base plate: 13 mm of every pin in the stem, so the

@@ -202,3 +202,25 @@ TEST(Species, APartWithoutAMeshHasAShapeAndItsFieldsAreChecked) {
     ASSERT_FALSE(oval);
     EXPECT_NE(oval.error().message.find("sunflower.json: /parts/1/shape: "), std::string::npos) << oval.error().message;
 }
+
+// Issue 57: a deterioration term with "applies_to": "hold" is a term on what holds a stem at rest alone;
+// the others stay the push's (and the holding's, as the block says). Any other value is named at its path.
+TEST(Species, ATermOnTheHoldingAloneIsReadApartFromThePushTerms) {
+    const std::string extended = R"("deterioration": {"model": "extended", "base": "paper_baseline", "terms": [
+        {"covariate": "insertion", "form": "log", "coefficient": -0.08, "scale": 0},
+        {"covariate": "insertion", "form": "constant", "coefficient": -0.04, "applies_to": "hold"}]})";
+    const std::string text = sunflower_text();
+    const auto from = text.find("\"deterioration\"");
+    ASSERT_NE(from, std::string::npos);
+    const auto to = text.find('}', from);
+    const std::string with_hold = text.substr(0, from) + extended + text.substr(to + 1);
+    const auto sp = parse_species(with_hold, "held.json");
+    ASSERT_TRUE(sp) << sp.error().message;
+    ASSERT_EQ(sp->deterioration.terms.size(), 1u);
+    EXPECT_EQ(sp->deterioration.terms[0].form, "log");
+    ASSERT_EQ(sp->deterioration.hold_terms.size(), 1u);
+    EXPECT_DOUBLE_EQ(sp->deterioration.hold_terms[0].coefficient, -0.04);
+    const auto bad = parse_species(replace(with_hold, "\"applies_to\": \"hold\"", "\"applies_to\": \"stand\""), "held.json");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("held.json: /deterioration/terms/1/applies_to: expected one of"), std::string::npos) << bad.error().message;
+}
