@@ -100,12 +100,15 @@ Result<void> check_each_species(ValidationResult& v, const std::vector<std::stri
 
 std::string species_output_path(const std::string& path, const std::string& species) {
     // A species named by its file goes by the file's name; nothing in it may leave the folder.
+    // The file's name is the species' id (`species check` holds every file to that), so it takes an id's
+    // letters: lower case, digits, '-' and '_' ("ext.iris.json" was refused for its dot).
     std::string id = std::filesystem::path(species).stem().string();
     for (char& ch : id) {
+        ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
         if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-') ch = '_';
     }
     const std::filesystem::path p(path);
-    return (p.parent_path() / (p.stem().string() + "." + id + p.extension().string())).string();
+    return (p.parent_path() / (p.stem().string() + "-" + id + p.extension().string())).string();
 }
 
 Result<std::string> extended_species_json(const std::string& species, const std::vector<components::DeteriorationTerm>& terms,

@@ -86,7 +86,7 @@ struct ValidationResult {
 };
 
 // Where --write-species FILE puts species S's file when the data hold several: FILE's name with
-// ".S" before its extension (ext.json -> ext.iris.json).
+// "-S" before its extension (ext.json -> ext-iris.json), S in an id's letters.
 std::string species_output_path(const std::string& path, const std::string& species);
 
 // The extended species' file with its extension applied to `applies_to` ("push" or "push_and_hold").

@@ -9,6 +9,7 @@
 #include "engine/assets/csv_table.hpp"
 #include "engine/assets/files.hpp"
 #include "engine/assets/json_checker.hpp"
+#include "engine/core/utf8.hpp"
 #include "game/analysis/insertion_predictor.hpp"
 #include "game/analysis/measured_data.hpp"
 #include "game/species/species.hpp"
@@ -56,13 +57,18 @@ int run_predict(const std::string& input, const std::string& species_override, c
         std::cerr << "ikebana predict: " << text.error().message << "\n";
         return 2;
     }
+    // Every output is UTF-8: a Windows-1252 (Latin-1) file is written back as the table read it.
+    if (!is_utf8(*text)) *text = windows1252_to_utf8(*text);
     std::map<std::size_t, std::size_t> row_of_line;
     // Each row's predictions go at the end of its last line (a quoted cell may hold line breaks).
     for (std::size_t i = 0; i < data->table.last_line_of_row.size(); ++i) row_of_line[data->table.last_line_of_row[i]] = i;
     std::ostringstream out;
     // Split as the table was read (any line ending, no byte-order mark), each line's ending kept.
     std::size_t line_no = 0;
+    // A last line without an ending gets the file's own (a CRLF file's last line a CRLF, not an LF).
+    std::string_view file_ending = "\n";
     for (const auto& [text_line, ending] : assets::split_lines(*text)) {
+        if (!ending.empty()) file_ending = ending;
         ++line_no;
         std::string line(text_line);
         if (line_no == data->table.header_last_line) {
@@ -77,7 +83,7 @@ int run_predict(const std::string& input, const std::string& species_override, c
                 line += value;
             }
         }
-        out << line << (ending.empty() ? std::string_view("\n") : ending);
+        out << line << (ending.empty() ? file_ending : ending);
     }
     // Written beside the target and renamed: no half-written output.
     if (auto w = assets::write_text_file(output, out.str()); !w) {

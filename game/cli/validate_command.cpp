@@ -19,6 +19,7 @@
 #include "game/asset_paths.hpp"
 #include "game/cli/option_checks.hpp"
 #include "game/experiment/insertion_experiment.hpp"
+#include "game/species/species.hpp"
 
 namespace ikebana::game {
 
@@ -189,6 +190,16 @@ int run_validate(Args& args) {
         if (path->empty()) continue;
         if (auto ok = assets::check_output_path(*path); !ok) {
             std::cerr << "ikebana validate: " << option << ": " << ok.error().message << "\n";
+            return 2;
+        }
+    }
+    // The species written is named as its file, and an id has lower-case letters, digits, '-' and '_':
+    // a name that cannot be one is refused now, not after the search (`species check` refused EXT.json).
+    if (!args.write_species.empty()) {
+        const std::filesystem::path file(args.write_species);
+        if (file.extension() != ".json" || !valid_species_id(file.stem().string())) {
+            std::cerr << "ikebana validate: --write-species: " << terminal_text(args.write_species)
+                      << ": a species file is named as its id, lower-case letters, digits, '-' or '_' before .json (ext.json, say)\n";
             return 2;
         }
     }

@@ -327,6 +327,10 @@ void read_look(JsonChecker& c, const Json& root, SpeciesDef& out) {
 
 } // namespace
 
+bool valid_species_id(std::string_view id) noexcept {
+    return !id.empty() && id.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_-") == std::string_view::npos;
+}
+
 Result<SpeciesDef> parse_species(std::string_view text, const std::string& label) {
     JsonChecker c(label);
     const auto root = c.parse_object(text);
@@ -339,7 +343,7 @@ Result<SpeciesDef> parse_species(std::string_view text, const std::string& label
         c.problem("/format", "expected \"ikebana-species/1\", got \"" + *format + "\"");
     }
     out.id = c.string(*root, "", "id").value_or("");
-    if (!out.id.empty() && out.id.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_-") != std::string::npos) {
+    if (!out.id.empty() && !valid_species_id(out.id)) {
         c.problem("/id", "expected lower-case letters, digits, '-' or '_', got \"" + out.id + "\"");
     }
     out.name = c.string(*root, "", "name", false).value_or(out.id);

@@ -138,6 +138,8 @@ struct SpeciesDef {
 // Parses and validates; on failure the error lists every problem found (one per line), and nothing
 // of the file is used. `label` names the file in messages.
 Result<SpeciesDef> parse_species(std::string_view text, const std::string& label);
+// A species id: lower-case letters, digits, '-' and '_', not empty. A species file is named as its id.
+[[nodiscard]] bool valid_species_id(std::string_view id) noexcept;
 Result<SpeciesDef> load_species_file(const std::filesystem::path& path);
 // An id ("sunflower") is looked up in <assets>/species/; anything with a slash or .json is a path.
 Result<SpeciesDef> load_species(const std::string& id_or_path);

@@ -312,6 +312,10 @@ TEST(Validation, AnExtensionThatMakesAnotherSpeciesWorseIsSaidToAndEachSpeciesIs
     EXPECT_NE(summary.find("WORSE:     iris's 180 rows, held-out error in gf"), std::string::npos) << summary;
     EXPECT_NE(summary.find("each species was searched on its own rows"), std::string::npos) << summary;
     EXPECT_NE(summary.find("  sunflower (180 rows): humidity_pct increases"), std::string::npos) << summary;
-    EXPECT_EQ(species_output_path("out/ext.json", "sunflower"), "out/ext.sunflower.json");
-    EXPECT_EQ(species_output_path("ext.json", "../designs/my rose.json"), "ext.my_rose.json");
+    EXPECT_EQ(species_output_path("out/ext.json", "sunflower"), "out/ext-sunflower.json");
+    EXPECT_EQ(species_output_path("ext.json", "../designs/My Rose.json"), "ext-my_rose.json");
+    // Each name is a species id, as `species check` wants of a species file (ext.iris.json was refused).
+    for (const char* species : {"sunflower", "iris", "../designs/My Rose.json", "a.b"}) {
+        EXPECT_TRUE(valid_species_id(std::filesystem::path(species_output_path("ext.json", species)).stem().string())) << species;
+    }
 }
