@@ -29,7 +29,10 @@ OJson session_json(const SessionRecord& s) {
             {"started", iso_utc(s.started_unix_s)},
             {"duration_s", std::round(s.duration_s * 10.0) / 10.0},
             {"score", result["score"]},
-            {"recording", s.recording.empty() ? OJson(nullptr) : OJson(s.recording)},
+            {"recording", s.recording.empty() ? OJson(nullptr) : OJson(utf8_or_replacement(s.recording))},
+            // JSON text is UTF-8: a folder whose name is not (a Latin-1 path) is shown with U+FFFD above and
+            // cannot be passed back; `report --id` takes the session by its id instead.
+            {"recording_is_utf8", s.recording.empty() || is_utf8(s.recording)},
             {"flowers", flowers},
             {"how", result["how"]},
             {"criteria", result["criteria"]},

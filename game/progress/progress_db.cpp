@@ -109,6 +109,12 @@ public:
         // integrity_check passes): read as U+FFFD, so the history still reads and prints.
         return t ? utf8_or_replacement({reinterpret_cast<const char*>(t), static_cast<std::size_t>(sqlite3_column_bytes(stmt_, i))}) : std::string{};
     }
+    // The bytes as stored: a path names a folder whatever its bytes (a Latin-1 folder name), and a path
+    // made readable would name another folder.
+    [[nodiscard]] std::string bytes(int i) const {
+        const auto* t = sqlite3_column_text(stmt_, i);
+        return t ? std::string(reinterpret_cast<const char*>(t), static_cast<std::size_t>(sqlite3_column_bytes(stmt_, i))) : std::string{};
+    }
     [[nodiscard]] double real(int i) const { return sqlite3_column_double(stmt_, i); }
     [[nodiscard]] std::int64_t integer(int i) const { return sqlite3_column_int64(stmt_, i); }
     [[nodiscard]] bool null(int i) const { return sqlite3_column_type(stmt_, i) == SQLITE_NULL; }
@@ -510,7 +516,7 @@ Result<std::vector<SessionRecord>> ProgressDb::sessions(const SessionFilter& fil
         auto arrangement = parse_arrangement(q.text(8), path_.string() + ": session " + std::to_string(s.id) + "'s arrangement");
         if (!arrangement) return arrangement.error();
         s.result.arrangement = std::move(*arrangement);
-        s.recording = q.text(9);
+        s.recording = q.bytes(9); // shown through utf8_or_replacement or terminal_text where it is shown
         out.push_back(std::move(s));
     }
     if (rc != SQLITE_DONE) return failed();

@@ -329,6 +329,63 @@ if(rc EQUAL 0 OR NOT stderr MATCHES "not checked against its recording: [^\n]*sh
 endif()
 message(STATUS "report checks its recording as replay does, reads a lesson file from it, and reports a deleted one from the database")
 
+# 8. A recording folder whose name is not UTF-8 (Latin-1 "caf\xe9"): `history --json` cannot carry its
+#    bytes (JSON text is UTF-8), says so, and `report --id` takes the session by its id instead.
+file(REMOVE ${out}/latin.sqlite)
+execute_process(COMMAND bash -c "\"$0\" lesson demo ohara_rising_form --record \"$1/$(printf 'caf\\351_rec')\" --db \"$1/latin.sqlite\""
+                        ${IKEBANA} ${out} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE stderr TIMEOUT 300)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "the demonstration into a Latin-1 folder: exit ${rc}: ${stderr}")
+endif()
+execute_process(COMMAND ${IKEBANA} history --json --db ${out}/latin.sqlite RESULT_VARIABLE rc OUTPUT_VARIABLE history ERROR_VARIABLE stderr)
+string(JSON latin_id GET "${history}" sessions 0 id)
+string(JSON latin_utf8 GET "${history}" sessions 0 recording_is_utf8)
+if(NOT rc EQUAL 0 OR latin_utf8)
+  message(FATAL_ERROR "history --json of a Latin-1 recording folder: exit ${rc}, recording_is_utf8 ${latin_utf8}: ${history}${stderr}")
+endif()
+execute_process(COMMAND ${IKEBANA} report --id ${latin_id} --out ${out}/latin_report --db ${out}/latin.sqlite
+                RESULT_VARIABLE rc OUTPUT_VARIABLE stdout ERROR_VARIABLE stderr TIMEOUT 300)
+if(NOT rc EQUAL 0 OR NOT stdout MATCHES "checked: its recording replays to this result" OR NOT EXISTS ${out}/latin_report/report.png)
+  message(FATAL_ERROR "report --id of a session recorded in a Latin-1 folder: exit ${rc}: ${stdout}${stderr}")
+endif()
+execute_process(COMMAND ${IKEBANA} report --id 999 --out ${out}/no_report --db ${out}/latin.sqlite RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 2 OR NOT stderr MATCHES "ikebana report: --id 999: no session 999 in ")
+  message(FATAL_ERROR "report --id of no session: exit ${rc}: ${stderr}")
+endif()
+message(STATUS "a session recorded in a folder whose name is not UTF-8 is reported by its id")
+
+# 8. predict writes UTF-8 and keeps a file's line endings: a Windows-1252 cell comes back as UTF-8, and a
+#    CRLF file's last line, which had no ending, gets a CRLF (it got an LF).
+execute_process(COMMAND bash -c "printf 'flower_id,insertion,max_force_gf,note\\r\\nA,1,480,caf\\351\\r\\nA,2,460,na\\357ve' > \"$0\"" ${out}/latin1_crlf.csv)
+execute_process(COMMAND ${IKEBANA} predict ${out}/latin1_crlf.csv -o ${out}/latin1_crlf_out.csv RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE stderr)
+file(READ ${out}/latin1_crlf_out.csv predicted HEX)
+string(REGEX MATCHALL ".." predicted_bytes "${predicted}")
+set(before "")
+set(crlf_count 0)
+set(lf_count 0)
+foreach(byte IN LISTS predicted_bytes)
+  if(byte STREQUAL "0a")
+    math(EXPR lf_count "${lf_count} + 1")
+    if(before STREQUAL "0d")
+      math(EXPR crlf_count "${crlf_count} + 1")
+    endif()
+  endif()
+  set(before ${byte})
+endforeach()
+if(NOT rc EQUAL 0 OR NOT predicted MATCHES "636166c3a9" OR NOT predicted MATCHES "6e61c3af7665" OR NOT predicted MATCHES "0d0a$"
+   OR NOT crlf_count EQUAL 3 OR NOT lf_count EQUAL 3)
+  message(FATAL_ERROR "predict on a Windows-1252 CRLF file without a final line ending: exit ${rc}, ${crlf_count} CRLF of ${lf_count} line ends: ${predicted} ${stderr}")
+endif()
+message(STATUS "predict writes a Windows-1252 file back as UTF-8, every line ending as the file's")
+
+# 8. --write-species names a species file; a name that cannot be an id is refused before the search.
+execute_process(COMMAND ${IKEBANA} validate ${ASSETS}/data/paper/table2_sunflower.csv --json ${out}/never.json --write-species ${out}/EXT.json
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE stderr)
+if(NOT rc EQUAL 2 OR NOT stderr MATCHES "a species file is named as its id, lower-case letters, digits, '-' or '_' before .json" OR EXISTS ${out}/never.json)
+  message(FATAL_ERROR "--write-species EXT.json: exit ${rc}: ${stderr}")
+endif()
+message(STATUS "a species file name that cannot be an id is refused before the search")
+
 # 6c. A recording's files are read only inside its folder: a left.csv that links to a secret is refused,
 #     and the secret is never echoed.
 file(REMOVE_RECURSE ${out}/linked_rec)
