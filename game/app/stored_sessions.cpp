@@ -153,6 +153,13 @@ void StoredSessions::finish(World& w, const LessonDef* lesson) {
     recorder_.reset();
     std::error_code ec;
     std::filesystem::remove_all(folder, ec);
+    // Not scored from a frame, so not replayable: a session already stored no longer names the folder.
+    if (!session_.recording.empty() && session_.id != 0) {
+        session_.recording.clear();
+        if (!unsaved_ && progress_) {
+            if (auto saved = progress_->save(session_); !saved) std::cerr << "ikebana: " << saved.error().message << "\n";
+        }
+    }
 }
 
 // The database, opened now if it was busy at the start.

@@ -15,12 +15,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "engine/sched/clocks.hpp"
 #include "game/app/stored_sessions.hpp"
 #include "game/lesson/lesson.hpp"
 #include "game/progress/progress_db.hpp"
 #include "game/world/lesson_scene.hpp"
 #include "game/world/world.hpp"
 #include "game/progress/progress_plot.hpp"
+#include "systems/presentation/frame_channel.hpp"
+#include "../haptics/scripted_hands.hpp"
 
 using namespace ikebana;
 using namespace ikebana::game;
@@ -660,19 +663,35 @@ TEST(ProgressDb, TextThatIsNotUtf8InACellIsReadWithReplacementCharacters) {
     EXPECT_EQ(all->front().trainee, "Zo\xEF\xBF\xBD");
 }
 
+// The window's sessions, as StoredSessions sees them: mika's, in Sogetsu Basic Upright, its database in `dir`.
+struct WindowBench {
+    game::TraineeAppOptions options;
+    LessonDef lesson;
+    std::unique_ptr<game::World> world;
+};
+void window_bench(const std::filesystem::path& dir, WindowBench& out) {
+    out.options.progress_db = (dir / "progress.sqlite").string();
+    out.options.trainee = "mika";
+    auto lesson = game::load_lesson("sogetsu_basic_upright");
+    ASSERT_TRUE(lesson.ok()) << lesson.error().message;
+    out.lesson = *lesson;
+    auto scene = game::scene_for_lesson(out.lesson);
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    auto world = game::World::create(*scene);
+    ASSERT_TRUE(world.ok());
+    out.world = std::move(world).value();
+}
+
 // A session scored while another station holds the database is kept, not lost: the HUD says it is
 // not stored yet, and it is stored once the other is done (here when the window closes).
 TEST(StoredSessions, ASessionScoredWhileTheDatabaseIsBusyIsKeptAndStoredLater) {
     const auto dir = fresh_dir();
-    game::TraineeAppOptions options;
-    options.progress_db = (dir / "progress.sqlite").string();
-    options.trainee = "mika";
-    auto lesson = game::load_lesson("sogetsu_basic_upright");
-    ASSERT_TRUE(lesson.ok()) << lesson.error().message;
-    auto scene = game::scene_for_lesson(*lesson);
-    ASSERT_TRUE(scene.ok()) << scene.error().message;
-    auto world = game::World::create(*scene);
-    ASSERT_TRUE(world.ok());
+    WindowBench bench;
+    window_bench(dir, bench);
+    ASSERT_TRUE(bench.world);
+    auto& options = bench.options;
+    auto* lesson = &bench.lesson;
+    auto* world = &bench.world;
     game::StoredSessions stored(options);
     (void)stored.open(false, &*lesson);
     stored.begin(**world, &*lesson);
@@ -719,4 +738,50 @@ TEST(ProgressPlot, EachTraineeAndTheDemonstrationsHaveTheirOwnPanelHeadedByTheLe
     auto png = render_progress_plot(sessions, "Ikebana progress: everyone", PlotFormat::png);
     ASSERT_TRUE(png.ok()) << png.error().message;
     EXPECT_EQ(png->substr(1, 3), "PNG");
+}
+
+// Issue 58: the window's recording onto a full disk (its recordings folder a 64 KiB tmpfs, the database
+// beside it on a disk with room). The session is still stored, marked as having no recording (it would
+// not replay), and the half-written folder goes. Needs root to mount the tmpfs; skipped otherwise.
+TEST(StoredSessions, AWindowSessionWhoseRecordingFillsTheDiskIsStoredWithoutItAndTheFolderGoes) {
+    const auto dir = fresh_dir();
+    const auto recordings = dir / "recordings";
+    std::filesystem::create_directories(recordings);
+    const std::string mount = "mount -t tmpfs -o size=64k tmpfs '" + recordings.string() + "' 2>/dev/null";
+    if (geteuid() != 0 || std::system(mount.c_str()) != 0) GTEST_SKIP() << "mounting a small tmpfs needs root";
+    struct Unmount {
+        std::filesystem::path at;
+        ~Unmount() { (void)std::system(("umount '" + at.string() + "' 2>/dev/null").c_str()); }
+    } unmount{recordings};
+    WindowBench bench;
+    window_bench(dir, bench);
+    ASSERT_TRUE(bench.world);
+    auto& options = bench.options;
+    auto* lesson = &bench.lesson;
+    auto* world = &bench.world;
+    // Both hands moved by scripted devices, above the flowers: every sample that changes is a line.
+    (*world)->attach_device(0, test::script({{0.0, -0.1, -0.1, 0.2, 0}, {3.0, -0.05, -0.1, 0.25, 0}}));
+    (*world)->attach_device(1, test::script({{0.0, 0.1, -0.1, 0.2, 0}, {3.0, 0.05, -0.1, 0.25, 0}}));
+    game::StoredSessions stored(options);
+    (void)stored.open(false, &*lesson);
+    stored.begin(**world, &*lesson);
+    sched::DeterministicClock clock((*world)->schedule);
+    clock.run_for_us(3'000'000); // two hands' samples at 1 kHz: far more than 64 KiB
+    components::HudInfo hud;
+    const auto* frames = (*world)->main.resource<const systems::ReceivedFrames>();
+    ASSERT_TRUE(frames && frames->current) << "a frame was published";
+    testing::internal::CaptureStderr();
+    stored.store(session("sogetsu_basic_upright", "mika", 77.0, 1).result, frames->latest(), hud);
+    stored.finish(**world, &*lesson);
+    stored.store_pending_at_exit();
+    const std::string said = testing::internal::GetCapturedStderr();
+    EXPECT_NE(said.find("the session is kept without its recording (it would not replay)"), std::string::npos) << said;
+    auto db = ProgressDb::open_read_only(dir / "progress.sqlite");
+    ASSERT_TRUE(db) << db.error().message;
+    auto all = db->sessions();
+    ASSERT_TRUE(all);
+    ASSERT_EQ(all->size(), 1u) << "the session is stored";
+    EXPECT_DOUBLE_EQ(all->front().result.score, 77.0);
+    EXPECT_TRUE(all->front().recording.empty()) << "marked as having no recording: " << all->front().recording;
+    EXPECT_TRUE(std::filesystem::is_empty(recordings)) << "the half-written folder goes";
 }
