@@ -18,6 +18,48 @@
 
 namespace ikebana::game {
 
+std::optional<FlowerSpread> flower_spread(const std::vector<std::string>& flower, const std::vector<double>& residual_log) {
+    std::map<std::string, std::pair<double, std::size_t>> by_flower; // sum, rows
+    for (std::size_t i = 0; i < flower.size() && i < residual_log.size(); ++i) {
+        auto& [sum, n] = by_flower[flower[i]];
+        sum += residual_log[i];
+        ++n;
+    }
+    std::size_t groups = 0, rows = 0;
+    double n_squared = 0.0, grand = 0.0;
+    for (const auto& [id, g] : by_flower) {
+        if (g.second < 2) continue; // a flower of one row says nothing of its own scatter
+        ++groups;
+        rows += g.second;
+        n_squared += static_cast<double>(g.second) * static_cast<double>(g.second);
+        grand += g.first;
+    }
+    if (groups < 3) return std::nullopt;
+    grand /= static_cast<double>(rows);
+    double within = 0.0, between = 0.0;
+    for (std::size_t i = 0; i < flower.size() && i < residual_log.size(); ++i) {
+        const auto& g = by_flower[flower[i]];
+        if (g.second < 2) continue;
+        const double mean = g.first / static_cast<double>(g.second);
+        within += (residual_log[i] - mean) * (residual_log[i] - mean);
+    }
+    for (const auto& [id, g] : by_flower) {
+        if (g.second < 2) continue;
+        const double mean = g.first / static_cast<double>(g.second);
+        between += static_cast<double>(g.second) * (mean - grand) * (mean - grand);
+    }
+    const double ms_within = within / static_cast<double>(rows - groups);
+    const double ms_between = between / static_cast<double>(groups - 1);
+    // Rows a flower on average, corrected for unequal counts.
+    const double n0 = (static_cast<double>(rows) - n_squared / static_cast<double>(rows)) / static_cast<double>(groups - 1);
+    FlowerSpread out;
+    out.sd_log = std::sqrt(std::max(0.0, (ms_between - ms_within) / n0));
+    out.within_sd_log = std::sqrt(ms_within);
+    out.flowers = groups;
+    out.rows = rows;
+    return out;
+}
+
 std::optional<OutcomeScores> score_outcomes(const MeasuredData& data, const std::vector<double>& fall_probability) {
     OutcomeScores s;
     std::size_t right = 0;
@@ -198,6 +240,20 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
     if (!analysis) return std::move(analysis).error();
     v.analysis = std::move(analysis).value();
     for (const auto& c : v.analysis.causes) v.explanations.push_back(explain_cause(c));
+    if (!v.analysis.rows_as_groups) {
+        // Each row's residual after the fitted model, the rows set aside as gross errors left out.
+        std::vector<bool> aside(n_rows, false);
+        for (const auto& r : v.analysis.suspected) aside[r.row] = true;
+        std::vector<std::string> who;
+        std::vector<double> residual;
+        for (std::size_t i = 0; i < n_rows; ++i) {
+            if (aside[i]) continue;
+            const double model = i < v.analysis.fitted_log_factor.size() ? v.analysis.fitted_log_factor[i] : 0.0;
+            who.push_back(v.input.flower[i]);
+            residual.push_back(std::log(v.input.measured_gf[i] / v.input.predicted_gf[i]) - model);
+        }
+        v.spread = flower_spread(who, residual);
+    }
     if (outcomes) v.baseline_outcome = score_outcomes(v.data, baseline_fall);
 
     if (v.analysis.extension.empty()) return v;

@@ -67,6 +67,18 @@ struct OutcomeScores {
 };
 [[nodiscard]] std::optional<OutcomeScores> score_outcomes(const MeasuredData& data, const std::vector<double>& fall_probability);
 
+// How much the flowers differ by themselves, beyond the model (issue 57): one-way random effects by
+// the method of moments on each row's residual, ln(measured / simulated) less the fitted model's log
+// factor. sd_log is the flower effect's standard deviation (ln units: 0.12 is about +-12 %), within_sd_log
+// the rows' own scatter about their flower's mean. Nothing when fewer than 3 flowers have 2 rows or more.
+struct FlowerSpread {
+    double sd_log = 0.0;
+    double within_sd_log = 0.0;
+    std::size_t flowers = 0;
+    std::size_t rows = 0;
+};
+[[nodiscard]] std::optional<FlowerSpread> flower_spread(const std::vector<std::string>& flower, const std::vector<double>& residual_log);
+
 struct ValidationResult {
     std::string measured_file;
     std::string species;                 // what the extension was fitted for
@@ -78,6 +90,7 @@ struct ValidationResult {
     std::vector<double> simulated_extended_gf; // the extended species through the simulation, per row
     std::optional<double> simulated_extended_rmse_gf;
     std::string resimulation_note;       // why it was skipped, when it was
+    std::optional<FlowerSpread> spread;            // the flowers' own differences, after the model
     std::optional<OutcomeScores> baseline_outcome; // over rows whose outcome is stood or fell
     std::optional<OutcomeScores> extended_outcome;
     std::vector<OtherMeasure> others; // every other measured quantity, before and after the extension

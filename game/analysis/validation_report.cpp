@@ -214,6 +214,12 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
     j["rows_stand_in_for_flowers"] = a.rows_as_groups;
     j["baseline"] = {{"rmse_gf", a.baseline_rmse_gf}, {"cv_rmse_gf", a.baseline_cv_rmse_gf}, {"log_rmse", a.baseline_log_rmse}};
     if (v.baseline_outcome) add_outcome_scores(j["baseline"], *v.baseline_outcome);
+    if (v.spread) {
+        j["flower_spread"] = {{"sd_log", v.spread->sd_log}, {"sd_percent", 100.0 * (std::exp(v.spread->sd_log) - 1.0)},
+                              {"within_sd_log", v.spread->within_sd_log}, {"flowers", v.spread->flowers}, {"rows", v.spread->rows}};
+    } else {
+        j["flower_spread"] = nullptr;
+    }
     j["discrepancy_found"] = a.discrepancy_found;
     j["calibration"] = {{"factor", a.calibration.factor}, {"interval", {finite_or_zero(a.calibration.low), finite_or_zero(a.calibration.high)}},
                         {"p_value", a.calibration.p_value}, {"significant", a.calibration.significant}};
@@ -413,6 +419,11 @@ std::string validation_summary(const ValidationResult& v) {
     o << "baseline:  RMSE " << fmt("%.1f", a.baseline_rmse_gf) << " gf, CV RMSE " << fmt("%.1f", a.baseline_cv_rmse_gf) << " gf";
     if (v.baseline_outcome) o << outcome_words(*v.baseline_outcome);
     o << "\n";
+    if (v.spread) {
+        o << "flowers:   differ by themselves by " << fmt("%.1f %%", 100.0 * (std::exp(v.spread->sd_log) - 1.0))
+          << " (a flower effect's standard deviation, after the model; each row scatters " << fmt("%.1f %%", 100.0 * (std::exp(v.spread->within_sd_log) - 1.0))
+          << " about its flower's mean; " << v.spread->flowers << " flowers of 2 rows or more)\n";
+    }
     if (!a.discrepancy_found) {
         o << "no discrepancy found: no covariate and no overall level is significant after correction\n";
         return o.str();
