@@ -120,8 +120,8 @@ void StoredSessions::start_recording(World& world, const LessonDef& lesson) {
     session_.recording = std::filesystem::absolute(folder).string();
 }
 
-void StoredSessions::finish(World& w, const LessonDef* lesson) {
-    if (!recorder_) return;
+bool StoredSessions::finish(World& w, const LessonDef* lesson) {
+    if (!recorder_) return true;
     recorder_->detach(w);
     std::int64_t end_us = std::numeric_limits<std::int64_t>::max();
     for (const auto& s : w.schedule.systems()) {
@@ -145,10 +145,10 @@ void StoredSessions::finish(World& w, const LessonDef* lesson) {
             if (!unsaved_ && progress_) {
                 if (auto saved = progress_->save(session_); !saved) std::cerr << "ikebana: " << saved.error().message << "\n";
             }
-            return;
+            return false;
         }
         recorder_.reset();
-        return;
+        return true;
     }
     recorder_.reset();
     std::error_code ec;
@@ -160,6 +160,7 @@ void StoredSessions::finish(World& w, const LessonDef* lesson) {
             if (auto saved = progress_->save(session_); !saved) std::cerr << "ikebana: " << saved.error().message << "\n";
         }
     }
+    return true;
 }
 
 // The database, opened now if it was busy at the start.

@@ -61,7 +61,9 @@ public:
     [[nodiscard]] SessionRecorder* recorder() noexcept { return recorder_.get(); }
     // When the world has stopped: session.json with the last Enter's score, or no recording at all when
     // nothing was scored (no stored session points at it).
-    void finish(World& world, const LessonDef* lesson);
+    // False when the session's recording could not be written whole (a full disk): it was said, the
+    // session is kept without it, and the app ends with status 1 as `sim --record` does.
+    [[nodiscard]] bool finish(World& world, const LessonDef* lesson);
     // When the window closes: a scored session the database was too busy to take is stored now,
     // waiting up to a minute for the other station.
     void store_pending_at_exit();

@@ -822,7 +822,8 @@ int TraineeSession::run_once() {
         std::fprintf(stderr, "ikebana: %s\n", ended.why.c_str());
         code_ = ended.exit_code;
     }
-    stored_.finish(w, lesson_ ? &*lesson_ : nullptr);
+    // A recording that could not be written whole was said when it happened and as it ended; the status says it too.
+    if (!stored_.finish(w, lesson_ ? &*lesson_ : nullptr) && code_ == 0) code_ = 1;
     stored_.store_pending_at_exit();
     write_screenshot();
     char line[600];

@@ -451,8 +451,8 @@ TEST(StoredSessions, TwoSessionsBegunInOneSecondRecordIntoFoldersOfTheirOwn) {
         ASSERT_NE(first.recorder(), nullptr);
         ASSERT_NE(second.recorder(), nullptr);
         EXPECT_NE(first.recorder()->folder(), second.recorder()->folder()) << "round " << round;
-        first.finish(**one, &*lesson);
-        second.finish(**two, &*lesson);
+        EXPECT_TRUE(first.finish(**one, &*lesson));
+        EXPECT_TRUE(second.finish(**two, &*lesson));
     }
     std::filesystem::remove_all(dir);
 }
@@ -703,7 +703,7 @@ TEST(StoredSessions, ASessionScoredWhileTheDatabaseIsBusyIsKeptAndStoredLater) {
     }
     ASSERT_FALSE(hud.result.empty());
     EXPECT_EQ(hud.result.back(), "not stored yet: the database is busy (kept)");
-    stored.finish(**world, &*lesson);
+    EXPECT_TRUE(stored.finish(**world, &*lesson));
     stored.store_pending_at_exit();
     auto db = ProgressDb::open_read_only(dir / "progress.sqlite");
     ASSERT_TRUE(db) << db.error().message;
@@ -772,7 +772,7 @@ TEST(StoredSessions, AWindowSessionWhoseRecordingFillsTheDiskIsStoredWithoutItAn
     ASSERT_TRUE(frames && frames->current) << "a frame was published";
     testing::internal::CaptureStderr();
     stored.store(session("sogetsu_basic_upright", "mika", 77.0, 1).result, frames->latest(), hud);
-    stored.finish(**world, &*lesson);
+    EXPECT_FALSE(stored.finish(**world, &*lesson)) << "the app ends with status 1";
     stored.store_pending_at_exit();
     const std::string said = testing::internal::GetCapturedStderr();
     EXPECT_NE(said.find("the session is kept without its recording (it would not replay)"), std::string::npos) << said;
