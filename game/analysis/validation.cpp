@@ -60,6 +60,33 @@ std::optional<FlowerSpread> flower_spread(const std::vector<std::string>& flower
     return out;
 }
 
+std::vector<CalibrationBin> calibration_bins(const MeasuredData& data, const std::vector<double>& fall_probability) {
+    const double edges[] = {0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0};
+    std::vector<CalibrationBin> bins(6);
+    for (std::size_t b = 0; b < bins.size(); ++b) {
+        bins[b].low = edges[b];
+        bins[b].high = edges[b + 1];
+    }
+    for (std::size_t i = 0; i < data.trials.size() && i < fall_probability.size(); ++i) {
+        const auto& o = data.trials[i].outcome;
+        if (!o || (*o != "stood" && *o != "fell")) continue;
+        const double p = std::clamp(fall_probability[i], 0.0, 1.0);
+        std::size_t b = 0;
+        while (b + 1 < bins.size() && p >= bins[b].high) ++b;
+        ++bins[b].rows;
+        bins[b].predicted += p;
+        bins[b].fell += *o == "fell" ? 1.0 : 0.0;
+    }
+    std::erase_if(bins, [](const CalibrationBin& b) { return b.rows == 0; });
+    for (auto& b : bins) {
+        const auto n = static_cast<double>(b.rows);
+        b.predicted /= n;
+        b.fell /= n;
+        b.se = std::sqrt(b.fell * (1.0 - b.fell) / n);
+    }
+    return bins;
+}
+
 std::optional<OutcomeScores> score_outcomes(const MeasuredData& data, const std::vector<double>& fall_probability) {
     OutcomeScores s;
     std::size_t right = 0;
@@ -254,7 +281,10 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
         }
         v.spread = flower_spread(who, residual);
     }
-    if (outcomes) v.baseline_outcome = score_outcomes(v.data, baseline_fall);
+    if (outcomes) {
+        v.baseline_outcome = score_outcomes(v.data, baseline_fall);
+        v.baseline_fall_probability = baseline_fall;
+    }
 
     if (v.analysis.extension.empty()) return v;
     if (v.species.empty()) {
@@ -316,7 +346,10 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
             if (options.progress) options.progress("simulating the extended species", n + 1, n_rows);
         }
         v.simulated_extended_rmse_gf = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(used, 1)));
-        if (outcomes) v.extended_outcome = score_outcomes(v.data, fall);
+        if (outcomes) {
+            v.extended_outcome = score_outcomes(v.data, fall);
+            v.extended_fall_probability = fall;
+        }
         // Stood or fell, row by row: a perfect model is right on every row; five points of accuracy
         // lost is clearly worse.
         if (v.baseline_outcome && v.extended_outcome)

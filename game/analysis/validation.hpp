@@ -67,6 +67,18 @@ struct OutcomeScores {
 };
 [[nodiscard]] std::optional<OutcomeScores> score_outcomes(const MeasuredData& data, const std::vector<double>& fall_probability);
 
+// Calibration: the stood/fell rows grouped by their predicted chance of falling (bins 0-0.1, 0.1-0.3,
+// 0.3-0.5, 0.5-0.7, 0.7-0.9, 0.9-1), each bin's mean chance against the share that fell. A calibrated
+// model's bins lie on the diagonal.
+struct CalibrationBin {
+    double low = 0.0, high = 0.0; // the bin's chances
+    std::size_t rows = 0;
+    double predicted = 0.0;       // the rows' mean predicted chance
+    double fell = 0.0;            // the share of them that fell
+    double se = 0.0;              // its binomial standard error
+};
+[[nodiscard]] std::vector<CalibrationBin> calibration_bins(const MeasuredData& data, const std::vector<double>& fall_probability);
+
 // How much the flowers differ by themselves, beyond the model (issue 57): one-way random effects by
 // the method of moments on each row's residual, ln(measured / simulated) less the fitted model's log
 // factor. sd_log is the flower effect's standard deviation (ln units: 0.12 is about +-12 %), within_sd_log
@@ -93,6 +105,9 @@ struct ValidationResult {
     std::optional<FlowerSpread> spread;            // the flowers' own differences, after the model
     std::optional<OutcomeScores> baseline_outcome; // over rows whose outcome is stood or fell
     std::optional<OutcomeScores> extended_outcome;
+    // Each row's predicted chance of falling (the mixture's share that fell), baseline and extended
+    // species; empty when the data has no outcome column (extended: or it was not re-simulated).
+    std::vector<double> baseline_fall_probability, extended_fall_probability;
     std::vector<OtherMeasure> others; // every other measured quantity, before and after the extension
     std::vector<SpeciesCheck> by_species; // several species in the file: per species
     bool per_species = false;             // the shared extension was clearly worse for one: each has its own

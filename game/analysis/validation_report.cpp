@@ -85,6 +85,30 @@ const Cause* cause_named(const ValidationResult& v, const std::string& name) {
 
 bool flagged(const CovariateDiagnostic& d, double alpha) { return d.cause || d.p_adjusted <= alpha || d.p_given_model <= alpha; }
 
+// The predicted chance of falling against the share that fell, by bins of the chance: baseline and
+// extended species, each bin's share with ±2 binomial standard errors; a calibrated model is on the diagonal.
+std::string calibration_chart(const ValidationResult& v) {
+    SvgChart chart;
+    chart.title = "predicted chance of falling against the share that fell";
+    chart.x_label = "predicted chance of falling (bin mean)";
+    chart.y_label = "share of the rows that fell";
+    chart.identity_line = true;
+    const auto series_of = [&](const std::vector<double>& chance, const char* label, const char* colour, const char* marker) {
+        SvgSeries s{label, colour, {}, {}, {}, {}, true, 4.0, 0.9, marker, {}};
+        for (const auto& b : calibration_bins(v.data, chance)) {
+            s.x.push_back(b.predicted);
+            s.y.push_back(b.fell);
+            s.low.push_back(std::max(0.0, b.fell - 2.0 * b.se));
+            s.high.push_back(std::min(1.0, b.fell + 2.0 * b.se));
+            s.labels.push_back(std::to_string(b.rows));
+        }
+        return s;
+    };
+    chart.series.push_back(series_of(v.baseline_fall_probability, "baseline species (±2 s.e.; beside each: its rows)", "#7f7f7f", "circle"));
+    if (!v.extended_fall_probability.empty()) chart.series.push_back(series_of(v.extended_fall_probability, "extended species", "#1f77b4", "square"));
+    return render_svg(chart);
+}
+
 std::string residual_chart(const ValidationResult& v, const CovariateDiagnostic& d) {
     const CovariateColumn& column = *column_named(v, d.covariate);
     SvgChart chart;
@@ -546,6 +570,17 @@ std::vector<std::pair<std::string, std::string>> validation_report_files(const V
     md << "\n";
     std::vector<std::pair<std::string, std::string>> figures;
     figures.emplace_back("model_vs_data.svg", model_chart(v));
+    if (!v.baseline_fall_probability.empty() && v.baseline_outcome) {
+        figures.emplace_back("calibration.svg", calibration_chart(v));
+        md << "## Outcomes: the chance of falling against what fell\n\n![calibration](calibration.svg)\n\n"
+           << "| predicted chance | rows | baseline: mean chance | share that fell | ±2 s.e. |\n|---|---|---|---|---|\n";
+        for (const auto& b : calibration_bins(v.data, v.baseline_fall_probability)) {
+            md << "| " << fmt("%.1f", b.low) << "–" << fmt("%.1f", b.high) << " | " << b.rows << " | " << fmt("%.3f", b.predicted) << " | "
+               << fmt("%.3f", b.fell) << " | " << fmt("%.3f", 2.0 * b.se) << " |\n";
+        }
+        md << "\nA calibrated model's bins lie on the diagonal. The simulation's chance is the share of its mixture (16 placements, "
+              "sound and split ends) that fell; a bin far from the diagonal is where it is wrong about standing and falling.\n\n";
+    }
     for (const auto& d : a.diagnostics) {
         if (!flagged(d, options.alpha)) continue;
         const std::string name = "residual_" + file_safe(d.covariate) + ".svg";

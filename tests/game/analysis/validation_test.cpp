@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <filesystem>
@@ -116,6 +117,21 @@ TEST(Validation, OutcomesAreScoredWhenTheDataHasThem) {
     EXPECT_EQ(json["flower_spread"]["flowers"], 4);
     EXPECT_GE(json["flower_spread"]["sd_log"].get<double>(), 0.0);
     EXPECT_NE(validation_summary(*v).find("flowers:   differ by themselves by "), std::string::npos) << validation_summary(*v);
+    // report.md's calibration: the rows by their predicted chance of falling against the share that fell.
+    const auto files = validation_report_files(*v, options.analysis);
+    const auto calibration = std::find_if(files.begin(), files.end(), [](const auto& f) { return f.first == "calibration.svg"; });
+    ASSERT_NE(calibration, files.end()) << "a calibration figure";
+    EXPECT_NE(calibration->second.find("<svg"), std::string::npos);
+    const auto report = std::find_if(files.begin(), files.end(), [](const auto& f) { return f.first == "report.md"; });
+    ASSERT_NE(report, files.end());
+    EXPECT_NE(report->second.find("## Outcomes: the chance of falling against what fell"), std::string::npos);
+    std::size_t binned = 0;
+    for (const auto& b : calibration_bins(v->data, v->baseline_fall_probability)) {
+        binned += b.rows;
+        EXPECT_GE(b.predicted, b.low);
+        EXPECT_LE(b.predicted, b.high);
+    }
+    EXPECT_EQ(binned, 11u) << "every stood/fell row in one bin";
 }
 
 // A chance of falling is scored as a chance: the Brier score and the log-loss of hand-worked rows (a
@@ -137,6 +153,15 @@ TEST(Validation, ChancesOfFallingAreScoredByAccuracyBrierAndLogLoss) {
     EXPECT_NEAR(s->log_loss, -(std::log(0.8) + std::log(0.7) + std::log(0.4) + std::log(0.001)) / 4.0, 1e-12);
     MeasuredData none;
     EXPECT_FALSE(score_outcomes(none, {}).has_value()) << "nothing to score";
+    // The same rows binned: 0.3 (stood) and 0.4 (fell) share 0.3-0.5; 0.8 (fell) is 0.7-0.9; 1.0 (stood) 0.9-1.
+    const auto bins = calibration_bins(data, p);
+    ASSERT_EQ(bins.size(), 3u);
+    EXPECT_EQ(bins[0].rows, 2u);
+    EXPECT_NEAR(bins[0].predicted, 0.35, 1e-12);
+    EXPECT_NEAR(bins[0].fell, 0.5, 1e-12);
+    EXPECT_NEAR(bins[0].se, std::sqrt(0.25 / 2.0), 1e-12);
+    EXPECT_NEAR(bins[1].fell, 1.0, 1e-12);
+    EXPECT_NEAR(bins[2].fell, 0.0, 1e-12);
 }
 
 // Issue 17: blank cells keep working, and the summary, report and JSON say how many rows each column
