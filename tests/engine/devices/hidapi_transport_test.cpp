@@ -179,7 +179,9 @@ TEST(HidapiTransport, AForceChainDestroyedWhilePushingLeavesAZeroAsTheLastReport
     {
         auto chain = make_force_safe(std::make_unique<DiyForceDevice>(make_hidapi_transport(ShimDevice::api(), &shim, "shim", quiet())));
         std::int64_t now = 0;
-        for (int tick = 0; tick < 400; ++tick) {
+        // Until it pushes: the ramp runs on the wall clock and starts again after a stall, so a loaded
+        // machine (TSan, two tests at once) takes longer than 400 ticks to get there.
+        for (int tick = 0; tick < 10'000 && !(tick >= 400 && glm::length(chain->last_sent().queued_n) > 0.5); ++tick) {
             (void)chain->poll(now += 1000);
             ASSERT_TRUE(chain->send_force({0.0, 0.0, 1.5}));
             std::this_thread::sleep_for(std::chrono::microseconds(1000));
