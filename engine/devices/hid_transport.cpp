@@ -14,7 +14,6 @@
 #include <semaphore.h>
 
 #include "engine/core/monotonic_clock.hpp"
-#include "engine/core/pi_mutex.hpp"
 #include "engine/core/spsc_ring.hpp"
 #include "engine/sched/triple_buffer.hpp"
 
@@ -97,11 +96,17 @@ struct Link {
     void* handle;
     std::string path;
     HidTransportOptions options;
-    // The caller's side of the mailbox: the 1 kHz thread and the watchdog may both write, so a
-    // priority-inheriting lock, held for a copy. The I/O thread only reads it (no lock).
-    PiMutex mailbox_mutex;
-    sched::TripleBuffer<OutReport> mailbox;
-    std::uint64_t queued = 0; // under mailbox_mutex
+    // The caller's side: the 1 kHz thread and the watchdog may both write, so two mailboxes, each
+    // taken by one writer at a time through an atomic flag (never a lock: a writer that finds one taken
+    // uses the other, and only two threads ever write). Tickets number the reports across both; the
+    // I/O thread writes the newest ticket it has not yet written.
+    struct Mailbox {
+        std::atomic<bool> taken{false};
+        sched::TripleBuffer<OutReport> reports;
+    };
+    std::array<Mailbox, 2> mailboxes;
+    std::atomic<std::uint64_t> next_ticket{0};
+    std::uint64_t last_ticket_written = 0; // the I/O thread's own
     std::atomic<std::uint64_t> queued_seen{0};
     std::atomic<std::uint64_t> written{0};
     SpscRing<InReport> inbound{inbound_reports};
@@ -116,15 +121,21 @@ struct Link {
 };
 
 void write_newest(Link& link) {
-    if (!link.mailbox.update()) return;
-    const OutReport& r = link.mailbox.read_buffer();
+    const OutReport* newest = nullptr;
+    for (auto& box : link.mailboxes) {
+        (void)box.reports.update();
+        const OutReport& r = box.reports.read_buffer();
+        if (r.ticket > link.last_ticket_written && (newest == nullptr || r.ticket > newest->ticket)) newest = &r;
+    }
+    if (newest == nullptr) return;
+    link.last_ticket_written = newest->ticket;
     link.writing_since_ns.store(monotonic_ns(), std::memory_order_release);
-    const int n = link.api.write(link.handle, r.bytes.data(), r.size);
+    const int n = link.api.write(link.handle, newest->bytes.data(), newest->size);
     link.writing_since_ns.store(0, std::memory_order_release);
     if (n < 0) {
         link.write_failed.store(true, std::memory_order_release);
     } else {
-        link.written.store(r.ticket, std::memory_order_release);
+        link.written.store(newest->ticket, std::memory_order_release);
     }
 }
 
@@ -220,15 +231,7 @@ public:
 
     Result<void> write(std::span<const std::uint8_t> report) override {
         if (report.size() > max_report_bytes) return lane_error(ErrorCode::invalid_argument, "a report longer than 64 bytes");
-        {
-            const std::lock_guard lock(link_->mailbox_mutex);
-            OutReport& r = link_->mailbox.write_buffer();
-            std::copy(report.begin(), report.end(), r.bytes.begin());
-            r.size = report.size();
-            r.ticket = ++link_->queued;
-            link_->mailbox.publish();
-            link_->queued_seen.store(r.ticket, std::memory_order_release);
-        }
+        queue(report);
         sem_post(&link_->wake);
         if (link_->write_failed.exchange(false, std::memory_order_acq_rel)) {
             return lane_error(ErrorCode::device_error, "a write to the device failed (unplugged?)");
@@ -246,6 +249,25 @@ public:
     [[nodiscard]] IoPriority io_priority() const override { return link_->priority.load(); }
 
 private:
+    // Copies the report into a free mailbox. Spins only while both are taken, which needs a third
+    // writer at once (there are two: the lane and the watchdog); each holds one for a 64-byte copy.
+    void queue(std::span<const std::uint8_t> report) noexcept {
+        for (std::size_t i = 0;; i = (i + 1) % link_->mailboxes.size()) {
+            Link::Mailbox& box = link_->mailboxes[i];
+            if (box.taken.exchange(true, std::memory_order_acquire)) continue;
+            OutReport& r = box.reports.write_buffer();
+            std::copy(report.begin(), report.end(), r.bytes.begin());
+            r.size = report.size();
+            const std::uint64_t ticket = link_->next_ticket.fetch_add(1, std::memory_order_relaxed) + 1;
+            r.ticket = ticket;
+            box.reports.publish();
+            box.taken.store(false, std::memory_order_release);
+            std::uint64_t seen = link_->queued_seen.load(std::memory_order_relaxed);
+            while (seen < ticket && !link_->queued_seen.compare_exchange_weak(seen, ticket, std::memory_order_acq_rel)) {}
+            return;
+        }
+    }
+
     std::shared_ptr<Link> link_;
     std::thread io_; // last: it starts when everything it uses is there
 };

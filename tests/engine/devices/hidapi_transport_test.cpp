@@ -6,6 +6,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -153,6 +154,40 @@ TEST(HidapiTransport, ItsCountsSayWhichQueuedReportLastReachedTheDevice) {
     EXPECT_LT(w.written, 3u) << "the third waits behind a stuck write";
     shim.hold_writes = false;
     EXPECT_TRUE(eventually([&] { return transport->wire().written == 3; }));
+}
+
+TEST(HidapiTransport, TwoWritersAtOnceNeverWaitForEachOtherAndNeitherSeesItsOwnReportsGoBackwards) {
+    // The lane and the watchdog write at once: each takes a free mailbox, never a lock. Reports from
+    // one writer reach the wire in the order it wrote them, and the last written is the last queued.
+    ShimDevice shim;
+    shim.call_takes = std::chrono::microseconds(0);
+    shim.sends_diy_reports = false;
+    {
+        auto transport = make_hidapi_transport(ShimDevice::api(), &shim, "shim", quiet());
+        auto writer = [&](double sign) {
+            for (int i = 1; i <= 3000; ++i) ASSERT_TRUE(transport->write(force_report(static_cast<std::uint16_t>(i), sign * i * 1e-3)));
+        };
+        std::thread lane(writer, 1.0);
+        std::thread watchdog(writer, -1.0);
+        lane.join();
+        watchdog.join();
+        EXPECT_EQ(transport->wire().queued, 6000u);
+        EXPECT_TRUE(eventually([&] { return transport->wire().written == 6000; })) << "the report queued last is written";
+    }
+    int last_lane = 0, last_watchdog = 0, lane_seen = 0, watchdog_seen = 0;
+    for (const auto& bytes : shim.written()) {
+        auto report = diy::decode_force(bytes);
+        ASSERT_TRUE(report);
+        const int value = static_cast<int>(std::lround(report->force_n.z * 1e3));
+        int& last = value > 0 ? last_lane : last_watchdog;
+        (value > 0 ? lane_seen : watchdog_seen) += 1;
+        EXPECT_GT(std::abs(value), last) << "a writer's report went out after one it wrote later";
+        last = std::abs(value);
+    }
+    EXPECT_GT(lane_seen, 0);
+    EXPECT_GT(watchdog_seen, 0);
+    EXPECT_TRUE(last_lane == 3000 || last_watchdog == 3000) << "the last report queued reached the wire";
+    EXPECT_FALSE(shim.problems());
 }
 
 TEST(HidapiTransport, ItsThreadRunsAtTheRealTimePriorityAskedWhenPermittedAndSaysWhichItGot) {
