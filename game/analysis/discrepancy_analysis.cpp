@@ -87,6 +87,7 @@ namespace {
 // rows of a 10,000-level lot number are 4.8 GB before a single permutation.
 AnalysisInput screened_input(const AnalysisInput& input, const AnalysisOptions& options, std::vector<ScreenedColumn>& screened) {
     AnalysisInput kept;
+    kept.observed = input.observed;
     kept.flower = input.flower;
     kept.measured_gf = input.measured_gf;
     kept.predicted_gf = input.predicted_gf;
@@ -94,7 +95,7 @@ AnalysisInput screened_input(const AnalysisInput& input, const AnalysisOptions& 
     const std::size_t n = input.measured_gf.size();
     std::vector<double> r(n);
     double mean = 0.0;
-    for (std::size_t i = 0; i < n; ++i) mean += (r[i] = std::log(input.measured_gf[i] / input.predicted_gf[i])) / static_cast<double>(n);
+    for (std::size_t i = 0; i < n; ++i) mean += (r[i] = residual_of(input, i)) / static_cast<double>(n);
     double total = 0.0;
     for (const double v : r) total += (v - mean) * (v - mean);
     for (const auto& column : input.covariates.columns) {
@@ -176,6 +177,7 @@ std::pair<std::size_t, std::string> working_memory(const AnalysisInput& input) {
 
 AnalysisInput input_rows(const AnalysisInput& in, const std::vector<std::size_t>& rows) {
     AnalysisInput kept;
+    kept.observed = in.observed;
     kept.covariates.constant = in.covariates.constant;
     for (const auto& c : in.covariates.columns) {
         CovariateColumn k = c;
@@ -437,7 +439,8 @@ Result<AnalysisResult> analyse_rows(const AnalysisInput& input, const AnalysisOp
 Result<AnalysisResult> analyse_discrepancy(const AnalysisInput& input, const AnalysisOptions& options) {
     if (options.permutations < 19) return make_error(ErrorCode::invalid_argument, "at least 19 permutations are needed for p < 0.05");
     const std::size_t n = input.measured_gf.size();
-    if (options.outlier_z <= 0.0 || n < 20 || input.predicted_gf.size() != n || input.flower.size() != n) return analyse_rows(input, options);
+    // An outcome is 0 or 1: no row of it is a gross error.
+    if (options.outlier_z <= 0.0 || n < 20 || input.observed == Observed::outcome || input.predicted_gf.size() != n || input.flower.size() != n) return analyse_rows(input, options);
     for (const auto& c : input.covariates.columns) {
         if ((c.numeric ? c.values.size() : c.level.size()) != n) return analyse_rows(input, options); // refused there, naming the column
     }

@@ -20,6 +20,7 @@
 //    early does not survive the real cause.
 //  - Cross-validation folds never split a flower. With fewer than 4 flowers (the paper's table has
 //    one row per insertion count), rows stand in for flowers and the report says so.
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -33,12 +34,29 @@
 
 namespace ikebana::game {
 
+// What the rows measured. Forces (the usual case) are compared on the log scale, r = ln(measured /
+// predicted). Outcomes (issue 57) are compared as the fall minus its predicted chance, r = fell - p:
+// measured_gf then holds 1 for a fall and 0 for a stand, predicted_gf the simulation's chance of
+// falling, every stage runs on that residual unchanged (an extension adds to the chance), and the
+// cross-validated error that chooses shapes and accepts terms is the log-loss of the chance, kept
+// within [0.001, 0.999], instead of the squared error.
+enum class Observed { force, outcome };
+
 struct AnalysisInput {
     std::vector<std::string> flower;    // per row: which physical flower
-    std::vector<double> measured_gf;    // > 0
-    std::vector<double> predicted_gf;   // > 0, the simulation's
+    std::vector<double> measured_gf;    // > 0 (outcome: 1 fell, 0 stood)
+    std::vector<double> predicted_gf;   // > 0, the simulation's (outcome: its chance of falling)
     CovariateSet covariates;
+    Observed observed = Observed::force;
 };
+
+// Row i's residual, what the analysis explains: ln(measured / predicted), or fell - chance.
+inline double residual_of(const AnalysisInput& in, std::size_t i) {
+    return in.observed == Observed::outcome ? in.measured_gf[i] - in.predicted_gf[i] : std::log(in.measured_gf[i] / in.predicted_gf[i]);
+}
+// The held-out loss of row i given the model's value there: squared error of the residual, or the
+// outcome's log-loss at the chance moved by it.
+double held_out_loss(const AnalysisInput& in, std::size_t i, double model);
 
 // Permutations of a stage's tests, or (stage == bootstrap_stage) the flower resamples of the intervals.
 using AnalysisProgress = std::function<void(const std::string& stage, std::uint32_t done, std::uint32_t of)>;

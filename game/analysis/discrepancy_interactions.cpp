@@ -150,8 +150,8 @@ bool add_one(const Analysis& a, const std::vector<Term>& model, std::vector<Pair
         with_main.push_back(pairs[k].companion);
         const double cv = a.cv_mse(with_main, true, &pairs[k].product, "interaction");
         char line[256];
-        std::snprintf(line, sizeof line, "interaction '%s' x '%s': p = %.4g (family-wise over %zu pairs); CV MSE %.5f -> %.5f: %s", cause.c_str(), times.c_str(),
-                      t.adjusted[k], pairs.size(), cv_now, cv, cv < cv_now ? "kept" : "not worth a term");
+        std::snprintf(line, sizeof line, "interaction '%s' x '%s': p = %.4g (family-wise over %zu pairs); CV %s %.5f -> %.5f: %s", cause.c_str(), times.c_str(),
+                      t.adjusted[k], pairs.size(), a.loss_name(), cv_now, cv, cv < cv_now ? "kept" : "not worth a term");
         out.log.push_back(line);
         if (cv < cv_now) {
             reshape_beside(a, model, pairs[k], out);

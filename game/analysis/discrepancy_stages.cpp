@@ -113,8 +113,9 @@ Screening screen(const Analysis& a) {
     const double cv_level = a.cv_mse({}, true, nullptr, "");
     out.calibration.significant = level_p <= a.opt.alpha && cv_level < cv_none;
     char line[200];
-    std::snprintf(line, sizeof line, "overall level: measured/predicted = %.3f, p = %.4g, CV MSE %.5f -> %.5f with a level: %s", std::exp(a.r.mean()), level_p,
-                  cv_none, cv_level, out.calibration.significant ? "kept" : "not kept");
+    std::snprintf(line, sizeof line, "overall level: %s = %.3f, p = %.4g, CV %s %.5f -> %.5f with a level: %s",
+                  a.in.observed == Observed::outcome ? "fell - chance" : "measured/predicted", a.in.observed == Observed::outcome ? a.r.mean() : std::exp(a.r.mean()),
+                  level_p, a.loss_name(), cv_none, cv_level, out.calibration.significant ? "kept" : "not kept");
     out.log.push_back(line);
     return out;
 }
@@ -191,8 +192,8 @@ bool accept_one(const Analysis& a, const TestOutcome& t, std::uint32_t step, Sel
         const std::size_t c = s.remaining[k];
         const FormChoice form = choose_form(a, s.terms, c, step);
         char line[512];
-        std::snprintf(line, sizeof line, "step %u: '%s' p = %.4g (family-wise), z = %.1f; CV MSE now %.5f, by form: %s", step + 1, a.column_of(c).name.c_str(),
-                      t.adjusted[k], t.z[k], cv_now, form.text.c_str());
+        std::snprintf(line, sizeof line, "step %u: '%s' p = %.4g (family-wise), z = %.1f; CV %s now %.5f, by form: %s", step + 1, a.column_of(c).name.c_str(),
+                      t.adjusted[k], t.z[k], a.loss_name(), cv_now, form.text.c_str());
         s.log.push_back(line);
         if (form.cv < cv_now) {
             Term term = a.make_term(c, a.best_shape_on_all(s.terms, a.candidates[c], form.form));

@@ -26,13 +26,36 @@ Groups make_groups(const std::vector<std::string>& flower, bool rows_as_groups) 
     return g;
 }
 
+} // namespace ikebana::game::discrepancy
+
+namespace ikebana::game {
+
+double held_out_loss(const AnalysisInput& in, std::size_t i, double model) {
+    if (in.observed == Observed::outcome) {
+        const double chance = std::clamp(in.predicted_gf[i] + model, 0.001, 0.999);
+        return -(in.measured_gf[i] * std::log(chance) + (1.0 - in.measured_gf[i]) * std::log(1.0 - chance));
+    }
+    const double e = residual_of(in, i) - model;
+    return e * e;
+}
+
+} // namespace ikebana::game
+
+namespace ikebana::game::discrepancy {
+
 Result<void> check_rows(const AnalysisInput& in) {
     const std::size_t n = in.measured_gf.size();
     if (n < 3) return make_error(ErrorCode::invalid_argument, "the analysis needs at least 3 trials, got " + std::to_string(n));
     if (in.predicted_gf.size() != n || in.flower.size() != n) {
         return make_error(ErrorCode::invalid_argument, "measured, predicted and flower columns differ in length");
     }
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; in.observed == Observed::outcome && i < n; ++i) {
+        if ((in.measured_gf[i] != 0.0 && in.measured_gf[i] != 1.0) || !(in.predicted_gf[i] >= 0.0 && in.predicted_gf[i] <= 1.0)) {
+            return make_error(ErrorCode::invalid_argument, "row " + std::to_string(i + 1) + ": an outcome is 0 or 1 and its chance within [0, 1] (outcome " +
+                                                               std::to_string(in.measured_gf[i]) + ", chance " + std::to_string(in.predicted_gf[i]) + ")");
+        }
+    }
+    for (std::size_t i = 0; in.observed == Observed::force && i < n; ++i) {
         if (!(in.measured_gf[i] > 0.0) || !(in.predicted_gf[i] > 0.0) || !std::isfinite(in.measured_gf[i]) || !std::isfinite(in.predicted_gf[i])) {
             return make_error(ErrorCode::invalid_argument, "row " + std::to_string(i + 1) + ": measured and predicted forces must be positive (measured " +
                                                                std::to_string(in.measured_gf[i]) + ", predicted " + std::to_string(in.predicted_gf[i]) + ")");
@@ -82,7 +105,7 @@ Analysis::Analysis(const AnalysisInput& input, const AnalysisOptions& options, b
     const std::size_t rows = in.measured_gf.size();
     n = idx(rows);
     r.resize(n);
-    for (std::size_t i = 0; i < rows; ++i) r(idx(i)) = std::log(in.measured_gf[i] / in.predicted_gf[i]);
+    for (std::size_t i = 0; i < rows; ++i) r(idx(i)) = residual_of(in, i);
     groups = make_groups(in.flower, false);
     n_flowers = groups.rows.size();
     if (groups.rows.size() < 4) {
@@ -184,8 +207,7 @@ double Analysis::cv_mse(const std::vector<Term>& fixed, bool intercept, const Ca
                 }
             }
         }
-        const VectorXd err = r(held) - fit_held;
-        sse += err.squaredNorm();
+        for (std::size_t k = 0; k < held.size(); ++k) sse += held_out_loss(in, static_cast<std::size_t>(held[k]), fit_held(static_cast<Index>(k)));
         if (oof) (*oof)(held) = fit_held;
     }
     return sse / static_cast<double>(n);

@@ -98,6 +98,8 @@ struct Analysis {
     // Candidate c at one shape, as a term of the model.
     Term make_term(std::size_t c, const TermShape& shape) const;
     const CovariateColumn& column_of(std::size_t candidate) const { return in.covariates.columns[candidate]; }
+    // What the cross-validated error is, for the report's log.
+    const char* loss_name() const { return in.observed == Observed::outcome ? "log-loss" : "MSE"; }
 
     const AnalysisInput& in;
     const AnalysisOptions& opt;

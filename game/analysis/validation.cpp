@@ -111,6 +111,68 @@ std::optional<OutcomeScores> score_outcomes(const MeasuredData& data, const std:
     return s;
 }
 
+std::optional<OutcomeSearch> search_outcomes(const MeasuredData& data, const AnalysisInput& forces, const std::vector<double>& fall_probability,
+                                             const AnalysisOptions& options, std::string& note) {
+    OutcomeSearch s;
+    std::size_t falls = 0;
+    for (std::size_t i = 0; i < data.trials.size() && i < fall_probability.size(); ++i) {
+        const auto& o = data.trials[i].outcome;
+        if (!o || (*o != "stood" && *o != "fell")) continue;
+        s.rows.push_back(i);
+        falls += *o == "fell" ? 1 : 0;
+    }
+    // Below this a permutation test of falls has nothing to permute: every row alike, or too few.
+    constexpr std::size_t least_rows = 20, least_each = 5;
+    if (s.rows.size() < least_rows || falls < least_each || s.rows.size() - falls < least_each) {
+        note = "no search on outcomes: " + std::to_string(s.rows.size()) + " rows stood or fell (" + std::to_string(falls) +
+               " fell); it needs " + std::to_string(least_rows) + ", at least " + std::to_string(least_each) + " of each";
+        return std::nullopt;
+    }
+    s.input = input_rows(forces, s.rows);
+    s.input.observed = Observed::outcome;
+    for (std::size_t k = 0; k < s.rows.size(); ++k) {
+        s.input.measured_gf[k] = *data.trials[s.rows[k]].outcome == "fell" ? 1.0 : 0.0;
+        s.input.predicted_gf[k] = std::clamp(fall_probability[s.rows[k]], 0.0, 1.0);
+    }
+    AnalysisOptions o = options;
+    o.outlier_z = 0.0; // a fall is 0 or 1: no gross errors among them
+    if (o.progress) {
+        o.progress = [progress = options.progress](const std::string& stage, std::uint32_t done, std::uint32_t of) { progress("outcomes: " + stage, done, of); };
+    }
+    auto analysis = analyse_discrepancy(s.input, o);
+    if (!analysis) {
+        note = "no search on outcomes: " + analysis.error().message;
+        return std::nullopt;
+    }
+    s.analysis = std::move(analysis).value();
+    // The analysis reports a term's effect as exp(change) - 1 (its force factor); on outcomes the change
+    // itself is the change in the chance of falling.
+    for (const Cause& c : s.analysis.causes) {
+        OutcomeCause oc;
+        oc.covariate = c.covariate;
+        oc.category = c.category;
+        oc.shape = c.shape.form;
+        oc.x_low = c.x_low;
+        oc.x_high = c.x_high;
+        oc.effect = std::log1p(c.effect_size);
+        oc.effect_low = std::log1p(c.effect_low);
+        oc.effect_high = std::log1p(c.effect_high);
+        oc.direction = oc.effect >= 0.0 ? "falls more" : "falls less";
+        oc.p_value = c.p_value;
+        s.causes.push_back(std::move(oc));
+    }
+    // Scored on the same rows: the simulation's chance, and the chance with the correction from the
+    // fold that held each row out (nothing found: the same chance).
+    std::vector<double> held_out = fall_probability;
+    for (std::size_t k = 0; k < s.rows.size(); ++k) {
+        const double g = s.analysis.discrepancy_found && k < s.analysis.cv_log_factor.size() ? s.analysis.cv_log_factor[k] : 0.0;
+        held_out[s.rows[k]] = std::clamp(fall_probability[s.rows[k]] + g, 0.0, 1.0);
+    }
+    s.baseline = *score_outcomes(data, fall_probability);
+    s.held_out = *score_outcomes(data, held_out);
+    return s;
+}
+
 namespace {
 
 // A file of several species: each species' held-out error without and with the extension found on
@@ -284,6 +346,7 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
     if (outcomes) {
         v.baseline_outcome = score_outcomes(v.data, baseline_fall);
         v.baseline_fall_probability = baseline_fall;
+        v.outcome_search = search_outcomes(v.data, v.input, baseline_fall, options.analysis, v.outcome_note);
     }
 
     if (v.analysis.extension.empty()) return v;

@@ -91,6 +91,35 @@ struct FlowerSpread {
 };
 [[nodiscard]] std::optional<FlowerSpread> flower_spread(const std::vector<std::string>& flower, const std::vector<double>& residual_log);
 
+// A column that says what the simulation gets wrong about standing and falling (issue 57): the outcome
+// search's cause, its effect as the change in the chance of falling across the column's 5th-95th
+// percentile (a count: its least to its most; categorical: the level set apart), with the flower
+// bootstrap's 95 % interval and its p-value given the other terms.
+struct OutcomeCause {
+    std::string covariate;
+    std::string category;   // categorical: the level that falls more or less than the others
+    std::string direction;  // "falls more" or "falls less" (with the column, or at the level)
+    std::string shape;
+    double x_low = 0.0, x_high = 0.0;
+    double effect = 0.0, effect_low = 0.0, effect_high = 0.0; // change in the chance of falling
+    double p_value = 1.0;
+};
+
+// The search on outcomes: every candidate column against what the simulation gets wrong about falls
+// (fell minus the predicted chance), with the forces' machinery (discrepancy_analysis.hpp, Observed::outcome).
+struct OutcomeSearch {
+    std::vector<std::size_t> rows;     // the data's rows it ran on: those that stood or fell
+    AnalysisInput input;               // their falls, chances and columns
+    AnalysisResult analysis;
+    std::vector<OutcomeCause> causes;  // by importance
+    OutcomeScores baseline;            // the simulation's chance on those rows
+    OutcomeScores held_out;            // with the search's correction, each row from the fold that held it out
+};
+// Runs the outcome search when the data hold enough stood/fell rows of both kinds; otherwise says why
+// not in `note`.
+std::optional<OutcomeSearch> search_outcomes(const MeasuredData& data, const AnalysisInput& forces, const std::vector<double>& fall_probability,
+                                             const AnalysisOptions& options, std::string& note);
+
 struct ValidationResult {
     std::string measured_file;
     std::string species;                 // what the extension was fitted for
@@ -108,6 +137,8 @@ struct ValidationResult {
     // Each row's predicted chance of falling (the mixture's share that fell), baseline and extended
     // species; empty when the data has no outcome column (extended: or it was not re-simulated).
     std::vector<double> baseline_fall_probability, extended_fall_probability;
+    std::optional<OutcomeSearch> outcome_search; // with an outcome column: what it gets wrong about falls
+    std::string outcome_note;                    // why there is no outcome search, when there is none
     std::vector<OtherMeasure> others; // every other measured quantity, before and after the extension
     std::vector<SpeciesCheck> by_species; // several species in the file: per species
     bool per_species = false;             // the shared extension was clearly worse for one: each has its own

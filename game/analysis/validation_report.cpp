@@ -153,6 +153,87 @@ std::string residual_chart(const ValidationResult& v, const CovariateDiagnostic&
     return render_svg(chart);
 }
 
+// What the simulation gets wrong about falls against a column: each row's fell minus its chance (jittered),
+// the binned means with +-2 s.e., and the correction the outcome search fitted (a cause's).
+std::string outcome_chart(const OutcomeSearch& s, const CovariateDiagnostic& d) {
+    const CovariateColumn* column = nullptr;
+    for (const auto& c : s.input.covariates.columns) {
+        if (c.name == d.covariate) column = &c;
+    }
+    SvgChart chart;
+    chart.title = "fell minus the simulated chance of falling, against " + d.covariate;
+    chart.x_label = d.covariate;
+    chart.y_label = "fell (1) or stood (0), minus the chance";
+    chart.reference_y = {0.0};
+    SvgSeries rows{"trials", "#7f7f7f", {}, {}, {}, {}, false, 2.0, 0.3, "circle", {}};
+    for (std::size_t i = 0; column && i < s.input.measured_gf.size(); ++i) {
+        const double jitter = (static_cast<double>((i * 2654435761U) % 1000) / 1000.0 - 0.5) * 0.25;
+        rows.x.push_back(column->numeric ? column->values[i] : static_cast<double>(column->level[i]) + jitter);
+        rows.y.push_back(s.input.measured_gf[i] - s.input.predicted_gf[i]);
+    }
+    if (column && !column->numeric) chart.x_categories = column->levels;
+    // The bins carry exp(mean residual) (the forces' factor): their log is the mean of fell - chance.
+    SvgSeries bins{"binned mean (±2 s.e.)", "#d62728", {}, {}, {}, {}, false, 4.0, 1.0, "circle", {}};
+    for (const auto& b : d.bins) {
+        if (b.n < 2) continue;
+        bins.x.push_back(b.x);
+        bins.y.push_back(std::log(b.factor));
+        bins.low.push_back(std::log(b.low));
+        bins.high.push_back(std::log(b.high));
+    }
+    chart.series.push_back(rows);
+    if (!bins.x.empty()) chart.series.push_back(bins);
+    for (const auto& c : s.analysis.causes) {
+        if (c.covariate != d.covariate || !column || !column->numeric) continue;
+        const double level = s.analysis.extension.empty() ? 0.0 : s.analysis.extension.front().coefficient;
+        SvgSeries fit{"correction (" + c.shape.form + ")", "#1f77b4", {}, {}, {}, {}, true, 0.0, 1.0, "circle", {}};
+        for (std::size_t k = 0; k < c.curve_x.size(); ++k) {
+            fit.x.push_back(c.curve_x[k]);
+            fit.y.push_back(level + std::log(c.curve_factor[k]));
+        }
+        chart.series.push_back(fit);
+    }
+    return render_svg(chart);
+}
+
+// report.md's section on the outcome search: its causes, a figure per cause, and the held-out scores.
+std::string outcome_markdown(const ValidationResult& v, std::vector<std::pair<std::string, std::string>>& figures) {
+    std::ostringstream md;
+    md << "### What the simulation gets wrong about falls\n\n";
+    if (!v.outcome_search) {
+        md << prose(v.outcome_note) << ".\n\n";
+        return md.str();
+    }
+    const OutcomeSearch& s = *v.outcome_search;
+    md << "Every column was tested against each row's fall (1) or stand (0) minus the simulated chance of falling, as the forces are: "
+          "flowers kept together in the permutations, family-wise control, shapes chosen by grouped cross-validation on the log-loss, "
+          "a backward pass, and intervals from resampled flowers. An effect is the change in the chance of falling across the column "
+          "(its 5th to 95th percentile).\n\n";
+    if (s.causes.empty()) {
+        md << (s.analysis.discrepancy_found ? "No column: only an overall level (the flowers fall more or less often than simulated, whatever the column).\n\n"
+                                            : "No column explains the wrong falls beyond chance after correction.\n\n");
+    } else {
+        md << "| column | direction | shape | change in the chance of falling | 95 % interval | across | p |\n|---|---|---|---|---|---|---|\n";
+        for (const auto& c : s.causes) {
+            md << "| `" << cell(c.covariate) << (c.category.empty() ? "" : " = " + cell(c.category)) << "` | " << c.direction << " | " << c.shape << " | "
+               << fmt("%+.3f", c.effect) << " | " << fmt("%+.3f", c.effect_low) << " to " << fmt("%+.3f", c.effect_high) << " | "
+               << (c.category.empty() ? fmt("%.4g", c.x_low) + " to " + fmt("%.4g", c.x_high) : std::string("that level against the others")) << " | "
+               << fmt("%.3g", c.p_value) << " |\n";
+        }
+        md << "\n";
+    }
+    for (const auto& d : s.analysis.diagnostics) {
+        if (!d.cause) continue;
+        const std::string name = "outcome_" + file_safe(d.covariate) + ".svg";
+        figures.emplace_back(name, outcome_chart(s, d));
+        md << "![wrong falls against " << cell(d.covariate) << "](" << name << ")\n\n";
+    }
+    md << "Held out (each row scored by the correction fitted without its fold): log-loss " << fmt("%.3f", s.baseline.log_loss) << " → "
+       << fmt("%.3f", s.held_out.log_loss) << ", Brier " << fmt("%.3f", s.baseline.brier) << " → " << fmt("%.3f", s.held_out.brier) << ", accuracy "
+       << fmt("%.1f %%", 100 * s.baseline.accuracy) << " → " << fmt("%.1f %%", 100 * s.held_out.accuracy) << ".\n\n";
+    return md.str();
+}
+
 std::string model_chart(const ValidationResult& v) {
     SvgChart chart;
     chart.title = "simulation against measurement";
@@ -273,6 +354,32 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
     if (v.simulated_extended_rmse_gf) j["extended"]["simulated_rmse_gf"] = *v.simulated_extended_rmse_gf;
     if (v.extended_outcome) add_outcome_scores(j["extended"], *v.extended_outcome);
     if (!v.resimulation_note.empty()) j["extended"]["note"] = v.resimulation_note;
+    if (v.outcome_search) {
+        const OutcomeSearch& s = *v.outcome_search;
+        j["outcome_causes"] = nlohmann::ordered_json::array();
+        for (const auto& c : s.causes) {
+            nlohmann::ordered_json cj{{"covariate", c.covariate}, {"direction", c.direction}, {"shape", c.shape}};
+            if (!c.category.empty()) cj["category"] = c.category;
+            else cj["range"] = {c.x_low, c.x_high};
+            cj["effect"] = c.effect;
+            cj["interval"] = {finite_or_zero(c.effect_low), finite_or_zero(c.effect_high)};
+            cj["p_value"] = c.p_value;
+            j["outcome_causes"].push_back(cj);
+        }
+        j["outcome_search"] = {{"rows", s.rows.size()}, {"flowers", s.analysis.n_flowers}, {"discrepancy_found", s.analysis.discrepancy_found},
+                               {"level", s.analysis.calibration.significant ? std::log(s.analysis.calibration.factor) : 0.0},
+                               {"baseline_log_loss", s.baseline.log_loss}, {"baseline_brier", s.baseline.brier},
+                               {"held_out_log_loss", s.held_out.log_loss}, {"held_out_brier", s.held_out.brier}, {"held_out_accuracy", s.held_out.accuracy}};
+        j["outcome_search"]["diagnostics"] = nlohmann::ordered_json::array();
+        for (const auto& d : s.analysis.diagnostics) {
+            j["outcome_search"]["diagnostics"].push_back({{"covariate", d.covariate}, {"p_value", d.p_value}, {"p_adjusted", d.p_adjusted},
+                                                          {"p_given_model", d.p_given_model}, {"best_shape", d.best_shape}, {"cause", d.cause}});
+        }
+        j["outcome_search"]["log"] = s.analysis.log;
+    } else if (v.baseline_outcome) {
+        j["outcome_causes"] = nullptr;
+        j["outcome_search"] = {{"note", v.outcome_note}};
+    }
     j["other_measurements"] = other_measurements_json(v.others);
     j["diagnostics"] = nlohmann::ordered_json::array();
     for (const auto& d : a.diagnostics) {
@@ -348,9 +455,13 @@ std::string in_short(const ValidationResult& v) {
     const AnalysisResult& a = v.analysis;
     std::ostringstream o;
     o << "in short:  ";
+    const bool wrong_falls = v.outcome_search && v.outcome_search->analysis.discrepancy_found;
+    const char* falls = " Its falls do not agree: see the outcome: lines.\n";
     if (!a.discrepancy_found) {
-        o << "the measurements agree with the simulation: nothing in the data (no column, no overall scale) departs from it by more "
-             "than chance would.\n";
+        o << (wrong_falls ? "the measured forces agree with the simulation: no column and no overall scale departs from it by more than chance would."
+                          : "the measurements agree with the simulation: nothing in the data (no column, no overall scale) departs from it by more "
+                            "than chance would.")
+          << (wrong_falls ? falls : "\n");
         return o.str();
     }
     const double f = a.calibration.factor;
@@ -376,7 +487,8 @@ std::string in_short(const ValidationResult& v) {
         }
     }
     o << ". With " << (a.causes.empty() ? "that correction" : "these corrections") << " the simulation's typical error on trials it was not fitted to falls from "
-      << fmt("%.0f", a.baseline_cv_rmse_gf) << " to " << fmt("%.0f", a.extended_cv_rmse_gf) << " gf (" << fmt("%.0f %%", 100 * a.gain) << " less).\n";
+      << fmt("%.0f", a.baseline_cv_rmse_gf) << " to " << fmt("%.0f", a.extended_cv_rmse_gf) << " gf (" << fmt("%.0f %%", 100 * a.gain) << " less)."
+      << (wrong_falls ? falls : "\n");
     return o.str();
 }
 
@@ -410,6 +522,37 @@ std::string sample_words(const AnalysisResult& a) {
 }
 
 } // namespace
+
+// The `outcome:` block: what the simulation gets wrong about standing and falling, and how much a
+// correction by the columns found would help on rows it was not fitted to.
+std::string outcome_block(const ValidationResult& v) {
+    if (!v.baseline_outcome) return {};
+    if (!v.outcome_search) return "outcome:   " + v.outcome_note + "\n";
+    const OutcomeSearch& s = *v.outcome_search;
+    const AnalysisResult& a = s.analysis;
+    std::ostringstream o;
+    o << "outcome:   " << s.rows.size() << " rows stood or fell, " << a.n_flowers << " flowers; every column against fell minus the simulated chance of falling\n";
+    if (!a.discrepancy_found) {
+        o << "  no column explains the wrong falls beyond chance after correction\n";
+        return o.str();
+    }
+    if (a.calibration.significant) {
+        const double level = 100 * std::log(a.calibration.factor);
+        o << "  level:   the flowers fall " << fmt("%.1f", std::abs(level)) << " points of chance " << (level >= 0 ? "more" : "less")
+          << " often than simulated, whatever the columns\n";
+    }
+    for (std::size_t k = 0; k < s.causes.size(); ++k) {
+        const OutcomeCause& c = s.causes[k];
+        o << "  cause " << k + 1 << ": " << c.covariate << (c.category.empty() ? "" : " = " + c.category) << ", " << c.direction << ", " << c.shape
+          << ", the chance of falling " << fmt("%+.2f", c.effect) << " [" << fmt("%+.2f", c.effect_low) << ", " << fmt("%+.2f", c.effect_high) << "]";
+        if (c.category.empty()) o << " from " << fmt("%.4g", c.x_low) << " to " << fmt("%.4g", c.x_high);
+        o << ", p = " << fmt("%.3g", c.p_value) << "\n";
+    }
+    o << "  held out: log-loss " << fmt("%.3f", s.baseline.log_loss) << " -> " << fmt("%.3f", s.held_out.log_loss) << ", Brier " << fmt("%.3f", s.baseline.brier)
+      << " -> " << fmt("%.3f", s.held_out.brier) << ", accuracy " << fmt("%.0f %%", 100 * s.baseline.accuracy) << " -> " << fmt("%.0f %%", 100 * s.held_out.accuracy)
+      << " (the correction fitted without the row's fold)\n";
+    return o.str();
+}
 
 std::string validation_summary(const ValidationResult& v) {
     const AnalysisResult& a = v.analysis;
@@ -448,8 +591,9 @@ std::string validation_summary(const ValidationResult& v) {
           << " (a flower effect's standard deviation, after the model; each row scatters " << fmt("%.1f %%", 100.0 * (std::exp(v.spread->within_sd_log) - 1.0))
           << " about its flower's mean; " << v.spread->flowers << " flowers of 2 rows or more)\n";
     }
+    o << outcome_block(v);
     if (!a.discrepancy_found) {
-        o << "no discrepancy found: no covariate and no overall level is significant after correction\n";
+        o << "no discrepancy found" << (v.outcome_search ? " in the forces" : "") << ": no covariate and no overall level is significant after correction\n";
         return o.str();
     }
     o << "level:     measured/simulated x" << fmt("%.3f", a.calibration.factor) << " [" << fmt("%.3f", a.calibration.low) << ", "
@@ -580,6 +724,7 @@ std::vector<std::pair<std::string, std::string>> validation_report_files(const V
         }
         md << "\nA calibrated model's bins lie on the diagonal. The simulation's chance is the share of its mixture (16 placements, "
               "sound and split ends) that fell; a bin far from the diagonal is where it is wrong about standing and falling.\n\n";
+        md << outcome_markdown(v, figures);
     }
     for (const auto& d : a.diagnostics) {
         if (!flagged(d, options.alpha)) continue;
