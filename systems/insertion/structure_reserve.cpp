@@ -1,9 +1,11 @@
 #include "systems/insertion/structure_reserve.hpp"
 
 #include <algorithm>
+#include <functional>
 
 #include "components/collision.hpp"
 #include "components/flower.hpp"
+#include "components/physics.hpp"
 #include "engine/ecs/registry.hpp"
 #include "systems/physics/stem_builder.hpp"
 
@@ -44,6 +46,56 @@ void add_stalks_of(ecs::Registry& r, ecs::Entity owner, const std::string& speci
         const auto* part = r.try_get<const Part>(child);
         if (part && part->kind != PartKind::stem && !part->mesh.empty()) out.stalks.push_back(stalk_kit(child, species, look));
     }
+}
+
+// The bodies now and every piece the kits can make, each counted at its largest.
+BodyCapacity body_capacity(ecs::Registry& r, const StructureReserve& reserve) {
+    BodyCapacity c;
+    r.view<const StemPoints>().each([&](ecs::Entity e, const StemPoints& points) {
+        c.points = std::max(c.points, points.position_m.size());
+        if (r.all_of<StemFork>(e)) return; // a twig is its stem's body
+        ++c.bodies;
+        c.stem_points.push_back(points.position_m.size()); // a tree whose twigs are all pruned is a stem
+        const auto* twigs = r.try_get<const Twigs>(e);
+        if (!twigs || twigs->entities.empty()) return;
+        ++c.trees;
+        std::size_t nodes = points.position_m.size();
+        for (const ecs::Entity t : twigs->entities) {
+            if (const auto* p = r.try_get<const StemPoints>(t)) nodes += p->position_m.size();
+        }
+        c.tree_chains = std::max(c.tree_chains, 1 + twigs->entities.size());
+        c.tree_nodes = std::max(c.tree_nodes, nodes);
+    });
+    // A twig pruned with twigs of its own is a tree; without, a stem. A stalk is a stem.
+    std::vector<ecs::Entity> parents;
+    r.view<const StemFork>().each([&](ecs::Entity, const StemFork& fork) { parents.push_back(fork.parent); });
+    std::sort(parents.begin(), parents.end(), by_entity);
+    for (const auto& kit : reserve.branches) {
+        ++c.bodies;
+        if (const auto* p = r.try_get<const StemPoints>(kit.twig)) c.stem_points.push_back(p->position_m.size());
+        c.trees += std::binary_search(parents.begin(), parents.end(), kit.twig, by_entity) ? 1 : 0;
+    }
+    c.bodies += reserve.stalks.size();
+    for (const auto& stalk : reserve.stalks) c.stem_points.push_back(stalk.points.position_m.size());
+    std::sort(c.stem_points.begin(), c.stem_points.end(), std::greater<>());
+    if (!reserve.stalks.empty()) c.points = std::max(c.points, reserve.stalks.front().points.position_m.size());
+    c.cuttings = reserve.branches.size() + reserve.stalks.size();
+    c.stalks = reserve.stalks.size();
+    c.stalk_points = reserve.stalks.empty() ? 0 : reserve.stalks.front().points.position_m.size();
+    c.pieces = c.cuttings;
+    r.view<const FlowerLook>().each([&](ecs::Entity, const FlowerLook& look) { c.mesh_name = std::max(c.mesh_name, look.head_mesh.size()); });
+    r.view<const ecs::Children>().each([&](ecs::Entity, const ecs::Children& children) {
+        std::size_t drawn = 0;
+        for (const ecs::Entity child : children.entities) {
+            const auto* part = r.try_get<const Part>(child);
+            if (!part || part->kind == PartKind::stem || part->mesh.empty()) continue;
+            ++drawn;
+            c.mesh_name = std::max(c.mesh_name, part->mesh.size());
+        }
+        c.parts += drawn;
+        c.piece_parts = std::max(c.piece_parts, drawn);
+    });
+    return c;
 }
 
 } // namespace
@@ -95,6 +147,7 @@ void reserve_structure_changes(ecs::Registry& r) {
     r.reserve<CutRequest>(2); // a request a hand, their storage made now
     r.reserve<PruneRequest>(2);
     r.reserve_entities(stalks + 1);
+    r.set_resource<BodyCapacity>(body_capacity(r, out));
     r.set_resource<StructureReserve>(std::move(out));
 }
 

@@ -12,6 +12,7 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
     auto& registry = ctx.registry;
     const auto* settings = registry.resource<const components::PhysicsSettings>();
     const glm::dvec3 gravity = settings ? settings->gravity_m_s2 : components::PhysicsSettings{}.gravity_m_s2;
+    if (const auto* capacity = registry.resource<const components::BodyCapacity>(); capacity && capacity != sized_for_) size_for(*capacity);
     stems_.clear();
     tree_roots_.clear();
     registry.view<components::StemPoints, const components::StemRestShape, const components::StemSprings, components::StemLoads>().each(
@@ -31,14 +32,6 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
             const bool held = std::any_of(points.pinned.begin(), points.pinned.end(), [](std::uint8_t p) { return p != 0; });
             stems_.push_back({&points, &rest, &springs, clamp, frame, &loads, parts, held, true});
         });
-    if (scratches_.size() < stems_.size()) scratches_.resize(stems_.size());
-    // Where each lies across a container's rim, from where it is at the tick's start.
-    if (supports_.size() < stems_.size()) supports_.resize(stems_.size());
-    const auto* container = registry.single<const components::Container>();
-    for (std::size_t k = 0; k < stems_.size(); ++k) {
-        supports_[k].clear();
-        if (container) rim_supports(*container, stems_[k].points->position_m, 0.5 * stems_[k].rest->diameter_m, supports_[k]);
-    }
     // The tick in rounds, one a part (tick_parts: one at the paper's rate); a round's stems are solved four
     // to a register (step_stems: each stem's results are what stepping it alone gives, whatever shares it).
     order_.resize(stems_.size());
@@ -51,6 +44,19 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
         const std::size_t nb = stems_[b].points->position_m.size();
         return na != nb ? na > nb : a < b;
     });
+    // A stem's scratch and rim crossings are the ones at its rank by length: the r-th longest stem is no
+    // longer than the r-th longest the scene can have, which that scratch was sized for (size_for).
+    rank_.resize(stems_.size());
+    for (std::size_t r = 0; r < order_.size(); ++r) rank_[order_[r]] = r;
+    if (scratches_.size() < stems_.size()) scratches_.resize(stems_.size());
+    // Where each lies across a container's rim, from where it is at the tick's start.
+    if (supports_.size() < stems_.size()) supports_.resize(stems_.size());
+    const auto* container = registry.single<const components::Container>();
+    for (std::size_t k = 0; k < stems_.size(); ++k) {
+        auto& support = supports_[rank_[k]];
+        support.clear();
+        if (container) rim_supports(*container, stems_[k].points->position_m, 0.5 * stems_[k].rest->diameter_m, support);
+    }
     std::size_t rounds = 0;
     for (const auto& stem : stems_) rounds = std::max(rounds, stem.parts);
     if (lane_scratch_.size() < rounds) lane_scratch_.resize(rounds);
@@ -60,9 +66,10 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
         for (const std::size_t k : order_) {
             auto& stem = stems_[k];
             if (stem.parts <= round || !stem.finite) continue;
-            auto& scratch = scratches_[k];
+            auto& scratch = scratches_[rank_[k]];
             scratch.want_end_force = stem.held && round + 1 == stem.parts; // only a held stem's last part is felt
-            batch_.push_back({stem.points, stem.rest, stem.springs, stem.clamp, &scratch, ctx.dt_s / static_cast<double>(stem.parts), stem.frame, supports_[k]});
+            batch_.push_back({stem.points, stem.rest, stem.springs, stem.clamp, &scratch, ctx.dt_s / static_cast<double>(stem.parts), stem.frame,
+                              supports_[rank_[k]]});
             batch_stem_.push_back(k);
         }
         batch_ok_.assign(batch_.size(), 0);
@@ -73,7 +80,7 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
         auto& stem = stems_[i];
         auto& points = *stem.points;
         auto& loads = *stem.loads;
-        const auto& end_force = scratches_[i].end_force;
+        const auto& end_force = scratches_[rank_[i]].end_force;
         if (stem.finite) {
             // The stem's own forces of this step (springs, hinges, clamp, gravity: without what other
             // systems pushed), for whatever else needs them (a hand that holds the stem): computed once
@@ -90,6 +97,32 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
         for (auto& f : points.external_force_n) f = glm::dvec3{0.0};
     }
     step_trees(ctx, gravity);
+}
+
+void SpringPhysicsSystem::size_for(const components::BodyCapacity& c) {
+    sized_for_ = &c;
+    // By rank: the r-th longest stem's memory for the r-th longest the scene can have (stem_points is
+    // longest first), a group of four for its first.
+    const std::size_t stems = c.stem_points.size();
+    for (auto* v : {&order_, &rank_, &batch_stem_}) v->reserve(stems);
+    stems_.reserve(stems);
+    batch_.reserve(stems);
+    batch_ok_.reserve(stems);
+    if (scratches_.size() < stems) scratches_.resize(stems);
+    if (supports_.size() < stems) supports_.resize(stems);
+    for (std::size_t r = 0; r < stems; ++r) {
+        physics::reserve_scratch(scratches_[r], c.stem_points[r]);
+        supports_[r].reserve(c.stem_points[r]);
+    }
+    // At the haptic rate a tick is one part: one round (a slower lane's extra rounds size themselves).
+    if (lane_scratch_.empty()) lane_scratch_.resize(1);
+    physics::reserve_scratch(lane_scratch_[0], c.stem_points);
+    tree_roots_.reserve(c.trees);
+    if (trees_.size() < c.trees) trees_.resize(c.trees);
+    for (auto& chains : trees_) chains.reserve(c.tree_chains);
+    if (tree_scratches_.size() < c.trees) tree_scratches_.resize(c.trees);
+    for (auto& s : tree_scratches_) physics::reserve_scratch(s, c.tree_chains, c.tree_nodes, c.points);
+    scratch_members_.reserve(c.tree_chains);
 }
 
 namespace {

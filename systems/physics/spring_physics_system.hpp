@@ -21,7 +21,7 @@ struct SpringPhysicsSystem {
     static constexpr std::string_view rate = "haptic";
     using reads = sched::Components<components::StemRestShape, components::StemSprings, components::StemClamp,
                                     components::PhysicsSettings, components::StemFork, components::Twigs,
-                                    components::Table, components::Container, components::Kenzan>;
+                                    components::Table, components::Container, components::Kenzan, components::BodyCapacity>;
     using writes = sched::Components<components::StemPoints, components::StemLoads, components::StemFrame>; // a twig's twist on its stem
 
     void operator()(sched::SystemContext& ctx);
@@ -45,7 +45,8 @@ private:
     std::vector<Stem> stems_;
     std::vector<physics::StemSolverScratch> scratches_;
     std::vector<std::vector<physics::SegmentSupport>> supports_; // what each lies across this tick (a rim)
-    std::vector<std::size_t> order_;
+    std::vector<std::size_t> order_; // stems_' places, longest first
+    std::vector<std::size_t> rank_;  // per place: its rank in order_
     std::vector<physics::StemStep> batch_;
     std::vector<std::size_t> batch_stem_;
     std::vector<std::uint8_t> batch_ok_;
@@ -57,6 +58,9 @@ private:
     std::vector<physics::TreeScratch> tree_scratches_;
     std::vector<ecs::Entity> scratch_members_;
     void step_trees(sched::SystemContext& ctx, glm::dvec3 gravity);
+    // Every list above sized for the scene's BodyCapacity, once (a piece pruned off then allocates nothing).
+    void size_for(const components::BodyCapacity& capacity);
+    const components::BodyCapacity* sized_for_ = nullptr;
 };
 
 } // namespace ikebana::systems

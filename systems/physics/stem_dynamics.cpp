@@ -312,6 +312,17 @@ StemEnergy stem_energy(const StemPoints& points, const StemRestShape& rest, cons
     return energy;
 }
 
+void reserve_scratch(StemSolverScratch& s, std::size_t points) {
+    const std::size_t n = 3 * points;
+    for (auto* band : {&s.band, &s.stiffness}) band->reserve((n + 2 * pad) * stride);
+    for (auto* vector : {&s.rhs, &s.motion, &s.inverse_diagonal}) vector->reserve(n + 2 * pad);
+    s.segment_block.reserve(6 * points);
+    s.bend_coupling.reserve(3 * points);
+    s.segments.reserve(points);
+    s.force.reserve(points);
+    s.end_force.reserve(points);
+}
+
 std::size_t tick_parts(double dt) {
     const double parts = std::ceil(dt / max_part_s - 1e-9); // 1 ms is one part, not two by rounding
     if (!std::isfinite(parts) || parts <= 1.0) return 1;
@@ -612,6 +623,20 @@ bool step_stem(StemPoints& points, const StemRestShape& rest, const StemSprings&
     assemble_step(points, rest, springs, clamp, frame, gravity, dt, scratch, own, supports);
     if (!ldlt_solve(Band{scratch.band.data(), n}, scratch.rhs.data() + pad, scratch.inverse_diagonal)) return false;
     return finish_step(points, clamp, dt, scratch, own);
+}
+
+void reserve_scratch(LaneScratch& s, const std::vector<std::size_t>& points_longest_first) {
+    // Stems are grouped four at a time longest first (step_stems' callers sort them): a group's size is
+    // its first stem's.
+    const std::size_t groups = (points_longest_first.size() + lanes - 1) / lanes;
+    if (s.groups.size() < groups) s.groups.resize(groups);
+    for (std::size_t k = 0; k < groups; ++k) {
+        const std::size_t n = 3 * points_longest_first[k * lanes];
+        auto& g = s.groups[k];
+        g.band.reserve((n + 2 * pad) * stride * lanes);
+        g.rhs.reserve((n + 2 * pad) * lanes);
+        g.inverse_diagonal.reserve((n + 2 * pad) * lanes);
+    }
 }
 
 void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, LaneScratch& lane_scratch, std::span<std::uint8_t> ok) {

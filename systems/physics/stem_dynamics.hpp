@@ -137,4 +137,9 @@ struct LaneScratch {
 // where it would return true), their linear solves four at a time in the lanes of one register.
 void step_stems(std::span<const StemStep> stems, glm::dvec3 gravity, LaneScratch& lane_scratch, std::span<std::uint8_t> ok);
 
+// Room for a stem of up to `points` points, and (LaneScratch) for `stems` stems of that size solved four
+// to a register: sized once when the scene loads, a new stem (a piece pruned off) allocates nothing.
+void reserve_scratch(StemSolverScratch& scratch, std::size_t points);
+void reserve_scratch(LaneScratch& scratch, const std::vector<std::size_t>& points_longest_first);
+
 } // namespace ikebana::systems::physics

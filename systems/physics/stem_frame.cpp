@@ -177,6 +177,10 @@ bool frame_is_bent(const StemRestShape& rest, const StemFrame& frame) {
 }
 } // namespace
 
+void reserve_scratch(FrameScratch& s, std::size_t points) {
+    for (auto* v : {&s.diagonal, &s.upper, &s.gradient, &s.step, &s.length, &s.twist_stiffness}) v->reserve(points);
+}
+
 void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const StemRestShape& rest,
                   const std::vector<double>& hinge_nm_per_rad, FrameScratch& scratch) {
     const std::size_t n = x.size() > 0 ? x.size() - 1 : 0;
@@ -201,9 +205,11 @@ void update_frame(StemFrame& frame, const std::vector<glm::dvec3>& x, const Stem
     }
     // A twig's stiffness comes with its moment: spent with it, whatever happens below.
     frame.external_twist_stiffness_nm.resize(n, 0.0);
+    // Copied out, not swapped: a swap passes each stem's vector on to the next stem, and one from a short
+    // stalk (a stripped leaf) would then grow on the 1 kHz lane in a long stem's frame.
     std::vector<double>& stiffness = scratch.twist_stiffness;
-    stiffness.swap(frame.external_twist_stiffness_nm);
-    frame.external_twist_stiffness_nm.assign(n, 0.0);
+    stiffness.assign(frame.external_twist_stiffness_nm.begin(), frame.external_twist_stiffness_nm.end());
+    std::fill(frame.external_twist_stiffness_nm.begin(), frame.external_twist_stiffness_nm.end(), 0.0);
     if (quiet && ++frame.quiet_ticks < quiet_carry_ticks) {
         std::fill(frame.held.begin(), frame.held.end(), std::uint8_t{0});
         return;

@@ -66,6 +66,9 @@ struct FrameScratch {
 // are held, the rest turned by one Newton step toward the least energy of twist (G J over each hinge's
 // share of length), of the rest bends' directions (the hinges' k) and of the external twisting moments.
 // The holds and the external moments are consumed. `hinge_nm_per_rad`: the stem's hinge springs.
+// Room for a stem of up to `points` points, sized once when the scene loads.
+void reserve_scratch(FrameScratch& scratch, std::size_t points);
+
 void update_frame(components::StemFrame& frame, const std::vector<glm::dvec3>& points, const components::StemRestShape& rest,
                   const std::vector<double>& hinge_nm_per_rad, FrameScratch& scratch);
 

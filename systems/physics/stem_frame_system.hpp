@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "components/physics.hpp"
 #include "components/stem.hpp"
 #include "engine/sched/system.hpp"
 #include "systems/physics/stem_frame.hpp"
@@ -17,13 +18,14 @@ struct StemFrameSystem {
     static constexpr std::string_view lane = "sim";
     static constexpr std::string_view phase = "constraints";
     static constexpr std::string_view rate = "haptic";
-    using reads = sched::Components<components::StemPoints, components::StemRestShape, components::StemSprings>;
+    using reads = sched::Components<components::StemPoints, components::StemRestShape, components::StemSprings, components::BodyCapacity>;
     using writes = sched::Components<components::StemFrame>;
 
     void operator()(sched::SystemContext& ctx);
 
 private:
-    physics::FrameScratch scratch_; // kept from tick to tick: the 1 kHz loop does not allocate
+    physics::FrameScratch scratch_; // kept from tick to tick, sized for the scene's longest stem: the 1 kHz loop does not allocate
+    const components::BodyCapacity* sized_for_ = nullptr;
 };
 
 } // namespace ikebana::systems

@@ -77,6 +77,13 @@ bool valid_fork(std::span<const TreeChain> chains, std::size_t c) {
 // Numbers the tree's points: the root chain's in order, then each twig's from its P1 (its P0 is its
 // parent's point). Every node's parent has a smaller number: eliminated from the last node down, each
 // goes before its parent and its parent's parent, the only nodes it couples to that remain.
+// Per-chain lists only grow: one shrunk for a smaller tree would free its chains' memory, which a larger
+// tree (a branch pruned off, solved in this scratch next) would then allocate again on the 1 kHz lane.
+template <typename T>
+void grow_to(std::vector<T>& per_chain, std::size_t chains) {
+    if (per_chain.size() < chains) per_chain.resize(chains);
+}
+
 void number_nodes(std::span<const TreeChain> chains, TreeScratch& s) {
     // The same tree as last step (the usual case): the same numbering.
     std::size_t at = 0;
@@ -93,7 +100,7 @@ void number_nodes(std::span<const TreeChain> chains, TreeScratch& s) {
     }
     s.topology.resize(at);
     if (same) return;
-    s.node_of.resize(chains.size());
+    grow_to(s.node_of, chains.size());
     s.parent_node.clear();
     for (std::size_t c = 0; c < chains.size(); ++c) {
         const std::size_t count = chains[c].points->position_m.size();
@@ -161,6 +168,30 @@ glm::dvec3 fork_rest_bend(const TreeChain& twig, const TreeChain& parent, glm::d
     return twig.fork->angle_rad * (dir.x * d1 + dir.y * glm::cross(e_in, d1));
 }
 
+void reserve_scratch(TreeScratch& s, std::size_t chains, std::size_t nodes, std::size_t points) {
+    grow_to(s.node_of, chains);
+    grow_to(s.force, chains);
+    grow_to(s.segments, chains);
+    grow_to(s.load, chains);
+    for (std::size_t c = 0; c < chains; ++c) {
+        s.node_of[c].reserve(points);
+        s.force[c].reserve(points);
+        s.segments[c].reserve(points);
+        s.load[c].reserve(points);
+    }
+    s.parent_node.reserve(nodes);
+    s.diagonal.reserve(nodes);
+    s.inverse.reserve(nodes);
+    s.to_parent.reserve(nodes);
+    s.to_grandparent.reserve(nodes);
+    s.topology.reserve(3 * chains);
+    for (auto* v : {&s.rhs, &s.fixed_velocity, &s.node_force, &s.held_position, &s.wall_normal}) v->reserve(nodes);
+    for (auto* v : {&s.fixed, &s.resting, &s.on_rim}) v->reserve(nodes);
+    s.rim.reserve(points);
+    s.frame_gradient_nm.reserve(chains);
+    s.frame_stiffness_nm.reserve(chains);
+}
+
 bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt, TreeScratch& s, bool end_forces, const TreeSupport* support) {
     if (chains.empty()) return true;
     for (std::size_t c = 1; c < chains.size(); ++c) {
@@ -185,8 +216,8 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
     s.wall_normal.assign(n, glm::dvec3{0.0});
     s.on_rim.assign(n, 0);
     s.fixed_velocity.assign(n, glm::dvec3{0.0});
-    s.force.resize(chains.size());
-    s.segments.resize(chains.size());
+    grow_to(s.force, chains.size());
+    grow_to(s.segments, chains.size());
     const auto parent_of = [&](std::uint32_t node) { return s.parent_node[node]; };
 
     // Forces at the step's start: each chain's own, then the root hinges'.
@@ -482,7 +513,7 @@ bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt,
         s.frame_stiffness_nm[c] = h.frame_stiffness_nm;
     }
     if (end_forces) shift_held(false);
-    s.load.resize(chains.size());
+    grow_to(s.load, chains.size());
     for (std::size_t c = 0; c < chains.size(); ++c) {
         const auto& nodes = s.node_of[c];
         s.load[c].resize(nodes.size());

@@ -93,6 +93,10 @@ struct TreeScratch {
 // A shared point's load is the whole body's there (the parent's point and its twigs' P0 alike).
 // External forces are not cleared (the caller does, as for a chain).
 // `support`: what it rests on (none: nothing).
+// Room for a tree of up to `chains` chains, `nodes` points in all and `points` a chain, sized once when
+// the scene loads: a branch pruned off (a tree of its own) allocates nothing.
+void reserve_scratch(TreeScratch& scratch, std::size_t chains, std::size_t nodes, std::size_t points);
+
 bool step_tree(std::span<const TreeChain> chains, glm::dvec3 gravity, double dt, TreeScratch& scratch, bool end_forces,
                const TreeSupport* support = nullptr);
 

@@ -23,6 +23,15 @@ struct FrameChannel {
         std::vector<const void*> slots;
         std::vector<std::vector<std::pair<ecs::Entity, std::size_t>>> parts_in_slot;
         std::vector<ecs::Entity> order;
+        // Spare entries, made when the scene's BodyCapacity is first seen: a cutting, a piece (a twig,
+        // a stalk) or a part that appears in a frame takes one, its memory already there, and one that
+        // leaves gives it back, so the lane neither allocates nor frees for them.
+        std::vector<components::CuttingStatus> spare_cuttings;
+        std::vector<components::TwigStatus> spare_pieces;       // a twig's size
+        std::vector<components::TwigStatus> spare_stalk_pieces; // a stalk's (most pieces are; each a stem's size was most of the memory)
+        std::size_t stalk_points = 0;
+        std::vector<components::Part> spare_parts;
+        const void* sized_for = nullptr;
     } writer;
 };
 

@@ -31,7 +31,7 @@ struct PublishFrameSystem {
                                     components::HandCube, components::HandInput, components::HandProxy, components::HandGrip,
                                     components::HandForce, components::InsertionHistory, components::PinEngagement,
                                     components::KenzanGrip, components::Kenzan, components::Table, components::Container,
-                                    HandDevices, HandLinks>;
+                                    HandDevices, HandLinks, components::BodyCapacity>;
     using writes = sched::Components<ecs::Port<FrameChannel>>; // publishing is a write of the channel
 
     void operator()(sched::SystemContext& ctx);
