@@ -67,6 +67,13 @@ std::vector<Pair> pairs_of(const Analysis& a, const std::vector<Term>& causes, c
     return pairs;
 }
 
+// Whether the model already has the column's own linear term (a cause of that form, or the companion of
+// an earlier interaction with it): a second would be the same column twice, and the fit's two
+// coefficients for it then grew without bound in opposite directions (an effect of +inf was reported).
+bool has_linear_term(const std::vector<Term>& model, std::size_t candidate) {
+    return std::any_of(model.begin(), model.end(), [&](const Term& t) { return t.candidate == candidate && !t.times && t.shape.form == "linear"; });
+}
+
 // The cause's every shape beside its product with the pair's column: two columns a shape.
 Candidate joint_of(const Candidate& cause, const Term& term, const VectorXd& linear, Index n) {
     Candidate joint;
@@ -94,7 +101,7 @@ void reshape_beside(const Analysis& a, const std::vector<Term>& model, Pair& pai
     for (std::size_t j = 0; j < model.size(); ++j) {
         if (j != ia) rest.push_back(model[j]);
     }
-    rest.push_back(pair.companion);
+    if (!has_linear_term(rest, pair.companion.candidate)) rest.push_back(pair.companion);
     const Candidate joint = joint_of(ca, terms[ia], pair.linear, a.n);
     std::string form = terms[ia].shape.form;
     double best_form_cv = INFINITY;
@@ -147,7 +154,8 @@ bool add_one(const Analysis& a, const std::vector<Term>& model, std::vector<Pair
         else record->p_value = t.adjusted[k];
         if (added || t.adjusted[k] > a.opt.alpha) continue;
         std::vector<Term> with_main = model;
-        with_main.push_back(pairs[k].companion);
+        const bool companion = !has_linear_term(model, pairs[k].companion.candidate);
+        if (companion) with_main.push_back(pairs[k].companion);
         const double cv = a.cv_mse(with_main, true, &pairs[k].product, "interaction");
         char line[256];
         std::snprintf(line, sizeof line, "interaction '%s' x '%s': p = %.4g (family-wise over %zu pairs); CV %s %.5f -> %.5f: %s", cause.c_str(), times.c_str(),
@@ -155,7 +163,7 @@ bool add_one(const Analysis& a, const std::vector<Term>& model, std::vector<Pair
         out.log.push_back(line);
         if (cv < cv_now) {
             reshape_beside(a, model, pairs[k], out);
-            out.terms.push_back(pairs[k].companion);
+            if (companion) out.terms.push_back(pairs[k].companion);
             out.terms.push_back(pairs[k].term);
             record->kept = true;
             added = true;

@@ -45,7 +45,7 @@ Elimination eliminate_backward(const Analysis& a, const Selection& forward);
 // Kept causes whose effect changes with another numeric column.
 struct Interactions {
     std::vector<Term> causes;             // the kept terms; one with an interaction re-shaped beside it
-    std::vector<Term> terms;              // per kept pair: the other column's linear term, then the product
+    std::vector<Term> terms;              // per kept pair: the other column's linear term (unless the model has it), then the product
     std::vector<InteractionCheck> checks; // every pair tested, significant first, then by p
     Log log;
 };

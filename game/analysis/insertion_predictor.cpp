@@ -79,9 +79,13 @@ const std::set<std::string>* InsertionPredictor::covariates_used(const std::stri
             return nullptr;
         }
         std::set<std::string> used;
-        for (const auto& t : def->deterioration.terms) {
-            used.insert(t.covariate);
-            if (!t.times_covariate.empty()) used.insert(t.times_covariate); // an interaction reads it too
+        // The terms on the holding read their columns too (they were left out: a hold term on a column the
+        // row has was evaluated without it, and every row shared one simulation).
+        for (const auto* terms : {&def->deterioration.terms, &def->deterioration.hold_terms}) {
+            for (const auto& t : *terms) {
+                used.insert(t.covariate);
+                if (!t.times_covariate.empty()) used.insert(t.times_covariate); // an interaction reads it too
+            }
         }
         it = covariates_used_.emplace(species, std::move(used)).first;
     }

@@ -111,6 +111,110 @@ std::optional<OutcomeScores> score_outcomes(const MeasuredData& data, const std:
     return s;
 }
 
+namespace {
+
+// The clipped log-loss of one row (score_outcomes' rule).
+double row_log_loss(double chance, bool fell) { return -std::log(std::clamp(fell ? chance : 1.0 - chance, 0.001, 0.999)); }
+
+nlohmann::json species_term_json(const components::DeteriorationTerm& t) {
+    nlohmann::json j = {{"covariate", t.covariate}, {"form", t.form}, {"coefficient", t.coefficient}};
+    if (t.form != "constant" && t.form != "category" && t.form != "linear") j["scale"] = t.scale;
+    if (t.origin != 0.0) j["origin"] = t.origin;
+    if (t.range_high > t.range_low) j["range"] = {t.range_low, t.range_high};
+    if (t.form == "category") j["category"] = t.category;
+    if (!t.times_covariate.empty()) {
+        j["times"] = {{"covariate", t.times_covariate}, {"origin", t.times_origin}};
+        j["times"]["range"] = {t.times_low, t.times_high}; // the reader needs it, equal ends or not
+    }
+    return j;
+}
+
+} // namespace
+
+double chance_at(const HoldCurve& curve, double log_factor) {
+    const auto& x = curve.log_factor;
+    if (x.empty()) return 0.0;
+    std::size_t nearest = 0;
+    for (std::size_t j = 1; j < x.size(); ++j) {
+        if (std::abs(x[j] - log_factor) < std::abs(x[nearest] - log_factor)) nearest = j;
+    }
+    return curve.chance[nearest];
+}
+
+std::vector<components::DeteriorationTerm> fit_hold_terms(const MeasuredData& data, const std::vector<std::size_t>& rows,
+                                                          const std::vector<components::DeteriorationTerm>& terms,
+                                                          const std::vector<HoldCurve>& curves, double* log_loss) {
+    const std::size_t n = rows.size(), k_count = terms.size();
+    // Each term's basis at each row: the term alone at coefficient 1, as the insertion system reads it.
+    std::vector<std::vector<double>> basis(k_count, std::vector<double>(n));
+    std::vector<double> span(k_count, 0.0);
+    for (std::size_t k = 0; k < k_count; ++k) {
+        auto unit = terms[k];
+        unit.coefficient = 1.0;
+        double lo = INFINITY, hi = -INFINITY;
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto& t = data.trials[rows[i]];
+            basis[k][i] = std::log(systems::insertion::extension_factor({unit}, t.insertion, data.covariates_of(rows[i])));
+            lo = std::min(lo, basis[k][i]);
+            hi = std::max(hi, basis[k][i]);
+        }
+        span[k] = hi - lo > 1e-12 ? hi - lo : std::max(std::abs(hi), 1.0); // a level: its value
+    }
+    std::vector<double> eta(n, 0.0), beta(k_count, 0.0);
+    const auto loss_with = [&](std::size_t k, double value) {
+        double s = 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double e = eta[i] + (value - beta[k]) * basis[k][i];
+            s += row_log_loss(chance_at(curves[i], e), *data.trials[rows[i]].outcome == "fell");
+        }
+        return s / static_cast<double>(std::max<std::size_t>(n, 1));
+    };
+    // The chance is nearly a step function of each coefficient (placements stand or fall): a grid, not a
+    // gradient. A term moves the holding by at most a factor e^1.5 (4.5) across its column; the curves
+    // were simulated from 0.5 to 2 and are flat beyond.
+    constexpr int steps = 60;
+    double best = k_count ? loss_with(0, 0.0) : 0.0;
+    for (int sweep = 0; sweep < 4; ++sweep) {
+        for (std::size_t k = 0; k < k_count; ++k) {
+            double chosen = beta[k];
+            for (int j = -steps; j <= steps; ++j) {
+                const double value = 1.5 * j / steps / span[k];
+                const double l = loss_with(k, value);
+                if (l < best - 1e-12 || (std::abs(l - best) <= 1e-12 && std::abs(value) < std::abs(chosen))) {
+                    best = l;
+                    chosen = value;
+                }
+            }
+            for (std::size_t i = 0; i < n; ++i) eta[i] += (chosen - beta[k]) * basis[k][i];
+            beta[k] = chosen;
+        }
+    }
+    if (log_loss) *log_loss = best;
+    std::vector<components::DeteriorationTerm> out;
+    for (std::size_t k = 0; k < k_count; ++k) {
+        if (beta[k] == 0.0) continue;
+        auto t = terms[k];
+        t.coefficient = beta[k];
+        out.push_back(t);
+    }
+    return out;
+}
+
+Result<std::string> with_hold_terms(const std::string& species_json, const std::vector<components::DeteriorationTerm>& terms) {
+    auto j = nlohmann::ordered_json::parse(species_json, nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("deterioration")) return make_error(ErrorCode::parse_error, "the extended species is not a species");
+    auto& out = j["deterioration"]["terms"];
+    if (!out.is_array()) out = nlohmann::ordered_json::array();
+    for (const auto& t : terms) {
+        nlohmann::ordered_json term = nlohmann::ordered_json::parse(species_term_json(t).dump());
+        term["applies_to"] = "hold";
+        out.push_back(term);
+    }
+    std::string json = assets::json_text(j, 2) + "\n";
+    if (auto check = parse_species(json, "extended species"); !check) return make_error(ErrorCode::parse_error, "the extended species does not load: " + check.error().message);
+    return json;
+}
+
 std::optional<OutcomeSearch> search_outcomes(const MeasuredData& data, const AnalysisInput& forces, const std::vector<double>& fall_probability,
                                              const AnalysisOptions& options, std::string& note) {
     OutcomeSearch s;
@@ -260,18 +364,7 @@ Result<std::string> extended_species_json(const std::string& species, const std:
         base = det.value("base", "paper_baseline");
         if (det.contains("terms")) out_terms = det["terms"];
     }
-    for (const auto& t : terms) {
-        nlohmann::json j = {{"covariate", t.covariate}, {"form", t.form}, {"coefficient", t.coefficient}};
-        if (t.form != "constant" && t.form != "category" && t.form != "linear") j["scale"] = t.scale;
-        if (t.origin != 0.0) j["origin"] = t.origin;
-        if (t.range_high > t.range_low) j["range"] = {t.range_low, t.range_high};
-        if (t.form == "category") j["category"] = t.category;
-        if (!t.times_covariate.empty()) {
-            j["times"] = {{"covariate", t.times_covariate}, {"origin", t.times_origin}};
-            j["times"]["range"] = {t.times_low, t.times_high}; // the reader needs it, equal ends or not
-        }
-        out_terms.push_back(j);
-    }
+    for (const auto& t : terms) out_terms.push_back(species_term_json(t));
     root["deterioration"] = {{"model", "extended"}, {"base", base}, {"terms", out_terms},
                              {"fitted_from", "ikebana validate " + measured_file},
                              {"notes", "The force the base model gives is multiplied by exp(sum of the terms); the level term "
@@ -286,6 +379,158 @@ Result<std::string> extended_species_json(const std::string& species, const std:
     if (!check) return make_error(ErrorCode::parse_error, "the extended species does not load: " + check.error().message);
     return json;
 }
+
+namespace {
+
+// A species written where the predictor can load it (its caller removes it).
+Result<std::string> temporary_species_file(const std::string& json) {
+    char scratch[] = "/tmp/ikebana-species-XXXXXX";
+    const int fd = mkstemp(scratch);
+    if (fd < 0) return make_error(ErrorCode::io_error, "cannot create a temporary species file");
+    close(fd);
+    const std::string file = std::string(scratch) + ".json";
+    std::filesystem::rename(scratch, file);
+    if (auto w = assets::write_text_file(file, json); !w) {
+        std::filesystem::remove(file);
+        return std::move(w).error();
+    }
+    return file;
+}
+
+// Each stood/fell row's chance at the hold_curve_factors, simulated (a species with that level on its
+// holding; rows that share a push share the simulations), then the outcome search's terms fitted on
+// those curves as terms on the holding. One species only: several would each need their own.
+Result<void> fit_holding(ValidationResult& v, InsertionPredictor& predictor, const std::vector<InsertionConditions>& rows,
+                         const std::vector<double>& baseline_fall, const ValidationOptions& options) {
+    OutcomeSearch& s = *v.outcome_search;
+    if (v.species.empty()) return {};
+    auto base = extended_species_json(v.species, {}, v.measured_file);
+    if (!base) return {}; // said when the extended species is written, below
+    std::vector<HoldCurve> curves(s.rows.size());
+    for (std::size_t k = 0; k < s.rows.size(); ++k) {
+        curves[k].log_factor.push_back(0.0);
+        curves[k].chance.push_back(baseline_fall[s.rows[k]]);
+    }
+    std::size_t done = 0;
+    const std::size_t of = s.rows.size() * std::size(hold_curve_factors);
+    for (const double factor : hold_curve_factors) {
+        components::DeteriorationTerm level{};
+        level.covariate = "level";
+        level.form = "constant";
+        level.coefficient = std::log(factor);
+        auto json = with_hold_terms(*base, {level});
+        if (!json) return std::move(json).error();
+        auto written = temporary_species_file(*json);
+        if (!written) return std::move(written).error();
+        const std::string file = *written;
+        std::vector<InsertionConditions> held;
+        for (const std::size_t i : s.rows) {
+            held.push_back(rows[i]);
+            held.back().species = file;
+        }
+        for (const std::size_t k : predictor.simulation_order(held)) {
+            const auto p = predictor.predict(held[k]);
+            if (!p) {
+                std::filesystem::remove(file);
+                return make_error(p.error().code, v.measured_file + ":" + std::to_string(v.data.trials[s.rows[k]].line) + ": " + p.error().message);
+            }
+            auto& c = curves[k];
+            const double x = std::log(factor);
+            const auto at = std::upper_bound(c.log_factor.begin(), c.log_factor.end(), x) - c.log_factor.begin();
+            c.log_factor.insert(c.log_factor.begin() + at, x);
+            c.chance.insert(c.chance.begin() + at, p->fall_probability);
+            if (options.progress) options.progress("simulating the holding", ++done, of);
+        }
+        std::filesystem::remove(file);
+    }
+    s.hold_terms = fit_hold_terms(v.data, s.rows, s.analysis.extension, curves, &s.hold_fit_log_loss);
+    return {};
+}
+
+} // namespace
+
+namespace {
+
+// The extended species (the forces' terms, and `hold_terms` on the holding) written, checked to load,
+// and run back through the simulation for every row when there are few enough distinct conditions.
+Result<void> write_and_resimulate(ValidationResult& v, InsertionPredictor& predictor, const ValidationOptions& options,
+                                  const std::vector<components::DeteriorationTerm>& hold_terms) {
+    const std::string& measured_path = v.measured_file;
+    const std::size_t n_rows = v.data.trials.size();
+    const bool outcomes = v.data.has_outcome;
+    auto json = extended_species_json(v.species, v.analysis.extension, measured_path);
+    if (json && !hold_terms.empty()) json = with_hold_terms(*json, hold_terms);
+    if (!json) {
+        // A check that the written species loads never costs the analysis: said, and the rest written.
+        v.resimulation_note = json.error().message + ", so no species file is written and the simulation is not run again with it";
+        return {};
+    }
+    v.extended_species_json = *json;
+
+    // The extended species back through the simulation, row by row.
+    auto written = temporary_species_file(v.extended_species_json);
+    if (!written) return std::move(written).error();
+    const std::string temporary = *written;
+    // Each row's conditions once: counted here, simulated below when there are few enough.
+    std::vector<InsertionConditions> extended_rows;
+    extended_rows.reserve(n_rows);
+    for (std::size_t i = 0; i < n_rows; ++i) extended_rows.push_back(predictor.conditions_of(v.data, i, temporary, outcomes));
+    std::set<std::string> distinct;
+    for (const auto& c : extended_rows) distinct.insert(predictor.key(c));
+    if (distinct.size() > options.resimulate_limit) {
+        v.resimulation_note = std::to_string(distinct.size()) + " distinct conditions for the extended species (limit " +
+                              std::to_string(options.resimulate_limit) + "): not re-simulated here; `ikebana predict --species EXT.json` does it";
+    } else {
+        std::vector<double> fall(v.data.trials.size(), 0.0);
+        double sum = 0.0;
+        // On the rows the analysis used: a row set aside as a gross error is not the model's to explain.
+        std::vector<bool> aside(v.data.trials.size(), false);
+        for (const auto& r : v.analysis.suspected) aside[r.row] = true;
+        std::size_t used = 0;
+        const auto extended_order = predictor.simulation_order(extended_rows);
+        v.simulated_extended_gf.assign(n_rows, 0.0);
+        for (std::size_t n = 0; n < n_rows; ++n) {
+            const std::size_t i = extended_order[n];
+            const auto& t = v.data.trials[i];
+            const auto p = predictor.predict(extended_rows[i]);
+            if (!p) {
+                std::filesystem::remove(temporary);
+                return make_error(p.error().code, measured_path + ":" + std::to_string(t.line) + ": " + p.error().message);
+            }
+            const double gf = p->max_force_n / gram_force_n;
+            v.simulated_extended_gf[i] = gf;
+            if (!aside[i]) {
+                sum += (t.max_force_gf - gf) * (t.max_force_gf - gf);
+                ++used;
+            }
+            fall[i] = p->fall_probability;
+            if (options.progress) options.progress("simulating the extended species", n + 1, n_rows);
+        }
+        v.simulated_extended_rmse_gf = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(used, 1)));
+        if (outcomes) {
+            v.extended_outcome = score_outcomes(v.data, fall);
+            v.extended_fall_probability = fall;
+        }
+        // Stood or fell, row by row: a perfect model is right on every row; five points of accuracy
+        // lost is clearly worse.
+        if (v.baseline_outcome && v.extended_outcome)
+            v.others.push_back(judge_other_measure("outcome accuracy (share of rows whose stood/fell it gets right)", 1.0, v.baseline_outcome->accuracy,
+                                                   v.extended_outcome->accuracy, 0.05));
+        // The holding fitted to the falls, against the forces: a term on the holding never touches the
+        // push, so they must not move; 5 % more error is clearly worse.
+        if (!hold_terms.empty() && v.analysis.extension.empty()) {
+            OtherMeasure m = judge_other_measure("force RMSE through the simulation (gf), with the holding fitted to the falls", 0.0, v.analysis.baseline_rmse_gf,
+                                                 *v.simulated_extended_rmse_gf, 0.05 * v.analysis.baseline_rmse_gf);
+            m.error = true;
+            v.others.push_back(m);
+        }
+    }
+    std::filesystem::remove(temporary);
+    return {};
+}
+
+
+} // namespace
 
 Result<ValidationResult> run_validation(const std::string& measured_path, const ValidationOptions& options) {
     ValidationResult v;
@@ -347,9 +592,18 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
         v.baseline_outcome = score_outcomes(v.data, baseline_fall);
         v.baseline_fall_probability = baseline_fall;
         v.outcome_search = search_outcomes(v.data, v.input, baseline_fall, options.analysis, v.outcome_note);
+        if (v.outcome_search && v.outcome_search->analysis.discrepancy_found) {
+            if (auto fitted = fit_holding(v, predictor, rows, baseline_fall, options); !fitted) return std::move(fitted).error();
+        }
     }
+    const std::vector<components::DeteriorationTerm> no_terms;
+    const auto& hold_terms = v.outcome_search ? v.outcome_search->hold_terms : no_terms;
 
-    if (v.analysis.extension.empty()) return v;
+    if (v.analysis.extension.empty() && hold_terms.empty()) return v;
+    if (v.species.empty() && v.analysis.extension.empty()) {
+        v.resimulation_note = "the rows use several species: the holding fitted to the falls is not written per species";
+        return v;
+    }
     if (v.species.empty()) {
         std::vector<std::string> row_species(n_rows);
         for (std::size_t i = 0; i < n_rows; ++i) row_species[i] = rows[i].species;
@@ -357,69 +611,24 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
         v.resimulation_note = "the rows use several species: an extended species per species, not re-simulated here (`ikebana predict --species` with each)";
         return v;
     }
-    auto json = extended_species_json(v.species, v.analysis.extension, measured_path);
-    if (!json) {
-        // A check that the written species loads never costs the analysis: said, and the rest written.
-        v.resimulation_note = json.error().message + ", so no species file is written and the simulation is not run again with it";
-        return v;
-    }
-    v.extended_species_json = *json;
-
-    // The extended species back through the simulation, row by row.
-    char scratch[] = "/tmp/ikebana-extended-XXXXXX";
-    const int fd = mkstemp(scratch);
-    if (fd < 0) return make_error(ErrorCode::io_error, "cannot create a temporary species file");
-    close(fd);
-    const std::string temporary = std::string(scratch) + ".json";
-    std::filesystem::rename(scratch, temporary);
-    if (auto w = assets::write_text_file(temporary, v.extended_species_json); !w) return std::move(w).error();
-    // Each row's conditions once: counted here, simulated below when there are few enough.
-    std::vector<InsertionConditions> extended_rows;
-    extended_rows.reserve(n_rows);
-    for (std::size_t i = 0; i < n_rows; ++i) extended_rows.push_back(predictor.conditions_of(v.data, i, temporary, outcomes));
-    std::set<std::string> distinct;
-    for (const auto& c : extended_rows) distinct.insert(predictor.key(c));
-    if (distinct.size() > options.resimulate_limit) {
-        v.resimulation_note = std::to_string(distinct.size()) + " distinct conditions for the extended species (limit " +
-                              std::to_string(options.resimulate_limit) + "): not re-simulated here; `ikebana predict --species EXT.json` does it";
-    } else {
-        std::vector<double> fall(v.data.trials.size(), 0.0);
-        double sum = 0.0;
-        // On the rows the analysis used: a row set aside as a gross error is not the model's to explain.
-        std::vector<bool> aside(v.data.trials.size(), false);
-        for (const auto& r : v.analysis.suspected) aside[r.row] = true;
-        std::size_t used = 0;
-        const auto extended_order = predictor.simulation_order(extended_rows);
-        v.simulated_extended_gf.assign(n_rows, 0.0);
-        for (std::size_t n = 0; n < n_rows; ++n) {
-            const std::size_t i = extended_order[n];
-            const auto& t = v.data.trials[i];
-            const auto p = predictor.predict(extended_rows[i]);
-            if (!p) {
-                std::filesystem::remove(temporary);
-                return make_error(p.error().code, measured_path + ":" + std::to_string(t.line) + ": " + p.error().message);
-            }
-            const double gf = p->max_force_n / gram_force_n;
-            v.simulated_extended_gf[i] = gf;
-            if (!aside[i]) {
-                sum += (t.max_force_gf - gf) * (t.max_force_gf - gf);
-                ++used;
-            }
-            fall[i] = p->fall_probability;
-            if (options.progress) options.progress("simulating the extended species", n + 1, n_rows);
+    if (auto written = write_and_resimulate(v, predictor, options, hold_terms); !written) return std::move(written).error();
+    // A holding fitted to the falls must predict them better through the simulation than without it
+    // (the fit runs on simulated curves, the check on the species itself): otherwise it is left out.
+    if (!hold_terms.empty() && v.baseline_outcome && v.extended_outcome && v.extended_outcome->log_loss > v.baseline_outcome->log_loss) {
+        OutcomeSearch& s = *v.outcome_search;
+        s.hold_rejected = true;
+        s.hold_simulated = *v.extended_outcome;
+        v.extended_species_json.clear();
+        v.simulated_extended_gf.clear();
+        v.simulated_extended_rmse_gf.reset();
+        v.extended_outcome.reset();
+        v.extended_fall_probability.clear();
+        v.others.clear();
+        v.resimulation_note.clear();
+        if (!v.analysis.extension.empty()) {
+            if (auto written = write_and_resimulate(v, predictor, options, {}); !written) return std::move(written).error();
         }
-        v.simulated_extended_rmse_gf = std::sqrt(sum / static_cast<double>(std::max<std::size_t>(used, 1)));
-        if (outcomes) {
-            v.extended_outcome = score_outcomes(v.data, fall);
-            v.extended_fall_probability = fall;
-        }
-        // Stood or fell, row by row: a perfect model is right on every row; five points of accuracy
-        // lost is clearly worse.
-        if (v.baseline_outcome && v.extended_outcome)
-            v.others.push_back(judge_other_measure("outcome accuracy (share of rows whose stood/fell it gets right)", 1.0, v.baseline_outcome->accuracy,
-                                                   v.extended_outcome->accuracy, 0.05));
     }
-    std::filesystem::remove(temporary);
     return v;
 }
 

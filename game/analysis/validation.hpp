@@ -114,11 +114,39 @@ struct OutcomeSearch {
     std::vector<OutcomeCause> causes;  // by importance
     OutcomeScores baseline;            // the simulation's chance on those rows
     OutcomeScores held_out;            // with the search's correction, each row from the fold that held it out
+    // The correction made a holding the simulation can run: the search's terms (its level, its causes)
+    // as terms on what holds a stem at rest ("applies_to": "hold"), their coefficients fitted to the
+    // falls through each row's simulated chance at several holdings (HoldCurve), and the log-loss the
+    // fit reaches on those curves.
+    std::vector<components::DeteriorationTerm> hold_terms;
+    double hold_fit_log_loss = 0.0;
+    // Run through the simulation, that holding predicted the falls worse than the species without it:
+    // left out of the species written (hold_simulated: what it gave).
+    bool hold_rejected = false;
+    OutcomeScores hold_simulated;
 };
 // Runs the outcome search when the data hold enough stood/fell rows of both kinds; otherwise says why
 // not in `note`.
 std::optional<OutcomeSearch> search_outcomes(const MeasuredData& data, const AnalysisInput& forces, const std::vector<double>& fall_probability,
                                              const AnalysisOptions& options, std::string& note);
+
+// A row's chance of falling with what holds its stem at rest multiplied by a factor, simulated at a few
+// factors (hold_curve_factors, and 1): ln factor and chance, ln factor rising. Elsewhere the chance is
+// the nearest simulated factor's (ln scale). Not interpolated: a row's chance is nearly a step in the
+// factor (its 16 placements stand or fall), and a straight line between a 0 and a 1 made chances in
+// between that the simulation never gives, which a fit then chose for their log-loss.
+struct HoldCurve {
+    std::vector<double> log_factor, chance;
+};
+inline constexpr double hold_curve_factors[] = {0.5, 0.6, 0.7, 0.85, 1.2, 1.4, 1.7, 2.0};
+[[nodiscard]] double chance_at(const HoldCurve& curve, double log_factor);
+// The outcome search's terms as terms on the holding, fitted to the falls: coordinate descent on the
+// log-loss of each row's chance at hold factor exp(sum of the terms). `curves`: one per row of `rows`.
+std::vector<components::DeteriorationTerm> fit_hold_terms(const MeasuredData& data, const std::vector<std::size_t>& rows,
+                                                          const std::vector<components::DeteriorationTerm>& terms,
+                                                          const std::vector<HoldCurve>& curves, double* log_loss = nullptr);
+// A species file with `terms` appended as terms on the holding alone.
+Result<std::string> with_hold_terms(const std::string& species_json, const std::vector<components::DeteriorationTerm>& terms);
 
 struct ValidationResult {
     std::string measured_file;

@@ -231,6 +231,25 @@ std::string outcome_markdown(const ValidationResult& v, std::vector<std::pair<st
     md << "Held out (each row scored by the correction fitted without its fold): log-loss " << fmt("%.3f", s.baseline.log_loss) << " → "
        << fmt("%.3f", s.held_out.log_loss) << ", Brier " << fmt("%.3f", s.baseline.brier) << " → " << fmt("%.3f", s.held_out.brier) << ", accuracy "
        << fmt("%.1f %%", 100 * s.baseline.accuracy) << " → " << fmt("%.1f %%", 100 * s.held_out.accuracy) << ".\n\n";
+    if (!s.hold_terms.empty()) {
+        md << "**As a holding the simulation runs.** The correction's terms, refitted as terms on what holds a stem at rest "
+              "(`\"applies_to\": \"hold\"`: the holding moment times exp(sum), the push untouched), through each placement's holding "
+              "margin in the simulation (the least factor on its holding at which it stands):\n\n"
+              "| covariate | form | coefficient | scale | origin |\n|---|---|---|---|---|\n";
+        for (const auto& t : s.hold_terms) {
+            md << "| `" << cell(t.covariate) << "` | " << t.form << " | " << fmt("%.5g", t.coefficient) << " | " << fmt("%.5g", t.scale) << " | "
+               << fmt("%.5g", t.origin) << " |\n";
+        }
+        if (s.hold_rejected) {
+            md << "\nRun through the simulation it predicted the falls worse (log-loss " << fmt("%.3f", s.hold_simulated.log_loss) << ", without it "
+               << fmt("%.3f", v.baseline_outcome ? v.baseline_outcome->log_loss : 0.0) << "), so it is not in the species written.\n\n";
+        } else if (v.baseline_outcome && v.extended_outcome) {
+            md << "\nThe extended species run through the simulation on every stood/fell row: log-loss " << fmt("%.3f", v.baseline_outcome->log_loss) << " → "
+               << fmt("%.3f", v.extended_outcome->log_loss) << ", Brier " << fmt("%.3f", v.baseline_outcome->brier) << " → "
+               << fmt("%.3f", v.extended_outcome->brier) << ", accuracy " << fmt("%.1f %%", 100 * v.baseline_outcome->accuracy) << " → "
+               << fmt("%.1f %%", 100 * v.extended_outcome->accuracy) << " (in sample: the terms were fitted on these rows).\n\n";
+        }
+    }
     return md.str();
 }
 
@@ -376,6 +395,15 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
                                                           {"p_given_model", d.p_given_model}, {"best_shape", d.best_shape}, {"cause", d.cause}});
         }
         j["outcome_search"]["log"] = s.analysis.log;
+        j["outcome_search"]["hold_terms"] = nlohmann::ordered_json::array();
+        for (const auto& t : s.hold_terms) j["outcome_search"]["hold_terms"].push_back(term_json(t));
+        j["outcome_search"]["hold_fit_log_loss"] = s.hold_terms.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(s.hold_fit_log_loss);
+        j["outcome_search"]["hold_rejected"] = s.hold_rejected;
+        if (s.hold_rejected) {
+            nlohmann::ordered_json scores;
+            add_outcome_scores(scores, s.hold_simulated);
+            j["outcome_search"]["hold_simulated"] = scores;
+        }
     } else if (v.baseline_outcome) {
         j["outcome_causes"] = nullptr;
         j["outcome_search"] = {{"note", v.outcome_note}};
@@ -551,6 +579,22 @@ std::string outcome_block(const ValidationResult& v) {
     o << "  held out: log-loss " << fmt("%.3f", s.baseline.log_loss) << " -> " << fmt("%.3f", s.held_out.log_loss) << ", Brier " << fmt("%.3f", s.baseline.brier)
       << " -> " << fmt("%.3f", s.held_out.brier) << ", accuracy " << fmt("%.0f %%", 100 * s.baseline.accuracy) << " -> " << fmt("%.0f %%", 100 * s.held_out.accuracy)
       << " (the correction fitted without the row's fold)\n";
+    if (!s.hold_terms.empty()) {
+        o << "  holding: " << s.hold_terms.size() << " term(s) on what holds a stem at rest (\"applies_to\": \"hold\"), fitted to the falls (log-loss "
+          << fmt("%.3f", s.hold_fit_log_loss) << ")";
+        const OutcomeScores* through = s.hold_rejected ? &s.hold_simulated : (v.extended_outcome ? &*v.extended_outcome : nullptr);
+        if (v.baseline_outcome && through) {
+            o << "; the species with it through the simulation: log-loss " << fmt("%.3f", v.baseline_outcome->log_loss) << " -> "
+              << fmt("%.3f", through->log_loss) << ", Brier " << fmt("%.3f", v.baseline_outcome->brier) << " -> " << fmt("%.3f", through->brier)
+              << ", accuracy " << fmt("%.0f %%", 100 * v.baseline_outcome->accuracy) << " -> " << fmt("%.0f %%", 100 * through->accuracy);
+            if (s.hold_rejected) o << ": worse, so it is left out of the species written";
+        } else {
+            o << "; not run through the simulation (" << (v.resimulation_note.empty() ? "see the note" : v.resimulation_note) << ")";
+        }
+        o << "\n";
+    } else if (a.discrepancy_found) {
+        o << "  holding: no term on the holding moves these falls (a term's holding margin: every placement's, from the simulation)\n";
+    }
     return o.str();
 }
 
@@ -594,6 +638,8 @@ std::string validation_summary(const ValidationResult& v) {
     o << outcome_block(v);
     if (!a.discrepancy_found) {
         o << "no discrepancy found" << (v.outcome_search ? " in the forces" : "") << ": no covariate and no overall level is significant after correction\n";
+        if (!v.resimulation_note.empty()) o << "note: " << v.resimulation_note << "\n";
+        for (const auto& m : v.others) o << (m.worse ? "WORSE:     " : "also:      ") << other_measure_words(m) << "\n";
         return o.str();
     }
     o << "level:     measured/simulated x" << fmt("%.3f", a.calibration.factor) << " [" << fmt("%.3f", a.calibration.low) << ", "

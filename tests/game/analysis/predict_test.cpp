@@ -115,6 +115,25 @@ TEST(Predict, ATermOnTheHoldingAloneMovesTheChanceOfFallingAndNotTheForce) {
     EXPECT_EQ(cells(half[1])[6], "fell");
 }
 
+// A term on the holding that reads a column of the row: rows that differ only in that column are two
+// simulations (the predictor once keyed and filled rows by the push's terms alone, so a hold term on
+// a column was evaluated without it and every row shared one simulation).
+TEST(Predict, ATermOnTheHoldingReadsItsColumnFromEachRow) {
+    auto species = nlohmann::json::parse(*assets::read_text_file(asset_dir() / "species" / "sunflower.json"));
+    species["id"] = "held_by_water";
+    species["deterioration"] = {{"model", "extended"},
+                                {"base", "paper_baseline"},
+                                {"terms", {{{"covariate", "water"}, {"form", "linear"}, {"coefficient", -3.0}, {"applies_to", "hold"}}}}};
+    const auto species_file = write("held_by_water.json", species.dump());
+    const auto input = write("water.csv", "flower_id,insertion,max_force_gf,outcome,angle_deg,depth_mm,water\nA,1,480,stood,45,12,0\nB,1,480,stood,45,12,0.4\n");
+    ASSERT_EQ(run_predict(input, species_file, temp("water_out.csv")), 0);
+    const auto out = lines(temp("water_out.csv"));
+    ASSERT_EQ(out.size(), 3u);
+    const auto chance = [](const std::string& line) { return std::stod(line.substr(line.rfind(',') + 1)); };
+    EXPECT_LT(chance(out[1]), 0.5) << "held as the species says at water 0: " << out[1];
+    EXPECT_GT(chance(out[2]), chance(out[1])) << "held at exp(-1.2) = 0.30 with water 0.4, it falls more readily: " << out[2];
+}
+
 TEST(Predict, BadInputNamesFileLineAndColumnAndWritesNothing) {
     const auto bad = write("bad.csv", "flower_id,insertion,max_force_gf\nA,1,480\nA,two,460\n");
     const auto data = load_measured_data(bad);
