@@ -389,7 +389,12 @@ Result<std::string> temporary_species_file(const std::string& json) {
     if (fd < 0) return make_error(ErrorCode::io_error, "cannot create a temporary species file");
     close(fd);
     const std::string file = std::string(scratch) + ".json";
-    std::filesystem::rename(scratch, file);
+    std::error_code renamed;
+    std::filesystem::rename(scratch, file, renamed);
+    if (renamed) {
+        std::filesystem::remove(scratch, renamed);
+        return make_error(ErrorCode::io_error, "cannot create a temporary species file");
+    }
     if (auto w = assets::write_text_file(file, json); !w) {
         std::filesystem::remove(file);
         return std::move(w).error();
@@ -403,9 +408,25 @@ Result<std::string> temporary_species_file(const std::string& json) {
 Result<void> fit_holding(ValidationResult& v, InsertionPredictor& predictor, const std::vector<InsertionConditions>& rows,
                          const std::vector<double>& baseline_fall, const ValidationOptions& options) {
     OutcomeSearch& s = *v.outcome_search;
-    if (v.species.empty()) return {};
+    if (v.species.empty()) {
+        s.hold_note = "the rows use several species: no holding is fitted (each species would need its own)";
+        return {};
+    }
     auto base = extended_species_json(v.species, {}, v.measured_file);
-    if (!base) return {}; // said when the extended species is written, below
+    if (!base) {
+        s.hold_note = "no holding is fitted: " + base.error().message;
+        return {};
+    }
+    // The species written is checked by running it (write_and_resimulate, within resimulate_limit
+    // distinct conditions): a holding that could not be checked is not fitted at all.
+    std::set<std::string> pushes;
+    for (const std::size_t i : s.rows) pushes.insert(predictor.key(rows[i]));
+    if (pushes.size() > options.resimulate_limit) {
+        s.hold_note = "no holding is fitted: " + std::to_string(pushes.size()) + " distinct conditions among the stood/fell rows (limit " +
+                      std::to_string(options.resimulate_limit) + ") to simulate it at " + std::to_string(std::size(hold_curve_factors)) + " holdings and check it";
+        return {};
+    }
+    s.hold_fitted = true;
     std::vector<HoldCurve> curves(s.rows.size());
     for (std::size_t k = 0; k < s.rows.size(); ++k) {
         curves[k].log_factor.push_back(0.0);
@@ -614,10 +635,12 @@ Result<ValidationResult> run_validation(const std::string& measured_path, const 
     if (auto written = write_and_resimulate(v, predictor, options, hold_terms); !written) return std::move(written).error();
     // A holding fitted to the falls must predict them better through the simulation than without it
     // (the fit runs on simulated curves, the check on the species itself): otherwise it is left out.
-    if (!hold_terms.empty() && v.baseline_outcome && v.extended_outcome && v.extended_outcome->log_loss > v.baseline_outcome->log_loss) {
+    const bool unchecked = !hold_terms.empty() && !v.extended_outcome;
+    if (unchecked || (!hold_terms.empty() && v.baseline_outcome && v.extended_outcome && v.extended_outcome->log_loss > v.baseline_outcome->log_loss)) {
         OutcomeSearch& s = *v.outcome_search;
         s.hold_rejected = true;
-        s.hold_simulated = *v.extended_outcome;
+        if (unchecked) s.hold_note = "the holding fitted to the falls could not be run through the simulation (" + v.resimulation_note + "), so it is not written";
+        else s.hold_simulated = *v.extended_outcome;
         v.extended_species_json.clear();
         v.simulated_extended_gf.clear();
         v.simulated_extended_rmse_gf.reset();

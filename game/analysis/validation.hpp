@@ -124,6 +124,8 @@ struct OutcomeSearch {
     // left out of the species written (hold_simulated: what it gave).
     bool hold_rejected = false;
     OutcomeScores hold_simulated;
+    bool hold_fitted = false;  // the fit ran (one species, within the simulation budget)
+    std::string hold_note;     // why no holding was fitted or kept, when none was
 };
 // Runs the outcome search when the data hold enough stood/fell rows of both kinds; otherwise says why
 // not in `note`.

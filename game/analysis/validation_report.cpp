@@ -228,19 +228,22 @@ std::string outcome_markdown(const ValidationResult& v, std::vector<std::pair<st
         figures.emplace_back(name, outcome_chart(s, d));
         md << "![wrong falls against " << cell(d.covariate) << "](" << name << ")\n\n";
     }
-    md << "Held out (each row scored by the correction fitted without its fold): log-loss " << fmt("%.3f", s.baseline.log_loss) << " → "
+    md << "Held out (each row scored by the correction's coefficients fitted without its fold; its columns and shapes were chosen on "
+          "every row, so this is somewhat optimistic): log-loss " << fmt("%.3f", s.baseline.log_loss) << " → "
        << fmt("%.3f", s.held_out.log_loss) << ", Brier " << fmt("%.3f", s.baseline.brier) << " → " << fmt("%.3f", s.held_out.brier) << ", accuracy "
        << fmt("%.1f %%", 100 * s.baseline.accuracy) << " → " << fmt("%.1f %%", 100 * s.held_out.accuracy) << ".\n\n";
     if (!s.hold_terms.empty()) {
         md << "**As a holding the simulation runs.** The correction's terms, refitted as terms on what holds a stem at rest "
-              "(`\"applies_to\": \"hold\"`: the holding moment times exp(sum), the push untouched), through each placement's holding "
-              "margin in the simulation (the least factor on its holding at which it stands):\n\n"
+              "(`\"applies_to\": \"hold\"`: the holding moment times exp(sum), the push untouched), on each row's chance of falling "
+              "simulated with its holding at 0.5 to 2 times (a row's chance at a factor: the nearest simulated factor's):\n\n"
               "| covariate | form | coefficient | scale | origin |\n|---|---|---|---|---|\n";
         for (const auto& t : s.hold_terms) {
             md << "| `" << cell(t.covariate) << "` | " << t.form << " | " << fmt("%.5g", t.coefficient) << " | " << fmt("%.5g", t.scale) << " | "
                << fmt("%.5g", t.origin) << " |\n";
         }
-        if (s.hold_rejected) {
+        if (s.hold_rejected && !s.hold_note.empty()) {
+            md << "\n" << prose(s.hold_note) << ".\n\n";
+        } else if (s.hold_rejected) {
             md << "\nRun through the simulation it predicted the falls worse (log-loss " << fmt("%.3f", s.hold_simulated.log_loss) << ", without it "
                << fmt("%.3f", v.baseline_outcome ? v.baseline_outcome->log_loss : 0.0) << "), so it is not in the species written.\n\n";
         } else if (v.baseline_outcome && v.extended_outcome) {
@@ -380,7 +383,7 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
             nlohmann::ordered_json cj{{"covariate", c.covariate}, {"direction", c.direction}, {"shape", c.shape}};
             if (!c.category.empty()) cj["category"] = c.category;
             else cj["range"] = {c.x_low, c.x_high};
-            cj["effect"] = c.effect;
+            cj["effect"] = finite_or_zero(c.effect);
             cj["interval"] = {finite_or_zero(c.effect_low), finite_or_zero(c.effect_high)};
             cj["p_value"] = c.p_value;
             j["outcome_causes"].push_back(cj);
@@ -399,7 +402,8 @@ std::string validation_json(const ValidationResult& v, const AnalysisOptions& op
         for (const auto& t : s.hold_terms) j["outcome_search"]["hold_terms"].push_back(term_json(t));
         j["outcome_search"]["hold_fit_log_loss"] = s.hold_terms.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(s.hold_fit_log_loss);
         j["outcome_search"]["hold_rejected"] = s.hold_rejected;
-        if (s.hold_rejected) {
+        if (!s.hold_note.empty()) j["outcome_search"]["hold_note"] = s.hold_note;
+        if (s.hold_rejected && s.hold_note.empty()) {
             nlohmann::ordered_json scores;
             add_outcome_scores(scores, s.hold_simulated);
             j["outcome_search"]["hold_simulated"] = scores;
@@ -578,22 +582,25 @@ std::string outcome_block(const ValidationResult& v) {
     }
     o << "  held out: log-loss " << fmt("%.3f", s.baseline.log_loss) << " -> " << fmt("%.3f", s.held_out.log_loss) << ", Brier " << fmt("%.3f", s.baseline.brier)
       << " -> " << fmt("%.3f", s.held_out.brier) << ", accuracy " << fmt("%.0f %%", 100 * s.baseline.accuracy) << " -> " << fmt("%.0f %%", 100 * s.held_out.accuracy)
-      << " (the correction fitted without the row's fold)\n";
+      << " (coefficients fitted without the row's fold)\n";
     if (!s.hold_terms.empty()) {
         o << "  holding: " << s.hold_terms.size() << " term(s) on what holds a stem at rest (\"applies_to\": \"hold\"), fitted to the falls (log-loss "
           << fmt("%.3f", s.hold_fit_log_loss) << ")";
-        const OutcomeScores* through = s.hold_rejected ? &s.hold_simulated : (v.extended_outcome ? &*v.extended_outcome : nullptr);
+        const bool unchecked = s.hold_rejected && !s.hold_note.empty();
+        const OutcomeScores* through = unchecked ? nullptr : s.hold_rejected ? &s.hold_simulated : (v.extended_outcome ? &*v.extended_outcome : nullptr);
         if (v.baseline_outcome && through) {
             o << "; the species with it through the simulation: log-loss " << fmt("%.3f", v.baseline_outcome->log_loss) << " -> "
               << fmt("%.3f", through->log_loss) << ", Brier " << fmt("%.3f", v.baseline_outcome->brier) << " -> " << fmt("%.3f", through->brier)
               << ", accuracy " << fmt("%.0f %%", 100 * v.baseline_outcome->accuracy) << " -> " << fmt("%.0f %%", 100 * through->accuracy);
             if (s.hold_rejected) o << ": worse, so it is left out of the species written";
         } else {
-            o << "; not run through the simulation (" << (v.resimulation_note.empty() ? "see the note" : v.resimulation_note) << ")";
+            o << "; " << (unchecked ? s.hold_note : "not run through the simulation");
         }
         o << "\n";
-    } else if (a.discrepancy_found) {
-        o << "  holding: no term on the holding moves these falls (a term's holding margin: every placement's, from the simulation)\n";
+    } else if (!s.hold_note.empty()) {
+        o << "  holding: " << s.hold_note << "\n";
+    } else if (s.hold_fitted) {
+        o << "  holding: no term on the holding moves these falls (each row's chance simulated at holdings of 0.5 to 2)\n";
     }
     return o.str();
 }

@@ -12,7 +12,9 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
     auto& registry = ctx.registry;
     const auto* settings = registry.resource<const components::PhysicsSettings>();
     const glm::dvec3 gravity = settings ? settings->gravity_m_s2 : components::PhysicsSettings{}.gravity_m_s2;
-    if (const auto* capacity = registry.resource<const components::BodyCapacity>(); capacity && capacity != sized_for_) size_for(*capacity);
+    if (const auto* capacity = registry.resource<const components::BodyCapacity>(); capacity && capacity != sized_for_) {
+        size_for(*capacity, physics::tick_parts(ctx.dt_s));
+    }
     stems_.clear();
     tree_roots_.clear();
     registry.view<components::StemPoints, const components::StemRestShape, const components::StemSprings, components::StemLoads>().each(
@@ -99,7 +101,7 @@ void SpringPhysicsSystem::operator()(sched::SystemContext& ctx) {
     step_trees(ctx, gravity);
 }
 
-void SpringPhysicsSystem::size_for(const components::BodyCapacity& c) {
+void SpringPhysicsSystem::size_for(const components::BodyCapacity& c, std::size_t rounds) {
     sized_for_ = &c;
     // By rank: the r-th longest stem's memory for the r-th longest the scene can have (stem_points is
     // longest first), a group of four for its first.
@@ -114,9 +116,9 @@ void SpringPhysicsSystem::size_for(const components::BodyCapacity& c) {
         physics::reserve_scratch(scratches_[r], c.stem_points[r]);
         supports_[r].reserve(c.stem_points[r]);
     }
-    // At the haptic rate a tick is one part: one round (a slower lane's extra rounds size themselves).
-    if (lane_scratch_.empty()) lane_scratch_.resize(1);
-    physics::reserve_scratch(lane_scratch_[0], c.stem_points);
+    // A round a part of the tick (one at the paper's 1 kHz; more when the haptic rate is set lower).
+    if (lane_scratch_.size() < rounds) lane_scratch_.resize(rounds);
+    for (auto& round : lane_scratch_) physics::reserve_scratch(round, c.stem_points);
     tree_roots_.reserve(c.trees);
     if (trees_.size() < c.trees) trees_.resize(c.trees);
     for (auto& chains : trees_) chains.reserve(c.tree_chains);

@@ -59,7 +59,7 @@ private:
     std::vector<ecs::Entity> scratch_members_;
     void step_trees(sched::SystemContext& ctx, glm::dvec3 gravity);
     // Every list above sized for the scene's BodyCapacity, once (a piece pruned off then allocates nothing).
-    void size_for(const components::BodyCapacity& capacity);
+    void size_for(const components::BodyCapacity& capacity, std::size_t rounds);
     const components::BodyCapacity* sized_for_ = nullptr;
 };
 

