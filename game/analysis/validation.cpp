@@ -173,7 +173,39 @@ std::vector<components::DeteriorationTerm> fit_hold_terms(const MeasuredData& da
     // gradient. A term moves the holding by at most a factor e^1.5 (4.5) across its column; the curves
     // were simulated from 0.5 to 2 and are flat beyond.
     constexpr int steps = 60;
-    double best = k_count ? loss_with(0, 0.0) : 0.0;
+    // A start along the correction itself: what makes a row fall more holds it less, so the terms begin
+    // at -c times the correction's own coefficients (c chosen on a grid, with a level), and coordinate
+    // descent goes on from there. From zero, one coefficient at a time, the level took what it could
+    // and the columns' terms were left at nothing: a step function has no slope to follow.
+    std::vector<double> correction(n, 0.0);
+    std::size_t level = k_count;
+    for (std::size_t k = 0; k < k_count; ++k) {
+        if (terms[k].form == "constant") {
+            level = k;
+            continue;
+        }
+        for (std::size_t i = 0; i < n; ++i) correction[i] += terms[k].coefficient * basis[k][i];
+    }
+    const auto start_loss = [&](double c, double shift) {
+        double s = 0.0;
+        for (std::size_t i = 0; i < n; ++i) s += row_log_loss(chance_at(curves[i], shift - c * correction[i]), *data.trials[rows[i]].outcome == "fell");
+        return s / static_cast<double>(std::max<std::size_t>(n, 1));
+    };
+    double best = start_loss(0.0, 0.0), best_c = 0.0, best_shift = 0.0;
+    for (int a = 0; a <= 40; ++a) {
+        const double c = 0.1 * a; // the chance's scale against ln of the holding: 0 to 4
+        for (int b = -14; b <= 14; ++b) {
+            if (level == k_count && b != 0) continue; // no level term to carry a shift
+            const double shift = 0.05 * b;
+            const double l = start_loss(c, shift);
+            if (l < best - 1e-12) best = l, best_c = c, best_shift = shift;
+        }
+    }
+    for (std::size_t k = 0; k < k_count; ++k) {
+        beta[k] = k == level ? best_shift / (basis[k].empty() || basis[k][0] == 0.0 ? 1.0 : basis[k][0]) : -best_c * terms[k].coefficient;
+        for (std::size_t i = 0; i < n; ++i) eta[i] += beta[k] * basis[k][i];
+    }
+    best = k_count ? loss_with(0, beta[0]) : 0.0;
     for (int sweep = 0; sweep < 4; ++sweep) {
         for (std::size_t k = 0; k < k_count; ++k) {
             double chosen = beta[k];
