@@ -7,7 +7,9 @@
 // Everything is on the log scale: forces are positive and the effects are multiplicative, so the
 // residual is r = ln(measured / predicted) and an extension multiplies the force by exp(sum of terms).
 //  - Tests: a covariate's statistic is the largest share of the current residual that one of its
-//    shapes explains (a category: its whole block), after the accepted terms. Its null distribution
+//    shapes explains (a category: its whole block), after the accepted terms; a numeric column with a
+//    straight line is scored by the larger surprise of that and of its line alone, alpha split 1:4
+//    between them (discrepancy_permutation_test.cpp, "line_share"). Its null distribution
 //    comes from permuting the residual while keeping each flower's rows together: flower means are
 //    permuted among flowers, and deviations within each flower. p-values are corrected for the
 //    family of covariates by Westfall-Young step-down maxT (the permutation form of Holm's method,

@@ -134,7 +134,8 @@ std::optional<OutcomeSearch> search_outcomes(const MeasuredData& data, const Ana
 
 // A row's chance of falling with what holds its stem at rest multiplied by a factor, simulated at a few
 // factors (hold_curve_factors, and 1): ln factor and chance, ln factor rising. Elsewhere the chance is
-// the nearest simulated factor's (ln scale). Not interpolated: a row's chance is nearly a step in the
+// the nearest simulated factor's (ln scale), and unknown (NaN) beyond the ends by more than half an
+// end gap. Not interpolated: a row's chance is nearly a step in the
 // factor (its 16 placements stand or fall), and a straight line between a 0 and a 1 made chances in
 // between that the simulation never gives, which a fit then chose for their log-loss.
 struct HoldCurve {

@@ -33,8 +33,8 @@ double term_basis(const std::string& form, double x, double scale) {
     return 0.0;
 }
 
-double extension_factor(const std::vector<components::DeteriorationTerm>& terms, std::uint32_t insertion,
-                        const Covariates& covariates) {
+double extension_exponent(const std::vector<components::DeteriorationTerm>& terms, std::uint32_t insertion,
+                          const Covariates& covariates) {
     double exponent = 0.0;
     for (const auto& t : terms) {
         if (t.form == "category") {
@@ -70,10 +70,14 @@ double extension_factor(const std::vector<components::DeteriorationTerm>& terms,
         }
         exponent += t.coefficient * term_basis(t.form, x - t.origin, t.scale) * times;
     }
+    return std::isfinite(exponent) ? exponent : 0.0;
+}
+
+double extension_factor(const std::vector<components::DeteriorationTerm>& terms, std::uint32_t insertion,
+                        const Covariates& covariates) {
     // A hand-edited or wild term must not give the physics an infinite or vanishing resistance:
     // the factor stays within e^-5..e^5 (0.007..148), far outside anything a fit to data gives.
-    if (!std::isfinite(exponent)) exponent = 0.0;
-    return std::exp(std::clamp(exponent, -5.0, 5.0));
+    return std::exp(std::clamp(extension_exponent(terms, insertion, covariates), -5.0, 5.0));
 }
 
 bool set_on_every_insertion(const std::string& covariate) {

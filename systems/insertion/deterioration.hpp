@@ -36,6 +36,10 @@ std::vector<double> expand_deterioration(const std::string& model, const std::ve
 // within e^-5..e^5, and a non-finite sum counts as 0.
 double extension_factor(const std::vector<components::DeteriorationTerm>& terms, std::uint32_t insertion,
                         const Covariates& covariates);
+// The sum of terms itself, before the factor's clamp (a non-finite sum counts as 0): what a fit needs
+// of one term at coefficient 1, whose sum may lie far outside +-5 (a power of 2 over 1..6 reaches 36).
+double extension_exponent(const std::vector<components::DeteriorationTerm>& terms, std::uint32_t insertion,
+                          const Covariates& covariates);
 
 // Covariates the insertion systems set themselves on every insertion (InsertionResistanceSystem).
 bool set_on_every_insertion(const std::string& covariate);

@@ -67,6 +67,24 @@ TEST(TermShapes, AFittedTermMeansTheSameInTheSpeciesModel) {
     }
 }
 
+// A term at coefficient 1 can sum far beyond the factor's +-5 clamp (a square over 1..6 reaches 36):
+// the holding fit reads each term's own basis from extension_exponent, which does not clamp, while the
+// physics' factor stays within e^-5..e^5. Read through the clamp, the fit once promised log-loss 0.36
+// for a holding whose species, run, gave 1.15.
+TEST(TermShapes, ATermsOwnSumIsNotClampedWhereThePhysicsFactorIs) {
+    components::DeteriorationTerm square{};
+    square.covariate = "insertion";
+    square.form = "power";
+    square.scale = 2.0;
+    square.origin = -2.0;
+    square.coefficient = 1.0;
+    const systems::insertion::Covariates none;
+    EXPECT_NEAR(systems::insertion::extension_exponent({square}, 4, none), 36.0, 1e-9);
+    EXPECT_NEAR(systems::insertion::extension_factor({square}, 4, none), std::exp(5.0), 1e-9);
+    square.coefficient = 0.02;
+    EXPECT_NEAR(std::log(systems::insertion::extension_factor({square}, 4, none)), systems::insertion::extension_exponent({square}, 4, none), 1e-12);
+}
+
 // Issue 17: a term on a column the world does not set once dropped out, leaving the fitted level alone
 // (18 gf a pin for a species fitted at 100: every flower fell). It is taken at the centre of the
 // range it was fitted on, and missing_covariates says so; a category falls back to its reference level.

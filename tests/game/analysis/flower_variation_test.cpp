@@ -85,8 +85,9 @@ TEST(FlowerVariation, TwentyFourFlowersDifferingByThirtyPercentNameNothingInNine
 
 // 72 flowers differing by 12 %, humidity +0.4 % a %: how often validate names humidity first, against
 // how often the flower-level regression is significant at 1 % with Bonferroni over the 4 columns
-// (|t| > 3.137 on 70 degrees of freedom). The issue asks for at least as often; today it is 20 of 40
-// against 26 (docs/measured-data.md): the test guards against losing more (at least two thirds of it).
+// (|t| > 3.137 on 70 degrees of freedom). The issue asks for at least as often. Over 160 seeds it is
+// 86 against 93 (it was 71 before the line got its own share of alpha; docs/measured-data.md): the
+// test guards that (at least four fifths of the regression's over these 40).
 TEST(FlowerVariation, ATrendOnSeventyTwoFlowersIsNamedNearlyAsOftenAsAFlowerLevelRegressionFindsIt) {
     int named = 0, regression = 0;
     for (std::uint64_t seed = 1; seed <= 40; ++seed) {
@@ -99,5 +100,22 @@ TEST(FlowerVariation, ATrendOnSeventyTwoFlowersIsNamedNearlyAsOftenAsAFlowerLeve
     std::printf("named first in %d of 40 seeds; the flower-level regression (Bonferroni, 1 %%) in %d\n", named, regression);
     ::testing::Test::RecordProperty("named", named);
     ::testing::Test::RecordProperty("flower_regression", regression);
-    EXPECT_GE(3 * named, 2 * regression);
+    EXPECT_GE(5 * named, 4 * regression);
+}
+
+// The issue's own table: 72 flowers differing by 12 %, humidity +0.8 % a % (the regression's t about
+// 4.5, where validate once named nothing at p 0.015). Named first whenever the regression finds it.
+TEST(FlowerVariation, TheIssuesHumidityEffectIsNamedWheneverAFlowerLevelRegressionFindsIt) {
+    int named = 0, regression = 0;
+    for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+        double t = 0.0;
+        const auto result = analyse_discrepancy(trials(100 + seed, 72, 0.12, 0.008, t), options_for(seed));
+        ASSERT_TRUE(result) << result.error().message;
+        const bool first = !result->causes.empty() && result->causes[0].covariate == "humidity_pct";
+        named += first ? 1 : 0;
+        regression += std::abs(t) > 3.137 ? 1 : 0;
+        if (std::abs(t) > 3.137 && !first) std::printf("seed %llu: t %.2f, validate named %s\n", static_cast<unsigned long long>(seed), t, result->causes.empty() ? "nothing" : result->causes[0].covariate.c_str());
+    }
+    std::printf("named first in %d of 20 seeds; the flower-level regression in %d\n", named, regression);
+    EXPECT_GE(named, regression);
 }

@@ -108,7 +108,7 @@ AnalysisOptions options_for(std::uint64_t seed) {
     return o;
 }
 
-constexpr std::uint64_t seeds = 10;
+constexpr std::uint64_t seeds = 40;
 
 class OutcomeEffect : public ::testing::TestWithParam<Hidden> {};
 
@@ -140,17 +140,17 @@ TEST_P(OutcomeEffect, IsNamedFirstWithItsDirectionAndTheCorrectionPredictsFallsO
         truth_gain_sum += before - log_loss(t.input, t.true_chance);
     }
     std::printf("%s: named first with its direction in %llu / %llu seeds; held-out log-loss gain %.4f against the truth's %.4f (%.0f %%)\n",
-                name_of(hidden), static_cast<unsigned long long>(named), static_cast<unsigned long long>(seeds), gain_sum / seeds,
-                truth_gain_sum / seeds, 100.0 * gain_sum / truth_gain_sum);
+                name_of(hidden), static_cast<unsigned long long>(named), static_cast<unsigned long long>(seeds), gain_sum / static_cast<double>(seeds),
+                truth_gain_sum / static_cast<double>(seeds), 100.0 * gain_sum / truth_gain_sum);
     ::testing::Test::RecordProperty("named_first", static_cast<int>(named));
     ::testing::Test::RecordProperty("gain_share_of_truth_percent", static_cast<int>(std::lround(100.0 * gain_sum / truth_gain_sum)));
-    EXPECT_LE(wrong, 1u) << "another column named first, or the right one the wrong way";
+    EXPECT_LE(wrong, seeds / 20) << "another column named first, or the right one the wrong way";
     if (hidden == Hidden::weak_unseen) {
         // Half the effect under flowers that differ by themselves: 80 flowers give a test of it about a
         // fifth of the power (docs/measured-data.md). Found at times, never mistaken for another column.
-        EXPECT_GE(named, 1u);
+        EXPECT_GE(named, seeds / 10);
     } else {
-        EXPECT_GE(named, seeds * 9 / 10);
+        EXPECT_GE(named, seeds * 17 / 20);
         EXPECT_GE(gain_sum, 0.6 * truth_gain_sum) << "the correction predicts held-out falls at least 60 % as much better as the truth does";
     }
     EXPECT_GT(gain_sum, 0.0);
@@ -173,8 +173,8 @@ TEST(OutcomeSearch, FlowersThatDifferOnlyByThemselvesNameNoColumn) {
         }
     }
     ::testing::Test::RecordProperty("false_alarms", static_cast<int>(false_alarms));
-    // At a family-wise 1 %, ten seeds should see none; one is allowed for the flowers' own spread.
-    EXPECT_LE(false_alarms, 1u);
+    // At a family-wise 1 %, forty seeds should see about 0.4; two are allowed for the flowers' own spread.
+    EXPECT_LE(false_alarms, 2u);
 }
 
 TEST(OutcomeSearch, AnOutcomeThatIsNeitherZeroNorOneIsRefusedNamingItsRow) {
