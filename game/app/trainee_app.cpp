@@ -542,6 +542,18 @@ void TraineeSession::input(sched::SystemContext& main_lane) {
         const bool press = hands_.pressed(in);
         in.hand_moves = hands_.last().hand_moves;
         in.hand_to_m = hands_.last().hand_to_m;
+        // Pick by ray: an open hand the mouse drives goes, in depth along the cursor's ray, onto the stem
+        // drawn under the cursor (the nearest along it), as the cursor moves and with a press. So the
+        // yellow stem is the one under the cursor, a press takes it there, and P prunes what the cursor
+        // is on, whatever depth the hand had (a wheel notch of 20 mm jumped over a willow; after placing
+        // a stem in the kenzan the cube stayed at its depth, far behind the stems on the table). The
+        // wheel and Shift still move it in depth, until the cursor next moves.
+        if (pointer_ == window_pointer_ && device_names_[active] == "mouse and keyboard") {
+            if (const auto there = hand_onto_stem_under_cursor(in, hands_.last(), press, latest, active, camera_.yaw_rad())) {
+                in.hand_to_m = *there;
+                in.hand_moves += 1;
+            }
+        }
         if (press && pointer_ == window_pointer_ && device_names_[active] == "mouse and keyboard") {
             const LessonControls* controls = flow_ ? flow_->controls() : nullptr;
             const double along = controls ? controls->grip_along_m(latest, active) : 0.06;

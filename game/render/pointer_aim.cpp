@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "systems/presentation/draw_list.hpp"
+
 namespace ikebana::game {
 
 namespace {
@@ -124,6 +126,19 @@ void PointerAim::aim(platform::PointerState& in, const PointerView& view, const 
     last_eye_ = eye_spot(layout, in.cursor_px).eye;
     last_cursor_px_ = in.cursor_px;
     started_ = true;
+}
+
+std::optional<glm::dvec3> hand_onto_stem_under_cursor(const platform::PointerState& in, const platform::PointerState& was, bool press,
+                                                     const components::FrameSnapshot& frame, std::uint8_t hand, double view_yaw_rad) {
+    if (!in.ray.valid || hand >= 2 || frame.hands[hand].holding || in.tilt_modifier || in.depth_modifier) return std::nullopt;
+    const bool moved = in.cursor_px != was.cursor_px && !in.grab_button && in.scroll == was.scroll;
+    if (!press && !moved) return std::nullopt;
+    // Device space is the world turned back by the camera's yaw: the ray turned forward meets the stems.
+    const double c = std::cos(view_yaw_rad), s = std::sin(view_yaw_rad);
+    const auto to_world = [&](glm::dvec3 v) { return glm::dvec3{c * v.x - s * v.y, s * v.x + c * v.y, v.z}; };
+    const auto hit = systems::stem_under_ray(frame, to_world(in.ray.origin_m), to_world(in.ray.direction));
+    if (!hit) return std::nullopt;
+    return in.ray.origin_m + hit->t_m * glm::normalize(in.ray.direction);
 }
 
 } // namespace ikebana::game

@@ -52,6 +52,15 @@ struct EyeSpot {
 // space (the world turned back by the camera's yaw). Both cleared when it holds nothing.
 void tell_held_stem(platform::PointerState& in, const components::FrameSnapshot& frame, std::uint8_t hand, double view_yaw_rad);
 
+// Pick by ray: where the open hand the mouse drives goes (device space) with this reading, when it is to
+// go onto the stem drawn under the cursor: the nearest stem or twig along the ray through the cursor
+// (systems::stem_under_ray), met where the ray passes its axis, so the cube sits on it under the
+// cursor. Asked when the cursor moved (and the wheel did not: a notch is the trainee's own depth, kept
+// until the cursor next moves) with the button up, or with the press itself; never while the hand
+// holds a stem, with Ctrl or Shift down, or without a ray. `was`: the reading the hands last got.
+[[nodiscard]] std::optional<glm::dvec3> hand_onto_stem_under_cursor(const platform::PointerState& in, const platform::PointerState& was, bool press,
+                                                                    const components::FrameSnapshot& frame, std::uint8_t hand, double view_yaw_rad);
+
 class PointerAim {
 public:
     explicit PointerAim(std::uint8_t active_hand = 1) : active_(active_hand & 1u) {}

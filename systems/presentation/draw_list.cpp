@@ -238,6 +238,49 @@ std::optional<StemInReach> stem_in_reach(const FrameSnapshot& frame, std::size_t
     return best;
 }
 
+namespace {
+
+// The ray's parameter at its closest approach to segment a-b, and the distance there; nothing when
+// that point lies behind the ray's origin.
+std::optional<std::pair<double, double>> ray_segment(glm::dvec3 o, glm::dvec3 d, glm::dvec3 a, glm::dvec3 b) {
+    const glm::dvec3 u = b - a, w = o - a;
+    const double uu = glm::dot(u, u), ud = glm::dot(u, d), uw = glm::dot(u, w), dw = glm::dot(d, w);
+    const double denom = uu - ud * ud; // d is unit
+    double s = 0.0; // along the segment, 0..1
+    if (uu > 1e-18) s = denom > 1e-12 * uu ? std::clamp((uw - ud * dw) / denom, 0.0, 1.0) : 0.0;
+    // The ray's point nearest a + s u, then the segment's point nearest that (clamped both ways).
+    double t = glm::dot(a + s * u - o, d);
+    if (t <= 0.0) return std::nullopt;
+    if (uu > 1e-18) s = std::clamp(glm::dot(o + t * d - a, u) / uu, 0.0, 1.0);
+    t = std::max(glm::dot(a + s * u - o, d), 0.0);
+    return std::pair{t, glm::length(o + t * d - (a + s * u))};
+}
+
+} // namespace
+
+std::optional<RayHit> stem_under_ray(const FrameSnapshot& frame, glm::dvec3 origin_m, glm::dvec3 direction, double min_radius_m,
+                                     std::optional<std::size_t> skip_flower) {
+    if (glm::length(direction) < 1e-12) return std::nullopt;
+    const glm::dvec3 d = glm::normalize(direction);
+    std::optional<RayHit> best;
+    const auto consider = [&](std::size_t f, const std::vector<glm::dvec3>& x, double diameter_m, bool twig) {
+        const double r = std::max(0.5 * diameter_m, min_radius_m);
+        for (std::size_t i = 0; i + 1 < x.size(); ++i) {
+            const auto hit = ray_segment(origin_m, d, x[i], x[i + 1]);
+            if (!hit || hit->second > r || (best && hit->first >= best->t_m)) continue;
+            const glm::dvec3 at = origin_m + hit->first * d;
+            best = RayHit{f, glm::length(at - x[i]) <= glm::length(at - x[i + 1]) ? i : i + 1, twig, hit->first};
+        }
+    };
+    for (std::size_t f = 0; f < frame.flowers.size(); ++f) {
+        if (skip_flower && *skip_flower == f) continue;
+        const auto& flower = frame.flowers[f];
+        consider(f, flower.points_m, flower.diameter_m, false);
+        for (const auto& twig : flower.twigs) consider(f, twig.points_m, twig.diameter_m, true);
+    }
+    return best;
+}
+
 std::optional<EntryMark> entry_mark(const FrameSnapshot& frame, std::size_t h) {
     if (h >= 2 || !frame.kenzan) return std::nullopt;
     const auto& hand = frame.hands[h];

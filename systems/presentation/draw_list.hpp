@@ -24,6 +24,21 @@ struct StemInReach {
 };
 [[nodiscard]] std::optional<StemInReach> stem_in_reach(const components::FrameSnapshot& frame, std::size_t hand);
 
+// What the cursor points at: the nearest stem or twig segment as drawn that a ray (world space,
+// `direction` unit) passes within its radius of (at least `min_radius_m`: a 3 mm willow is hard to hit
+// pixel-exact), before anything else along it. `t_m`: how far along the ray it is met (the point of
+// the ray nearest that segment's axis), so that a hand put there sits on the stem, under the cursor.
+// Twigs count (P prunes what a hand is on); `twig` is then set, and `point` is the flower's stem point
+// nearest the hit for a stem. Loose cuttings and the held stem (`skip_flower`) are not offered.
+struct RayHit {
+    std::size_t flower = 0;
+    std::size_t point = 0;
+    bool twig = false;
+    double t_m = 0.0;
+};
+[[nodiscard]] std::optional<RayHit> stem_under_ray(const components::FrameSnapshot& frame, glm::dvec3 origin_m, glm::dvec3 direction,
+                                                   double min_radius_m = 0.006, std::optional<std::size_t> skip_flower = std::nullopt);
+
 // Where the stem this hand holds would come out of the pins if its end were lowered straight down and
 // pushed in to the plate at its lean: on the pin tips' plane (where the score measures its place).
 // Nothing without a kenzan, while its end is below the pin tips, or held flatter than 80 degrees.

@@ -122,3 +122,47 @@ TEST(PointerAim, ACursorRestingAwayFromAHandThatCouldNotFollowGoesBackOntoIt) {
     EXPECT_GT(w.put.size(), before) << "resting away from it, the cursor goes back onto the hand";
     EXPECT_LT(w.off(s.ray, *w.hands[1]), 1e-6);
 }
+
+// Pick by ray (issue 59): the cursor on a stem lying on the table puts the open hand on that stem,
+// under the cursor, whatever its depth was, in a camera turned round the table too; a wheel notch is
+// kept until the cursor next moves; nothing happens while it holds a stem or with Ctrl or Shift.
+TEST(PointerAim, TheCursorOnAStemPutsTheOpenHandOnItUnderTheCursorWhateverItsDepth) {
+    for (const double yaw : {0.0, 0.6}) {
+        components::FrameSnapshot frame{};
+        components::FlowerStatus stem{};
+        stem.diameter_m = 0.006;
+        for (int i = 0; i <= 10; ++i) stem.points_m.push_back({-0.15 + 0.03 * i, 0.04, 0.005});
+        frame.flowers.push_back(stem);
+        frame.hands[1].present = true;
+        PointerView view{render::StereoRig{}, render::StereoMode::mono, yaw};
+        const glm::dvec2 window{1200.0, 675.0};
+        // The point of the stem at x = 0.02 as the camera shows it.
+        const glm::dvec3 world{0.02, 0.04, 0.005};
+        const auto px = drawn_px(view, window, 0, world);
+        ASSERT_TRUE(px);
+        platform::PointerState was, in;
+        was.window_px = in.window_px = window;
+        was.cursor_px = *px + glm::dvec2{30.0, 0.0};
+        in.cursor_px = *px;
+        in.ray = pointer_ray(view, window, in.cursor_px);
+        ASSERT_TRUE(in.ray.valid);
+        const auto there = hand_onto_stem_under_cursor(in, was, false, frame, 1, yaw);
+        ASSERT_TRUE(there) << "yaw " << yaw;
+        // Device space: the world turned back by the camera's yaw.
+        const double c = std::cos(-yaw), s = std::sin(-yaw);
+        const glm::dvec3 device{c * world.x - s * world.y, s * world.x + c * world.y, world.z};
+        EXPECT_LT(glm::length(*there - device), 0.006) << "yaw " << yaw;
+        // A wheel notch this reading: the trainee's depth stays.
+        platform::PointerState wheel = in;
+        wheel.scroll = was.scroll + 1.0;
+        EXPECT_FALSE(hand_onto_stem_under_cursor(wheel, was, false, frame, 1, yaw));
+        // Still cursor, no press: nothing. A press: the hand goes there.
+        EXPECT_FALSE(hand_onto_stem_under_cursor(in, in, false, frame, 1, yaw));
+        EXPECT_TRUE(hand_onto_stem_under_cursor(in, in, true, frame, 1, yaw));
+        platform::PointerState ctrl = in;
+        ctrl.tilt_modifier = true;
+        EXPECT_FALSE(hand_onto_stem_under_cursor(ctrl, was, false, frame, 1, yaw));
+        frame.hands[1].holding = true;
+        EXPECT_FALSE(hand_onto_stem_under_cursor(in, was, false, frame, 1, yaw));
+    }
+}

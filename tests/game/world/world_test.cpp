@@ -257,3 +257,44 @@ TEST(World, PartsWithoutAMeshFileAreDrawnAsTheirShapes) {
     EXPECT_EQ(swords, 3u);
     EXPECT_EQ(petals, 6u);
 }
+
+// Pick by ray (issue 59): a press takes the stem drawn under the cursor, whatever the hand's depth.
+namespace {
+components::FlowerStatus lying_stem(double y_m, double diameter_m) {
+    components::FlowerStatus f{};
+    f.species = "chrysanthemum";
+    f.diameter_m = diameter_m;
+    for (int i = 0; i <= 10; ++i) f.points_m.push_back({-0.15 + 0.03 * i, y_m, 0.01});
+    return f;
+}
+} // namespace
+
+TEST(StemUnderRay, TheNearerOfTwoStemsOnOneLineOfSightIsTheOneTakenAtThePointUnderTheCursor) {
+    components::FrameSnapshot frame{};
+    frame.flowers.push_back(lying_stem(0.20, 0.006)); // far
+    frame.flowers.push_back(lying_stem(0.05, 0.006)); // near
+    // From the viewer's eye above and in front, through x = 0.04 on the near stem.
+    const glm::dvec3 eye{0.0, -0.50, 0.40};
+    const glm::dvec3 target{0.04, 0.05, 0.01};
+    const auto hit = systems::stem_under_ray(frame, eye, target - eye);
+    ASSERT_TRUE(hit);
+    EXPECT_EQ(hit->flower, 1u);
+    EXPECT_FALSE(hit->twig);
+    const glm::dvec3 at = eye + hit->t_m * glm::normalize(target - eye);
+    EXPECT_LT(glm::length(at - target), 0.004) << "the hand goes to the point under the cursor";
+    EXPECT_EQ(hit->point, 6u); // x = 0.03, the stem point nearest 0.04
+    // The held stem is not offered: the ray then finds the one behind it.
+    const auto behind = systems::stem_under_ray(frame, eye, glm::dvec3{0.04, 0.20, 0.01} - eye, 0.006, std::size_t{1});
+    ASSERT_TRUE(behind);
+    EXPECT_EQ(behind->flower, 0u);
+}
+
+TEST(StemUnderRay, AThinStemIsTakenWithinSixMillimetresAndNothingBeyondIt) {
+    components::FrameSnapshot frame{};
+    frame.flowers.push_back(lying_stem(0.10, 0.003));
+    const glm::dvec3 eye{0.0, -0.50, 0.40};
+    EXPECT_TRUE(systems::stem_under_ray(frame, eye, glm::dvec3{0.0, 0.10, 0.015} - eye));
+    EXPECT_FALSE(systems::stem_under_ray(frame, eye, glm::dvec3{0.0, 0.10, 0.03} - eye));
+    EXPECT_FALSE(systems::stem_under_ray(frame, eye, glm::dvec3{0.30, 0.10, 0.01} - eye)) << "past its tip";
+    EXPECT_FALSE(systems::stem_under_ray(frame, eye, eye - glm::dvec3{0.0, 0.10, 0.01})) << "behind the eye";
+}
