@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
     std::string progress_db;
     bool no_history = false;
     ikebana::game::TraineeAppOptions app_options;
-    app.add_option("--stereo", app_options.stereo, "The app's stereo output: sbs, rows, anaglyph or mono (default: the scene's display)");
+    app.add_option("--stereo", app_options.stereo, "The app's stereo output: sbs, rows, anaglyph or mono (default: as last chosen on the start screen, else mono, a flat screen)");
     app.add_option("--msaa", app_options.msaa, "The app's anti-aliasing, samples a pixel: 1 (none), 2, 4, 8 (0: 4 on a graphics card, none on lavapipe)")
         ->capture_default_str()
         ->check(CLI::IsMember({0u, 1u, 2u, 4u, 8u}));

@@ -35,7 +35,13 @@ void show_score(SessionPanelModel& m, const FormScore& score, const LessonDef* l
         const bool full = c.points >= c.max_points - 1e-9;
         it->bars.push_back({label, c.max_points > 0.0 ? static_cast<float>(c.points / c.max_points) : 1.0f, full ? "" : plain(c.tip)});
     }
-    for (const auto& r : score.rules) m.rules.push_back((r.ok ? "ok: " : "to do: ") + r.tip);
+    // Each rule with its points beside the bars', so that what the panel shows adds up to the score
+    // (the bars alone came to 89.6 of 90 under a score of 93 and the rules' points were never shown).
+    for (const auto& r : score.rules) {
+        char points[48];
+        std::snprintf(points, sizeof points, " (%.1f / %.0f)", r.points, r.max_points);
+        m.rules.push_back((r.ok ? "ok: " : "to do: ") + r.tip + points);
+    }
 }
 
 double session_column_px(double area_width_px) { return std::clamp(0.3 * area_width_px, std::min(300.0, area_width_px / 3.0), 440.0); }
@@ -102,11 +108,16 @@ SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float lef
     if (!model.trainee.empty()) ImGui::TextDisabled("%s", model.trainee.c_str());
     ImGui::Separator();
     // The one line a beginner reads first.
-    // Three lines kept for it whatever it says, so the buttons under it stay where they are.
-    ImGui::BeginChild("next", ImVec2(0.0f, 3.0f * ImGui::GetTextLineHeightWithSpacing() + 2.0f), false, ImGuiWindowFlags_NoScrollbar);
+    // Three lines kept for it whatever it says, so the buttons under it stay where they are; a longer
+    // one gets the lines it needs (cut at three, "...leaning toward the viewer, across" hid the rest
+    // under the buttons).
+    const std::string next = "Next: " + model.next_step;
+    const float next_h = ImGui::CalcTextSize(next.c_str(), nullptr, false, ImGui::GetContentRegionAvail().x).y;
+    ImGui::BeginChild("next", ImVec2(0.0f, std::max(3.0f * ImGui::GetTextLineHeightWithSpacing(), next_h + ImGui::GetStyle().ItemSpacing.y) + 2.0f), false,
+                      ImGuiWindowFlags_NoScrollbar);
     ImGui::PushTextWrapPos(0.0f);
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.7f, 0.3f, 0.0f, 1.0f)); // dark orange, read on the light panel
-    ImGui::TextUnformatted(("Next: " + model.next_step).c_str());
+    ImGui::TextUnformatted(next.c_str());
     ImGui::PopStyleColor();
     ImGui::PopTextWrapPos();
     ImGui::EndChild();
@@ -162,7 +173,8 @@ SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float lef
     }
     if (model.score) {
         ImGui::Separator();
-        ImGui::Text("Score: %.0f / 100", *model.score);
+        // One rounding everywhere: the history, the report and the bars say 92.6 where this once said 93.
+        ImGui::Text("Score: %.1f / 100", *model.score);
         ImGui::SameLine();
         // What a teacher hands back: the arrangement beside the form's model, each bar and tip, the trend.
         act.report = tracked_button(buttons_, "Report (PNG, PDF)", "report");

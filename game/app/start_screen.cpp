@@ -213,7 +213,7 @@ std::optional<std::string> last_results(const StartScreenModel& model, std::vect
         trend(shown, std::min(width, 720.0f));
     }
     const auto& last = model.recent.back();
-    ImGui::TextDisabled("last: %s %s, %.0f / 100 (%s)", lesson_name(model, last.lesson).c_str(), iso_utc(last.started_unix_s).substr(0, 10).c_str(), last.result.score,
+    ImGui::TextDisabled("last: %s %s, %.1f / 100 (%s)", lesson_name(model, last.lesson).c_str(), iso_utc(last.started_unix_s).substr(0, 10).c_str(), last.result.score,
                         last.kind.c_str());
     return replay;
 }

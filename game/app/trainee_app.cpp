@@ -295,14 +295,16 @@ int TraineeSession::open() {
     const auto kept = stored_.open(showing_start_, lesson_ ? &*lesson_ : nullptr);
     start_model_.progress_note = kept.note;
     if (!kept.trainee.empty()) start_model_.trainee = kept.trainee;
-    // How the scene is shown: --stereo; else as this trainee chose on the start screen last time; else,
-    // for someone who starts at the start screen, a flat screen (one view, the whole width: a first-time
-    // trainee's screen); else the scene's own.
+    // How the scene is shown: --stereo; else as this trainee chose on the start screen last time; else a
+    // flat screen (one view, the whole width: a first-time trainee's screen), from the start screen or
+    // straight into a lesson alike. The scene's own display (its eyes' separation, its distance) is
+    // what the stereo modes use once chosen; `ikebana --lesson ...` as the README has a newcomer type
+    // it once opened side by side on a flat screen.
     std::string stereo = o_.stereo;
     if (stereo.empty()) {
         if (auto remembered = stored_.remembered("display"); remembered && render::parse_stereo_mode(*remembered)) stereo = *remembered;
     }
-    if (stereo.empty()) stereo = showing_start_ ? "mono" : scene_->display.stereo;
+    if (stereo.empty()) stereo = "mono";
     auto render_mode = render::parse_stereo_mode(stereo);
     if (!render_mode) {
         std::cerr << "ikebana: " << render_mode.error().message << "\n";

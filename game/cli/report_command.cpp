@@ -56,7 +56,7 @@ int make_report(const ReportArgs& args) {
         std::cerr << "ikebana report: " << written.error().message << "\n";
         return 1;
     }
-    std::printf("%s, %s: %.0f / 100%s\n", terminal_text(report->lesson.title).c_str(),
+    std::printf("%s, %s: %.1f / 100%s\n", terminal_text(report->lesson.title).c_str(),
                 report->session.trainee.empty() ? "a trainee" : terminal_text(report->session.trainee).c_str(),
                 report->session.result.score, report->in_database ? "" : " (not in the progress database: replayed from its recording, no trend)");
     std::printf("wrote %s and %s\n", terminal_text((std::filesystem::path(args.out) / "report.png").string()).c_str(),

@@ -53,7 +53,7 @@ void draw_panel(cairo_t* cr, double top, const std::string& who_and_lesson, cons
 
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
     char heading[200];
-    std::snprintf(heading, sizeof heading, "%s: %zu session%s, last %.0f / 100", who_and_lesson.c_str(), n, n == 1 ? "" : "s", sessions.back()->result.score);
+    std::snprintf(heading, sizeof heading, "%s: %zu session%s, last %.1f / 100", who_and_lesson.c_str(), n, n == 1 ? "" : "s", sessions.back()->result.score);
     text_at(cr, x0, top + 22.0, heading, 15.0, 0.0, true);
 
     // Axes and grid: every 25 points, and the 90 that every band earns, dashed.

@@ -290,12 +290,14 @@ LessonControls::Effects LessonControls::update(const platform::PointerState& in,
     const bool held_in_pins = h.holding && h.held_flower >= 0 && static_cast<std::size_t>(h.held_flower) < latest.flowers.size() &&
                               latest.flowers[static_cast<std::size_t>(h.held_flower)].in_kenzan;
     if (form && held_in_pins) {
-        char text[200];
+        char text[320];
         const double depth_m = latest.flowers[static_cast<std::size_t>(h.held_flower)].depth_m;
         // Shallow (a lean in the pins can lever it up), it would sink or fall once let go.
         if (latest.kenzan && depth_m < shallow_fraction * latest.kenzan->pin_height_m())
             std::snprintf(text, sizeof text, "it is only %.0f mm deep in the pins (they are %.0f mm tall): push it down (move the mouse down) before you let go",
                           depth_m * 1e3, latest.kenzan->pin_height_m() * 1e3);
+        else if (!advice.would_sink.empty())
+            std::snprintf(text, sizeof text, "%s", advice.would_sink.c_str());
         else
             std::snprintf(text, sizeof text, "it is in the pins, %.0f mm deep: release the button to let go of it (click, if the button is up)", depth_m * 1e3);
         next_step_ = text;

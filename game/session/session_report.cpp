@@ -295,7 +295,7 @@ void draw_page(cairo_t* cr, const SessionReport& r) {
         page_text(cr, 30.0, 76.0, r.replay_check, 10.0);
     }
     char score[32];
-    std::snprintf(score, sizeof score, "%.0f / 100", s.result.score);
+    std::snprintf(score, sizeof score, "%.1f / 100", s.result.score);
     cairo_set_source_rgb(cr, 0.05, 0.05, 0.05);
     page_text(cr, page_w - 30.0, 46.0, score, 28.0, true, 1.0);
     draw_view(cr, View{30.0, 80.0, 340.0, 400.0, true}, r);

@@ -68,7 +68,7 @@ ArrangementScore score_arrangement(const std::vector<ArrangedStem>& arranged, co
 std::vector<std::string> ArrangementScore::lines() const {
     std::vector<std::string> l;
     char text[200];
-    std::snprintf(text, sizeof text, "RESULT: %.0f / 100 against the sample (look around with the arrows; the sample stands beside it)", score);
+    std::snprintf(text, sizeof text, "RESULT: %.1f / 100 against the sample (look around with the arrows; the sample stands beside it)", score);
     l.emplace_back(text);
     for (const auto& c : stems) {
         if (c.note == "missing") {

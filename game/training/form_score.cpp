@@ -16,7 +16,7 @@ using training::fmt;
 
 std::vector<std::string> FormScore::lines() const {
     std::vector<std::string> out;
-    out.push_back(fmt("RESULT: %.0f / 100 (%s)", score, lesson.c_str()));
+    out.push_back(fmt("RESULT: %.1f / 100 (%s)", score, lesson.c_str()));
     // For each stem the criterion that lost most, or that it is within every band.
     std::vector<std::string> roles;
     for (const auto& c : criteria) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
+#include <numbers>
 
 #include "game/asset_paths.hpp"
 #include "game/kenzan/kenzan_layout.hpp"
@@ -262,6 +263,10 @@ std::string role_heading_for(const LessonDef& l, const KenzanFootprint& footprin
 }
 
 namespace {
+
+// Two directions' difference about the vertical, in (-pi, pi].
+double angle_between_rad(double a, double b) { return std::remainder(a - b, 2.0 * std::numbers::pi); }
+
 // The held stem's leaves that would stand in the water once it is cut to `keep_m` and pushed into the
 // pins leaning `tilt_rad`: a line saying so, or nothing (no such leaves, or a lesson without the rule).
 std::string low_leaves_line(const LessonDef& l, const KenzanFootprint& footprint, const components::FlowerStatus& f, double length_m, double keep_m,
@@ -322,6 +327,17 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
     bool held_far = held_far_after_cut(0.0);
     // Said under the first line when, cut as its role wants, it is still held far from its end.
     const auto finish = [&]() -> HeldStemAdvice {
+        // In the pins at a lean they cannot hold: said while the hand still holds it, with the lean
+        // they would hold there (supporting stems let go at 55° sank to 78° with no word). The weight's
+        // moment grows about as the sine of the lean.
+        if (f.in_kenzan && !f.fallen && f.gravity_moment_nm > f.holding_moment_nm && f.gravity_moment_nm > 0.0) {
+            const double share = f.holding_moment_nm / f.gravity_moment_nm;
+            const double holds_rad = std::asin(std::clamp(std::sin(tilt) * share, 0.0, 1.0));
+            std::snprintf(text, sizeof text, "let go now and it sinks: at %.0f° the pins hold %.0f %% of what its weight asks; here they hold it to about %.0f° (lean it less, or push it deeper)",
+                          tilt * deg, 100.0 * share, holds_rad * deg);
+            advice.would_sink = text;
+            advice.lines.insert(advice.lines.begin() + std::min<std::ptrdiff_t>(1, static_cast<std::ptrdiff_t>(advice.lines.size())), text);
+        }
         if (held_far) {
             std::snprintf(text, sizeof text, "held %.0f mm from its bottom end: to push it in, let go and take it near that end", held_from_bottom * 1e3);
             advice.lines.insert(advice.lines.begin() + std::min<std::ptrdiff_t>(1, static_cast<std::ptrdiff_t>(advice.lines.size())), text);
@@ -401,12 +417,19 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
             std::snprintf(text, sizeof text, "press C to cut it for %s (to %.0f mm)", m.role.c_str(), advice.keep_length_m * 1e3);
             advice.next_step = text;
         } else {
-            std::snprintf(text, sizeof text, "tilt it %.0f°%s%s (Ctrl+drag), then lower it into %s", aim_tilt_rad * deg, lean.c_str(), rim_words.c_str(),
-                          on_kenzan_words(m.region).c_str());
-            advice.next_step = text;
             // Its tilt in the band, and the ring on the pins but outside the role's place: said while
             // it can still be moved (a trainee's stems all lost their place points with no word).
             const bool tilt_ok = std::abs(tilt - m.tilt_rad.target) <= m.tilt_rad.tolerance;
+            const bool azimuth_ok = !m.azimuth_rad || std::abs(angle_between_rad(azimuth, m.azimuth_rad->target)) <= m.azimuth_rad->tolerance;
+            if (tilt_ok && azimuth_ok) {
+                // The step done moves Next on (at 69-70° with the ring green it still said "tilt it 69°").
+                std::snprintf(text, sizeof text, "its lean is right (%.0f°): lower it straight down into %s, the ring green", tilt * deg,
+                              on_kenzan_words(m.region).c_str());
+            } else {
+                std::snprintf(text, sizeof text, "tilt it %.0f°%s%s (Ctrl+drag), then lower it into %s", aim_tilt_rad * deg, lean.c_str(), rim_words.c_str(),
+                              on_kenzan_words(m.region).c_str());
+            }
+            advice.next_step = text;
             if (const auto mark = systems::entry_mark(frame, hand); tilt_ok && mark && mark->good() && m.region != KenzanRegion::any) {
                 const glm::dvec2 at = glm::dvec2(mark->at_m) - glm::dvec2(frame.kenzan->origin_m);
                 if (outside_place_m(at, m.region, footprint) > 0.002) {
@@ -466,8 +489,12 @@ HeldStemAdvice advise_held_stem(const LessonDef& l, const KenzanFootprint& footp
             std::snprintf(text, sizeof text, "press C to cut it as a supporting stem (jushi, to %.0f mm)", advice.keep_length_m * 1e3);
             advice.next_step = text;
         } else {
-            std::snprintf(text, sizeof text, "tilt it %.0f° toward the %s (Ctrl+drag), then lower it into %s", s.tilt_rad * deg,
-                          direction_words(s.azimuth_rad).c_str(), place.c_str());
+            if (std::abs(tilt - s.tilt_rad) <= jushi_guide_tilt_rad && std::abs(angle_between_rad(azimuth, s.azimuth_rad)) <= jushi_guide_azimuth_rad) {
+                std::snprintf(text, sizeof text, "its lean is right (%.0f°): lower it straight down into %s, the ring green", tilt * deg, place.c_str());
+            } else {
+                std::snprintf(text, sizeof text, "tilt it %.0f° toward the %s (Ctrl+drag), then lower it into %s", s.tilt_rad * deg,
+                              direction_words(s.azimuth_rad).c_str(), place.c_str());
+            }
             advice.next_step = text;
         }
         advice.gauge = HeldStemAdvice::Gauge{tilt, azimuth, s.tilt_rad, jushi_guide_tilt_rad, s.azimuth_rad, jushi_guide_azimuth_rad, l.stems.size()};

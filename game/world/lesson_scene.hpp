@@ -56,6 +56,8 @@ struct HeldStemAdvice {
     double keep_length_m = 0.0; // cut to this (0: no role left for it)
     std::vector<std::string> lines;
     std::string next_step; // the one thing to do now, in a short line (empty: no role left for it)
+    // Held in the pins at a lean they cannot hold once let go: what to say of it (empty: they hold it).
+    std::string would_sink;
     // The held stem's lean now against its role's band (lesson convention: azimuth 0 toward the viewer,
     // + to the viewer's left), for the panel's gauge. None without a role for it.
     struct Gauge {

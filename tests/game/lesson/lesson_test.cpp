@@ -1809,8 +1809,42 @@ TEST(Reach, AHeldStemOverTheWrongPartOfTheKenzanIsToldWhereItsRoleGoes) {
         return t.next_step();
     };
     EXPECT_EQ(over(k.origin_m.x + 0.025, k.origin_m.y - 0.025), "move it toward the back left of the kenzan: the ring is in the front right, shin goes in the back left");
-    EXPECT_EQ(over(k.origin_m.x - 0.02, k.origin_m.y + 0.025).rfind("tilt it 15° toward the left front (Ctrl+drag), then lower it into the back left of the kenzan", 0), 0u)
+    // Over its part at its lean: the tilt is done, so Next moves on to lowering it (issue 59: at 69-70°
+    // with the ring green it still said "tilt it 69°").
+    EXPECT_EQ(over(k.origin_m.x - 0.02, k.origin_m.y + 0.025).rfind("its lean is right (15°): lower it straight down into the back left of the kenzan", 0), 0u)
         << over(k.origin_m.x - 0.02, k.origin_m.y + 0.025);
+    // Upright there, the tilt is still to do.
+    const auto upright = [&] {
+        for (std::size_t i = 0; i < x.size(); ++i) x[i] = glm::dvec3(k.origin_m.x - 0.02, k.origin_m.y + 0.025, tips + 0.03 + length * static_cast<double>(i) / static_cast<double>(x.size() - 1));
+        hand.position_m = x[2];
+        return t.next_step();
+    }();
+    EXPECT_EQ(upright.rfind("tilt it 15° toward the left front (Ctrl+drag), then lower it into the back left of the kenzan", 0), 0u) << upright;
+}
+
+// Issue 59 item 4: supporting stems let go at 55° sank to 78° with no word. Held in the pins at a lean
+// they cannot hold, the next step says so before the hand lets go, with the lean they would hold there.
+TEST(Reach, AHeldStemInThePinsAtALeanTheyCannotHoldIsSaidBeforeItIsLetGo) {
+    LessonTable t;
+    auto& hand = t.frame.hands[1];
+    hand.holding = true;
+    hand.held_flower = static_cast<std::int32_t>(t.willow);
+    auto& f = t.frame.flowers[t.willow];
+    auto& x = f.points_m;
+    const auto& k = *t.frame.kenzan;
+    const double t55 = 55.0 * M_PI / 180.0;
+    const glm::dvec3 u{0.0, -std::sin(t55), std::cos(t55)};
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = glm::dvec3(k.origin_m.x, k.origin_m.y, k.origin_m.z + 0.005) + u * (0.3 * static_cast<double>(i) / static_cast<double>(x.size() - 1));
+    hand.position_m = x[2];
+    f.in_kenzan = true;
+    f.fallen = false;
+    f.depth_m = 0.012; // deep enough: a shallow stem is told to go deeper first
+    f.gravity_moment_nm = 0.020;
+    f.holding_moment_nm = 0.010;
+    const std::string said = t.next_step();
+    EXPECT_EQ(said.rfind("let go now and it sinks: at 55° the pins hold 50 % of what its weight asks; here they hold it to about 24°", 0), 0u) << said;
+    f.holding_moment_nm = 0.025; // held: nothing said of sinking
+    EXPECT_EQ(t.next_step().find("sinks"), std::string::npos) << t.next_step();
 }
 
 // Held low against the container's wall, the hand stops while the mouse goes on: the next step says

@@ -210,6 +210,28 @@ TEST(RenderGolden, RenderShowsTheSampleAndTheHudLikeTheWindow) {
     EXPECT_LT(corner_brightness(*composed), 0.7 * corner_brightness(bare->composed)) << "the HUD panel is drawn by render too";
 }
 
+// Issue 59 item 8: straight into a lesson with no display ever chosen (and no --stereo), the window is
+// a flat screen, as the start screen's default; --stereo still chooses.
+TEST(WindowApp, ALessonOpenedWithNoDisplayChosenIsAFlatScreen) {
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !*display) GTEST_SKIP() << "no display (ctest runs this under xvfb-run)";
+    for (const std::string asked : {"", "sbs"}) {
+        const auto state = std::filesystem::temp_directory_path() / "ikebana_default_display.json";
+        std::filesystem::remove(state);
+        auto o = small_app(640, 360, 3);
+        o.scene.clear();
+        o.lesson = "sogetsu_basic_upright";
+        o.stereo = asked;
+        o.state_out = state.string();
+        ASSERT_EQ(game::run_trainee_app(o), 0);
+        const auto text = assets::read_text_file(state.string());
+        ASSERT_TRUE(text) << text.error().message;
+        const auto read = game::parse_window_state(*text, state.string());
+        ASSERT_TRUE(read) << read.error().message;
+        EXPECT_EQ(read->display, asked.empty() ? "mono" : "sbs") << "--stereo '" << asked << "'";
+    }
+}
+
 // The trainee app's real window (under Xvfb in ctest; skipped without a display): it presents frames,
 // and a screenshot of what it presented shows the scene the offscreen renderer draws.
 TEST(WindowApp, PresentsTheSceneInARealWindow) {
@@ -218,6 +240,7 @@ TEST(WindowApp, PresentsTheSceneInARealWindow) {
     const auto shot = std::filesystem::temp_directory_path() / "ikebana_window_shot.png";
     std::filesystem::remove(shot);
     auto o = small_app(640, 360, 12);
+    o.stereo = "sbs"; // both eyes' images, as the offscreen renderer composes them below
     o.finish_at_frame = 6; // the result panel on top, the sample beside
     o.screenshot = shot.string();
     o.validation = true;
