@@ -13,6 +13,9 @@ namespace ikebana::game {
 
 void show_score(SessionPanelModel& m, const FormScore& score, const LessonDef* lesson) {
     m.score = score.score;
+    m.points = m.max_points = 0.0;
+    for (const auto& c : score.criteria) m.points += c.points, m.max_points += c.max_points;
+    for (const auto& r : score.rules) m.points += r.points, m.max_points += r.max_points;
     m.stems.clear();
     m.rules.clear();
     const auto plain = [](const std::string& tip) {
@@ -179,6 +182,9 @@ SessionPanelActions SessionPanel::draw(const SessionPanelModel& model, float lef
         // What a teacher hands back: the arrangement beside the form's model, each bar and tip, the trend.
         act.report = tracked_button(buttons_, "Report (PNG, PDF)", "report");
         if (!model.report_note.empty()) ImGui::TextDisabled("%s", model.report_note.c_str());
+        // How the bars and the rules below make the score.
+        if (model.max_points > 0.0)
+            ImGui::TextDisabled("%.1f of %.0f points (the bars and the rules below) = %.1f %%", model.points, model.max_points, *model.score);
         for (const auto& s : model.stems) {
             ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(s.colour.r, s.colour.g, s.colour.b, 1.0f));
             ImGui::TextUnformatted(s.role.c_str());

@@ -44,6 +44,7 @@ struct SessionPanelModel {
         std::vector<Bar> bars;
     };
     std::optional<double> score;
+    double points = 0.0, max_points = 0.0; // the bars' and the rules' points together, of which score is the share
     std::string report_note;          // where the last report went, or why it did not
     std::vector<StemResult> stems;
     std::vector<std::string> rules; // each form rule, met or with what to do

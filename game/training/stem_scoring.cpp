@@ -39,7 +39,7 @@ struct LengthBasis {
 // The length's target: a ratio of the container, or of the stem that actually plays the role it follows.
 LengthBasis length_basis(const LessonDef& l, const MainStemDef& m, const std::vector<const ArrangementStem*>& by_role) {
     double base_m = l.container.size_m();
-    std::string base_words = fmt("the container's size, %.0f mm", base_m * 1e3);
+    std::string base_words = fmt("the container's size (its width plus its depth), %.0f mm", base_m * 1e3);
     if (m.length_of.kind == LengthBase::Kind::container_height) {
         base_m = l.container.depth_m;
         base_words = fmt("the container's height, %.0f mm", base_m * 1e3);
