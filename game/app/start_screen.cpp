@@ -369,7 +369,7 @@ StartChoice StartScreen::draw(StartScreenModel& model) {
     if (ImGui::CollapsingHeader("Hands and controls")) {
         ImGui::Text("left hand: %s", model.hands[0].c_str());
         ImGui::Text("right hand: %s", model.hands[1].c_str());
-        ImGui::TextWrapped("Mouse: move the cube onto a stem (the whole stem turns yellow) and hold the left button to take it; the wheel "
+        ImGui::TextWrapped("Mouse: point at a stem (the cube goes onto it and the whole stem turns yellow) and hold the left button to take it; the wheel "
                            "moves the hand away and nearer along your line of sight; Ctrl+drag leans the held stem as you see it (right: to the "
                            "right, up: away from you), Ctrl+arrows lean it 5 degrees a press, Ctrl+Shift+drag twists it about itself, "
                            "Ctrl+wheel swings its lean round; C cuts it to its role's length; "

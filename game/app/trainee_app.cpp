@@ -456,7 +456,7 @@ SessionPanelModel TraineeSession::panel_model(sched::SystemContext& main_lane) c
     plain.lesson.clear();
     plain.result.clear();
     m.details = systems::hud_lines(latest, plain);
-    m.controls = {"Move the mouse: the hand (the cube) goes where the cursor points, at its depth",
+    m.controls = {"Move the mouse: the hand (the cube) goes where the cursor points; pointing at a stem, it goes onto that stem",
                   "Hold the left button: take the stem under the cube (it shows yellow); release: let go",
                   "Wheel: the hand further away or nearer along your line of sight (away also takes it lower)",
                   "Shift+move up and down: the hand further away or nearer at the same height",

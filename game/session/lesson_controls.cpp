@@ -160,9 +160,9 @@ std::string LessonControls::reach_words(const components::FrameSnapshot& latest,
                         return "the other hand holds that stem: Tab to it, and let go there first";
                 }
             }
-            return "nothing under the cube: release the button, move the cube onto a stem until the stem turns yellow, then hold it";
+            return "nothing under the cube: release the button, point at a stem until it turns yellow, then hold it";
         }
-        return before + "take a stem: move the cube onto one (the stem turns yellow) and hold the left button";
+        return before + "take a stem: point at one (the cube goes onto it and it turns yellow) and hold the left button";
     }
     const auto& f = latest.flowers[reach->flower];
     // A stem standing in the pins already plays its role there: that is said, not a role it would

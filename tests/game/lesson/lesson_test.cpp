@@ -1683,9 +1683,9 @@ TEST(Reach, APressIsNamedWithItsStemAndRoleAndTakesALyingStemByItsBottomEnd) {
     EXPECT_FALSE(bottom_grip_for(t.frame, 1).has_value()) << "near its end already";
     EXPECT_EQ(t.next_step(), "hold the left button to take the willow branch for shin");
     hand.position_m = {0.0, 0.3, 0.4};
-    EXPECT_EQ(t.next_step(), "take a stem: move the cube onto one (the stem turns yellow) and hold the left button");
+    EXPECT_EQ(t.next_step(), "take a stem: point at one (the cube goes onto it and it turns yellow) and hold the left button");
     hand.grab_button = true;
-    EXPECT_EQ(t.next_step(), "nothing under the cube: release the button, move the cube onto a stem until the stem turns yellow, then hold it");
+    EXPECT_EQ(t.next_step(), "nothing under the cube: release the button, point at a stem until it turns yellow, then hold it");
 }
 
 // A held stem shows where it would go in (issue 37: twice lowered in front of the kenzan, outside or
